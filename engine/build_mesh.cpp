@@ -1,1 +1,391 @@
-// placeholder: being written
+// build_tet_mesh: validate raw input, then build the model (incidence, flags, side table).
+//
+// Every check runs in parallel and reports the FIRST offending element in index order, so the
+// message is the same for every thread count. Faces are matched per vertex: the faces whose
+// smallest vertex is a are found in St(a), sorted and paired there, so each face is seen by exactly
+// one task and no global face table (16 bytes x 4 per tet) is ever built.
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "orient.h"
+#include "parallel/for_range.h"
+#include "topotet/error.h"
+#include "topotet/tet_mesh.h"
+
+namespace topotet {
+namespace {
+
+constexpr std::uint64_t kNone = ~std::uint64_t{0};
+
+// Smallest index i in [0, n) with bad(i), or kNone. Deterministic for any thread count.
+template <class Pred>
+std::uint64_t first_where(std::uint64_t n, Pred bad) {
+  std::atomic<std::uint64_t> first{kNone};
+  parallel::for_range<std::uint64_t>(0, n, 1u << 14, "first_where", [&](std::uint64_t b, std::uint64_t e) {
+    for (std::uint64_t i = b; i < e && i < first.load(std::memory_order_relaxed); ++i) {
+      if (bad(i)) {
+        std::uint64_t cur = first.load(std::memory_order_relaxed);
+        // relaxed is enough: we only need the minimum once the loop has joined.
+        while (i < cur && !first.compare_exchange_weak(cur, i, std::memory_order_relaxed)) {
+        }
+        return;
+      }
+    }
+  });
+  return first.load();
+}
+
+[[noreturn]] void fail(const std::string& message) { throw InputError(message); }
+
+std::string verts_str(const VertId* v, int n) {
+  std::string s;
+  for (int i = 0; i < n; ++i) {
+    if (i) s.push_back(' ');
+    s.append(std::to_string(v[i]));
+  }
+  return s;
+}
+
+void check_sizes(const MeshData& d) {
+  if (d.positions.size() >= kInvalid) fail("too many vertices for 32-bit ids: " + std::to_string(d.positions.size()));
+  if (d.tets.size() >= kInvalid / 4) fail("too many tets for 32-bit ids: " + std::to_string(d.tets.size()));
+  if (d.tets.empty()) fail("the mesh has no tetrahedra");
+  if (d.tet_material.size() != d.tets.size())
+    fail("tet_material has " + std::to_string(d.tet_material.size()) + " entries for " +
+         std::to_string(d.tets.size()) + " tets");
+  if (!d.vertex_refs.empty() && d.vertex_refs.size() != d.positions.size())
+    fail("vertex_refs has " + std::to_string(d.vertex_refs.size()) + " entries for " +
+         std::to_string(d.positions.size()) + " vertices");
+  for (const VertexField& f : d.fields) {
+    if (f.components < 1) fail("field '" + f.name + "': " + std::to_string(f.components) + " components");
+    if (f.values.size() != d.positions.size() * static_cast<std::size_t>(f.components))
+      fail("field '" + f.name + "' has " + std::to_string(f.values.size()) + " values for " +
+           std::to_string(d.positions.size()) + " vertices x " + std::to_string(f.components) + " components");
+  }
+}
+
+void check_vertices_and_tets(const MeshData& d) {
+  const std::uint64_t nv = d.positions.size();
+  std::uint64_t i = first_where(nv, [&](std::uint64_t v) {
+    const glm::dvec3& p = d.positions[v];
+    return !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+  });
+  if (i != kNone) fail("vertex " + std::to_string(i) + ": coordinate is not finite (NaN or infinity)");
+  for (const VertexField& f : d.fields) {
+    i = first_where(f.values.size(), [&](std::uint64_t k) { return !std::isfinite(f.values[k]); });
+    if (i != kNone)
+      fail("field '" + f.name + "', vertex " + std::to_string(i / f.components) + ": value is not finite");
+  }
+  i = first_where(d.tets.size(), [&](std::uint64_t t) {
+    const auto& v = d.tets[t];
+    for (int k = 0; k < 4; ++k) {
+      if (v[k] >= nv) return true;
+      for (int l = 0; l < k; ++l)
+        if (v[k] == v[l]) return true;
+    }
+    return false;
+  });
+  if (i != kNone) {
+    const auto& v = d.tets[i];
+    for (int k = 0; k < 4; ++k)
+      if (v[k] >= nv)
+        fail("tet " + std::to_string(i) + ": vertex index " + std::to_string(v[k]) + " out of range [0, " +
+             std::to_string(nv) + ")");
+    fail("tet " + std::to_string(i) + ": repeated vertex (" + verts_str(v.data(), 4) + ")");
+  }
+}
+
+// Fills mesh.tets/material, flipping all tets if all are inverted and the option allows it.
+void orient_tets(const MeshData& d, const BuildOptions& options, TetMesh& m) {
+  const std::size_t nt = d.tets.size();
+  std::vector<std::int8_t> sign(nt);
+  parallel::for_range<std::size_t>(0, nt, 1u << 12, "orient", [&](std::size_t b, std::size_t e) {
+    for (std::size_t t = b; t < e; ++t) {
+      const auto& v = d.tets[t];
+      sign[t] = static_cast<std::int8_t>(
+          orient3d_sign(d.positions[v[0]], d.positions[v[1]], d.positions[v[2]], d.positions[v[3]]));
+    }
+  });
+  std::uint64_t i = first_where(nt, [&](std::uint64_t t) { return sign[t] == 0; });
+  if (i != kNone)
+    fail("tet " + std::to_string(i) + ": zero or near-zero volume (vertices " + verts_str(d.tets[i].data(), 4) +
+         " are coplanar)");
+  const bool flip = sign[0] < 0 && options.reorient_inverted &&
+                    first_where(nt, [&](std::uint64_t t) { return sign[t] > 0; }) == kNone;
+  if (!flip) {
+    i = first_where(nt, [&](std::uint64_t t) { return sign[t] < 0; });
+    if (i != kNone)
+      fail("tet " + std::to_string(i) + ": inverted (negative volume; vertices " + verts_str(d.tets[i].data(), 4) +
+           ")" + (sign[0] < 0 ? ", and not all tets are inverted, so the mesh cannot be reoriented" : ""));
+  }
+  m.tets = d.tets;
+  if (flip)
+    for (auto& v : m.tets) std::swap(v[2], v[3]);
+  m.material = d.tet_material;
+}
+
+// Finds the local index (0..3) of vertex x in tet t, or -1.
+int local_index(const std::array<VertId, 4>& v, VertId x) {
+  for (int k = 0; k < 4; ++k)
+    if (v[k] == x) return k;
+  return -1;
+}
+
+enum FaceKind : std::uint8_t { kBoundary = 0, kInterior = 1, kInterface = 2 };
+
+// Classifies every tet face; fails on faces with more than two tets and on duplicate tets.
+std::vector<std::uint8_t> classify_faces(const TetMesh& m) {
+  const std::size_t nv = m.positions.size();
+  std::vector<std::uint8_t> kind(4 * m.tets.size(), kBoundary);
+  struct FaceRec {
+    VertId b, c;
+    std::uint32_t half_face;  // 4 * tet + local face
+    bool operator<(const FaceRec& o) const {
+      return b != o.b ? b < o.b : (c != o.c ? c < o.c : half_face < o.half_face);
+    }
+  };
+  std::atomic<std::uint64_t> first_bad{kNone};  // half-face of the first bad face found by its min vertex
+  parallel::for_range<std::size_t>(0, nv, 256, "classify_faces", [&](std::size_t vb, std::size_t ve) {
+    std::vector<FaceRec> recs;
+    for (std::size_t a = vb; a < ve; ++a) {
+      recs.clear();
+      m.for_each_tet_of(static_cast<VertId>(a), [&](TetId t) {
+        const auto& v = m.tets[t];
+        const int la = local_index(v, static_cast<VertId>(a));
+        for (int f = 0; f < 4; ++f) {
+          if (f == la) continue;  // the face opposite a does not contain a
+          VertId o[2];
+          int n = 0;
+          for (int k = 0; k < 4; ++k)
+            if (k != f && k != la) o[n++] = v[k];
+          if (o[0] < a || o[1] < a) continue;  // a is not the smallest vertex of this face
+          recs.push_back({std::min(o[0], o[1]), std::max(o[0], o[1]), 4 * t + static_cast<std::uint32_t>(f)});
+        }
+      });
+      std::sort(recs.begin(), recs.end());
+      for (std::size_t i = 0; i < recs.size();) {
+        std::size_t j = i + 1;
+        while (j < recs.size() && recs[j].b == recs[i].b && recs[j].c == recs[i].c) ++j;
+        bool bad = j - i > 2;
+        if (j - i == 2) {
+          const TetId t0 = recs[i].half_face / 4, t1 = recs[i + 1].half_face / 4;
+          // Same face and same opposite vertex: the two tets are the same tet listed twice.
+          bad = m.tets[t0][recs[i].half_face % 4] == m.tets[t1][recs[i + 1].half_face % 4];
+          if (!bad) {
+            const std::uint8_t k = m.material[t0] == m.material[t1] ? kInterior : kInterface;
+            kind[recs[i].half_face] = k;  // each half-face is written by exactly one task
+            kind[recs[i + 1].half_face] = k;
+          }
+        }
+        if (bad) {
+          std::uint64_t hf = recs[i].half_face, cur = first_bad.load(std::memory_order_relaxed);
+          while (hf < cur && !first_bad.compare_exchange_weak(cur, hf, std::memory_order_relaxed)) {
+          }
+        }
+        i = j;
+      }
+    }
+  });
+  if (first_bad.load() != kNone) {
+    // Re-derive the message deterministically from the smallest offending half-face.
+    const TetId t = static_cast<TetId>(first_bad.load() / 4);
+    const int f = static_cast<int>(first_bad.load() % 4);
+    VertId fv[3];
+    int n = 0;
+    for (int k = 0; k < 4; ++k)
+      if (k != f) fv[n++] = m.tets[t][k];
+    std::vector<TetId> sharing;
+    m.for_each_tet_of(fv[0], [&](TetId s) {
+      if (local_index(m.tets[s], fv[1]) >= 0 && local_index(m.tets[s], fv[2]) >= 0) sharing.push_back(s);
+    });
+    std::sort(sharing.begin(), sharing.end());
+    if (sharing.size() == 2)
+      fail("tet " + std::to_string(sharing[1]) + " duplicates tet " + std::to_string(sharing[0]) + " (vertices " +
+           verts_str(m.tets[sharing[0]].data(), 4) + ")");
+    std::string list;
+    for (TetId s : sharing) {
+      if (!list.empty()) list.append(", ");
+      list.append(std::to_string(s));
+    }
+    fail("non-manifold input: face (" + verts_str(fv, 3) + ") is shared by " + std::to_string(sharing.size()) +
+         " tets (" + list + "); at most two tets may share a face");
+  }
+  return kind;
+}
+
+struct PlacedRef {
+  TetId tet;
+  std::uint8_t local;  // face (0..3) or edge (0..5)
+  std::int32_t ref;
+  bool ridge;
+};
+
+// Finds every tet having all `n` vertices; calls f(tet, local indices).
+template <class F>
+void for_each_tet_with(const TetMesh& m, const VertId* v, int n, F&& f) {
+  m.for_each_tet_of(v[0], [&](TetId t) {
+    int loc[3] = {-1, -1, -1};
+    for (int k = 0; k < n; ++k)
+      if ((loc[k] = local_index(m.tets[t], v[k])) < 0) return;
+    f(t, loc);
+  });
+}
+
+std::vector<PlacedRef> place_triangles(const MeshData& d, const TetMesh& m) {
+  const std::size_t nv = d.positions.size();
+  std::vector<std::array<VertId, 4>> keys(d.triangles.size());  // sorted verts + index
+  for (std::size_t i = 0; i < d.triangles.size(); ++i) {
+    const Triangle& tri = d.triangles[i];
+    for (VertId x : tri.v)
+      if (x >= nv)
+        fail("triangle " + std::to_string(i) + ": vertex index " + std::to_string(x) + " out of range [0, " +
+             std::to_string(nv) + ")");
+    if (tri.v[0] == tri.v[1] || tri.v[1] == tri.v[2] || tri.v[0] == tri.v[2])
+      fail("triangle " + std::to_string(i) + ": repeated vertex (" + verts_str(tri.v.data(), 3) + ")");
+    std::array<VertId, 3> s = tri.v;
+    std::sort(s.begin(), s.end());
+    keys[i] = {s[0], s[1], s[2], static_cast<VertId>(i)};
+  }
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t i = 1; i < keys.size(); ++i)
+    if (keys[i][0] == keys[i - 1][0] && keys[i][1] == keys[i - 1][1] && keys[i][2] == keys[i - 1][2])
+      fail("triangle " + std::to_string(std::max(keys[i][3], keys[i - 1][3])) + " duplicates triangle " +
+           std::to_string(std::min(keys[i][3], keys[i - 1][3])) + " (vertices " + verts_str(keys[i].data(), 3) + ")");
+  std::vector<PlacedRef> placed;
+  for (std::size_t i = 0; i < d.triangles.size(); ++i) {
+    const Triangle& tri = d.triangles[i];
+    bool found = false;
+    for_each_tet_with(m, tri.v.data(), 3, [&](TetId t, const int* loc) {
+      placed.push_back({t, static_cast<std::uint8_t>(6 - loc[0] - loc[1] - loc[2]), tri.ref, false});
+      found = true;
+    });
+    if (!found)
+      fail("triangle " + std::to_string(i) + " (vertices " + verts_str(tri.v.data(), 3) + ", ref " +
+           std::to_string(tri.ref) + ") is not a face of any tet");
+  }
+  return placed;
+}
+
+std::vector<PlacedRef> place_segments(const MeshData& d, const TetMesh& m) {
+  const std::size_t nv = d.positions.size();
+  std::vector<char> is_ridge(d.segments.size(), 0);
+  for (std::size_t i = 0; i < d.ridges.size(); ++i) {
+    if (d.ridges[i] >= d.segments.size())
+      fail("ridge " + std::to_string(i) + ": edge index " + std::to_string(d.ridges[i]) + " out of range [0, " +
+           std::to_string(d.segments.size()) + ")");
+    is_ridge[d.ridges[i]] = 1;
+  }
+  std::vector<std::array<VertId, 3>> keys(d.segments.size());
+  for (std::size_t i = 0; i < d.segments.size(); ++i) {
+    const Segment& s = d.segments[i];
+    for (VertId x : s.v)
+      if (x >= nv)
+        fail("edge " + std::to_string(i) + ": vertex index " + std::to_string(x) + " out of range [0, " +
+             std::to_string(nv) + ")");
+    if (s.v[0] == s.v[1]) fail("edge " + std::to_string(i) + ": repeated vertex " + std::to_string(s.v[0]));
+    keys[i] = {std::min(s.v[0], s.v[1]), std::max(s.v[0], s.v[1]), static_cast<VertId>(i)};
+  }
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t i = 1; i < keys.size(); ++i)
+    if (keys[i][0] == keys[i - 1][0] && keys[i][1] == keys[i - 1][1])
+      fail("edge " + std::to_string(std::max(keys[i][2], keys[i - 1][2])) + " duplicates edge " +
+           std::to_string(std::min(keys[i][2], keys[i - 1][2])) + " (vertices " + verts_str(keys[i].data(), 2) + ")");
+  std::vector<PlacedRef> placed;
+  for (std::size_t i = 0; i < d.segments.size(); ++i) {
+    const Segment& s = d.segments[i];
+    bool found = false;
+    for_each_tet_with(m, s.v.data(), 2, [&](TetId t, const int* loc) {
+      placed.push_back({t, static_cast<std::uint8_t>(local_edge_index(loc[0], loc[1])), s.ref, is_ridge[i] != 0});
+      found = true;
+    });
+    if (!found)
+      fail("edge " + std::to_string(i) + " (vertices " + verts_str(s.v.data(), 2) + ", ref " + std::to_string(s.ref) +
+           ") is not an edge of any tet");
+  }
+  return placed;
+}
+
+void copy_fields(const MeshData& d, TetMesh& m) {
+  int stride = 0;
+  for (const VertexField& f : d.fields) {
+    m.fields.push_back({f.name, f.components});
+    stride += f.components;
+  }
+  const std::size_t nv = d.positions.size();
+  m.field_values.assign(nv * stride, 0.0);
+  int offset = 0;
+  for (const VertexField& f : d.fields) {
+    for (std::size_t v = 0; v < nv; ++v)
+      for (int c = 0; c < f.components; ++c)
+        m.field_values[v * stride + offset + c] = f.values[v * f.components + c];
+    offset += f.components;
+  }
+}
+
+void mark_pinned(const MeshData& d, TetMesh& m) {
+  const std::size_t nv = d.positions.size();
+  auto mark = [&](const std::vector<VertId>& list, const char* what, std::uint8_t bit) {
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (list[i] >= nv)
+        fail(std::string(what) + " " + std::to_string(i) + ": vertex index " + std::to_string(list[i]) +
+             " out of range [0, " + std::to_string(nv) + ")");
+      m.vertex_states[list[i]] |= bit | vertex_state::kPinned;
+    }
+  };
+  mark(d.corners, "corner", vertex_state::kCorner);
+  mark(d.required_vertices, "required vertex", vertex_state::kRequired);
+}
+
+}  // namespace
+
+TetMesh build_tet_mesh(const MeshData& d, const BuildOptions& options) {
+  check_sizes(d);
+  check_vertices_and_tets(d);
+
+  TetMesh m;
+  m.positions = d.positions;
+  m.vertex_refs = d.vertex_refs.empty() ? std::vector<std::int32_t>(d.positions.size(), 0) : d.vertex_refs;
+  m.vertex_states.assign(d.positions.size(), 0);
+  copy_fields(d, m);
+  orient_tets(d, options, m);
+  m.flags.assign(m.tets.size(), 0);
+  m.tet_refs_slot.assign(m.tets.size(), kInvalid);
+  rebuild_incidence(m);
+  mark_pinned(d, m);
+  for (std::size_t v = 0; v < m.positions.size(); ++v)
+    if (m.v2t_count[v] == 0) m.vertex_states[v] |= vertex_state::kDead;  // referenced by no tet
+
+  const std::vector<std::uint8_t> face_kind = classify_faces(m);
+  const std::vector<PlacedRef> faces = place_triangles(d, m);
+  const std::vector<PlacedRef> edges = place_segments(d, m);
+
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+    for (int f = 0; f < 4; ++f)
+      if (face_kind[4 * t + f] == kInterface) m.flags[t] |= TetFlags(1u << (tet_flag::kSurfaceFaceShift + f));
+  for (const PlacedRef& p : faces) m.flags[p.tet] |= TetFlags(1u << (tet_flag::kSurfaceFaceShift + p.local));
+  for (const PlacedRef& p : edges) m.flags[p.tet] |= TetFlags(1u << (tet_flag::kPolylineEdgeShift + p.local));
+
+  // Side table slots in tet order (deterministic); implicit interfaces first, listed refs override.
+  for (std::size_t t = 0; t < m.tets.size(); ++t) {
+    if (m.flags[t] == 0) continue;
+    m.tet_refs_slot[t] = static_cast<std::uint32_t>(m.refs_table.size());
+    SubstructureRefs r;
+    r.face.fill(kImplicitInterfaceRef);
+    m.refs_table.push_back(r);
+  }
+  for (const PlacedRef& p : faces) m.refs_table[m.tet_refs_slot[p.tet]].face[p.local] = p.ref;
+  for (const PlacedRef& p : edges) {
+    SubstructureRefs& r = m.refs_table[m.tet_refs_slot[p.tet]];
+    r.edge[p.local] = p.ref;
+    if (p.ridge) r.ridge_mask |= std::uint8_t(1u << p.local);
+  }
+  for (VertId v = 0; v < m.positions.size(); ++v)
+    if (m.is_dead_vertex(v)) m.vertex_states[v] &= ~(vertex_state::kCorner | vertex_state::kRequired | vertex_state::kPinned);
+  return m;
+}
+
+}  // namespace topotet

@@ -1,1 +1,229 @@
-// placeholder: being written
+// The collapse kernel (see collapse.h).
+#include "collapse.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cassert>
+
+#include "orient.h"
+#include "quality.h"
+
+namespace topotet {
+
+const char* to_string(CollapseReason reason) {
+  switch (reason) {
+    case CollapseReason::kOk: return "ok";
+    case CollapseReason::kLinkK: return "link_K";
+    case CollapseReason::kLinkKtilde: return "link_Ktilde";
+    case CollapseReason::kPinned: return "pinned";
+    case CollapseReason::kInversion: return "inversion";
+    case CollapseReason::kQuality: return "quality";
+    case CollapseReason::kTolerance: return "tolerance";
+  }
+  return "?";
+}
+
+namespace {
+
+void star_of(const TetMesh& mesh, VertId x, std::vector<TetId>& out) {
+  out.clear();
+  mesh.for_each_tet_of(x, [&](TetId t) { out.push_back(t); });
+  // Chains stay sorted (see collapse()), but sorting a sorted small vector is cheap insurance.
+  if (!std::is_sorted(out.begin(), out.end())) std::sort(out.begin(), out.end());
+}
+
+std::array<VertId, 4> renamed(const std::array<VertId, 4>& v, VertId from, VertId to) {
+  std::array<VertId, 4> r = v;
+  for (VertId& x : r)
+    if (x == from) x = to;
+  return r;
+}
+
+// Writes `tets` (sorted) as the incidence list of x, packed along x's chain.
+void write_incidence(TetMesh& mesh, VertId x, const std::vector<TetId>& tets) {
+  std::size_t i = 0;
+  for (std::uint32_t c = x; i < tets.size(); c = mesh.v2t_next[c]) {
+    assert(c != kInvalid && "incidence chain capacity exceeded");
+    const std::uint32_t begin = mesh.v2t_offsets[c], cap = mesh.v2t_offsets[c + 1] - begin;
+    for (std::uint32_t k = 0; k < cap && i < tets.size(); ++k) mesh.v2t[begin + k] = tets[i++];
+  }
+  mesh.v2t_count[x] = static_cast<std::uint32_t>(tets.size());
+}
+
+// Removes dead tets from x's incidence list, in place and in order.
+void drop_dead_tets(TetMesh& mesh, VertId x) {
+  std::uint32_t remaining = mesh.v2t_count[x], kept = 0;
+  std::uint32_t wc = x, wi = 0;  // write cursor: chunk, index within chunk
+  for (std::uint32_t c = x; remaining != 0; c = mesh.v2t_next[c]) {
+    const std::uint32_t begin = mesh.v2t_offsets[c];
+    const std::uint32_t n = std::min(remaining, mesh.v2t_offsets[c + 1] - begin);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const TetId t = mesh.v2t[begin + i];
+      if (mesh.is_dead_tet(t)) continue;
+      while (wi == mesh.v2t_offsets[wc + 1] - mesh.v2t_offsets[wc]) {  // write chunk full: move on
+        wc = mesh.v2t_next[wc];
+        wi = 0;
+      }
+      mesh.v2t[mesh.v2t_offsets[wc] + wi++] = t;  // the write cursor never passes the read cursor
+      ++kept;
+    }
+    remaining -= n;
+  }
+  mesh.v2t_count[x] = kept;
+}
+
+}  // namespace
+
+bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& s) {
+  star_of(mesh, u, s.star_u);
+  star_of(mesh, v, s.star_v);
+  s.star_uv.clear();
+  std::set_intersection(s.star_u.begin(), s.star_u.end(), s.star_v.begin(), s.star_v.end(),
+                        std::back_inserter(s.star_uv));
+  return !s.star_uv.empty();
+}
+
+CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
+                            const CollapseOptions& options, CollapseScratch& s) {
+  if (mesh.is_pinned(v)) return CollapseReason::kPinned;
+  if (mesh.is_pinned(u) && p != mesh.positions[u]) return CollapseReason::kPinned;
+  if (!gather_stars(mesh, u, v, s)) return CollapseReason::kLinkK;
+
+  switch (check_link_conditions(mesh, u, v, s.star_uv, s.link)) {
+    case LinkResult::kLinkK: return CollapseReason::kLinkK;
+    case LinkResult::kLinkKtilde: return CollapseReason::kLinkKtilde;
+    case LinkResult::kOk: break;
+  }
+
+  // Geometry of the new star: every surviving tet of St(u) ∪ St(v) with u or v moved to p.
+  double old_min = 1.0, new_min = 1.0;
+  const auto& P = mesh.positions;
+  for (const std::vector<TetId>* star : {&s.star_u, &s.star_v}) {
+    const VertId moved = star == &s.star_u ? u : v;
+    for (TetId t : *star) {
+      const auto& tv = mesh.tets[t];
+      const bool in_uv = std::binary_search(s.star_uv.begin(), s.star_uv.end(), t);
+      if (!(in_uv && moved == v))  // tets of St(uv) are counted once, from St(u)
+        old_min = std::min(old_min, mean_ratio(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]));
+      if (in_uv) continue;
+      glm::dvec3 q[4];
+      for (int k = 0; k < 4; ++k) q[k] = tv[k] == moved ? p : P[tv[k]];
+      if (orient3d_sign(q[0], q[1], q[2], q[3]) <= 0) return CollapseReason::kInversion;
+      new_min = std::min(new_min, mean_ratio(q[0], q[1], q[2], q[3]));
+    }
+  }
+  if (new_min < std::min(options.quality_floor, old_min)) return CollapseReason::kQuality;
+  if (options.accept_position && !options.accept_position(mesh, u, v, p)) return CollapseReason::kTolerance;
+  return CollapseReason::kOk;
+}
+
+void reserve_refs_headroom(TetMesh& mesh, std::uint32_t refs_used, std::size_t count) {
+  if (mesh.refs_table.size() < refs_used + count)
+    mesh.refs_table.resize(std::max<std::size_t>(refs_used + count, mesh.refs_table.size() * 3 / 2));
+}
+
+void collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
+              CollapseScratch& s, std::uint32_t& refs_used) {
+  gather_stars(mesh, u, v, s);
+
+  // 1. The flagged faces and edges of the old stencil, with v renamed to u. Faces and edges that
+  //    contain both u and v degenerate and vanish with St(uv); merged ones appear twice and are
+  //    united below (the listed ref wins over an implicit interface: refs sort descending).
+  s.faces.clear();
+  s.edges.clear();
+  auto collect = [&](TetId t) {
+    const TetFlags fl = mesh.flags[t];
+    if (!(fl & (tet_flag::kSurfaceFaces | tet_flag::kPolylineEdges))) return;
+    const SubstructureRefs& refs = mesh.refs_table[mesh.tet_refs_slot[t]];
+    const auto r = renamed(mesh.tets[t], v, u);
+    for (int f = 0; f < 4; ++f) {
+      if (!is_surface_face(fl, f)) continue;
+      std::array<VertId, 3> key{r[kTetFaces[f][0]], r[kTetFaces[f][1]], r[kTetFaces[f][2]]};
+      std::sort(key.begin(), key.end());
+      if (key[0] == key[1] || key[1] == key[2]) continue;
+      s.faces.push_back({key, refs.face[f]});
+    }
+    for (int e = 0; e < 6; ++e) {
+      if (!is_polyline_edge(fl, e)) continue;
+      const VertId x = r[kTetEdges[e][0]], y = r[kTetEdges[e][1]];
+      if (x == y) continue;
+      s.edges.push_back({{std::min(x, y), std::max(x, y)}, refs.edge[e], ((refs.ridge_mask >> e) & 1u) != 0});
+    }
+  };
+  for (TetId t : s.star_u) collect(t);
+  for (TetId t : s.star_v)
+    if (!std::binary_search(s.star_uv.begin(), s.star_uv.end(), t)) collect(t);
+  std::sort(s.faces.begin(), s.faces.end());
+  s.faces.erase(std::unique(s.faces.begin(), s.faces.end(), [](const auto& a, const auto& b) { return a.key == b.key; }),
+                s.faces.end());
+  std::sort(s.edges.begin(), s.edges.end());
+  // A merged edge is a ridge if either part was: push ridge bits back to the first record of each
+  // run of equal keys (walking backwards so runs longer than two are covered), which unique keeps.
+  for (std::size_t i = s.edges.size(); i-- > 1;)
+    if (s.edges[i].key == s.edges[i - 1].key && s.edges[i].ridge) s.edges[i - 1].ridge = true;
+  s.edges.erase(std::unique(s.edges.begin(), s.edges.end(), [](const auto& a, const auto& b) { return a.key == b.key; }),
+                s.edges.end());
+
+  // 2. Remove St(uv), rename v to u in the rest of St(v).
+  for (TetId t : s.star_uv) mesh.flags[t] = tet_flag::kDead;
+  for (TetId t : s.star_v)
+    if (!std::binary_search(s.star_uv.begin(), s.star_uv.end(), t)) mesh.tets[t] = renamed(mesh.tets[t], v, u);
+
+  // 3. Incidence: u takes v's chunks; the other vertices of St(uv) lose the dead tets.
+  s.merged.clear();
+  std::set_union(s.star_u.begin(), s.star_u.end(), s.star_v.begin(), s.star_v.end(), std::back_inserter(s.merged));
+  s.merged.erase(std::remove_if(s.merged.begin(), s.merged.end(), [&](TetId t) { return mesh.is_dead_tet(t); }),
+                 s.merged.end());
+  std::uint32_t last = u;
+  while (mesh.v2t_next[last] != kInvalid) last = mesh.v2t_next[last];
+  mesh.v2t_next[last] = v;
+  write_incidence(mesh, u, s.merged);
+  mesh.v2t_count[v] = 0;
+  for (TetId t : s.star_uv)
+    for (VertId x : mesh.tets[t])
+      if (x != u && x != v) drop_dead_tets(mesh, x);
+
+  // 4. Recompute flags and refs of the new star from the collected set (never patched by cases).
+  std::atomic_ref<std::uint32_t> used(refs_used);
+  for (TetId t : s.merged) {
+    const auto& tv = mesh.tets[t];
+    TetFlags fl = 0;
+    SubstructureRefs refs;
+    for (int f = 0; f < 4; ++f) {
+      std::array<VertId, 3> key{tv[kTetFaces[f][0]], tv[kTetFaces[f][1]], tv[kTetFaces[f][2]]};
+      std::sort(key.begin(), key.end());
+      auto it = std::lower_bound(s.faces.begin(), s.faces.end(), CollapseScratch::FlaggedFace{key, INT32_MAX});
+      if (it != s.faces.end() && it->key == key) {
+        fl |= TetFlags(1u << (tet_flag::kSurfaceFaceShift + f));
+        refs.face[f] = it->ref;
+      }
+    }
+    for (int e = 0; e < 6; ++e) {
+      const VertId x = tv[kTetEdges[e][0]], y = tv[kTetEdges[e][1]];
+      const std::array<VertId, 2> key{std::min(x, y), std::max(x, y)};
+      auto it = std::lower_bound(s.edges.begin(), s.edges.end(), CollapseScratch::FlaggedEdge{key, INT32_MAX, false});
+      if (it != s.edges.end() && it->key == key) {
+        fl |= TetFlags(1u << (tet_flag::kPolylineEdgeShift + e));
+        refs.edge[e] = it->ref;
+        if (it->ridge) refs.ridge_mask |= std::uint8_t(1u << e);
+      }
+    }
+    mesh.flags[t] = fl;
+    if (fl == 0) continue;
+    if (mesh.tet_refs_slot[t] == kInvalid) {
+      // Relaxed: slots only need to be distinct; the table is not read through the counter.
+      mesh.tet_refs_slot[t] = used.fetch_add(1, std::memory_order_relaxed);
+      assert(mesh.tet_refs_slot[t] < mesh.refs_table.size() && "reserve_refs_headroom was not called");
+    }
+    mesh.refs_table[mesh.tet_refs_slot[t]] = refs;
+  }
+
+  // 5. Geometry and fields.
+  mesh.positions[u] = p;
+  const int stride = mesh.field_stride();
+  if (fields_at_p != nullptr && stride > 0)
+    std::copy_n(fields_at_p, stride, mesh.field_values.begin() + static_cast<std::ptrdiff_t>(u) * stride);
+  mesh.vertex_states[v] |= vertex_state::kDead;
+}
+
+}  // namespace topotet

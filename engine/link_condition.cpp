@@ -1,1 +1,350 @@
-// placeholder: being written
+// Link conditions (see link_condition.h for the orders and the tests (A)-(I)).
+#include "link_condition.h"
+
+#include <algorithm>
+
+namespace topotet {
+namespace {
+
+constexpr std::int32_t kNoRef = INT32_MIN + 1;        // special face that is not flagged (plain boundary)
+constexpr std::int32_t kBoundarySide = INT32_MIN;     // "material" on the outer side of a boundary face
+constexpr int kFiltrationK = 0, kFiltrationKtilde = 1;
+
+std::uint64_t pack(VertId x, VertId y) {
+  return x < y ? (std::uint64_t{x} << 32) | y : (std::uint64_t{y} << 32) | x;
+}
+
+int local_of(const std::array<VertId, 4>& v, VertId a) {
+  for (int k = 0; k < 4; ++k)
+    if (v[k] == a) return k;
+  return -1;
+}
+
+using Neighbour = LinkScratch::Neighbour;
+using VertexData = LinkScratch::VertexData;
+
+Neighbour* find_neighbour(VertexData& d, VertId x) {
+  auto it = std::lower_bound(d.neighbours.begin(), d.neighbours.end(), x,
+                             [](const Neighbour& n, VertId key) { return n.x < key; });
+  return (it != d.neighbours.end() && it->x == x) ? &*it : nullptr;
+}
+const Neighbour* find_neighbour(const VertexData& d, VertId x) {
+  return find_neighbour(const_cast<VertexData&>(d), x);
+}
+
+bool is_special_in(const LinkScratch::SpecialFace& s, int filtration) {
+  return filtration == kFiltrationKtilde || s.boundary;
+}
+
+// The two link neighbours of x in the graph of special faces (filtration f); x must have count 2.
+bool other_two(const VertexData& d, int f, VertId x, VertId out[2]) {
+  int n = 0;
+  for (const auto& s : d.special) {
+    if (!is_special_in(s, f)) continue;
+    if (s.x == x || s.y == x) {
+      if (n == 2) return false;
+      out[n++] = s.x == x ? s.y : s.x;
+    }
+  }
+  return n == 2;
+}
+
+std::size_t node_count(const VertexData& d, int f) {
+  std::size_t n = 0;
+  for (const Neighbour& nb : d.neighbours) n += nb.order[f] >= 1 ? 1 : 0;
+  return n;
+}
+
+// Order 1 shape: the special faces around a form exactly one cycle through all order>=1 neighbours.
+bool is_single_cycle(const VertexData& d, int f) {
+  const std::size_t nodes = node_count(d, f);
+  VertId start = kInvalid;
+  for (const Neighbour& nb : d.neighbours) {
+    if (nb.order[f] == 0) continue;
+    if (nb.count[f] != 2) return false;
+    if (start == kInvalid) start = nb.x;
+  }
+  if (start == kInvalid) return false;
+  VertId adj[2];
+  if (!other_two(d, f, start, adj)) return false;
+  VertId prev = start, cur = adj[0];
+  std::size_t steps = 1;
+  while (cur != start) {
+    if (!other_two(d, f, cur, adj)) return false;
+    const VertId next = adj[0] == prev ? adj[1] : adj[0];
+    prev = cur;
+    cur = next;
+    if (++steps > nodes) return false;
+  }
+  return steps == nodes;
+}
+
+// Order 2 shape: the special faces around a form k arcs from x1 to x2 covering every other
+// order>=1 neighbour exactly once (k half-disks glued along the curve x1-a-x2).
+bool is_curve_point(const VertexData& d, int f, VertId x1, VertId x2) {
+  const std::size_t nodes = node_count(d, f);
+  std::size_t visited = 0;
+  for (const auto& s : d.special) {
+    if (!is_special_in(s, f) || (s.x != x1 && s.y != x1)) continue;
+    VertId prev = x1, cur = s.x == x1 ? s.y : s.x;
+    while (cur != x2) {
+      if (cur == x1) return false;
+      const Neighbour* nb = find_neighbour(d, cur);
+      if (nb == nullptr || nb->count[f] != 2) return false;
+      VertId adj[2];
+      if (!other_two(d, f, cur, adj)) return false;
+      const VertId next = adj[0] == prev ? adj[1] : adj[0];
+      prev = cur;
+      cur = next;
+      if (++visited > nodes) return false;
+    }
+  }
+  return visited + 2 == nodes;
+}
+
+void face_labels_at(const VertexData& d, VertId x, std::vector<LinkScratch::Label>& out) {
+  out.clear();
+  for (const auto& s : d.special)
+    if (s.x == x || s.y == x) out.push_back(s.label);
+  std::sort(out.begin(), out.end());
+}
+
+std::uint8_t vertex_order(const TetMesh& mesh, VertId a, const VertexData& d, int f, LinkScratch& scratch) {
+  if (d.non_manifold) return 3;
+  if (f == kFiltrationKtilde && mesh.is_pinned(a)) return 3;
+  const Neighbour* c2[2] = {nullptr, nullptr};
+  int c2_count = 0;
+  bool has_special = false;
+  for (const Neighbour& nb : d.neighbours) {
+    if (nb.order[f] == 2) {
+      if (c2_count == 2) return 3;  // three or more curve edges: a junction
+      c2[c2_count++] = &nb;
+    }
+    has_special |= nb.count[f] > 0;
+  }
+  if (c2_count == 1) return 3;  // a curve ends here
+  if (c2_count == 2) {
+    if (c2[0]->count[f] != c2[1]->count[f]) return 3;
+    if (f == kFiltrationKtilde) {
+      if (c2[0]->polyline != c2[1]->polyline || (c2[0]->polyline && c2[0]->polyline_ref != c2[1]->polyline_ref))
+        return 3;
+      face_labels_at(d, c2[0]->x, scratch.labels_x1);
+      face_labels_at(d, c2[1]->x, scratch.labels_x2);
+      if (scratch.labels_x1 != scratch.labels_x2) return 3;  // the curve changes kind here
+    }
+    return is_curve_point(d, f, c2[0]->x, c2[1]->x) ? 2 : 3;
+  }
+  if (has_special) return is_single_cycle(d, f) ? 1 : 3;
+  return 0;
+}
+
+// Sorted intersection of two sorted ranges, projected by key(); calls f(key) for common keys.
+template <class It1, class It2, class Key1, class Key2, class F>
+bool all_common(It1 b1, It1 e1, It2 b2, It2 e2, Key1 k1, Key2 k2, F&& ok) {
+  while (b1 != e1 && b2 != e2) {
+    const auto x = k1(*b1), y = k2(*b2);
+    if (x < y) {
+      ++b1;
+    } else if (y < x) {
+      ++b2;
+    } else {
+      if (!ok(x)) return false;
+      ++b1;
+      ++b2;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+VertexOrders classify_vertex(const TetMesh& mesh, VertId a, VertexData& d, LinkScratch& scratch) {
+  d.recs.clear();
+  d.special.clear();
+  d.neighbours.clear();
+  d.link_edges.clear();
+  d.link_faces.clear();
+  d.non_manifold = false;
+
+  mesh.for_each_tet_of(a, [&](TetId t) {
+    const auto& v = mesh.tets[t];
+    const int la = local_of(v, a);
+    std::array<VertId, 3> o{};
+    int n = 0;
+    for (int k = 0; k < 4; ++k)
+      if (k != la) o[n++] = v[k];
+    std::sort(o.begin(), o.end());
+    d.link_faces.push_back(o);
+    d.link_edges.push_back(pack(o[0], o[1]));
+    d.link_edges.push_back(pack(o[0], o[2]));
+    d.link_edges.push_back(pack(o[1], o[2]));
+    for (int f = 0; f < 4; ++f) {
+      if (f == la) continue;
+      VertId xy[2];
+      int m = 0;
+      for (int k = 0; k < 4; ++k)
+        if (k != f && k != la) xy[m++] = v[k];
+      d.recs.push_back({std::min(xy[0], xy[1]), std::max(xy[0], xy[1]), t, static_cast<std::uint8_t>(f)});
+    }
+  });
+  std::sort(d.link_edges.begin(), d.link_edges.end());
+  d.link_edges.erase(std::unique(d.link_edges.begin(), d.link_edges.end()), d.link_edges.end());
+  std::sort(d.link_faces.begin(), d.link_faces.end());
+  std::sort(d.recs.begin(), d.recs.end(), [](const auto& p, const auto& q) {
+    return p.x != q.x ? p.x < q.x : (p.y != q.y ? p.y < q.y : p.tet < q.tet);
+  });
+
+  auto& nbv = scratch.tmp_vertices;
+  nbv.clear();
+  for (const auto& r : d.recs) {
+    nbv.push_back(r.x);
+    nbv.push_back(r.y);
+  }
+  std::sort(nbv.begin(), nbv.end());
+  nbv.erase(std::unique(nbv.begin(), nbv.end()), nbv.end());
+  for (VertId x : nbv) d.neighbours.push_back(Neighbour{x, {0, 0}, {0, 0}, false, false, 0, {}});
+
+  for (std::size_t i = 0; i < d.recs.size();) {
+    std::size_t j = i + 1;
+    while (j < d.recs.size() && d.recs[j].x == d.recs[i].x && d.recs[j].y == d.recs[i].y) ++j;
+    if (j - i > 2) d.non_manifold = true;
+    const bool boundary = j - i == 1;
+    const LinkScratch::FaceRec* flagged = nullptr;
+    for (std::size_t k = i; k < j; ++k)
+      if (is_surface_face(mesh.flags[d.recs[k].tet], d.recs[k].local_face)) flagged = &d.recs[k];
+    if (boundary || flagged != nullptr) {
+      LinkScratch::Label label{kNoRef, 0, 0};
+      if (flagged != nullptr)
+        label.ref = mesh.refs_table[mesh.tet_refs_slot[flagged->tet]].face[flagged->local_face];
+      const std::int32_t m0 = mesh.material[d.recs[i].tet];
+      const std::int32_t m1 = boundary ? kBoundarySide : mesh.material[d.recs[i + 1].tet];
+      label.m0 = std::min(m0, m1);
+      label.m1 = std::max(m0, m1);
+      d.special.push_back({d.recs[i].x, d.recs[i].y, label, boundary});
+      for (VertId x : {d.recs[i].x, d.recs[i].y}) {
+        Neighbour* nb = find_neighbour(d, x);
+        nb->count[kFiltrationK] += boundary ? 1 : 0;
+        if (nb->count[kFiltrationKtilde]++ == 0)
+          nb->first_label = label;
+        else if (!(nb->first_label == label))
+          nb->mixed_labels = true;
+      }
+    }
+    i = j;
+  }
+
+  mesh.for_each_tet_of(a, [&](TetId t) {
+    const TetFlags fl = mesh.flags[t];
+    if (!(fl & tet_flag::kPolylineEdges)) return;
+    const auto& v = mesh.tets[t];
+    const int la = local_of(v, a);
+    for (int e = 0; e < 6; ++e) {
+      if (!is_polyline_edge(fl, e) || (kTetEdges[e][0] != la && kTetEdges[e][1] != la)) continue;
+      Neighbour* nb = find_neighbour(d, v[kTetEdges[e][0] == la ? kTetEdges[e][1] : kTetEdges[e][0]]);
+      nb->polyline = true;
+      nb->polyline_ref = mesh.refs_table[mesh.tet_refs_slot[t]].edge[e];
+    }
+  });
+
+  for (Neighbour& nb : d.neighbours) {
+    const std::uint8_t ck = nb.count[kFiltrationK], ckt = nb.count[kFiltrationKtilde];
+    nb.order[kFiltrationK] = ck == 0 ? 0 : (ck != 2 ? 2 : 1);
+    nb.order[kFiltrationKtilde] = nb.polyline ? 2 : (ckt == 0 ? 0 : ((ckt != 2 || nb.mixed_labels) ? 2 : 1));
+  }
+  d.orders.k = vertex_order(mesh, a, d, kFiltrationK, scratch);
+  d.orders.ktilde = vertex_order(mesh, a, d, kFiltrationKtilde, scratch);
+  return d.orders;
+}
+
+VertexOrders vertex_orders(const TetMesh& mesh, VertId a, LinkScratch& scratch) {
+  return classify_vertex(mesh, a, scratch.a, scratch);
+}
+
+LinkResult check_link_conditions(const TetMesh& mesh, VertId a, VertId b, const std::vector<TetId>& stab,
+                                 LinkScratch& scratch) {
+  VertexData& da = scratch.a;
+  VertexData& db = scratch.b;
+  classify_vertex(mesh, a, da, scratch);
+  classify_vertex(mesh, b, db, scratch);
+
+  // Lk(ab) in K: the vertices and edges opposite ab in the tets of St(ab).
+  auto& lk_ab_vertices = scratch.tmp_vertices;
+  auto& lk_ab_edges = scratch.tmp_edges;
+  lk_ab_vertices.clear();
+  lk_ab_edges.clear();
+  for (TetId t : stab) {
+    VertId o[2];
+    int n = 0;
+    for (VertId x : mesh.tets[t])
+      if (x != a && x != b) o[n++] = x;
+    lk_ab_vertices.push_back(o[0]);
+    lk_ab_vertices.push_back(o[1]);
+    lk_ab_edges.push_back(pack(o[0], o[1]));
+  }
+  std::sort(lk_ab_vertices.begin(), lk_ab_vertices.end());
+  std::sort(lk_ab_edges.begin(), lk_ab_edges.end());
+  auto contains_vertex = [&](VertId x) { return std::binary_search(lk_ab_vertices.begin(), lk_ab_vertices.end(), x); };
+
+  // (A) common neighbours span a triangle with ab.
+  const auto nx = [](const Neighbour& n) { return n.x; };
+  if (!all_common(da.neighbours.begin(), da.neighbours.end(), db.neighbours.begin(), db.neighbours.end(), nx, nx,
+                  [&](VertId x) { return x == a || x == b || contains_vertex(x); }))
+    return LinkResult::kLinkK;
+  // (B) common link edges span a tet with ab.
+  const auto id = [](std::uint64_t e) { return e; };
+  if (!all_common(da.link_edges.begin(), da.link_edges.end(), db.link_edges.begin(), db.link_edges.end(), id, id,
+                  [&](std::uint64_t e) { return std::binary_search(lk_ab_edges.begin(), lk_ab_edges.end(), e); }))
+    return LinkResult::kLinkK;
+  // (C) no common link triangle.
+  const auto fid = [](const std::array<VertId, 3>& f) { return f; };
+  if (!all_common(da.link_faces.begin(), da.link_faces.end(), db.link_faces.begin(), db.link_faces.end(), fid, fid,
+                  [](const std::array<VertId, 3>&) { return false; }))
+    return LinkResult::kLinkK;
+
+  const Neighbour* ab = find_neighbour(da, b);
+  for (int f : {kFiltrationK, kFiltrationKtilde}) {
+    const LinkResult fail = f == kFiltrationK ? LinkResult::kLinkK : LinkResult::kLinkKtilde;
+    const std::uint8_t oa = f == kFiltrationK ? da.orders.k : da.orders.ktilde;
+    const std::uint8_t ob = f == kFiltrationK ? db.orders.k : db.orders.ktilde;
+    const std::uint8_t oab = ab->order[f];
+    if (oa >= 1 && ob >= 1 && oab < 1) return fail;  // (D)
+    if (oa >= 2 && ob >= 2 && oab < 2) return fail;  // (G)
+    if (oa == 3 && ob == 3) return fail;             // (I)
+    if (oa == 0 || ob == 0) continue;                // (E), (F), (H) need special simplices at both ends
+
+    auto abx_special = [&](VertId x) {
+      const std::uint64_t key = pack(b, x);
+      for (const auto& s : da.special)
+        if (pack(s.x, s.y) == key) return is_special_in(s, f);
+      return false;
+    };
+    // (E) and (H): walk the common neighbours once.
+    std::size_t i = 0, j = 0;
+    while (i < da.neighbours.size() && j < db.neighbours.size()) {
+      const Neighbour& p = da.neighbours[i];
+      const Neighbour& q = db.neighbours[j];
+      if (p.x < q.x) {
+        ++i;
+      } else if (q.x < p.x) {
+        ++j;
+      } else {
+        if (p.x != a && p.x != b) {
+          if (p.order[f] == 2 && q.order[f] == 2) return fail;                        // (H)
+          if (p.order[f] >= 1 && q.order[f] >= 1 && !abx_special(p.x)) return fail;  // (E)
+        }
+        ++i;
+        ++j;
+      }
+    }
+    // (F) no link edge xy with both axy and bxy special. Faces at a through b, or at b through a,
+    // are faces abx: they are never equal to a face at the other end.
+    for (const auto& s : da.special) {
+      if (!is_special_in(s, f) || s.x == b || s.y == b) continue;
+      for (const auto& r : db.special)
+        if (r.x == s.x && r.y == s.y && is_special_in(r, f)) return fail;
+    }
+  }
+  return LinkResult::kOk;
+}
+
+}  // namespace topotet

@@ -1,1 +1,201 @@
+// The mesh model: building from MeshData, flags, incidence, export, and input validation.
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "test_meshes.h"
+#include "topotet/error.h"
+#include "topotet/tet_mesh.h"
+
+namespace topotet {
+namespace {
+
+using testing::Grid;
+using testing::make_grid;
+
+std::string build_error(const MeshData& d) {
+  try {
+    build_tet_mesh(d);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+MeshData one_tet() {
+  MeshData d;
+  d.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  d.tets = {{0, 1, 2, 3}};
+  d.tet_material = {1};
+  return d;
+}
+
+TEST(TetMesh, BuildsIncidenceAndCounts) {
+  Grid g = make_grid(3, 2, 2, [](int, int, int) { return 1; });
+  const TetMesh m = build_tet_mesh(g.data);
+  EXPECT_EQ(m.live_tet_count(), 3u * 2 * 2 * 6);
+  EXPECT_EQ(m.live_vertex_count(), 4u * 3 * 3);
+  for (VertId v = 0; v < m.positions.size(); ++v) {
+    std::set<TetId> expected, got;
+    for (TetId t = 0; t < m.tets.size(); ++t)
+      if (std::count(m.tets[t].begin(), m.tets[t].end(), v)) expected.insert(t);
+    m.for_each_tet_of(v, [&](TetId t) { got.insert(t); });
+    EXPECT_EQ(got, expected) << "vertex " << v;
+  }
+}
+
+TEST(TetMesh, MaterialInterfacesAreFlaggedButNotExported) {
+  Grid g = make_grid(3, 3, 3, [](int i, int j, int k) { return i == 1 && j == 1 && k == 1 ? 2 : 1; });
+  const TetMesh m = build_tet_mesh(g.data);
+  int flagged_faces = 0;
+  for (TetId t = 0; t < m.tets.size(); ++t)
+    for (int f = 0; f < 4; ++f) flagged_faces += is_surface_face(m.flags[t], f);
+  EXPECT_EQ(flagged_faces, 2 * 6 * 2);  // 6 squares x 2 triangles, each seen from both sides
+  EXPECT_TRUE(m.to_mesh_data().triangles.empty());
+}
+
+TEST(TetMesh, ListedSubstructuresRoundTripThroughTheFlags) {
+  Grid g = make_grid(4, 4, 4, [](int i, int, int) { return i < 2 ? 1 : 2; });
+  testing::add_patch(g, 2, 2, [](int a, int b) { return a < 2 && b < 3; }, 7);
+  testing::add_polyline(g, testing::grid_line({1, 1, 0}, {1, 1, 4}), 3);
+  g.data.ridges = {0, 2};
+  g.data.corners = {0};
+  g.data.required_vertices = {5};
+  testing::add_linear_field(g);
+  const TetMesh m = build_tet_mesh(g.data);
+  const MeshData out = m.to_mesh_data();
+  auto tri_set = [](const MeshData& d) {
+    std::set<std::pair<std::array<VertId, 3>, int>> s;
+    for (const Triangle& t : d.triangles) {
+      auto k = t.v;
+      std::sort(k.begin(), k.end());
+      s.insert({k, t.ref});
+    }
+    return s;
+  };
+  auto seg_set = [](const MeshData& d) {
+    std::set<std::tuple<VertId, VertId, int, bool>> s;
+    for (std::size_t i = 0; i < d.segments.size(); ++i) {
+      const Segment& e = d.segments[i];
+      const bool ridge = std::count(d.ridges.begin(), d.ridges.end(), i) > 0;
+      s.insert({std::min(e.v[0], e.v[1]), std::max(e.v[0], e.v[1]), e.ref, ridge});
+    }
+    return s;
+  };
+  EXPECT_EQ(tri_set(out), tri_set(g.data));
+  EXPECT_EQ(seg_set(out), seg_set(g.data));
+  EXPECT_EQ(out.corners, g.data.corners);
+  EXPECT_EQ(out.required_vertices, g.data.required_vertices);
+  EXPECT_EQ(out.fields, g.data.fields);
+  EXPECT_EQ(out.positions, g.data.positions);
+  EXPECT_EQ(out.tets, g.data.tets);
+}
+
+TEST(TetMesh, ModelStaysUnder64BytesPerTet) {
+  Grid g = make_grid(20, 20, 20, [](int, int, int) { return 1; });
+  testing::add_linear_field(g);
+  const TetMesh m = build_tet_mesh(g.data);
+  const double bytes_per_tet = static_cast<double>(m.memory_bytes()) / m.tets.size();
+  EXPECT_LT(bytes_per_tet, 64.0);
+  RecordProperty("bytes_per_tet", std::to_string(bytes_per_tet));
+}
+
+TEST(TetMesh, ReorientsConsistentlyInvertedInput) {
+  MeshData d = one_tet();
+  std::swap(d.tets[0][0], d.tets[0][1]);
+  const TetMesh m = build_tet_mesh(d);
+  EXPECT_EQ(m.live_tet_count(), 1u);
+  BuildOptions strict;
+  strict.reorient_inverted = false;
+  EXPECT_THROW(build_tet_mesh(d, strict), InputError);
+}
+
+TEST(TetMeshShouldFail, NaNCoordinate) {
+  MeshData d = one_tet();
+  d.positions[2].y = std::nan("");
+  EXPECT_NE(build_error(d).find("vertex 2"), std::string::npos);
+}
+
+TEST(TetMeshShouldFail, IndexOutOfRange) {
+  MeshData d = one_tet();
+  d.tets[0][3] = 9;
+  EXPECT_NE(build_error(d).find("tet 0: vertex index 9 out of range"), std::string::npos);
+}
+
+TEST(TetMeshShouldFail, RepeatedVertex) {
+  MeshData d = one_tet();
+  d.tets[0][3] = 0;
+  EXPECT_NE(build_error(d).find("repeated vertex"), std::string::npos);
+}
+
+TEST(TetMeshShouldFail, ZeroVolume) {
+  MeshData d = one_tet();
+  d.positions[3] = {0.5, 0.5, 0};
+  EXPECT_NE(build_error(d).find("zero or near-zero volume"), std::string::npos);
+}
+
+TEST(TetMeshShouldFail, MixedOrientation) {
+  Grid g = make_grid(2, 1, 1, [](int, int, int) { return 1; });
+  std::swap(g.data.tets[3][0], g.data.tets[3][1]);
+  EXPECT_NE(build_error(g.data).find("tet 3: inverted"), std::string::npos);
+}
+
+TEST(TetMeshShouldFail, FaceSharedByThreeTets) {
+  MeshData d = one_tet();
+  d.positions.push_back({0.2, 0.2, -1});
+  d.positions.push_back({0.3, 0.2, -2});
+  d.tets.push_back({0, 2, 1, 4});
+  d.tets.push_back({0, 2, 1, 5});
+  d.tet_material = {1, 1, 1};
+  EXPECT_NE(build_error(d).find("shared by 3 tets"), std::string::npos) << build_error(d);
+}
+
+TEST(TetMeshShouldFail, DuplicateTet) {
+  MeshData d = one_tet();
+  d.tets.push_back(d.tets[0]);
+  d.tet_material.push_back(1);
+  EXPECT_NE(build_error(d).find("duplicates tet 0"), std::string::npos) << build_error(d);
+}
+
+TEST(TetMeshShouldFail, TriangleThatIsNotAFace) {
+  Grid g = make_grid(2, 2, 2, [](int, int, int) { return 1; });
+  g.data.triangles.push_back({{g.vid(0, 0, 0), g.vid(2, 0, 0), g.vid(0, 2, 0)}, 4});
+  EXPECT_NE(build_error(g.data).find("triangle 0 (vertices"), std::string::npos);
+  EXPECT_NE(build_error(g.data).find("is not a face of any tet"), std::string::npos);
+}
+
+TEST(TetMeshShouldFail, SegmentThatIsNotAnEdge) {
+  Grid g = make_grid(2, 2, 2, [](int, int, int) { return 1; });
+  g.data.segments.push_back({{g.vid(0, 0, 0), g.vid(2, 2, 2)}, 1});
+  EXPECT_NE(build_error(g.data).find("is not an edge of any tet"), std::string::npos);
+}
+
+TEST(TetMeshShouldFail, DuplicateTriangle) {
+  Grid g = make_grid(2, 2, 2, [](int, int, int) { return 1; });
+  testing::add_square(g, 2, 1, 0, 0, 3);
+  testing::add_square(g, 2, 1, 0, 0, 4);
+  EXPECT_NE(build_error(g.data).find("duplicates triangle"), std::string::npos);
+}
+
+TEST(TetMeshShouldFail, FieldOfWrongSize) {
+  MeshData d = one_tet();
+  d.fields.push_back({"f", 1, {1.0, 2.0}});
+  EXPECT_NE(build_error(d).find("field 'f' has 2 values for 4 vertices"), std::string::npos);
+}
+
+TEST(TetMesh, CompactDropsDeadElementsAndKeepsOrder) {
+  Grid g = make_grid(2, 2, 2, [](int, int, int) { return 1; });
+  TetMesh m = build_tet_mesh(g.data);
+  m.flags[0] |= tet_flag::kDead;
+  m.flags[5] |= tet_flag::kDead;
+  const auto t1 = m.tets[1];
+  compact(m);
+  EXPECT_EQ(m.tets.size(), g.data.tets.size() - 2);
+  EXPECT_EQ(m.tets[0], t1);
+}
+
+}  // namespace
+}  // namespace topotet

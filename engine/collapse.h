@@ -1,0 +1,86 @@
+// The collapse kernel: "may edge uv collapse to position p?" and "collapse it".
+//
+//      before                         after (v merged into u, u moved to p)
+//   x-----u-----y                   x-----p-----y
+//    \   / \   /                     \   |   /
+//     \ /   \ /          ==>          \  |  /
+//      v-----z                          \ | /
+//                                         z
+// The tets of St(uv) disappear; every other tet of St(v) has v renamed to u. Faces and edges
+// that were on a substructure keep their flags and refs, renamed; faces that merge (uxy and vxy of
+// a removed tet uvxy) keep the union of their flags.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "link_condition.h"
+#include "topotet/tet_mesh.h"
+
+namespace topotet {
+
+enum class CollapseReason : std::uint8_t {
+  kOk,
+  kLinkK,       // would change the topology of the mesh itself (its link conditions fail)
+  kLinkKtilde,  // would change the topology of a substructure (the extended complex's conditions fail)
+  kPinned,      // v is pinned (it would disappear) or u is pinned and p is not u's position
+  kInversion,   // a tet of the new star would be inverted or degenerate
+  kQuality,     // a tet of the new star would fall below the quality floor
+  kTolerance,   // the geometric tolerance check (a user callback) refused p
+};
+inline constexpr int kCollapseReasonCount = 7;
+const char* to_string(CollapseReason reason);
+
+struct CollapseOptions {
+  // The worst mean ratio of the new star may not fall below min(quality_floor, worst of the old).
+  double quality_floor = 0.05;
+  // Optional: refuses p for geometric reasons (Hausdorff tolerance). Called last. Must be
+  // thread-safe when the kernel runs in parallel.
+  std::function<bool(const TetMesh&, VertId u, VertId v, const glm::dvec3& p)> accept_position;
+};
+
+// Per-thread scratch; keeps capacity between calls so that steady-state calls do not allocate.
+struct CollapseScratch {
+  std::vector<TetId> star_u, star_v, star_uv;  // sorted tet ids
+  LinkScratch link;
+  struct FlaggedFace {
+    std::array<VertId, 3> key;
+    std::int32_t ref;
+    bool operator<(const FlaggedFace& o) const { return key != o.key ? key < o.key : ref > o.ref; }
+  };
+  struct FlaggedEdge {
+    std::array<VertId, 2> key;
+    std::int32_t ref;
+    bool ridge;
+    bool operator<(const FlaggedEdge& o) const { return key != o.key ? key < o.key : ref > o.ref; }
+  };
+  std::vector<FlaggedFace> faces;
+  std::vector<FlaggedEdge> edges;
+  std::vector<TetId> merged;
+};
+
+// Fills scratch.star_u, star_v, star_uv. Returns false if uv is not an edge.
+bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& scratch);
+
+// May v be merged into u, with u moved to p? Pure: reads the mesh only. Checks, cheapest first:
+// pinned, link conditions of K and K~, inversion, quality, then options.accept_position.
+// The orders of u and v computed on the way are left in scratch.link.a/.b.
+CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
+                            const CollapseOptions& options, CollapseScratch& scratch);
+
+// Applies the collapse (the caller has checked may_collapse with the same scratch stars). Writes
+// only the tets of St(u) ∪ St(v), the vertices u and v, and the incidence chains of the vertices of
+// St(uv), so collapses with disjoint stencils may run concurrently. `fields_at_p` gives u's new
+// field values (field_stride() doubles); nullptr keeps u's values.
+// Needs mesh.refs_table headroom for |St(u)| + |St(v)| new slots (see reserve_refs_headroom),
+// taken through `refs_used` with an atomic increment.
+void collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
+              CollapseScratch& scratch, std::uint32_t& refs_used);
+
+// Grows mesh.refs_table so that `count` more slots can be taken after `refs_used`.
+void reserve_refs_headroom(TetMesh& mesh, std::uint32_t refs_used, std::size_t count);
+
+}  // namespace topotet

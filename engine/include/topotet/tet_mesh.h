@@ -1,0 +1,159 @@
+// TetMesh: the validated working model the simplifier edits in place.
+//
+// Structure of arrays with 32-bit ids (see ../shared/DESIGN.md, "Data"):
+//   vertices: positions, interleaved field values, a ref, a state byte (pinned / dead);
+//   tets:     4 vertex ids (positively oriented), material id, a 16-bit flags word;
+//   side table: refs of flagged faces/edges, one SubstructureRefs record per flagged tet;
+//   incidence: vertex -> tets as a chain of CSR chunks (see below).
+//
+// Substructures are never stored as triangle or edge lists: a tet's flags word says which of its
+// faces lie on a surface (listed triangle or material interface) and which of its edges lie on a
+// polyline (paper 000 §4.1). Boundary faces are not flagged: a face is on the boundary iff only one
+// tet has it, which the kernel sees from the stars it reads anyway.
+//
+// Vertex -> tet incidence: every vertex starts owning one chunk of the CSR array holding exactly
+// its initial star. A collapse u <- v gives v's chunks to u (linking them after u's), and
+// St(u) after the collapse is never larger than |St(u)| + |St(v)|, so it always fits: a collapse
+// never allocates, and two collapses with disjoint stencils never touch the same chunk. The tets
+// of a vertex are packed into its chain in order; `v2t_count` says how many there are.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "topotet/mesh_data.h"
+
+namespace topotet {
+
+using TetFlags = std::uint16_t;
+
+namespace tet_flag {
+inline constexpr int kSurfaceFaceShift = 0;   // bit f: face f (opposite local vertex f) is on a surface
+inline constexpr int kPolylineEdgeShift = 4;  // bit 4+e: local edge e (kTetEdges[e]) is on a polyline
+inline constexpr TetFlags kSurfaceFaces = 0xF;
+inline constexpr TetFlags kPolylineEdges = 0x3F << kPolylineEdgeShift;
+inline constexpr TetFlags kDead = 1u << 10;   // tombstone: removed by a collapse
+}  // namespace tet_flag
+
+// Local edge e joins local vertices kTetEdges[e][0] and kTetEdges[e][1].
+inline constexpr std::array<std::array<int, 2>, 6> kTetEdges = {
+    {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+// Face f (opposite local vertex f), listed with the orientation that points out of the tet.
+inline constexpr std::array<std::array<int, 3>, 4> kTetFaces = {
+    {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}}};
+
+constexpr bool is_surface_face(TetFlags f, int face) {
+  return (f >> (tet_flag::kSurfaceFaceShift + face)) & 1u;
+}
+constexpr bool is_polyline_edge(TetFlags f, int edge) {
+  return (f >> (tet_flag::kPolylineEdgeShift + edge)) & 1u;
+}
+constexpr int local_edge_index(int a, int b) {  // a != b in 0..3
+  const int lo = a < b ? a : b, hi = a < b ? b : a;
+  return lo == 0 ? hi - 1 : (lo == 1 ? hi + 1 : 5);
+}
+
+// Ref of a flagged face that is a material interface the input did not list. Such faces are
+// substructure faces for the kernel but are not written back as triangles.
+inline constexpr std::int32_t kImplicitInterfaceRef = INT32_MIN;
+
+// Refs of the flagged faces and edges of one tet (entries of unflagged ones are meaningless).
+struct SubstructureRefs {
+  std::array<std::int32_t, 4> face{};
+  std::array<std::int32_t, 6> edge{};
+  std::uint8_t ridge_mask = 0;  // bit e: local edge e is a MEDIT ridge
+};
+
+namespace vertex_state {
+inline constexpr std::uint8_t kPinned = 1u << 0;    // never moves, never removed
+inline constexpr std::uint8_t kCorner = 1u << 1;    // listed as MEDIT Corner / Gmsh point
+inline constexpr std::uint8_t kRequired = 1u << 2;  // listed as MEDIT RequiredVertex
+inline constexpr std::uint8_t kDead = 1u << 7;      // removed by a collapse
+}  // namespace vertex_state
+
+struct FieldInfo {
+  std::string name;
+  int components = 1;
+};
+
+struct BuildOptions {
+  // Input whose tets are ALL negatively oriented (a common convention mismatch) is flipped.
+  // Mixed orientations are always an error.
+  bool reorient_inverted = true;
+};
+
+class TetMesh {
+ public:
+  // --- vertices ---
+  std::vector<glm::dvec3> positions;      // [vert]
+  std::vector<double> field_values;       // [vert * field_stride() + k]
+  std::vector<FieldInfo> fields;          // layout of field_values
+  std::vector<std::int32_t> vertex_refs;  // [vert]
+  std::vector<std::uint8_t> vertex_states;  // [vert] vertex_state bits
+
+  // --- tets ---
+  std::vector<std::array<VertId, 4>> tets;  // [tet], positively oriented
+  std::vector<std::int32_t> material;       // [tet]
+  std::vector<TetFlags> flags;              // [tet]
+  std::vector<std::uint32_t> tet_refs_slot;  // [tet] index into refs_table, kInvalid if none
+  std::vector<SubstructureRefs> refs_table;  // side table (mmg's xTetra)
+
+  // --- incidence: chained CSR (see the file comment) ---
+  std::vector<std::uint32_t> v2t_offsets;  // [vert + 1] chunk c = [v2t_offsets[c], v2t_offsets[c+1])
+  std::vector<std::uint32_t> v2t_next;     // [vert] next chunk in the chain, kInvalid at the end
+  std::vector<std::uint32_t> v2t_count;    // [vert] number of tets of the vertex
+  std::vector<TetId> v2t;                  // [4 * tets at build]
+
+  std::size_t vertex_capacity() const { return positions.size(); }
+  std::size_t tet_capacity() const { return tets.size(); }
+  std::size_t live_vertex_count() const;
+  std::size_t live_tet_count() const;
+  int field_stride() const;  // doubles per vertex in field_values
+
+  bool is_dead_tet(TetId t) const { return flags[t] & tet_flag::kDead; }
+  bool is_dead_vertex(VertId v) const { return vertex_states[v] & vertex_state::kDead; }
+  bool is_pinned(VertId v) const { return vertex_states[v] & vertex_state::kPinned; }
+
+  // Calls f(tet) for every live tet incident to v, in chain order.
+  template <class F>
+  void for_each_tet_of(VertId v, F&& f) const {
+    std::uint32_t remaining = v2t_count[v];
+    for (std::uint32_t c = v; remaining != 0; c = v2t_next[c]) {
+      const std::uint32_t begin = v2t_offsets[c];
+      const std::uint32_t n = std::min(remaining, v2t_offsets[c + 1] - begin);
+      for (std::uint32_t i = 0; i < n; ++i) f(v2t[begin + i]);
+      remaining -= n;
+    }
+  }
+
+  // Bytes held by the model's arrays (capacity, not size: what the process really pays).
+  std::size_t memory_bytes() const;
+
+  // The interchange form of the live part: vertices and tets renumbered densely in their current
+  // order, listed triangles/segments recovered from the flags (each once, sorted), implicit
+  // interfaces omitted, corners/required vertices and fields kept.
+  MeshData to_mesh_data() const;
+};
+
+// Validates raw input and builds the model. Throws InputError naming the element at fault:
+// non-finite coordinates, out-of-range indices, repeated vertices in a tet, zero-volume or
+// inverted tets (unless all are inverted and options.reorient_inverted), faces shared by more
+// than two tets, duplicate tets, triangles that are not faces of a tet, segments that are not
+// edges of a tet, duplicate triangles or segments, field arrays of the wrong size.
+// Runs in the caller's task arena (parallel over tets and vertices).
+TetMesh build_tet_mesh(const MeshData& data, const BuildOptions& options = {});
+
+// Rebuilds the incidence of the live tets (used after compaction).
+void rebuild_incidence(TetMesh& mesh);
+
+// Drops dead tets and vertices, renumbering densely in the current order (deterministic), then
+// rebuilds the incidence and packs the side table.
+void compact(TetMesh& mesh);
+
+}  // namespace topotet
