@@ -6,7 +6,6 @@
 #include <cassert>
 
 #include "orient.h"
-#include "quality.h"
 
 namespace topotet {
 
@@ -83,38 +82,105 @@ bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& s) {
   return !s.star_uv.empty();
 }
 
-CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
-                            const CollapseOptions& options, CollapseScratch& s) {
-  if (mesh.is_pinned(v)) return CollapseReason::kPinned;
-  if (mesh.is_pinned(u) && p != mesh.positions[u]) return CollapseReason::kPinned;
-  if (!gather_stars(mesh, u, v, s)) return CollapseReason::kLinkK;
+namespace {
 
-  switch (check_link_conditions(mesh, u, v, s.star_uv, s.link)) {
-    case LinkResult::kLinkK: return CollapseReason::kLinkK;
-    case LinkResult::kLinkKtilde: return CollapseReason::kLinkKtilde;
-    case LinkResult::kOk: break;
-  }
+// (mean ratio)^3 = 15552 V^2 / S^3 (signed like V): monotone in the mean ratio, and free of the
+// cube root, which dominated the quality check.
+double mean_ratio_cubed(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
+  const double vol = signed_volume6(a, b, c, d) / 6.0;
+  const glm::dvec3 e[6] = {b - a, c - a, d - a, c - b, d - b, d - c};
+  double s = 0.0;
+  for (const glm::dvec3& x : e) s += x.x * x.x + x.y * x.y + x.z * x.z;
+  if (!(s > 0.0)) return 0.0;
+  const double q3 = 15552.0 * vol * vol / (s * s * s);
+  return vol < 0.0 ? -q3 : q3;
+}
 
-  // Geometry of the new star: every surviving tet of St(u) ∪ St(v) with u or v moved to p.
-  double old_min = 1.0, new_min = 1.0;
+enum class Geometry { kOk, kInversion, kQuality };
+
+// Inversion and quality of the new star, for the stars in `s` (star_u belongs to u).
+Geometry check_geometry(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, double quality_floor,
+                        const CollapseScratch& s, bool check_quality) {
   const auto& P = mesh.positions;
+  double old_min = 1.0, new_min = 1.0;
   for (const std::vector<TetId>* star : {&s.star_u, &s.star_v}) {
     const VertId moved = star == &s.star_u ? u : v;
     for (TetId t : *star) {
       const auto& tv = mesh.tets[t];
       const bool in_uv = std::binary_search(s.star_uv.begin(), s.star_uv.end(), t);
-      if (!(in_uv && moved == v))  // tets of St(uv) are counted once, from St(u)
-        old_min = std::min(old_min, mean_ratio(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]));
+      if (check_quality && !(in_uv && moved == v))  // tets of St(uv) are counted once, from St(u)
+        old_min = std::min(old_min, mean_ratio_cubed(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]));
       if (in_uv) continue;
       glm::dvec3 q[4];
       for (int k = 0; k < 4; ++k) q[k] = tv[k] == moved ? p : P[tv[k]];
-      if (orient3d_sign(q[0], q[1], q[2], q[3]) <= 0) return CollapseReason::kInversion;
-      new_min = std::min(new_min, mean_ratio(q[0], q[1], q[2], q[3]));
+      if (orient3d_sign(q[0], q[1], q[2], q[3]) <= 0) return Geometry::kInversion;
+      if (check_quality) new_min = std::min(new_min, mean_ratio_cubed(q[0], q[1], q[2], q[3]));
     }
   }
-  if (new_min < std::min(options.quality_floor, old_min)) return CollapseReason::kQuality;
-  if (options.accept_position && !options.accept_position(mesh, u, v, p)) return CollapseReason::kTolerance;
-  return CollapseReason::kOk;
+  const double floor3 = quality_floor * quality_floor * quality_floor;
+  if (check_quality && new_min < std::min(floor3, old_min)) return Geometry::kQuality;
+  return Geometry::kOk;
+}
+
+}  // namespace
+
+int first_acceptable(const TetMesh& mesh, const Placement* placements, int count, const CollapseOptions& options,
+                     CollapseScratch& s, std::array<std::uint64_t, kCollapseReasonCount>* rejected) {
+  auto reject = [&](CollapseReason r) {
+    if (rejected != nullptr) ++(*rejected)[static_cast<int>(r)];
+  };
+  VertId gathered_u = kInvalid, gathered_v = kInvalid;
+  bool link_done = false;
+  for (int i = 0; i < count; ++i) {
+    const Placement& pl = placements[i];
+    if (mesh.is_pinned(pl.v) || (mesh.is_pinned(pl.u) && pl.p != mesh.positions[pl.u])) {
+      reject(CollapseReason::kPinned);
+      continue;
+    }
+    if (pl.u != gathered_u || pl.v != gathered_v) {
+      if (pl.u == gathered_v && pl.v == gathered_u) {
+        std::swap(s.star_u, s.star_v);  // same edge, other direction
+      } else if (!gather_stars(mesh, pl.u, pl.v, s)) {
+        reject(CollapseReason::kLinkK);  // not an edge
+        return -1;
+      }
+      gathered_u = pl.u;
+      gathered_v = pl.v;
+    }
+    // Inversion first: it is the cheapest test and the most frequent rejection.
+    if (check_geometry(mesh, pl.u, pl.v, pl.p, options.quality_floor, s, false) == Geometry::kInversion) {
+      reject(CollapseReason::kInversion);
+      continue;
+    }
+    if (!link_done) {
+      const LinkResult link = check_link_conditions(mesh, pl.u, pl.v, s.star_uv, s.link);
+      if (link != LinkResult::kOk) {
+        reject(link == LinkResult::kLinkK ? CollapseReason::kLinkK : CollapseReason::kLinkKtilde);
+        return -1;  // the same for every placement of this edge
+      }
+      link_done = true;
+    }
+    if (check_geometry(mesh, pl.u, pl.v, pl.p, options.quality_floor, s, true) == Geometry::kQuality) {
+      reject(CollapseReason::kQuality);
+      continue;
+    }
+    if (options.accept_position && !options.accept_position(mesh, pl.u, pl.v, pl.p)) {
+      reject(CollapseReason::kTolerance);
+      continue;
+    }
+    return i;
+  }
+  return -1;
+}
+
+CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
+                            const CollapseOptions& options, CollapseScratch& s) {
+  std::array<std::uint64_t, kCollapseReasonCount> rejected{};
+  const Placement placement{u, v, p};
+  if (first_acceptable(mesh, &placement, 1, options, s, &rejected) == 0) return CollapseReason::kOk;
+  for (int r = 1; r < kCollapseReasonCount; ++r)
+    if (rejected[r] != 0) return static_cast<CollapseReason>(r);
+  return CollapseReason::kLinkK;
 }
 
 void reserve_refs_headroom(TetMesh& mesh, std::uint32_t refs_used, std::size_t count) {

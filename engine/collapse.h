@@ -62,14 +62,26 @@ struct CollapseScratch {
   std::vector<TetId> merged;
 };
 
+// One way to collapse an edge: v merges into u, which moves to p.
+struct Placement {
+  VertId u, v;
+  glm::dvec3 p;
+};
+
 // Fills scratch.star_u, star_v, star_uv. Returns false if uv is not an edge.
 bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& scratch);
 
 // May v be merged into u, with u moved to p? Pure: reads the mesh only. Checks, cheapest first:
-// pinned, link conditions of K and K~, inversion, quality, then options.accept_position.
-// The orders of u and v computed on the way are left in scratch.link.a/.b.
+// pinned, inversion, link conditions of K and K~, quality, then options.accept_position.
+// On success scratch.star_u/star_v/star_uv hold the stars for collapse().
 CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
                             const CollapseOptions& options, CollapseScratch& scratch);
+
+// Tries `count` placements of ONE edge in order and returns the index of the first acceptable
+// one, or -1. The link conditions do not depend on the placement, so they are evaluated at most
+// once. Each rejected placement adds one to (*rejected)[reason] when `rejected` is given.
+int first_acceptable(const TetMesh& mesh, const Placement* placements, int count, const CollapseOptions& options,
+                     CollapseScratch& scratch, std::array<std::uint64_t, kCollapseReasonCount>* rejected);
 
 // Applies the collapse (the caller has checked may_collapse with the same scratch stars). Writes
 // only the tets of St(u) ∪ St(v), the vertices u and v, and the incidence chains of the vertices of

@@ -156,57 +156,58 @@ bool all_common(It1 b1, It1 e1, It2 b2, It2 e2, Key1 k1, Key2 k2, F&& ok) {
   return true;
 }
 
+// For a vertex known to be of order 0: only the neighbour list (for test (A)) is needed.
+void interior_neighbours(const TetMesh& mesh, VertId a, VertexData& d, LinkScratch& scratch) {
+  d.recs.clear();
+  d.special.clear();
+  d.neighbours.clear();
+  d.non_manifold = false;
+  d.orders = {0, 0};
+  auto& nbv = scratch.tmp_vertices;
+  nbv.clear();
+  mesh.for_each_tet_of(a, [&](TetId t) {
+    for (VertId x : mesh.tets[t])
+      if (x != a) nbv.push_back(x);
+  });
+  std::sort(nbv.begin(), nbv.end());
+  nbv.erase(std::unique(nbv.begin(), nbv.end()), nbv.end());
+  for (VertId x : nbv) d.neighbours.push_back(Neighbour{x, {0, 0}, {0, 0}, false, false, 0, {}});
+}
+
 }  // namespace
 
 VertexOrders classify_vertex(const TetMesh& mesh, VertId a, VertexData& d, LinkScratch& scratch) {
   d.recs.clear();
   d.special.clear();
   d.neighbours.clear();
-  d.link_edges.clear();
-  d.link_faces.clear();
   d.non_manifold = false;
 
+  auto& nbv = scratch.tmp_vertices;
+  nbv.clear();
   mesh.for_each_tet_of(a, [&](TetId t) {
     const auto& v = mesh.tets[t];
     const int la = local_of(v, a);
-    std::array<VertId, 3> o{};
-    int n = 0;
     for (int k = 0; k < 4; ++k)
-      if (k != la) o[n++] = v[k];
-    std::sort(o.begin(), o.end());
-    d.link_faces.push_back(o);
-    d.link_edges.push_back(pack(o[0], o[1]));
-    d.link_edges.push_back(pack(o[0], o[2]));
-    d.link_edges.push_back(pack(o[1], o[2]));
+      if (k != la) nbv.push_back(v[k]);
     for (int f = 0; f < 4; ++f) {
       if (f == la) continue;
       VertId xy[2];
       int m = 0;
       for (int k = 0; k < 4; ++k)
         if (k != f && k != la) xy[m++] = v[k];
-      d.recs.push_back({std::min(xy[0], xy[1]), std::max(xy[0], xy[1]), t, static_cast<std::uint8_t>(f)});
+      d.recs.push_back({pack(xy[0], xy[1]), t, static_cast<std::uint8_t>(f)});
     }
   });
-  std::sort(d.link_edges.begin(), d.link_edges.end());
-  d.link_edges.erase(std::unique(d.link_edges.begin(), d.link_edges.end()), d.link_edges.end());
-  std::sort(d.link_faces.begin(), d.link_faces.end());
   std::sort(d.recs.begin(), d.recs.end(), [](const auto& p, const auto& q) {
-    return p.x != q.x ? p.x < q.x : (p.y != q.y ? p.y < q.y : p.tet < q.tet);
+    return p.key != q.key ? p.key < q.key : p.tet < q.tet;
   });
-
-  auto& nbv = scratch.tmp_vertices;
-  nbv.clear();
-  for (const auto& r : d.recs) {
-    nbv.push_back(r.x);
-    nbv.push_back(r.y);
-  }
   std::sort(nbv.begin(), nbv.end());
   nbv.erase(std::unique(nbv.begin(), nbv.end()), nbv.end());
   for (VertId x : nbv) d.neighbours.push_back(Neighbour{x, {0, 0}, {0, 0}, false, false, 0, {}});
 
   for (std::size_t i = 0; i < d.recs.size();) {
     std::size_t j = i + 1;
-    while (j < d.recs.size() && d.recs[j].x == d.recs[i].x && d.recs[j].y == d.recs[i].y) ++j;
+    while (j < d.recs.size() && d.recs[j].key == d.recs[i].key) ++j;
     if (j - i > 2) d.non_manifold = true;
     const bool boundary = j - i == 1;
     const LinkScratch::FaceRec* flagged = nullptr;
@@ -220,8 +221,8 @@ VertexOrders classify_vertex(const TetMesh& mesh, VertId a, VertexData& d, LinkS
       const std::int32_t m1 = boundary ? kBoundarySide : mesh.material[d.recs[i + 1].tet];
       label.m0 = std::min(m0, m1);
       label.m1 = std::max(m0, m1);
-      d.special.push_back({d.recs[i].x, d.recs[i].y, label, boundary});
-      for (VertId x : {d.recs[i].x, d.recs[i].y}) {
+      d.special.push_back({d.recs[i].x(), d.recs[i].y(), label, boundary});
+      for (VertId x : {d.recs[i].x(), d.recs[i].y()}) {
         Neighbour* nb = find_neighbour(d, x);
         nb->count[kFiltrationK] += boundary ? 1 : 0;
         if (nb->count[kFiltrationKtilde]++ == 0)
@@ -264,52 +265,96 @@ LinkResult check_link_conditions(const TetMesh& mesh, VertId a, VertId b, const 
                                  LinkScratch& scratch) {
   VertexData& da = scratch.a;
   VertexData& db = scratch.b;
-  classify_vertex(mesh, a, da, scratch);
-  classify_vertex(mesh, b, db, scratch);
+  scratch.failed_test = 0;
+  auto failed = [&](char test, int filtration) {
+    scratch.failed_test = test;
+    scratch.failed_filtration = filtration;
+    return filtration == kFiltrationK ? LinkResult::kLinkK : LinkResult::kLinkKtilde;
+  };
+  const auto hinted = [&](VertId x) { return scratch.known_interior[0] == x || scratch.known_interior[1] == x; };
+  const bool interior_a = hinted(a), interior_b = hinted(b);
+  scratch.known_interior = {kInvalid, kInvalid};
+  if (interior_a)
+    interior_neighbours(mesh, a, da, scratch);
+  else
+    classify_vertex(mesh, a, da, scratch);
+  if (interior_b)
+    interior_neighbours(mesh, b, db, scratch);
+  else
+    classify_vertex(mesh, b, db, scratch);
 
-  // Lk(ab) in K: the vertices and edges opposite ab in the tets of St(ab).
-  auto& lk_ab_vertices = scratch.tmp_vertices;
-  auto& lk_ab_edges = scratch.tmp_edges;
-  lk_ab_vertices.clear();
-  lk_ab_edges.clear();
+  // (A) every common neighbour x spans a triangle abx: x is a vertex of a tet of St(ab).
+  auto& common = scratch.common;
+  common.clear();
+  const auto nx = [](const Neighbour& n) { return n.x; };
+  all_common(da.neighbours.begin(), da.neighbours.end(), db.neighbours.begin(), db.neighbours.end(), nx, nx,
+             [&](VertId x) {
+               if (x != a && x != b) common.push_back(x);
+               return true;
+             });
+  auto& lk_ab = scratch.tmp_vertices;
+  lk_ab.clear();
+  auto& pairs_ab = scratch.pairs_ab;
+  pairs_ab.clear();
   for (TetId t : stab) {
     VertId o[2];
     int n = 0;
     for (VertId x : mesh.tets[t])
       if (x != a && x != b) o[n++] = x;
-    lk_ab_vertices.push_back(o[0]);
-    lk_ab_vertices.push_back(o[1]);
-    lk_ab_edges.push_back(pack(o[0], o[1]));
+    lk_ab.push_back(o[0]);
+    lk_ab.push_back(o[1]);
+    pairs_ab.push_back(pack(o[0], o[1]));
   }
-  std::sort(lk_ab_vertices.begin(), lk_ab_vertices.end());
-  std::sort(lk_ab_edges.begin(), lk_ab_edges.end());
-  auto contains_vertex = [&](VertId x) { return std::binary_search(lk_ab_vertices.begin(), lk_ab_vertices.end(), x); };
+  std::sort(lk_ab.begin(), lk_ab.end());
+  for (VertId x : common)
+    if (!std::binary_search(lk_ab.begin(), lk_ab.end(), x)) return failed('A', kFiltrationK);
 
-  // (A) common neighbours span a triangle with ab.
-  const auto nx = [](const Neighbour& n) { return n.x; };
-  if (!all_common(da.neighbours.begin(), da.neighbours.end(), db.neighbours.begin(), db.neighbours.end(), nx, nx,
-                  [&](VertId x) { return x == a || x == b || contains_vertex(x); }))
-    return LinkResult::kLinkK;
-  // (B) common link edges span a tet with ab.
+  // (B) and (C) concern link edges and triangles whose vertices are all common neighbours, so
+  // only the faces opposite a (resp. b) inside `common` matter: a handful, not the whole link.
+  const auto in_common = [&](VertId x) { return std::binary_search(common.begin(), common.end(), x); };
+  auto collect = [&](VertId c, std::vector<std::uint64_t>& pairs, std::vector<std::array<VertId, 3>>& faces) {
+    pairs.clear();
+    faces.clear();
+    mesh.for_each_tet_of(c, [&](TetId t) {
+      VertId o[3];
+      int n = 0;
+      for (VertId x : mesh.tets[t])
+        if (x != c && in_common(x)) o[n++] = x;
+      if (n >= 2) {
+        pairs.push_back(pack(o[0], o[1]));
+        if (n == 3) {
+          pairs.push_back(pack(o[0], o[2]));
+          pairs.push_back(pack(o[1], o[2]));
+          std::array<VertId, 3> f{o[0], o[1], o[2]};
+          std::sort(f.begin(), f.end());
+          faces.push_back(f);
+        }
+      }
+    });
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    std::sort(faces.begin(), faces.end());
+  };
+  collect(a, scratch.pairs_a, scratch.faces_a);
+  collect(b, scratch.pairs_b, scratch.faces_b);
+  std::sort(pairs_ab.begin(), pairs_ab.end());
   const auto id = [](std::uint64_t e) { return e; };
-  if (!all_common(da.link_edges.begin(), da.link_edges.end(), db.link_edges.begin(), db.link_edges.end(), id, id,
-                  [&](std::uint64_t e) { return std::binary_search(lk_ab_edges.begin(), lk_ab_edges.end(), e); }))
-    return LinkResult::kLinkK;
-  // (C) no common link triangle.
+  if (!all_common(scratch.pairs_a.begin(), scratch.pairs_a.end(), scratch.pairs_b.begin(), scratch.pairs_b.end(), id, id,
+                  [&](std::uint64_t e) { return std::binary_search(pairs_ab.begin(), pairs_ab.end(), e); }))
+    return failed('B', kFiltrationK);
   const auto fid = [](const std::array<VertId, 3>& f) { return f; };
-  if (!all_common(da.link_faces.begin(), da.link_faces.end(), db.link_faces.begin(), db.link_faces.end(), fid, fid,
+  if (!all_common(scratch.faces_a.begin(), scratch.faces_a.end(), scratch.faces_b.begin(), scratch.faces_b.end(), fid, fid,
                   [](const std::array<VertId, 3>&) { return false; }))
-    return LinkResult::kLinkK;
+    return failed('C', kFiltrationK);
 
   const Neighbour* ab = find_neighbour(da, b);
   for (int f : {kFiltrationK, kFiltrationKtilde}) {
-    const LinkResult fail = f == kFiltrationK ? LinkResult::kLinkK : LinkResult::kLinkKtilde;
     const std::uint8_t oa = f == kFiltrationK ? da.orders.k : da.orders.ktilde;
     const std::uint8_t ob = f == kFiltrationK ? db.orders.k : db.orders.ktilde;
     const std::uint8_t oab = ab->order[f];
-    if (oa >= 1 && ob >= 1 && oab < 1) return fail;  // (D)
-    if (oa >= 2 && ob >= 2 && oab < 2) return fail;  // (G)
-    if (oa == 3 && ob == 3) return fail;             // (I)
+    if (oa >= 1 && ob >= 1 && oab < 1) return failed('D', f);
+    if (oa >= 2 && ob >= 2 && oab < 2) return failed('G', f);
+    if (oa == 3 && ob == 3) return failed('I', f);
     if (oa == 0 || ob == 0) continue;                // (E), (F), (H) need special simplices at both ends
 
     auto abx_special = [&](VertId x) {
@@ -329,8 +374,8 @@ LinkResult check_link_conditions(const TetMesh& mesh, VertId a, VertId b, const 
         ++j;
       } else {
         if (p.x != a && p.x != b) {
-          if (p.order[f] == 2 && q.order[f] == 2) return fail;                        // (H)
-          if (p.order[f] >= 1 && q.order[f] >= 1 && !abx_special(p.x)) return fail;  // (E)
+          if (p.order[f] == 2 && q.order[f] == 2) return failed('H', f);
+          if (p.order[f] >= 1 && q.order[f] >= 1 && !abx_special(p.x)) return failed('E', f);
         }
         ++i;
         ++j;
@@ -341,7 +386,7 @@ LinkResult check_link_conditions(const TetMesh& mesh, VertId a, VertId b, const 
     for (const auto& s : da.special) {
       if (!is_special_in(s, f) || s.x == b || s.y == b) continue;
       for (const auto& r : db.special)
-        if (r.x == s.x && r.y == s.y && is_special_in(r, f)) return fail;
+        if (r.x == s.x && r.y == s.y && is_special_in(r, f)) return failed('F', f);
     }
   }
   return LinkResult::kOk;

@@ -50,9 +50,11 @@ struct VertexOrders {
 // Per-thread scratch: the vectors keep their capacity, so steady-state calls do not allocate.
 struct LinkScratch {
   struct FaceRec {  // face (a, x, y) of a tet of St(a), x < y
-    VertId x, y;
+    std::uint64_t key;  // x << 32 | y: sorting on one integer is what makes classification fast
     TetId tet;
     std::uint8_t local_face;
+    VertId x() const { return static_cast<VertId>(key >> 32); }
+    VertId y() const { return static_cast<VertId>(key); }
   };
   struct Label {
     std::int32_t ref, m0, m1;
@@ -79,16 +81,23 @@ struct LinkScratch {
     std::vector<FaceRec> recs;
     std::vector<SpecialFace> special;      // K~-special faces at a (boundary ones flagged)
     std::vector<Neighbour> neighbours;     // sorted by x
-    std::vector<std::uint64_t> link_edges;  // edges xy of faces opposite a, packed, sorted
-    std::vector<std::array<VertId, 3>> link_faces;  // faces opposite a, sorted
     bool non_manifold = false;             // a face of St(a) has more than two tets
     VertexOrders orders;
   };
   VertexData a, b;
+  // Optional hint from a caller that caches orders (CostModel): vertices known to have order 0 in
+  // the substructure filtration. Such a vertex has no special face and no polyline edge, hence
+  // order 0 in K's filtration too, so its classification is skipped (only its neighbour list is
+  // built). kInvalid = no hint. Consumed (reset) by every check_link_conditions call.
+  std::array<VertId, 2> known_interior{kInvalid, kInvalid};
+  char failed_test = 0;  // after a failed check: which of (A)-(I) failed ('A'..'I'), for reports
+  int failed_filtration = 0;  // 0 = K, 1 = K~
   std::vector<VertId> walk_nodes;
   std::vector<Label> labels_x1, labels_x2;
   std::vector<VertId> tmp_vertices;
-  std::vector<std::uint64_t> tmp_edges;
+  std::vector<VertId> common;  // common neighbours of a and b (other than a, b)
+  std::vector<std::uint64_t> pairs_a, pairs_b, pairs_ab;
+  std::vector<std::array<VertId, 3>> faces_a, faces_b;
 };
 
 // Classifies vertex a from its star (fills scratch data; returns its orders).

@@ -1,0 +1,33 @@
+// The two simplification engines behind topotet::simplify (simplify.cpp chooses one).
+// Both use the same kernel (collapse.h), cost (cost.h) and report; both stop at `target_vertices`
+// live vertices, when no legal collapse is left, at options.max_cost, or when on_progress says so.
+#pragma once
+
+#include <cstdint>
+
+#include "topotet/simplify.h"
+#include "topotet/tet_mesh.h"
+
+namespace topotet::detail {
+
+// Throttled progress reporting shared by the engines. Returns false when the caller cancels.
+class Progress {
+ public:
+  Progress(const SimplifyOptions& options, std::uint64_t start_vertices, std::uint64_t target_vertices)
+      : options_(options), start_(start_vertices), target_(target_vertices) {}
+  bool update(std::uint64_t live_vertices) {
+    if (!options_.on_progress) return true;
+    const double span = static_cast<double>(start_ - target_);
+    const double done = span > 0 ? static_cast<double>(start_ - live_vertices) / span : 1.0;
+    return options_.on_progress(done < 0 ? 0.0 : (done > 1 ? 1.0 : done));
+  }
+
+ private:
+  const SimplifyOptions& options_;
+  std::uint64_t start_, target_;
+};
+
+void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, std::uint64_t target_vertices, Report& report);
+void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint64_t target_vertices, Report& report);
+
+}  // namespace topotet::detail

@@ -1,0 +1,97 @@
+// Simplification by topology-preserving edge collapses: options in, report out, never throws.
+//
+//   topotet::TetMesh mesh = topotet::build_tet_mesh(topotet::read_mesh("in.mesh"));
+//   topotet::SimplifyOptions options;
+//   options.target_vertex_ratio = 0.1;
+//   topotet::Report report = topotet::simplify(mesh, options);
+//   if (report.status == topotet::Status::kInvalidInput) { /* report.message says why */ }
+//   topotet::write_mesh("out.mesh", mesh.to_mesh_data());
+//
+// Every accepted collapse keeps the topology of the mesh and of every substructure (surfaces,
+// material interfaces, polylines, pinned vertices) and inverts no tet. The library never prints;
+// progress goes through on_progress, which may also cancel. There is no global state: two calls
+// on two meshes may run concurrently.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "topotet/tet_mesh.h"
+
+namespace topotet {
+
+enum class Status : std::uint8_t {
+  kOk,            // target reached
+  kStoppedEarly,  // mesh valid; no legal collapse was left (topology or error bounds stopped us)
+  kInvalidInput,  // mesh untouched; see Report::message
+  kOutOfMemory,   // mesh valid, possibly partly simplified
+  kCancelled,     // on_progress returned false; mesh valid
+};
+const char* to_string(Status status);
+
+enum class Engine : std::uint8_t {
+  kParallel,    // deterministic rounds of independent collapses (parallel/rounds.cpp)
+  kSequential,  // the reference: one lazy priority queue (engine/sequential.cpp)
+};
+
+struct SimplifyOptions {
+  // Stop when the live vertex count reaches target_vertex_ratio * input vertices, or
+  // target_vertices if non-zero (it wins over the ratio).
+  double target_vertex_ratio = 0.25;
+  std::uint64_t target_vertices = 0;
+  // Stop when the cheapest candidate costs more than this (quadric error, in units of the bounding
+  // box diagonal squared); 0 = no limit.
+  double max_cost = 0.0;
+  // Reject collapses whose new star would have a tet below min(min_quality, worst of the old star)
+  // (mean ratio, 1 = regular tet).
+  double min_quality = 0.05;
+  // Weight of boundary/surface (plane) and polyline (line) quadrics relative to tet quadrics.
+  double boundary_weight = 100.0;
+  double polyline_weight = 100.0;
+  // Hausdorff-like bound on the drift of boundary, surface and polyline vertices, relative to the
+  // bounding box diagonal; 0 = unchecked. (Geometric tolerance, see metrics/surface_distance.)
+  double tolerance_rel = 0.0;
+  Engine engine = Engine::kParallel;
+  int num_threads = 0;  // 0 = the caller's current task arena; the output is identical for every value
+  // Parallel rounds: the fraction of the cheapest candidates that compete in one round.
+  double round_fraction = 0.25;
+  // Called now and then with the fraction done (0..1). Return false to cancel. May run on any
+  // thread, never concurrently with itself.
+  std::function<bool(double done_fraction)> on_progress;
+};
+
+// Work of one parallel round, for the scaling benchmark's work/span projection.
+struct RoundStats {
+  std::uint64_t evaluated = 0;   // vertices whose proposal was recomputed
+  std::uint64_t candidates = 0;  // proposals competing in the round
+  std::uint64_t winners = 0;     // independent set size
+  std::uint64_t collapses = 0;   // winners still legal when applied
+  std::array<double, 4> phase_seconds{};  // evaluate, select, apply, compact
+};
+
+struct Report {
+  Status status = Status::kOk;
+  std::string message;  // empty when status == kOk
+  std::uint64_t vertices_before = 0, vertices_after = 0;
+  std::uint64_t tets_before = 0, tets_after = 0;
+  std::uint64_t collapses = 0;        // accepted collapses
+  std::uint64_t evaluations = 0;      // candidate cost evaluations
+  std::uint64_t legality_checks = 0;  // calls of the kernel's may_collapse
+  // Rejections by reason, indexed by CollapseReason (ok, link_K, link_Ktilde, pinned, inversion,
+  // quality, tolerance).
+  std::array<std::uint64_t, 7> rejected{};
+  std::uint64_t rounds = 0;  // parallel engine: rounds run
+  double seconds = 0.0;
+  double max_cost = 0.0;  // largest accepted collapse cost
+  // Parallel engine: wall time per phase (evaluate, select, apply, compact), seconds.
+  std::array<double, 4> phase_seconds{};
+  std::vector<RoundStats> round_stats;
+};
+
+// Simplifies in place. The mesh is valid on return for every status.
+Report simplify(TetMesh& mesh, const SimplifyOptions& options = {}) noexcept;
+
+}  // namespace topotet

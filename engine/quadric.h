@@ -1,0 +1,28 @@
+// Garland–Zhou quadrics in n = 3 + k dimensions (position plus k scaled field values).
+//
+// A quadric is Q(x) = x^T A x + 2 b^T x + c with A symmetric; it is stored packed in
+// quadric_size(n) doubles: the upper triangle of A row by row, then b, then c. The quadric of a
+// simplex (segment, triangle, tet) in R^n is its weight times the squared distance from x to the
+// simplex's affine hull: A = w (I - E E^T) for an orthonormal basis E of the hull's directions,
+// b = -A p0, c = p0^T A p0.
+#pragma once
+
+namespace topotet {
+
+inline constexpr int kMaxQuadricDim = 3 + 16;  // positions + at most 16 field components
+
+constexpr int quadric_size(int n) { return n * (n + 1) / 2 + n + 1; }
+
+// q += weight * squared distance to the affine hull of `count` points of R^n (rows of `points`,
+// each n doubles, contiguous). Degenerate directions are dropped (a flat triangle acts as a line).
+void quadric_add_simplex(double* q, int n, const double* points, int count, double weight);
+
+void quadric_add(double* q, const double* other, int n);
+
+double quadric_eval(const double* q, int n, const double* x);
+
+// Minimiser of Q. Returns false when A is too ill-conditioned to trust (e.g. a quadric of flat
+// surfaces only, whose minimum is a whole line or plane): then the caller uses a fallback.
+bool quadric_minimize(const double* q, int n, double* x);
+
+}  // namespace topotet

@@ -1,0 +1,143 @@
+// The sequential reference simplifier: one priority queue of edges, cheapest collapse first
+// (paper 001 §5; the timestamps of §5.3).
+//
+//   quadrics, orders  <- CostModel(mesh)
+//   heap              <- every edge ab with its cheapest placement cost, stamped now
+//   while live vertices > target and heap not empty:
+//       pop the cheapest entry (cost, a, b, stamp)
+//       if a or b is dead, or changed after `stamp`: skip it   (a fresher entry exists)
+//       if cost > max_cost: stop
+//       for each placement (u <- v at p) of ab, cheapest first:
+//           if may_collapse(u, v, p): collapse; Q_u += Q_v; stamp u; push every edge of u; break
+//           else count the rejection reason
+//
+// Entries are ordered by (cost, a, b), so the result does not depend on heap internals. An edge
+// whose every placement is illegal is dropped and its ends are "parked"; when a later collapse
+// touches a parked vertex (it lies in the collapse's stencil), all its edges are pushed again,
+// so legality is re-examined wherever the mesh changed.
+#include <algorithm>
+#include <queue>
+#include <vector>
+
+#include "collapse.h"
+#include "cost.h"
+#include "engines.h"
+
+namespace topotet::detail {
+namespace {
+
+struct Entry {
+  double cost;
+  VertId a, b;
+  std::uint32_t stamp;
+  bool operator>(const Entry& o) const {
+    return cost != o.cost ? cost > o.cost : (a != o.a ? a > o.a : b > o.b);
+  }
+};
+
+void neighbours_of(const TetMesh& mesh, VertId a, std::vector<VertId>& out) {
+  out.clear();
+  mesh.for_each_tet_of(a, [&](TetId t) {
+    for (VertId x : mesh.tets[t])
+      if (x != a) out.push_back(x);
+  });
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+}  // namespace
+
+void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, std::uint64_t target, Report& report) {
+  CostModel cost(mesh, options);
+  CollapseOptions kernel_options;
+  kernel_options.quality_floor = options.min_quality;
+  CollapseScratch scratch;
+  CollapseCandidate cands[4];
+  std::vector<VertId> nbrs, stencil;
+  std::vector<double> fields(static_cast<std::size_t>(mesh.field_stride()));
+  std::vector<std::uint32_t> stamp(mesh.positions.size(), 0);
+  std::vector<std::uint8_t> parked(mesh.positions.size(), 0);  // has an edge dropped as illegal
+  std::uint32_t clock = 1;
+  std::uint32_t refs_used = static_cast<std::uint32_t>(mesh.refs_table.size());
+
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
+  auto push = [&](VertId a, VertId b) {
+    if (a > b) std::swap(a, b);
+    ++report.evaluations;
+    if (cost.candidates(mesh, a, b, cands, scratch.link) > 0) heap.push({cands[0].cost, a, b, clock});
+  };
+  for (VertId a = 0; a < mesh.positions.size(); ++a) {
+    if (mesh.is_dead_vertex(a)) continue;
+    neighbours_of(mesh, a, nbrs);
+    for (VertId b : nbrs)
+      if (b > a) push(a, b);
+  }
+
+  std::uint64_t live = mesh.live_vertex_count();
+  Progress progress(options, live, target);
+  std::uint64_t next_progress = 256;
+  while (live > target && !heap.empty()) {
+    const Entry e = heap.top();
+    heap.pop();
+    if (mesh.is_dead_vertex(e.a) || mesh.is_dead_vertex(e.b) || stamp[e.a] > e.stamp || stamp[e.b] > e.stamp)
+      continue;
+    if (options.max_cost > 0.0 && e.cost > options.max_cost) {
+      report.status = Status::kStoppedEarly;
+      report.message = "the cheapest remaining collapse costs more than max_cost";
+      return;
+    }
+    const int n = cost.candidates(mesh, e.a, e.b, cands, scratch.link);
+    ++report.evaluations;
+    Placement placements[4];
+    for (int i = 0; i < n; ++i) placements[i] = {cands[i].u, cands[i].v, cands[i].p};
+    ++report.legality_checks;
+    cost.hint_orders(e.a, e.b, scratch.link);
+    const int chosen = first_acceptable(mesh, placements, n, kernel_options, scratch, &report.rejected);
+    if (chosen < 0) {
+      parked[e.a] = parked[e.b] = 1;  // look again when something around them changes
+      continue;
+    }
+    {
+      const CollapseCandidate& c = cands[chosen];
+      stencil.clear();
+      for (const auto* star : {&scratch.star_u, &scratch.star_v})
+        for (TetId t : *star)
+          for (VertId x : mesh.tets[t]) stencil.push_back(x);
+      std::sort(stencil.begin(), stencil.end());
+      stencil.erase(std::unique(stencil.begin(), stencil.end()), stencil.end());
+      cost.fields_at(mesh, c, fields.data());
+      reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
+      collapse(mesh, c.u, c.v, c.p, fields.data(), scratch, refs_used);
+      cost.on_collapse(c.u, c.v, stencil);
+      report.max_cost = std::max(report.max_cost, c.cost);
+      ++report.collapses;
+      --live;
+      stamp[c.u] = ++clock;
+      neighbours_of(mesh, c.u, nbrs);
+      for (VertId x : nbrs) push(c.u, x);
+      // Edges rejected earlier near this collapse may have become legal: offer them again.
+      for (VertId x : stencil) {
+        if (!parked[x] || x == c.u || mesh.is_dead_vertex(x)) continue;
+        parked[x] = 0;
+        stamp[x] = clock;
+        neighbours_of(mesh, x, nbrs);
+        for (VertId y : nbrs) push(x, y);
+      }
+    }
+    if (report.collapses >= next_progress) {
+      next_progress += 256;
+      if (!progress.update(live)) {
+        report.status = Status::kCancelled;
+        report.message = "cancelled by on_progress";
+        return;
+      }
+    }
+  }
+  progress.update(live);
+  if (live > target) {
+    report.status = Status::kStoppedEarly;
+    report.message = "no legal collapse left";
+  }
+}
+
+}  // namespace topotet::detail

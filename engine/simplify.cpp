@@ -1,0 +1,77 @@
+// topotet::simplify: checks the options, picks an engine, runs it inside the caller's thread
+// budget, compacts the result and fills the report. Never throws.
+#include <chrono>
+#include <cmath>
+#include <new>
+
+#include "engines.h"
+#include "parallel/for_range.h"
+#include "topotet/simplify.h"
+
+namespace topotet {
+
+const char* to_string(Status status) {
+  switch (status) {
+    case Status::kOk: return "ok";
+    case Status::kStoppedEarly: return "stopped_early";
+    case Status::kInvalidInput: return "invalid_input";
+    case Status::kOutOfMemory: return "out_of_memory";
+    case Status::kCancelled: return "cancelled";
+  }
+  return "?";
+}
+
+namespace {
+
+std::string check_options(const SimplifyOptions& o) {
+  if (!(o.target_vertex_ratio > 0.0 && o.target_vertex_ratio <= 1.0))
+    return "target_vertex_ratio must be in (0, 1], got " + std::to_string(o.target_vertex_ratio);
+  if (!(o.max_cost >= 0.0)) return "max_cost must be >= 0";
+  if (!(o.min_quality >= 0.0 && o.min_quality < 1.0)) return "min_quality must be in [0, 1)";
+  if (!(o.boundary_weight >= 0.0) || !(o.polyline_weight >= 0.0)) return "weights must be >= 0";
+  if (!(o.tolerance_rel >= 0.0)) return "tolerance_rel must be >= 0";
+  if (o.num_threads < 0) return "num_threads must be >= 0";
+  if (!(o.round_fraction > 0.0 && o.round_fraction <= 1.0)) return "round_fraction must be in (0, 1]";
+  return {};
+}
+
+}  // namespace
+
+Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept {
+  Report report;
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    report.message = check_options(options);
+    if (!report.message.empty()) {
+      report.status = Status::kInvalidInput;
+      return report;
+    }
+    report.vertices_before = mesh.live_vertex_count();
+    report.tets_before = mesh.live_tet_count();
+    std::uint64_t target = options.target_vertices != 0
+                               ? options.target_vertices
+                               : static_cast<std::uint64_t>(std::llround(options.target_vertex_ratio *
+                                                                         static_cast<double>(report.vertices_before)));
+    target = std::max<std::uint64_t>(target, 4);
+    parallel::run_with_threads(options.num_threads, [&] {
+      if (options.engine == Engine::kSequential)
+        detail::simplify_sequential(mesh, options, target, report);
+      else
+        detail::simplify_parallel(mesh, options, target, report);
+      compact(mesh);
+    });
+  } catch (const std::bad_alloc&) {
+    report.status = Status::kOutOfMemory;
+    report.message = "out of memory";
+  } catch (const std::exception& e) {
+    // Internal errors leave the mesh valid (collapses are applied whole) but unfinished.
+    report.status = Status::kStoppedEarly;
+    report.message = std::string("internal error: ") + e.what();
+  }
+  report.vertices_after = mesh.live_vertex_count();
+  report.tets_after = mesh.live_tet_count();
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+}  // namespace topotet

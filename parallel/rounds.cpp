@@ -1,0 +1,332 @@
+// The parallel engine: rounds of independent collapses, deterministic for any thread count.
+//
+//   quadrics, orders <- CostModel(mesh); every vertex is dirty
+//   while live vertices > target:
+//     1. evaluate (parallel over dirty vertices a): a proposes its cheapest LEGAL collapse among
+//        the edges ab it owns (b > a); clean vertices keep their proposal
+//     2. select: sort the proposals by (cost, a, b) -> rank; keep the cheapest round_fraction of
+//        them (at most live - target); gather each one's stencil St(a) ∪ St(b) (its vertices);
+//        owner[x] = min rank over the kept proposals whose stencil holds x (atomic min);
+//        a proposal wins iff it owns its whole stencil (deterministic reservations: the set is
+//        a function of the ranks only, not of the schedule; winners' stencils are disjoint)
+//     3. apply (parallel over winners): re-check legality on the current mesh (a clean vertex's
+//        proposal may be from an earlier round) and collapse; disjoint stencils mean no locks
+//     4. mark every stencil vertex of an applied collapse dirty (a losing or failed proposal
+//        is re-evaluated too)
+//   stop when no vertex has a proposal (no legal collapse left) or the target is reached
+//
+// Why the output is bit-identical for any thread count: proposals are pure functions of the mesh
+// at the start of the round; ranks come from a total order; reservations keep the minimum; the
+// collapses of one round touch disjoint data. Only side-table slot numbers depend on the schedule,
+// and they are never part of the output (compaction renumbers them in tet order).
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include "collapse.h"
+#include "cost.h"
+#include "engines.h"
+#include "parallel/for_range.h"
+#include "parallel/scratch.h"
+
+namespace topotet::detail {
+namespace {
+
+constexpr std::uint32_t kFree = std::numeric_limits<std::uint32_t>::max();
+// Reservation passes per round (see select). Most winners come from the first few passes.
+constexpr int kReservationPasses = 8;
+
+struct Proposal {
+  double cost = std::numeric_limits<double>::infinity();  // infinity = no legal collapse
+  VertId b = kInvalid;                                      // the other end (b > a)
+};
+
+struct Ranked {
+  double cost;
+  VertId a, b;
+  bool operator<(const Ranked& o) const {
+    return cost != o.cost ? cost < o.cost : (a != o.a ? a < o.a : b < o.b);
+  }
+};
+
+struct ThreadScratch {
+  CollapseScratch collapse;
+  CollapseCandidate cands[4];
+  std::vector<VertId> nbrs;
+  std::vector<std::pair<double, std::uint32_t>> order;  // (cost, index into all)
+  std::vector<CollapseCandidate> all;
+  std::vector<double> fields;
+  std::vector<VertId> stencil;
+  std::array<std::uint64_t, kCollapseReasonCount> rejected{};
+};
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+void neighbours_above(const TetMesh& mesh, VertId a, std::vector<VertId>& out) {
+  out.clear();
+  mesh.for_each_tet_of(a, [&](TetId t) {
+    for (VertId x : mesh.tets[t])
+      if (x > a) out.push_back(x);
+  });
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+void stencil_of(const TetMesh& mesh, VertId a, VertId b, std::vector<VertId>& out) {
+  out.clear();
+  for (VertId x : {a, b})
+    mesh.for_each_tet_of(x, [&](TetId t) {
+      for (VertId y : mesh.tets[t]) out.push_back(y);
+    });
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+// a's cheapest legal collapse over the edges it owns: edges in order of their cheapest placement,
+// the first edge with an acceptable placement wins.
+Proposal propose(const TetMesh& mesh, CostModel& cost, const CollapseOptions& kernel, VertId a, ThreadScratch& s,
+                 std::uint64_t& evals, std::uint64_t& checks) {
+  neighbours_above(mesh, a, s.nbrs);
+  s.all.clear();
+  s.order.clear();
+  for (VertId b : s.nbrs) {
+    ++evals;
+    const int n = cost.candidates(mesh, a, b, s.cands, s.collapse.link);
+    if (n == 0) continue;
+    s.order.push_back({s.cands[0].cost, static_cast<std::uint32_t>(s.all.size())});
+    for (int i = 0; i < 4; ++i) s.all.push_back(s.cands[std::min(i, n - 1)]);  // 4 slots per edge
+    s.all.back().placement = n;  // the last slot's placement field is unused: keep the count there
+  }
+  std::sort(s.order.begin(), s.order.end());  // ties by index: deterministic
+  Placement placements[4];
+  for (const auto& [c, first] : s.order) {
+    const int n = s.all[first + 3].placement;
+    for (int i = 0; i < n; ++i) placements[i] = {s.all[first + i].u, s.all[first + i].v, s.all[first + i].p};
+    ++checks;
+    cost.hint_orders(a, s.all[first].u == a ? s.all[first].v : s.all[first].u, s.collapse.link);
+    const int chosen = first_acceptable(mesh, placements, n, kernel, s.collapse, &s.rejected);
+    if (chosen >= 0) {
+      const CollapseCandidate& cand = s.all[first + chosen];
+      return {cand.cost, cand.u == a ? cand.v : cand.u};
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint64_t target, Report& report) {
+  const std::size_t nv = mesh.positions.size();
+  CostModel cost(mesh, options);
+  CollapseOptions kernel;
+  kernel.quality_floor = options.min_quality;
+  parallel::PerThread<ThreadScratch> scratch([&] {
+    ThreadScratch s;
+    s.fields.resize(static_cast<std::size_t>(mesh.field_stride()));
+    return s;
+  });
+
+  std::vector<Proposal> proposal(nv);
+  std::vector<std::uint8_t> dirty(nv, 1);
+  std::vector<std::uint8_t> claimed(nv, 0);  // in the stencil of a winner of the current round
+  std::unique_ptr<std::atomic<std::uint32_t>[]> owner(new std::atomic<std::uint32_t>[nv]);
+  for (std::size_t v = 0; v < nv; ++v) owner[v].store(kFree, std::memory_order_relaxed);
+  std::vector<VertId> dirty_list;
+  std::vector<Ranked> ranked;
+  std::vector<std::uint32_t> stencil_offsets;
+  std::vector<VertId> stencils;
+  std::vector<std::uint32_t> winners;
+  std::uint32_t refs_used = static_cast<std::uint32_t>(mesh.refs_table.size());
+
+  std::uint64_t live = mesh.live_vertex_count();
+  Progress progress(options, live, target);
+  while (live > target) {
+    RoundStats round;
+    // --- 1. evaluate ---
+    auto t0 = Clock::now();
+    dirty_list.clear();
+    for (VertId v = 0; v < nv; ++v)
+      if (dirty[v] && !mesh.is_dead_vertex(v)) dirty_list.push_back(v);
+    std::atomic<std::uint64_t> evals{0}, checks{0};
+    parallel::for_range<std::size_t>(0, dirty_list.size(), 64, "evaluate", [&](std::size_t b, std::size_t e) {
+      ThreadScratch& s = scratch.local();
+      std::uint64_t ev = 0, ch = 0;
+      for (std::size_t i = b; i < e; ++i) {
+        const VertId a = dirty_list[i];
+        proposal[a] = propose(mesh, cost, kernel, a, s, ev, ch);
+        dirty[a] = 0;
+      }
+      evals.fetch_add(ev, std::memory_order_relaxed);  // counters only: relaxed
+      checks.fetch_add(ch, std::memory_order_relaxed);
+    });
+    report.evaluations += evals.load();
+    report.legality_checks += checks.load();
+    round.evaluated = dirty_list.size();
+    round.phase_seconds[0] = since(t0);
+
+    // --- 2. select ---
+    t0 = Clock::now();
+    ranked.clear();
+    for (VertId a = 0; a < nv; ++a)
+      if (!mesh.is_dead_vertex(a) && std::isfinite(proposal[a].cost)) ranked.push_back({proposal[a].cost, a, proposal[a].b});
+    if (ranked.empty()) {
+      report.status = Status::kStoppedEarly;
+      report.message = "no legal collapse left";
+      break;
+    }
+    tbb::parallel_sort(ranked.begin(), ranked.end());
+    if (options.max_cost > 0.0 && ranked.front().cost > options.max_cost) {
+      report.status = Status::kStoppedEarly;
+      report.message = "the cheapest remaining collapse costs more than max_cost";
+      break;
+    }
+    std::size_t keep = static_cast<std::size_t>(std::ceil(options.round_fraction * static_cast<double>(ranked.size())));
+    keep = std::min<std::size_t>({std::max<std::size_t>(keep, 1), ranked.size(), live - target});
+    if (options.max_cost > 0.0)
+      while (keep > 1 && ranked[keep - 1].cost > options.max_cost) --keep;
+    ranked.resize(keep);
+    round.candidates = keep;
+    // Stencils, flattened: gathered in parallel into per-candidate slices sized by a first pass.
+    stencil_offsets.assign(keep + 1, 0);
+    parallel::for_range<std::size_t>(0, keep, 256, "stencil_size", [&](std::size_t b, std::size_t e) {
+      ThreadScratch& s = scratch.local();
+      for (std::size_t i = b; i < e; ++i) {
+        stencil_of(mesh, ranked[i].a, ranked[i].b, s.stencil);
+        stencil_offsets[i + 1] = static_cast<std::uint32_t>(s.stencil.size());
+      }
+    });
+    for (std::size_t i = 0; i < keep; ++i) stencil_offsets[i + 1] += stencil_offsets[i];
+    stencils.resize(stencil_offsets[keep]);
+    // Stencils, flattened.
+    parallel::for_range<std::size_t>(0, keep, 256, "gather_stencils", [&](std::size_t b, std::size_t e) {
+      ThreadScratch& s = scratch.local();
+      for (std::size_t i = b; i < e; ++i) {
+        stencil_of(mesh, ranked[i].a, ranked[i].b, s.stencil);
+        std::copy(s.stencil.begin(), s.stencil.end(), stencils.begin() + stencil_offsets[i]);
+      }
+    });
+    // Reservation passes: in each pass every undecided candidate whose stencil touches no earlier
+    // winner reserves its stencil (atomic min of its rank per vertex); those that own their whole
+    // stencil win and claim it. Repeating the pass converges towards the lexicographically first
+    // maximal independent set in rank order; every pass is a function of the ranks alone.
+    enum : std::uint8_t { kUndecided, kWon, kBlocked };
+    std::vector<std::uint8_t> state(keep, kUndecided);
+    for (int pass = 0; pass < kReservationPasses; ++pass) {
+      parallel::for_range<std::size_t>(0, keep, 256, "reserve", [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) {
+          if (state[i] != kUndecided) continue;
+          bool blocked = false;
+          for (std::uint32_t k = stencil_offsets[i]; k < stencil_offsets[i + 1] && !blocked; ++k)
+            blocked = claimed[stencils[k]] != 0;
+          if (blocked) {
+            state[i] = kBlocked;
+            continue;
+          }
+          const std::uint32_t rank = static_cast<std::uint32_t>(i);
+          for (std::uint32_t k = stencil_offsets[i]; k < stencil_offsets[i + 1]; ++k) {
+            // Relaxed atomic min: only the final minimum matters, read after the loop has joined.
+            std::atomic<std::uint32_t>& o = owner[stencils[k]];
+            std::uint32_t cur = o.load(std::memory_order_relaxed);
+            while (rank < cur && !o.compare_exchange_weak(cur, rank, std::memory_order_relaxed)) {
+            }
+          }
+        }
+      });
+      std::atomic<std::uint64_t> new_winners{0};
+      parallel::for_range<std::size_t>(0, keep, 1024, "check_reservations", [&](std::size_t b, std::size_t e) {
+        std::uint64_t n = 0;
+        for (std::size_t i = b; i < e; ++i) {
+          if (state[i] != kUndecided) continue;
+          bool ok = true;
+          for (std::uint32_t k = stencil_offsets[i]; k < stencil_offsets[i + 1] && ok; ++k)
+            ok = owner[stencils[k]].load(std::memory_order_relaxed) == i;
+          if (ok) {
+            state[i] = kWon;
+            ++n;
+          }
+        }
+        new_winners.fetch_add(n, std::memory_order_relaxed);
+      });
+      // Winners claim their stencils (disjoint: plain writes); every reservation is released.
+      parallel::for_range<std::size_t>(0, keep, 1024, "claim_and_release", [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) {
+          if (state[i] == kBlocked) continue;
+          for (std::uint32_t k = stencil_offsets[i]; k < stencil_offsets[i + 1]; ++k) {
+            owner[stencils[k]].store(kFree, std::memory_order_relaxed);
+            if (state[i] == kWon) claimed[stencils[k]] = 1;
+          }
+        }
+      });
+      if (new_winners.load() == 0) break;
+    }
+    std::vector<std::uint8_t> wins(keep, 0);
+    for (std::size_t i = 0; i < keep; ++i) wins[i] = state[i] == kWon;
+    winners.clear();
+    for (std::size_t i = 0; i < keep; ++i)
+      if (wins[i]) winners.push_back(static_cast<std::uint32_t>(i));
+    round.winners = winners.size();
+    // Each collapse can take at most |St(u)| + |St(v)| new side-table slots.
+    std::size_t star_tets = 0;
+    for (std::uint32_t i : winners) star_tets += mesh.v2t_count[ranked[i].a] + mesh.v2t_count[ranked[i].b];
+    reserve_refs_headroom(mesh, refs_used, star_tets);
+    round.phase_seconds[1] = since(t0);
+
+    // --- 3. apply ---
+    t0 = Clock::now();
+    std::atomic<std::uint64_t> applied{0};
+    std::vector<double> applied_cost(winners.size(), -1.0);
+    parallel::for_range<std::size_t>(0, winners.size(), 16, "apply", [&](std::size_t b, std::size_t e) {
+      ThreadScratch& s = scratch.local();
+      std::uint64_t n_applied = 0;
+      for (std::size_t w = b; w < e; ++w) {
+        const Ranked& r = ranked[winners[w]];
+        const int n = cost.candidates(mesh, r.a, r.b, s.cands, s.collapse.link);
+        Placement placements[4];
+        for (int i = 0; i < n; ++i) placements[i] = {s.cands[i].u, s.cands[i].v, s.cands[i].p};
+        cost.hint_orders(r.a, r.b, s.collapse.link);
+        const int chosen = first_acceptable(mesh, placements, n, kernel, s.collapse, &s.rejected);
+        if (chosen >= 0) {
+          const CollapseCandidate& c = s.cands[chosen];
+          cost.fields_at(mesh, c, s.fields.data());
+          collapse(mesh, c.u, c.v, c.p, s.fields.data(), s.collapse, refs_used);
+          const std::uint32_t i0 = stencil_offsets[winners[w]], i1 = stencil_offsets[winners[w] + 1];
+          s.stencil.assign(stencils.begin() + i0, stencils.begin() + i1);
+          cost.on_collapse(c.u, c.v, s.stencil);
+          applied_cost[w] = c.cost;
+          ++n_applied;
+        }
+        // Applied or not, the stencil is re-evaluated next round (owned data: disjoint writes).
+        for (std::uint32_t k = stencil_offsets[winners[w]]; k < stencil_offsets[winners[w] + 1]; ++k) {
+          dirty[stencils[k]] = 1;
+          claimed[stencils[k]] = 0;
+        }
+      }
+      applied.fetch_add(n_applied, std::memory_order_relaxed);
+    });
+    round.collapses = applied.load();
+    for (double c : applied_cost) report.max_cost = std::max(report.max_cost, c);
+    report.collapses += round.collapses;
+    live -= round.collapses;
+    round.phase_seconds[2] = since(t0);
+
+    for (int k = 0; k < 4; ++k) report.phase_seconds[k] += round.phase_seconds[k];
+    report.round_stats.push_back(round);
+    ++report.rounds;
+    if (!progress.update(live)) {
+      report.status = Status::kCancelled;
+      report.message = "cancelled by on_progress";
+      break;
+    }
+  }
+  for (const ThreadScratch& s : scratch)
+    for (int k = 0; k < kCollapseReasonCount; ++k) report.rejected[k] += s.rejected[k];
+}
+
+}  // namespace topotet::detail

@@ -1,0 +1,107 @@
+// End-to-end simplification: both engines keep every Betti number, reach their target, and the
+// parallel engine gives the same mesh for every thread count.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "test_meshes.h"
+#include "topotet/metrics/topology.h"
+#include "topotet/simplify.h"
+#include "topotet/tet_mesh.h"
+
+namespace topotet {
+namespace {
+
+struct Case {
+  const char* planted;
+  Engine engine;
+};
+
+class SimplifyPlanted : public ::testing::TestWithParam<std::tuple<std::size_t, Engine>> {};
+
+TEST_P(SimplifyPlanted, KeepsTopologyAndReducesTheMesh) {
+  const auto meshes = testing::planted_meshes();
+  const auto& planted = meshes[std::get<0>(GetParam())];
+  const testing::Grid g = planted.make();
+  TetMesh mesh = build_tet_mesh(g.data);
+  const auto before = metrics::compute_topology(mesh.to_mesh_data());
+  SimplifyOptions options;
+  options.engine = std::get<1>(GetParam());
+  options.target_vertex_ratio = 0.2;
+  const Report report = simplify(mesh, options);
+  ASSERT_NE(report.status, Status::kInvalidInput) << report.message;
+  ASSERT_NE(report.status, Status::kOutOfMemory);
+  std::string differences;
+  EXPECT_TRUE(metrics::same_topology(before, metrics::compute_topology(mesh.to_mesh_data()), &differences))
+      << differences;
+  EXPECT_LT(report.vertices_after, report.vertices_before * 6 / 10) << planted.name;
+  EXPECT_EQ(report.vertices_after, mesh.live_vertex_count());
+  EXPECT_EQ(report.vertices_before - report.vertices_after, report.collapses);
+  std::printf("[ simplify ] %-45s %s: %llu -> %llu vertices, %llu -> %llu tets, status %s\n", planted.name,
+              options.engine == Engine::kSequential ? "sequential" : "parallel  ",
+              (unsigned long long)report.vertices_before, (unsigned long long)report.vertices_after,
+              (unsigned long long)report.tets_before, (unsigned long long)report.tets_after, to_string(report.status));
+}
+
+INSTANTIATE_TEST_SUITE_P(Planted, SimplifyPlanted,
+                         ::testing::Combine(::testing::Range<std::size_t>(0, testing::planted_meshes().size()),
+                                            ::testing::Values(Engine::kSequential, Engine::kParallel)),
+                         [](const ::testing::TestParamInfo<std::tuple<std::size_t, Engine>>& param) {
+                           return std::string(testing::planted_meshes()[std::get<0>(param.param)].name) +
+                                  (std::get<1>(param.param) == Engine::kSequential ? "_sequential" : "_parallel");
+                         });
+
+TEST(Simplify, ParallelOutputIsIdenticalForEveryThreadCount) {
+  testing::Grid g = testing::make_grid(14, 12, 10, [](int i, int j, int k) {
+    const double dx = i - 7, dy = j - 6, dz = k - 5;
+    return dx * dx + dy * dy + dz * dz < 12 ? 2 : 1;
+  });
+  testing::add_polyline(g, testing::grid_line({1, 6, 5}, {13, 6, 5}), 3);
+  testing::add_linear_field(g);
+  const TetMesh input = build_tet_mesh(g.data);
+  MeshData reference;
+  for (int threads : {1, 2, 3, 4, 8}) {
+    TetMesh mesh = input;
+    SimplifyOptions options;
+    options.num_threads = threads;
+    options.target_vertex_ratio = 0.15;
+    const Report report = simplify(mesh, options);
+    ASSERT_TRUE(report.status == Status::kOk || report.status == Status::kStoppedEarly) << report.message;
+    const MeshData out = mesh.to_mesh_data();
+    if (threads == 1)
+      reference = out;
+    else
+      EXPECT_TRUE(out == reference) << "threads = " << threads << " differs from threads = 1";
+  }
+}
+
+TEST(Simplify, InvalidOptionsAreReportedNotThrown) {
+  testing::Grid g = testing::make_grid(3, 3, 3, [](int, int, int) { return 1; });
+  TetMesh mesh = build_tet_mesh(g.data);
+  const std::size_t tets = mesh.live_tet_count();
+  SimplifyOptions options;
+  options.target_vertex_ratio = 1.5;
+  const Report report = simplify(mesh, options);
+  EXPECT_EQ(report.status, Status::kInvalidInput);
+  EXPECT_NE(report.message.find("target_vertex_ratio"), std::string::npos);
+  EXPECT_EQ(mesh.live_tet_count(), tets);
+}
+
+TEST(Simplify, ProgressCanCancel) {
+  testing::Grid g = testing::make_grid(12, 12, 12, [](int, int, int) { return 1; });
+  for (Engine engine : {Engine::kSequential, Engine::kParallel}) {
+    TetMesh mesh = build_tet_mesh(g.data);
+    SimplifyOptions options;
+    options.engine = engine;
+    options.target_vertex_ratio = 0.05;
+    int calls = 0;
+    options.on_progress = [&](double) { return ++calls < 2; };
+    const Report report = simplify(mesh, options);
+    EXPECT_EQ(report.status, Status::kCancelled);
+    EXPECT_GT(report.collapses, 0u);
+    EXPECT_EQ(mesh.live_vertex_count(), report.vertices_after);
+  }
+}
+
+}  // namespace
+}  // namespace topotet
