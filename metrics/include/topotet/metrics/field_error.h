@@ -1,0 +1,82 @@
+// Error of a simplified mesh's vertex fields against the original's: the "rms" column of the
+// simplification report.
+//
+// Paper 001 (ch. 7) measures "the root mean square error, computed as the difference between the
+// scalar field value at vertices of the original and the simplified meshes". Both fields are
+// piecewise linear over their own tets, so we compare them in both directions:
+//   original_to_simplified  at every original vertex, its value minus the simplified field
+//                           interpolated (barycentric, in the simplified tet containing it);
+//   simplified_to_original  at every simplified vertex, its value minus the original field
+//                           interpolated in the original mesh;
+// and `rms_both` pools the samples of both directions (the paper's single number).
+//
+// Details:
+//  - Fields are matched by name (the first field of that name in each mesh) and must have the
+//    same component count; every component is compared as one scalar (as the simplifier
+//    preserves them). Names without such a partner are listed in `unmatched_fields`.
+//  - Only vertices used by at least one tet are sampled: the field is defined on the tets.
+//  - A vertex outside every tet of the other mesh (the boundary moved a little) takes the value
+//    at the closest point of the closest tet (exact point-tet distance; its barycentric
+//    coordinates are then within [0, 1]). LocationStats count them and the largest distance.
+//  - Relative errors divide by the component's range (max - min over the used original vertices),
+//    so numbers compare across datasets; a constant component (range 0) divides by 1 instead.
+//  - Point location uses a uniform grid over the tets' bounding boxes, built and queried in
+//    parallel; the result is bit-identical for any thread count.
+//  - If either mesh has no tets, or no field matches, nothing is located and `components` is
+//    empty.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "topotet/mesh_data.h"
+
+namespace topotet {
+
+// Error samples of one component in one direction (all zero when samples == 0).
+struct DirectionalError {
+  std::size_t samples = 0;  // vertices compared
+  double rms = 0.0;         // sqrt(mean of squared differences), field units
+  double max_abs = 0.0;     // largest |difference|, field units
+  double rms_rel = 0.0;     // rms / range
+  double max_rel = 0.0;     // max_abs / range
+  friend bool operator==(const DirectionalError&, const DirectionalError&) = default;
+};
+
+struct ComponentError {
+  std::string field;   // field name
+  int component = 0;   // 0-based component of that field
+  double range = 0.0;  // max - min of the component over the used original vertices
+  DirectionalError original_to_simplified;
+  DirectionalError simplified_to_original;
+  double rms_both = 0.0;      // RMS over the samples of both directions together
+  double rms_both_rel = 0.0;  // rms_both / range
+  friend bool operator==(const ComponentError&, const ComponentError&) = default;
+};
+
+// How the vertices of one mesh were located in the other.
+struct LocationStats {
+  std::size_t points = 0;   // vertices located (those used by a tet)
+  std::size_t outside = 0;  // found outside every tet: the closest tet was used
+  double max_outside_distance = 0.0;  // largest distance from such a vertex to the other mesh
+  friend bool operator==(const LocationStats&, const LocationStats&) = default;
+};
+
+struct FieldError {
+  std::vector<ComponentError> components;     // in the original's field and component order
+  std::vector<std::string> unmatched_fields;  // names (original's first, then simplified's)
+                                              // with no same-named, same-size partner
+  LocationStats original_in_simplified;       // original vertices located in the simplified mesh
+  LocationStats simplified_in_original;       // simplified vertices located in the original mesh
+  double worst_rms_rel = 0.0;  // max over components of rms_both_rel
+  double worst_max_rel = 0.0;  // max over components and both directions of max_rel
+  friend bool operator==(const FieldError&, const FieldError&) = default;
+};
+
+// Compares every field present in both meshes (see above). Uses positions, tets and fields.
+// Throws InputError (topotet/error.h) if a tet has a vertex index out of range or a field's
+// value count is not vertex_count * components.
+FieldError compare_fields(const MeshData& original, const MeshData& simplified);
+
+}  // namespace topotet

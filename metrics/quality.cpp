@@ -1,0 +1,200 @@
+// compute_quality: per-tet angle samples, reduced deterministically.
+//
+// Determinism: the tet range is cut into blocks of kBlock tets, independent of the thread count;
+// each block is summarised sequentially (Welford) by whichever thread runs it, and the block
+// summaries are merged in block order (Chan et al.'s pairwise update). The floating-point
+// operations, and so the bits of the result, are then the same for any number of threads.
+#include "topotet/metrics/quality.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "parallel/for_range.h"
+#include "topotet/error.h"
+
+namespace topotet {
+namespace {
+
+constexpr std::size_t kBlock = 4096;
+constexpr double kDeg = 180.0 / std::numbers::pi;
+
+// Running count, mean, sum of squared deviations, min and max of a sample.
+struct Moments {
+  std::uint64_t n = 0;
+  double mean = 0.0;
+  double m2 = 0.0;
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+
+  // Welford's update: stable, no cancellation between large sums.
+  void add(double x) {
+    ++n;
+    const double d = x - mean;
+    mean += d / static_cast<double>(n);
+    m2 += d * (x - mean);
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+
+  // Chan, Golub & LeVeque's combination of two summaries (order-dependent only in rounding,
+  // which is why blocks are merged in a fixed order).
+  void merge(const Moments& o) {
+    if (o.n == 0) return;
+    if (n == 0) {
+      *this = o;
+      return;
+    }
+    const double na = static_cast<double>(n), nb = static_cast<double>(o.n);
+    const double total = na + nb;
+    const double delta = o.mean - mean;
+    mean += delta * (nb / total);
+    m2 += o.m2 + delta * delta * (na * nb / total);
+    n += o.n;
+    lo = std::min(lo, o.lo);
+    hi = std::max(hi, o.hi);
+  }
+
+  SampleStats stats() const {
+    SampleStats s;
+    s.count = n;
+    if (n == 0) return s;
+    s.min = lo;
+    s.max = hi;
+    s.mean = mean;
+    s.std_dev = std::sqrt(std::max(0.0, m2 / static_cast<double>(n)));
+    return s;
+  }
+};
+
+struct BlockSummary {
+  Moments dihedral, solid, face, mean_ratio;
+  std::size_t inverted = 0, zero_volume = 0;
+
+  void merge(const BlockSummary& o) {
+    dihedral.merge(o.dihedral);
+    solid.merge(o.solid);
+    face.merge(o.face);
+    mean_ratio.merge(o.mean_ratio);
+    inverted += o.inverted;
+    zero_volume += o.zero_volume;
+  }
+};
+
+// Angle between two vectors in [0, pi]. atan2 of |cross| and dot is accurate near 0 and pi (acos
+// of a normalised dot is not) and gives 0, not NaN, when a vector is zero.
+double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
+  return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+// Sign of det = u . (v x w), certified by Shewchuk's orient3d static bound o3derrboundA =
+// (7 + 56 eps) eps times the permanent, which also covers the rounding of the differences
+// u, v, w. Returns +1, -1, or 0 when double precision cannot certify the sign.
+int certified_sign(const glm::dvec3& u, const glm::dvec3& v, const glm::dvec3& w, double det) {
+  constexpr double eps = std::numeric_limits<double>::epsilon() / 2.0;  // 2^-53, Shewchuk's epsilon
+  constexpr double errbound = (7.0 + 56.0 * eps) * eps;
+  const double permanent = std::abs(u.x) * (std::abs(v.y * w.z) + std::abs(v.z * w.y)) +
+                           std::abs(u.y) * (std::abs(v.z * w.x) + std::abs(v.x * w.z)) +
+                           std::abs(u.z) * (std::abs(v.x * w.y) + std::abs(v.y * w.x));
+  if (det > errbound * permanent) return 1;
+  if (-det > errbound * permanent) return -1;
+  return 0;
+}
+
+void add_tet(const std::array<glm::dvec3, 4>& p, BlockSummary& s) {
+  // Edge (i, j) and the other two vertices (k, l) of the tet: the 6 edges in a fixed order.
+  static constexpr int kEdges[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2},
+                                       {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
+  // The dihedral angle at edge e = pj - pi is the angle between the normals e x (pk - pi) and
+  // e x (pl - pi) of its two faces: both are perpendicular to e, and the cross product with e
+  // rotates the projections of pk - pi and pl - pi (which span the dihedral) by the same 90 deg.
+  for (const auto& e : kEdges) {
+    const glm::dvec3 edge = p[e[1]] - p[e[0]];
+    const glm::dvec3 n1 = glm::cross(edge, p[e[2]] - p[e[0]]);
+    const glm::dvec3 n2 = glm::cross(edge, p[e[3]] - p[e[0]]);
+    s.dihedral.add(angle_between(n1, n2) * kDeg);
+  }
+
+  // Solid angle at vertex i, vectors a, b, c to the other three (van Oosterom & Strackee 1983).
+  // atan2 keeps the quadrant: a negative denominator means the solid angle exceeds pi, which only
+  // happens for (nearly) flat tets.
+  for (int i = 0; i < 4; ++i) {
+    const glm::dvec3 a = p[(i + 1) % 4] - p[i];
+    const glm::dvec3 b = p[(i + 2) % 4] - p[i];
+    const glm::dvec3 c = p[(i + 3) % 4] - p[i];
+    const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+    const double num = std::abs(glm::dot(a, glm::cross(b, c)));
+    const double den = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
+    s.solid.add(2.0 * std::atan2(num, den));
+  }
+
+  // Corner angles of the 4 faces: face f is the one opposite vertex f.
+  for (int f = 0; f < 4; ++f) {
+    const int v[3] = {(f + 1) % 4, (f + 2) % 4, (f + 3) % 4};
+    for (int c = 0; c < 3; ++c) {
+      const glm::dvec3& at = p[v[c]];
+      s.face.add(angle_between(p[v[(c + 1) % 3]] - at, p[v[(c + 2) % 3]] - at) * kDeg);
+    }
+  }
+
+  const glm::dvec3 u = p[1] - p[0], v = p[2] - p[0], w = p[3] - p[0];
+  const double det = glm::dot(u, glm::cross(v, w));  // 6 V
+  const int sign = certified_sign(u, v, w, det);
+  if (sign < 0) ++s.inverted;
+  if (sign == 0) ++s.zero_volume;
+
+  double sum_sq = 0.0;
+  for (const auto& e : kEdges) {
+    const glm::dvec3 d = p[e[1]] - p[e[0]];
+    sum_sq += glm::dot(d, d);
+  }
+  // (3|V|)^(2/3) = cbrt(9 V^2) = cbrt(det^2 / 4).
+  s.mean_ratio.add(sum_sq > 0.0 ? 12.0 * std::cbrt(det * det / 4.0) / sum_sq : 0.0);
+}
+
+}  // namespace
+
+QualityStats compute_quality(const MeshData& mesh) {
+  const std::size_t nt = mesh.tets.size();
+  const std::size_t nv = mesh.positions.size();
+  for (std::size_t t = 0; t < nt; ++t)
+    for (const VertId v : mesh.tets[t])
+      if (v >= nv)
+        throw InputError("tet " + std::to_string(t) + ": vertex index " + std::to_string(v) +
+                         " out of range [0, " + std::to_string(nv) + ")");
+
+  const std::size_t blocks = (nt + kBlock - 1) / kBlock;
+  std::vector<BlockSummary> partial(blocks);
+  parallel::for_range<std::size_t>(0, blocks, 1, "quality_blocks", [&](std::size_t b0, std::size_t b1) {
+    for (std::size_t b = b0; b < b1; ++b) {
+      BlockSummary s;
+      const std::size_t end = std::min(nt, (b + 1) * kBlock);
+      for (std::size_t t = b * kBlock; t < end; ++t) {
+        const auto& tv = mesh.tets[t];
+        add_tet({mesh.positions[tv[0]], mesh.positions[tv[1]], mesh.positions[tv[2]], mesh.positions[tv[3]]}, s);
+      }
+      partial[b] = s;
+    }
+  });
+
+  BlockSummary total;
+  for (const BlockSummary& s : partial) total.merge(s);
+
+  QualityStats q;
+  q.tet_count = nt;
+  q.dihedral_deg = total.dihedral.stats();
+  q.solid_sr = total.solid.stats();
+  q.face_deg = total.face.stats();
+  q.mean_ratio = total.mean_ratio.stats();
+  q.inverted = total.inverted;
+  q.zero_volume = total.zero_volume;
+  return q;
+}
+
+}  // namespace topotet
