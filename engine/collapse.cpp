@@ -98,19 +98,34 @@ double mean_ratio_cubed(const glm::dvec3& a, const glm::dvec3& b, const glm::dve
 
 enum class Geometry { kOk, kInversion, kQuality };
 
-// Inversion and quality of the new star, for the stars in `s` (star_u belongs to u).
-Geometry check_geometry(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, double quality_floor,
-                        const CollapseScratch& s, bool check_quality) {
+// Worst (cubed) mean ratio of St(u) ∪ St(v) before the collapse.
+double old_star_quality(const TetMesh& mesh, const CollapseScratch& s) {
   const auto& P = mesh.positions;
-  double old_min = 1.0, new_min = 1.0;
+  double worst = 1.0;
+  for (TetId t : s.star_u) {
+    const auto& tv = mesh.tets[t];
+    worst = std::min(worst, mean_ratio_cubed(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]));
+  }
+  for (TetId t : s.star_v) {
+    if (std::binary_search(s.star_uv.begin(), s.star_uv.end(), t)) continue;  // counted in St(u)
+    const auto& tv = mesh.tets[t];
+    worst = std::min(worst, mean_ratio_cubed(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]));
+  }
+  return worst;
+}
+
+// Inversion (and, when old_quality >= 0, the quality floor) of the new star, for the stars in
+// `s` (star_u belongs to u).
+Geometry check_geometry(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, double quality_floor,
+                        const CollapseScratch& s, double old_quality) {
+  const auto& P = mesh.positions;
+  const bool check_quality = old_quality >= 0.0;
+  double new_min = 1.0;
   for (const std::vector<TetId>* star : {&s.star_u, &s.star_v}) {
     const VertId moved = star == &s.star_u ? u : v;
     for (TetId t : *star) {
+      if (std::binary_search(s.star_uv.begin(), s.star_uv.end(), t)) continue;
       const auto& tv = mesh.tets[t];
-      const bool in_uv = std::binary_search(s.star_uv.begin(), s.star_uv.end(), t);
-      if (check_quality && !(in_uv && moved == v))  // tets of St(uv) are counted once, from St(u)
-        old_min = std::min(old_min, mean_ratio_cubed(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]));
-      if (in_uv) continue;
       glm::dvec3 q[4];
       for (int k = 0; k < 4; ++k) q[k] = tv[k] == moved ? p : P[tv[k]];
       if (orient3d_sign(q[0], q[1], q[2], q[3]) <= 0) return Geometry::kInversion;
@@ -118,19 +133,21 @@ Geometry check_geometry(const TetMesh& mesh, VertId u, VertId v, const glm::dvec
     }
   }
   const double floor3 = quality_floor * quality_floor * quality_floor;
-  if (check_quality && new_min < std::min(floor3, old_min)) return Geometry::kQuality;
+  if (check_quality && new_min < std::min(floor3, old_quality)) return Geometry::kQuality;
   return Geometry::kOk;
 }
 
 }  // namespace
 
 int first_acceptable(const TetMesh& mesh, const Placement* placements, int count, const CollapseOptions& options,
-                     CollapseScratch& s, std::array<std::uint64_t, kCollapseReasonCount>* rejected) {
+                     CollapseScratch& s, std::array<std::uint64_t, kCollapseReasonCount>* rejected,
+                     bool check_topology) {
   auto reject = [&](CollapseReason r) {
     if (rejected != nullptr) ++(*rejected)[static_cast<int>(r)];
   };
   VertId gathered_u = kInvalid, gathered_v = kInvalid;
   bool link_done = false;
+  double old_quality = -1.0;  // of this edge's stencil, computed once when first needed
   for (int i = 0; i < count; ++i) {
     const Placement& pl = placements[i];
     if (mesh.is_pinned(pl.v) || (mesh.is_pinned(pl.u) && pl.p != mesh.positions[pl.u])) {
@@ -148,11 +165,11 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
       gathered_v = pl.v;
     }
     // Inversion first: it is the cheapest test and the most frequent rejection.
-    if (check_geometry(mesh, pl.u, pl.v, pl.p, options.quality_floor, s, false) == Geometry::kInversion) {
+    if (check_geometry(mesh, pl.u, pl.v, pl.p, options.quality_floor, s, -1.0) == Geometry::kInversion) {
       reject(CollapseReason::kInversion);
       continue;
     }
-    if (!link_done) {
+    if (check_topology && !link_done) {
       const LinkResult link = check_link_conditions(mesh, pl.u, pl.v, s.star_uv, s.link);
       if (link != LinkResult::kOk) {
         reject(link == LinkResult::kLinkK ? CollapseReason::kLinkK : CollapseReason::kLinkKtilde);
@@ -160,7 +177,8 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
       }
       link_done = true;
     }
-    if (check_geometry(mesh, pl.u, pl.v, pl.p, options.quality_floor, s, true) == Geometry::kQuality) {
+    if (old_quality < 0.0) old_quality = old_star_quality(mesh, s);
+    if (check_geometry(mesh, pl.u, pl.v, pl.p, options.quality_floor, s, old_quality) == Geometry::kQuality) {
       reject(CollapseReason::kQuality);
       continue;
     }

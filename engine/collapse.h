@@ -80,8 +80,11 @@ CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::
 // Tries `count` placements of ONE edge in order and returns the index of the first acceptable
 // one, or -1. The link conditions do not depend on the placement, so they are evaluated at most
 // once. Each rejected placement adds one to (*rejected)[reason] when `rejected` is given.
+// With check_topology = false the link conditions are skipped: a cheap geometric pre-filter for
+// callers that re-check the chosen placement in full before applying it.
 int first_acceptable(const TetMesh& mesh, const Placement* placements, int count, const CollapseOptions& options,
-                     CollapseScratch& scratch, std::array<std::uint64_t, kCollapseReasonCount>* rejected);
+                     CollapseScratch& scratch, std::array<std::uint64_t, kCollapseReasonCount>* rejected,
+                     bool check_topology = true);
 
 // Applies the collapse (the caller has checked may_collapse with the same scratch stars). Writes
 // only the tets of St(u) ∪ St(v), the vertices u and v, and the incidence chains of the vertices of

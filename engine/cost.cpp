@@ -172,16 +172,18 @@ void CostModel::fields_at(const TetMesh& mesh, const CollapseCandidate& c, doubl
   }
 }
 
-void CostModel::on_collapse(VertId u, VertId v, const std::vector<VertId>& stencil) {
+void CostModel::on_collapse(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_uv) {
   const int qs = quadric_size(n_);
   quadric_add(&quadrics_[static_cast<std::size_t>(u) * qs], &quadrics_[static_cast<std::size_t>(v) * qs], n_);
-  // Only u's star changed wholesale. Another stencil vertex x of order 0 has no special face and
-  // no polyline edge; its faces are only renamed (v -> u) or merged with faces of a removed tet
-  // uvxy, and a merged face is special only if one of its parts was (a material change across it
-  // would have made a part an interface face at x). So x stays order 0 and keeps its cache.
+  // Which orders can change? u's star changed wholesale. A vertex x outside the removed tets St(uv)
+  // is adjacent to u or to v but not both: its faces and edges through v are only renamed to u
+  // (no face or edge of x merges, since a merge needs a removed tet uvxy), so the special faces,
+  // polyline edges and labels around x form the same configuration and its order is unchanged.
+  // Only the vertices of St(uv) (the link of uv) see faces merge or vanish.
   orders_[u].store(kStale, std::memory_order_relaxed);
-  for (VertId x : stencil)
-    if (orders_[x].load(std::memory_order_relaxed) != 0) orders_[x].store(kStale, std::memory_order_relaxed);
+  for (TetId t : star_uv)
+    for (VertId x : mesh.tets[t])
+      if (x != v) orders_[x].store(kStale, std::memory_order_relaxed);
 }
 
 std::size_t CostModel::memory_bytes() const {

@@ -56,9 +56,10 @@ class CostModel {
   // Field values (mesh units, field_stride() of them) for u after collapsing with candidate c.
   void fields_at(const TetMesh& mesh, const CollapseCandidate& c, double* out) const;
 
-  // Bookkeeping after mesh collapse(u <- v): Q_u += Q_v, and the orders of `stencil` vertices are
-  // recomputed on demand. Writes only u's quadric and the stencil's order bytes.
-  void on_collapse(VertId u, VertId v, const std::vector<VertId>& stencil);
+  // Bookkeeping after mesh collapse(u <- v): Q_u += Q_v, and the orders of u and of the vertices
+  // of the removed tets `star_uv` are recomputed on demand. Writes only u's quadric and the order
+  // bytes of vertices of St(uv), all inside the collapse's stencil.
+  void on_collapse(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_uv);
 
   // Order of v in the substructure filtration (cached; thread-safe for distinct or equal v:
   // concurrent recomputations write the same value).

@@ -56,7 +56,20 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, std::uin
   std::vector<VertId> nbrs, stencil;
   std::vector<double> fields(static_cast<std::size_t>(mesh.field_stride()));
   std::vector<std::uint32_t> stamp(mesh.positions.size(), 0);
-  std::vector<std::uint8_t> parked(mesh.positions.size(), 0);  // has an edge dropped as illegal
+  // Edges dropped as illegal, remembered at both ends (up to kParked partners per vertex; past
+  // that the vertex overflows and all its edges are offered again).
+  constexpr int kParked = 3;
+  std::vector<std::array<VertId, kParked>> parked(mesh.positions.size());
+  for (auto& p : parked) p.fill(kInvalid);
+  std::vector<std::uint8_t> parked_overflow(mesh.positions.size(), 0);
+  auto park = [&](VertId x, VertId partner) {
+    for (VertId& slot : parked[x])
+      if (slot == kInvalid || slot == partner) {
+        slot = partner;
+        return;
+      }
+    parked_overflow[x] = 1;
+  };
   std::uint32_t clock = 1;
   std::uint32_t refs_used = static_cast<std::uint32_t>(mesh.refs_table.size());
 
@@ -94,7 +107,8 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, std::uin
     cost.hint_orders(e.a, e.b, scratch.link);
     const int chosen = first_acceptable(mesh, placements, n, kernel_options, scratch, &report.rejected);
     if (chosen < 0) {
-      parked[e.a] = parked[e.b] = 1;  // look again when something around them changes
+      park(e.a, e.b);  // look again when something around them changes
+      park(e.b, e.a);
       continue;
     }
     {
@@ -108,7 +122,7 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, std::uin
       cost.fields_at(mesh, c, fields.data());
       reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
       collapse(mesh, c.u, c.v, c.p, fields.data(), scratch, refs_used);
-      cost.on_collapse(c.u, c.v, stencil);
+      cost.on_collapse(mesh, c.u, c.v, scratch.star_uv);
       report.max_cost = std::max(report.max_cost, c.cost);
       ++report.collapses;
       --live;
@@ -117,11 +131,20 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, std::uin
       for (VertId x : nbrs) push(c.u, x);
       // Edges rejected earlier near this collapse may have become legal: offer them again.
       for (VertId x : stencil) {
-        if (!parked[x] || x == c.u || mesh.is_dead_vertex(x)) continue;
-        parked[x] = 0;
-        stamp[x] = clock;
-        neighbours_of(mesh, x, nbrs);
-        for (VertId y : nbrs) push(x, y);
+        if (x == c.u || mesh.is_dead_vertex(x)) continue;
+        if (parked_overflow[x]) {
+          parked_overflow[x] = 0;
+          parked[x].fill(kInvalid);
+          stamp[x] = clock;  // supersedes x's live entries: no duplicates
+          neighbours_of(mesh, x, nbrs);
+          for (VertId y : nbrs) push(x, y);
+          continue;
+        }
+        for (VertId& y : parked[x]) {
+          // A parked edge has no live entry (it was dropped), so pushing it makes no duplicate.
+          if (y != kInvalid && !mesh.is_dead_vertex(y) && y != c.u) push(x, y);
+          y = kInvalid;
+        }
       }
     }
     if (report.collapses >= next_progress) {

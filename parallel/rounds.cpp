@@ -2,17 +2,18 @@
 //
 //   quadrics, orders <- CostModel(mesh); every vertex is dirty
 //   while live vertices > target:
-//     1. evaluate (parallel over dirty vertices a): a proposes its cheapest LEGAL collapse among
-//        the edges ab it owns (b > a); clean vertices keep their proposal
+//     1. evaluate (parallel over dirty vertices a): a proposes its cheapest collapse that passes
+//        the geometric checks (inversion, quality) among the edges ab it owns (b > a) and has not
+//        banned; clean vertices keep their proposal
 //     2. select: sort the proposals by (cost, a, b) -> rank; keep the cheapest round_fraction of
 //        them (at most live - target); gather each one's stencil St(a) ∪ St(b) (its vertices);
 //        owner[x] = min rank over the kept proposals whose stencil holds x (atomic min);
 //        a proposal wins iff it owns its whole stencil (deterministic reservations: the set is
 //        a function of the ranks only, not of the schedule; winners' stencils are disjoint)
-//     3. apply (parallel over winners): re-check legality on the current mesh (a clean vertex's
-//        proposal may be from an earlier round) and collapse; disjoint stencils mean no locks
-//     4. mark every stencil vertex of an applied collapse dirty (a losing or failed proposal
-//        is re-evaluated too)
+//     3. apply (parallel over winners): check full legality (link conditions included) on the
+//        current mesh and collapse; disjoint stencils mean no locks. A winner that fails bans its
+//        edge at its owner until the owner's neighbourhood changes again
+//     4. mark every stencil vertex of a winner dirty (its proposal is re-evaluated)
 //   stop when no vertex has a proposal (no legal collapse left) or the target is reached
 //
 // Why the output is bit-identical for any thread count: proposals are pure functions of the mesh
@@ -91,9 +92,11 @@ void stencil_of(const TetMesh& mesh, VertId a, VertId b, std::vector<VertId>& ou
 
 // a's cheapest legal collapse over the edges it owns: edges in order of their cheapest placement,
 // the first edge with an acceptable placement wins.
-Proposal propose(const TetMesh& mesh, CostModel& cost, const CollapseOptions& kernel, VertId a, ThreadScratch& s,
-                 std::uint64_t& evals, std::uint64_t& checks) {
+Proposal propose(const TetMesh& mesh, CostModel& cost, const CollapseOptions& kernel, VertId a,
+                 const std::array<VertId, 2>& banned, ThreadScratch& s, std::uint64_t& evals, std::uint64_t& checks) {
   neighbours_above(mesh, a, s.nbrs);
+  s.nbrs.erase(std::remove_if(s.nbrs.begin(), s.nbrs.end(), [&](VertId b) { return b == banned[0] || b == banned[1]; }),
+               s.nbrs.end());
   s.all.clear();
   s.order.clear();
   for (VertId b : s.nbrs) {
@@ -110,8 +113,8 @@ Proposal propose(const TetMesh& mesh, CostModel& cost, const CollapseOptions& ke
     const int n = s.all[first + 3].placement;
     for (int i = 0; i < n; ++i) placements[i] = {s.all[first + i].u, s.all[first + i].v, s.all[first + i].p};
     ++checks;
-    cost.hint_orders(a, s.all[first].u == a ? s.all[first].v : s.all[first].u, s.collapse.link);
-    const int chosen = first_acceptable(mesh, placements, n, kernel, s.collapse, &s.rejected);
+    // Geometry only: most rejections are inversions; the link conditions are checked for winners.
+    const int chosen = first_acceptable(mesh, placements, n, kernel, s.collapse, &s.rejected, false);
     if (chosen >= 0) {
       const CollapseCandidate& cand = s.all[first + chosen];
       return {cand.cost, cand.u == a ? cand.v : cand.u};
@@ -136,12 +139,14 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
   std::vector<Proposal> proposal(nv);
   std::vector<std::uint8_t> dirty(nv, 1);
   std::vector<std::uint8_t> claimed(nv, 0);  // in the stencil of a winner of the current round
+  std::vector<std::array<VertId, 2>> banned(nv, {kInvalid, kInvalid});  // edges that failed at apply
+  std::vector<std::uint8_t> exhausted(nv, 0);  // more failures than ban slots: no proposal
   std::unique_ptr<std::atomic<std::uint32_t>[]> owner(new std::atomic<std::uint32_t>[nv]);
   for (std::size_t v = 0; v < nv; ++v) owner[v].store(kFree, std::memory_order_relaxed);
   std::vector<VertId> dirty_list;
   std::vector<Ranked> ranked;
   std::vector<std::uint32_t> stencil_offsets;
-  std::vector<VertId> stencils;
+  std::vector<VertId> stencils, slots;
   std::vector<std::uint32_t> winners;
   std::uint32_t refs_used = static_cast<std::uint32_t>(mesh.refs_table.size());
 
@@ -160,7 +165,7 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
       std::uint64_t ev = 0, ch = 0;
       for (std::size_t i = b; i < e; ++i) {
         const VertId a = dirty_list[i];
-        proposal[a] = propose(mesh, cost, kernel, a, s, ev, ch);
+        proposal[a] = exhausted[a] ? Proposal{} : propose(mesh, cost, kernel, a, banned[a], s, ev, ch);
         dirty[a] = 0;
       }
       evals.fetch_add(ev, std::memory_order_relaxed);  // counters only: relaxed
@@ -181,35 +186,47 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
       report.message = "no legal collapse left";
       break;
     }
+    std::size_t keep = static_cast<std::size_t>(std::ceil(options.round_fraction * static_cast<double>(ranked.size())));
+    keep = std::min<std::size_t>({std::max<std::size_t>(keep, 1), ranked.size(), live - target});
+    // Only the kept prefix needs an order: partition around the keep-th, then sort the prefix.
+    // (Ranked is a strict total order, so the prefix set is unique and the result deterministic.)
+    if (keep < ranked.size()) std::nth_element(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(keep), ranked.end());
+    ranked.resize(keep);
     tbb::parallel_sort(ranked.begin(), ranked.end());
     if (options.max_cost > 0.0 && ranked.front().cost > options.max_cost) {
       report.status = Status::kStoppedEarly;
       report.message = "the cheapest remaining collapse costs more than max_cost";
       break;
     }
-    std::size_t keep = static_cast<std::size_t>(std::ceil(options.round_fraction * static_cast<double>(ranked.size())));
-    keep = std::min<std::size_t>({std::max<std::size_t>(keep, 1), ranked.size(), live - target});
     if (options.max_cost > 0.0)
       while (keep > 1 && ranked[keep - 1].cost > options.max_cost) --keep;
     ranked.resize(keep);
     round.candidates = keep;
-    // Stencils, flattened: gathered in parallel into per-candidate slices sized by a first pass.
+    // Stencils, flattened: each candidate's sorted stencil goes into a fixed slot; the rare one
+    // that does not fit is gathered again once the exact sizes are known.
+    constexpr std::uint32_t kSlot = 192;
+    slots.resize(keep * kSlot);
     stencil_offsets.assign(keep + 1, 0);
-    parallel::for_range<std::size_t>(0, keep, 256, "stencil_size", [&](std::size_t b, std::size_t e) {
-      ThreadScratch& s = scratch.local();
-      for (std::size_t i = b; i < e; ++i) {
-        stencil_of(mesh, ranked[i].a, ranked[i].b, s.stencil);
-        stencil_offsets[i + 1] = static_cast<std::uint32_t>(s.stencil.size());
-      }
-    });
-    for (std::size_t i = 0; i < keep; ++i) stencil_offsets[i + 1] += stencil_offsets[i];
-    stencils.resize(stencil_offsets[keep]);
-    // Stencils, flattened.
     parallel::for_range<std::size_t>(0, keep, 256, "gather_stencils", [&](std::size_t b, std::size_t e) {
       ThreadScratch& s = scratch.local();
       for (std::size_t i = b; i < e; ++i) {
         stencil_of(mesh, ranked[i].a, ranked[i].b, s.stencil);
-        std::copy(s.stencil.begin(), s.stencil.end(), stencils.begin() + stencil_offsets[i]);
+        stencil_offsets[i + 1] = static_cast<std::uint32_t>(s.stencil.size());
+        if (s.stencil.size() <= kSlot) std::copy(s.stencil.begin(), s.stencil.end(), slots.begin() + i * kSlot);
+      }
+    });
+    std::vector<std::uint32_t> sizes(stencil_offsets.begin() + 1, stencil_offsets.end());
+    for (std::size_t i = 0; i < keep; ++i) stencil_offsets[i + 1] += stencil_offsets[i];
+    stencils.resize(stencil_offsets[keep]);
+    parallel::for_range<std::size_t>(0, keep, 1024, "flatten_stencils", [&](std::size_t b, std::size_t e) {
+      ThreadScratch& s = scratch.local();
+      for (std::size_t i = b; i < e; ++i) {
+        if (sizes[i] <= kSlot) {
+          std::copy_n(slots.begin() + i * kSlot, sizes[i], stencils.begin() + stencil_offsets[i]);
+        } else {
+          stencil_of(mesh, ranked[i].a, ranked[i].b, s.stencil);
+          std::copy(s.stencil.begin(), s.stencil.end(), stencils.begin() + stencil_offsets[i]);
+        }
       }
     });
     // Reservation passes: in each pass every undecided candidate whose stencil touches no earlier
@@ -280,11 +297,11 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
 
     // --- 3. apply ---
     t0 = Clock::now();
-    std::atomic<std::uint64_t> applied{0};
+    std::atomic<std::uint64_t> applied{0}, apply_checks{0};
     std::vector<double> applied_cost(winners.size(), -1.0);
     parallel::for_range<std::size_t>(0, winners.size(), 16, "apply", [&](std::size_t b, std::size_t e) {
       ThreadScratch& s = scratch.local();
-      std::uint64_t n_applied = 0;
+      std::uint64_t n_applied = 0, n_checks = 0;
       for (std::size_t w = b; w < e; ++w) {
         const Ranked& r = ranked[winners[w]];
         const int n = cost.candidates(mesh, r.a, r.b, s.cands, s.collapse.link);
@@ -292,25 +309,41 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
         for (int i = 0; i < n; ++i) placements[i] = {s.cands[i].u, s.cands[i].v, s.cands[i].p};
         cost.hint_orders(r.a, r.b, s.collapse.link);
         const int chosen = first_acceptable(mesh, placements, n, kernel, s.collapse, &s.rejected);
+        ++n_checks;
         if (chosen >= 0) {
           const CollapseCandidate& c = s.cands[chosen];
           cost.fields_at(mesh, c, s.fields.data());
           collapse(mesh, c.u, c.v, c.p, s.fields.data(), s.collapse, refs_used);
-          const std::uint32_t i0 = stencil_offsets[winners[w]], i1 = stencil_offsets[winners[w] + 1];
-          s.stencil.assign(stencils.begin() + i0, stencils.begin() + i1);
-          cost.on_collapse(c.u, c.v, s.stencil);
+          cost.on_collapse(mesh, c.u, c.v, s.collapse.star_uv);
           applied_cost[w] = c.cost;
           ++n_applied;
+          // The neighbourhood changed: the stencil is re-evaluated next round and earlier bans
+          // there are lifted (owned data: disjoint writes).
+          for (std::uint32_t k = stencil_offsets[winners[w]]; k < stencil_offsets[winners[w] + 1]; ++k) {
+            dirty[stencils[k]] = 1;
+            banned[stencils[k]] = {kInvalid, kInvalid};
+            exhausted[stencils[k]] = 0;
+          }
+        } else {
+          // Nothing changed; only the owner proposes again, without this edge. An owner out of
+          // ban slots waits until a collapse changes its neighbourhood.
+          dirty[r.a] = 1;
+          std::array<VertId, 2>& ban = banned[r.a];
+          if (ban[0] == kInvalid)
+            ban[0] = r.b;
+          else if (ban[1] == kInvalid)
+            ban[1] = r.b;
+          else
+            exhausted[r.a] = 1;
         }
-        // Applied or not, the stencil is re-evaluated next round (owned data: disjoint writes).
-        for (std::uint32_t k = stencil_offsets[winners[w]]; k < stencil_offsets[winners[w] + 1]; ++k) {
-          dirty[stencils[k]] = 1;
+        for (std::uint32_t k = stencil_offsets[winners[w]]; k < stencil_offsets[winners[w] + 1]; ++k)
           claimed[stencils[k]] = 0;
-        }
       }
       applied.fetch_add(n_applied, std::memory_order_relaxed);
+      apply_checks.fetch_add(n_checks, std::memory_order_relaxed);
     });
     round.collapses = applied.load();
+    report.legality_checks += apply_checks.load();
     for (double c : applied_cost) report.max_cost = std::max(report.max_cost, c);
     report.collapses += round.collapses;
     live -= round.collapses;

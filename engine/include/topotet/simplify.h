@@ -57,7 +57,7 @@ struct SimplifyOptions {
   Engine engine = Engine::kParallel;
   int num_threads = 0;  // 0 = the caller's current task arena; the output is identical for every value
   // Parallel rounds: the fraction of the cheapest candidates that compete in one round.
-  double round_fraction = 0.25;
+  double round_fraction = 0.1;
   // Called now and then with the fraction done (0..1). Return false to cancel. May run on any
   // thread, never concurrently with itself.
   std::function<bool(double done_fraction)> on_progress;

@@ -1,0 +1,207 @@
+// Whole simplification runs: datasets x engines x thread counts, repeated; one JSON line per run,
+// then a table of medians with speed-up and efficiency, and a work/span projection of the
+// parallel rounds to thread counts this machine does not have.
+//
+//   build/bench/bench_simplify --dataset cube-sphere --tets 1000000 --ratio 0.1
+//       --threads 1,2 --repeat 3 --json bench/results.jsonl   (one command line)
+//
+// Each run happens in a forked child process, so peak memory (VmHWM) is per run and one run's
+// allocations never warm up the next. The parent never starts TBB (fork-safe).
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "topotet/generate.h"
+#include "topotet/simplify.h"
+#include "topotet/tet_mesh.h"
+
+namespace {
+
+using namespace topotet;
+
+struct Args {
+  std::vector<std::string> datasets = {"cube-sphere"};
+  std::uint64_t tets = 200000;
+  double ratio = 0.1;
+  std::vector<int> threads = {1, 2};
+  bool sequential = true;
+  int repeat = 3;
+  std::string json;
+  std::vector<int> project = {4, 8, 16, 32, 64};
+};
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');) out.push_back(item);
+  return out;
+}
+
+long peak_rss_bytes() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return std::atol(line.c_str() + 6) * 1024;
+  return 0;
+}
+
+struct Run {
+  std::string dataset, engine;
+  int threads = 0;
+  std::uint64_t tets_in = 0, tets_out = 0, vertices_in = 0, vertices_out = 0, collapses = 0, evaluations = 0,
+                rounds = 0;
+  double seconds = 0, phase[4] = {0, 0, 0, 0}, mean_set = 0;
+  long peak_rss = 0;
+  std::string status;
+  // Projection (parallel engine, measured at this thread count): projected seconds at P threads.
+  std::vector<double> projected;
+};
+
+// T_P = sum over rounds of max(t_eval/P, one proposal) + t_select + max(t_apply/P, one collapse).
+// The select phase is counted as sequential (its scans are), which makes the bound conservative.
+double project(const Report& r, int threads_measured, int p) {
+  double t = 0;
+  for (const RoundStats& s : r.round_stats) {
+    const double eval_work = s.phase_seconds[0] * threads_measured, apply_work = s.phase_seconds[2] * threads_measured;
+    const double eval_span = s.evaluated ? eval_work / static_cast<double>(s.evaluated) : 0;
+    const double apply_span = s.winners ? apply_work / static_cast<double>(s.winners) : 0;
+    t += std::max(eval_work / p, eval_span) + s.phase_seconds[1] + std::max(apply_work / p, apply_span);
+  }
+  return t;
+}
+
+std::string run_child(const Args& a, const std::string& dataset, const std::string& engine, int threads) {
+  GenerateOptions g;
+  g.family = dataset;
+  g.target_tets = a.tets;
+  TetMesh mesh = build_tet_mesh(generate_mesh(g));
+  SimplifyOptions o;
+  o.target_vertex_ratio = a.ratio;
+  o.engine = engine == "sequential" ? Engine::kSequential : Engine::kParallel;
+  o.num_threads = threads;
+  const Report r = simplify(mesh, o);
+  std::ostringstream js;
+  double set = 0;
+  for (const RoundStats& s : r.round_stats) set += static_cast<double>(s.winners);
+  js << "{\"dataset\":\"" << dataset << "\",\"engine\":\"" << engine << "\",\"threads\":" << threads
+     << ",\"tets_in\":" << r.tets_before << ",\"tets_out\":" << r.tets_after << ",\"vertices_in\":" << r.vertices_before
+     << ",\"vertices_out\":" << r.vertices_after << ",\"collapses\":" << r.collapses << ",\"evaluations\":" << r.evaluations
+     << ",\"seconds\":" << r.seconds << ",\"collapses_per_second\":" << r.collapses / std::max(r.seconds, 1e-9)
+     << ",\"rounds\":" << r.rounds << ",\"mean_independent_set\":" << (r.rounds ? set / r.rounds : 0)
+     << ",\"phase_seconds\":{\"evaluate\":" << r.phase_seconds[0] << ",\"select\":" << r.phase_seconds[1]
+     << ",\"apply\":" << r.phase_seconds[2] << ",\"compact\":" << r.phase_seconds[3] << "}"
+     << ",\"peak_rss_bytes\":" << peak_rss_bytes()
+     << ",\"peak_bytes_per_tet\":" << static_cast<double>(peak_rss_bytes()) / std::max<double>(r.tets_before, 1)
+     << ",\"status\":\"" << to_string(r.status) << "\",\"projected_seconds\":{";
+  for (std::size_t i = 0; i < a.project.size(); ++i)
+    js << (i ? "," : "") << "\"" << a.project[i] << "\":" << (engine == "parallel" ? project(r, threads, a.project[i]) : 0.0);
+  js << "}}";
+  return js.str();
+}
+
+double field(const std::string& json, const std::string& key) {
+  const auto pos = json.find("\"" + key + "\":");
+  return pos == std::string::npos ? 0.0 : std::atof(json.c_str() + pos + key.size() + 3);
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    const char* val = i + 1 < argc ? argv[i + 1] : "";
+    if (k == "--dataset") a.datasets = split(val), ++i;
+    else if (k == "--tets") a.tets = std::strtoull(val, nullptr, 10), ++i;
+    else if (k == "--ratio") a.ratio = std::atof(val), ++i;
+    else if (k == "--threads") { a.threads.clear(); for (auto& t : split(val)) a.threads.push_back(std::atoi(t.c_str())); ++i; }
+    else if (k == "--repeat") a.repeat = std::atoi(val), ++i;
+    else if (k == "--json") a.json = val, ++i;
+    else if (k == "--no-sequential") a.sequential = false;
+    else {
+      std::fprintf(stderr, "usage: bench_simplify [--dataset a,b] [--tets N] [--ratio R] [--threads 1,2] [--repeat K] "
+                           "[--json FILE] [--no-sequential]\n");
+      return 2;
+    }
+  }
+  std::FILE* out = a.json.empty() ? nullptr : std::fopen(a.json.c_str(), "a");
+  for (const std::string& dataset : a.datasets) {
+    std::vector<std::pair<std::string, int>> configs;
+    if (a.sequential) configs.push_back({"sequential", 1});
+    for (int t : a.threads) configs.push_back({"parallel", t});
+    std::vector<std::vector<std::string>> results(configs.size());
+    // Interleave repetitions across configurations: slow drifts of a noisy machine hit all alike.
+    for (int rep = 0; rep < a.repeat; ++rep)
+      for (std::size_t c = 0; c < configs.size(); ++c) {
+        int fds[2];
+        if (pipe(fds) != 0) return 1;
+        const pid_t pid = fork();
+        if (pid == 0) {
+          close(fds[0]);
+          const std::string line = run_child(a, dataset, configs[c].first, configs[c].second);
+          if (write(fds[1], line.data(), line.size()) < 0) _exit(1);
+          _exit(0);
+        }
+        close(fds[1]);
+        std::string line;
+        char buf[4096];
+        for (ssize_t n; (n = read(fds[0], buf, sizeof buf)) > 0;) line.append(buf, static_cast<std::size_t>(n));
+        close(fds[0]);
+        int wstatus = 0;
+        waitpid(pid, &wstatus, 0);
+        std::printf("%s\n", line.c_str());
+        if (out) std::fprintf(out, "%s\n", line.c_str());
+        results[c].push_back(line);
+      }
+    // Medians and ratios.
+    auto med = [&](std::size_t c, const char* key) {
+      std::vector<double> v;
+      for (const auto& l : results[c]) v.push_back(field(l, key));
+      return median(v);
+    };
+    const std::size_t seq = a.sequential ? 0 : configs.size();
+    std::size_t one = configs.size();
+    for (std::size_t c = 0; c < configs.size(); ++c)
+      if (configs[c].first == "parallel" && configs[c].second == 1) one = c;
+    std::printf("\n%s, %llu tets -> %.0f%% vertices, median of %d runs\n", dataset.c_str(),
+                static_cast<unsigned long long>(a.tets), a.ratio * 100, a.repeat);
+    std::printf("%-11s %7s %9s %12s %9s %9s %10s %8s %10s\n", "engine", "threads", "seconds", "collapses/s",
+                "speedup", "effic.", "vs_seq", "rounds", "bytes/tet");
+    for (std::size_t c = 0; c < configs.size(); ++c) {
+      const double s = med(c, "seconds");
+      const double s1 = one < configs.size() ? med(one, "seconds") : s;
+      const double sq = seq < configs.size() ? med(seq, "seconds") : s;
+      std::printf("%-11s %7d %9.3f %12.0f %9.2f %9.2f %10.2f %8.0f %10.0f\n", configs[c].first.c_str(), configs[c].second,
+                  s, med(c, "collapses_per_second"), s1 / s, s1 / s / configs[c].second, sq / s, med(c, "rounds"),
+                  med(c, "peak_bytes_per_tet"));
+    }
+    if (one < configs.size()) {
+      std::printf("projection from the 1-thread rounds (work/span, select counted sequential):\n");
+      const double t1 = med(one, "seconds");
+      for (int p : a.project) {
+        std::vector<double> v;
+        for (const auto& l : results[one]) {
+          const auto pos = l.find("\"projected_seconds\":");
+          v.push_back(field(l.substr(pos), std::to_string(p)));
+        }
+        const double tp = median(v);
+        std::printf("  %3d threads: %.3f s, speed-up %.2f, efficiency %.2f\n", p, tp, t1 / tp, t1 / tp / p);
+      }
+    }
+  }
+  if (out) std::fclose(out);
+  return 0;
+}
