@@ -167,6 +167,12 @@ TopologyReport compute_topology(const MeshData& mesh, const TopologyOptions& opt
                     {.faces = lists.all_surface_faces, .edges = lists.all_polyline_edges, .vertices = lists.pinned}});
   }
 
+  // Jobs hold spans: the union of boundary and surface faces must outlive them.
+  std::vector<std::uint32_t> feature_faces = lists.all_surface_faces;
+  feature_faces.insert(feature_faces.end(), index.boundary_faces.begin(), index.boundary_faces.end());
+  std::sort(feature_faces.begin(), feature_faces.end());
+  feature_faces.erase(std::unique(feature_faces.begin(), feature_faces.end()), feature_faces.end());
+  jobs.push_back({&report.features, {.faces = feature_faces, .edges = lists.all_polyline_edges, .vertices = lists.pinned}});
   if (index.kept_tets.size() < kParallelTetThreshold) {
     // Reused across calls on this thread, so the thousands of small checks a property test makes
     // allocate (and page-fault) much less; only small meshes use it, so it never holds much.

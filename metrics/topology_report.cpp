@@ -28,6 +28,7 @@ std::vector<NamedComplex> named_complexes(const TopologyReport& r) {
   for (const auto& [ref, t] : r.polylines) out.push_back({"polyline ref " + std::to_string(ref), &t});
   out.push_back({"all polylines", &r.all_polylines});
   out.push_back({"embedded structure", &r.embedded});
+  out.push_back({"boundary + embedded", &r.features});
   return out;
 }
 
@@ -160,6 +161,7 @@ std::string topology_to_json(const TopologyReport& r) {
       << ",\"surfaces\":" << map_json(r.surfaces, int_key) << ",\"interfaces\":" << map_json(r.interfaces, pair_key)
       << ",\"all_surfaces\":" << complex_json(r.all_surfaces) << ",\"polylines\":" << map_json(r.polylines, int_key)
       << ",\"all_polylines\":" << complex_json(r.all_polylines) << ",\"embedded\":" << complex_json(r.embedded)
+      << ",\"features\":" << complex_json(r.features)
       << ",\"pinned_vertices\":" << r.pinned_vertex_count << ",\"inverted_tets\":" << r.inverted_tet_count
       << ",\"degenerate_tets\":" << r.degenerate_tet_count << ",\"nonmanifold_faces\":" << r.nonmanifold_face_count
       << ",\"duplicate_tets\":" << r.duplicate_tet_count << ",\"invalid_elements\":" << r.invalid_element_count

@@ -15,6 +15,8 @@
 //   polyline ref r listed `segments` with ref r
 //   all polylines all listed segments
 //   embedded      all surfaces, all polylines and the pinned vertices (corners, required vertices)
+//   features      the boundary together with the embedded structure: catches a substructure that
+//                 comes to touch the boundary (or the boundary pinching onto a substructure)
 // Elements with a vertex index out of range or a repeated vertex are counted as invalid and left
 // out of every complex; a tet with the same vertex set as an earlier one is counted as a duplicate
 // and left out. Material ids, refs and vertex refs are otherwise taken as they are; `ridges` only
@@ -53,6 +55,7 @@ struct TopologyReport {
   std::map<std::int32_t, ComplexTopology> polylines;
   ComplexTopology all_polylines;
   ComplexTopology embedded;
+  ComplexTopology features;
 
   std::uint64_t pinned_vertex_count = 0;        // distinct valid corners and required vertices
   std::uint64_t inverted_tet_count = 0;         // orientation determinant < 0 (exact sign)
