@@ -1,1 +1,1042 @@
-// placeholder: being written
+// Gmsh .msh: reads MSH 4.1 and 2.x, ASCII and binary; writes MSH 4.1 (ASCII or binary).
+//
+// Refs. A 3D element's material is the first physical tag of its entity (4.1) or its physical
+// tag (2.x), else the entity (elementary) tag; triangles and lines get their ref the same way;
+// point elements (type 15) become corners. Nodes are renumbered 0..n-1 in file order (tags may
+// be sparse). $NodeData with 1..9 components become VertexFields (last time step wins when a
+// view repeats). Higher-order elements are refused; other linear elements (quads, hexes,
+// prisms, pyramids) are ignored, as are unknown sections.
+//
+// MSH 2.x writes an element once per physical group of its entity: such duplicates (same
+// nodes, same elementary entity) are read once, with the first physical tag.
+//
+// Round trip conventions of write_gmsh (MeshData has more than plain Gmsh can say). All are
+// physical-group names, so other tools just see ordinary named groups:
+//  - "topotet:ref=<r>": a ref r <= 0 (Gmsh physical tags are positive); refs > 0 are the tags;
+//  - "topotet:corners" (dim 0): point elements that are corners (any other point group too);
+//  - "topotet:required_vertices" (dim 0): point elements that are required vertices; a vertex
+//    that is both has two point entities, one in each group;
+//  - "topotet:ridges" (dim 1): a second physical group on the curves holding ridge segments;
+//  - $NodeData "topotet:vertex_ref": MEDIT vertex refs (written only when some are nonzero);
+//  - a symmetric-tensor field (6 components) is written as a full 3x3 tensor (9, as Gmsh
+//    wants) and a 9-component field that is exactly symmetric everywhere reads back as 6.
+// Element order is preserved (one element block per run of equal entity), so write -> read
+// gives back identical MeshData.
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <limits>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include <glm/common.hpp>
+
+#include "io/atomic_file.h"
+#include "io/formats.h"
+#include "io/line_reader.h"
+#include "topotet/error.h"
+
+namespace topotet::io {
+namespace {
+
+constexpr std::string_view kRefPrefix = "topotet:ref=";
+constexpr std::string_view kCornersName = "topotet:corners";
+constexpr std::string_view kRequiredName = "topotet:required_vertices";
+constexpr std::string_view kRidgesName = "topotet:ridges";
+constexpr std::string_view kVertexRefField = "topotet:vertex_ref";
+
+constexpr int kLine = 1, kTriangle = 2, kTet = 4, kPoint = 15;
+
+struct ElementType {
+  int nodes = 0;  // 0: unknown type
+  int order = 1;
+  const char* name = "";
+};
+
+ElementType element_type(std::int64_t type) {
+  switch (type) {
+    case 1: return {2, 1, "2-node line"};
+    case 2: return {3, 1, "3-node triangle"};
+    case 3: return {4, 1, "4-node quadrangle"};
+    case 4: return {4, 1, "4-node tetrahedron"};
+    case 5: return {8, 1, "8-node hexahedron"};
+    case 6: return {6, 1, "6-node prism"};
+    case 7: return {5, 1, "5-node pyramid"};
+    case 8: return {3, 2, "3-node line"};
+    case 9: return {6, 2, "6-node triangle"};
+    case 10: return {9, 2, "9-node quadrangle"};
+    case 11: return {10, 2, "10-node tetrahedron"};
+    case 12: return {27, 2, "27-node hexahedron"};
+    case 13: return {18, 2, "18-node prism"};
+    case 14: return {14, 2, "14-node pyramid"};
+    case 15: return {1, 1, "point"};
+    case 16: return {8, 2, "8-node quadrangle"};
+    case 17: return {20, 2, "20-node hexahedron"};
+    case 18: return {15, 2, "15-node prism"};
+    case 19: return {13, 2, "13-node pyramid"};
+    case 20: return {9, 3, "9-node triangle"};
+    case 21: return {10, 3, "10-node triangle"};
+    case 22: return {12, 4, "12-node triangle"};
+    case 23: return {15, 4, "15-node triangle"};
+    case 24: return {15, 5, "15-node triangle"};
+    case 25: return {21, 5, "21-node triangle"};
+    case 26: return {4, 3, "4-node line"};
+    case 27: return {5, 4, "5-node line"};
+    case 28: return {6, 5, "6-node line"};
+    case 29: return {20, 3, "20-node tetrahedron"};
+    case 30: return {35, 4, "35-node tetrahedron"};
+    case 31: return {56, 5, "56-node tetrahedron"};
+    case 92: return {64, 3, "64-node hexahedron"};
+    case 93: return {125, 4, "125-node hexahedron"};
+    default: return {};
+  }
+}
+
+int element_dim(std::int64_t type) {
+  switch (type) {
+    case kPoint: return 0;
+    case kLine: return 1;
+    case kTriangle: return 2;
+    default: return 3;
+  }
+}
+
+// Node tag -> 0-based index. Dense while tags are reasonably compact (the usual 1..n), a hash
+// map otherwise, so a file with a few huge tags cannot make us allocate gigabytes.
+class NodeMap {
+ public:
+  // False if the tag is already present.
+  bool insert(std::uint64_t tag, VertId index) {
+    if (!sparse_mode_) {
+      if (tag < dense_.size()) {
+        if (dense_[tag] != kInvalid) return false;
+        dense_[tag] = index;
+        ++count_;
+        return true;
+      }
+      const std::uint64_t limit = 16 * count_ + (std::uint64_t{1} << 20);
+      if (tag < limit) {
+        dense_.resize(static_cast<std::size_t>(std::min<std::uint64_t>(std::max<std::uint64_t>(tag + 1, 2 * dense_.size()), limit)),
+                      kInvalid);
+        dense_[tag] = index;
+        ++count_;
+        return true;
+      }
+      sparse_mode_ = true;
+      for (std::size_t t = 0; t < dense_.size(); ++t)
+        if (dense_[t] != kInvalid) sparse_.emplace(t, dense_[t]);
+      dense_.clear();
+      dense_.shrink_to_fit();
+    }
+    ++count_;
+    return sparse_.emplace(tag, index).second;
+  }
+  VertId find(std::uint64_t tag) const {
+    if (!sparse_mode_) return tag < dense_.size() ? dense_[tag] : kInvalid;
+    const auto it = sparse_.find(tag);
+    return it == sparse_.end() ? kInvalid : it->second;
+  }
+
+ private:
+  std::vector<VertId> dense_;
+  std::unordered_map<std::uint64_t, VertId> sparse_;
+  bool sparse_mode_ = false;
+  std::uint64_t count_ = 0;
+};
+
+// A run of consecutive elements of one dimension that share their entity (and, in 2.x, their
+// physical tag): refs are resolved per run once every section has been read.
+struct Run {
+  int dim;
+  int entity;    // 4.1 entity tag, or 2.x elementary tag
+  int physical;  // 2.x physical tag (0 = none); unused in 4.1
+  std::size_t begin, end;
+};
+
+struct Resolved {
+  std::int32_t ref = 0;
+  bool ridge = false, corner = false, required = false;
+};
+
+std::string unquote(std::string_view s) {
+  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
+  return std::string(s);
+}
+
+class GmshReader {
+ public:
+  explicit GmshReader(const std::string& path) : r_(path) {}
+
+  MeshData read() {
+    read_format();
+    for (;;) {
+      const std::string_view tok = r_.next_token();
+      if (tok.empty()) break;
+      if (tok[0] != '$') r_.fail("expected a $Section, got '" + std::string(tok.substr(0, 40)) + "'");
+      const std::string name(tok.substr(1));
+      if (name == "PhysicalNames") {
+        read_physical_names();
+      } else if (name == "Entities" && v41_) {
+        read_entities();
+      } else if (name == "Nodes") {
+        if (seen_nodes_) r_.fail("duplicate $Nodes section");
+        v41_ ? read_nodes41() : read_nodes22();
+        seen_nodes_ = true;
+      } else if (name == "Elements") {
+        if (!seen_nodes_) r_.fail("$Elements before $Nodes");
+        if (seen_elements_) r_.fail("duplicate $Elements section");
+        v41_ ? read_elements41() : read_elements22();
+        seen_elements_ = true;
+      } else if (name == "NodeData") {
+        if (!seen_nodes_) r_.fail("$NodeData before $Nodes");
+        read_node_data();
+      } else if (name == "MeshFormat") {
+        r_.fail("duplicate $MeshFormat section");
+      } else {
+        skip_section(name);
+      }
+    }
+    resolve();
+    return std::move(m_);
+  }
+
+ private:
+  // ---- primitives: the same grammar in ASCII tokens or binary words ----
+  std::int32_t int32(std::string_view what) {
+    if (binary_) return r_.read_i32(what);
+    return static_cast<std::int32_t>(
+        r_.read_int(what, std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::max()));
+  }
+  std::uint64_t size(std::string_view what) {  // size_t words of MSH 4.1 binary
+    if (binary_) return r_.read_u64(what);
+    return static_cast<std::uint64_t>(r_.read_int(what, 0, std::numeric_limits<std::int64_t>::max()));
+  }
+  double real(std::string_view what) { return binary_ ? r_.read_f64(what) : r_.read_double(what); }
+  double bbox_real(std::string_view what) {
+    if (!binary_) return r_.read_double_any(what);
+    double v;
+    r_.read_bytes(&v, sizeof v, what);
+    return v;
+  }
+  std::uint64_t node_tag(std::string_view what) {
+    if (!binary_) return static_cast<std::uint64_t>(r_.read_int(what, 1, std::numeric_limits<std::int64_t>::max()));
+    const std::uint64_t t = v41_ ? r_.read_u64(what) : static_cast<std::uint64_t>(r_.read_i32(what));
+    if (t == 0 || t > (std::uint64_t{1} << 62)) r_.fail(std::string(what) + ": invalid node tag " + std::to_string(t));
+    return t;
+  }
+  // Binary data begins right after the newline that ends the section keyword or header line.
+  void begin_binary() {
+    if (binary_) r_.skip_line();
+  }
+  void expect_end(std::string_view name) {
+    const std::string end = "$End" + std::string(name);
+    const std::string_view tok = r_.next_token();
+    if (tok != end) {
+      r_.fail("expected " + end + ", got " + (tok.empty() ? std::string("end of file") : "'" + std::string(tok.substr(0, 40)) + "'"));
+    }
+  }
+  VertId vertex(std::uint64_t tag, std::string_view what) {
+    const VertId v = nodes_.find(tag);
+    if (v == kInvalid) r_.fail(std::string(what) + ": unknown node tag " + std::to_string(tag));
+    return v;
+  }
+
+  // ---- sections ----
+  void read_format() {
+    const std::string_view first = r_.next_token();
+    if (first != "$MeshFormat") r_.fail("not a Gmsh file: expected $MeshFormat");
+    const std::string version(r_.token("$MeshFormat version"));
+    if (version == "4.1") {
+      v41_ = true;
+    } else if (version == "2" || version == "2.0" || version == "2.1" || version == "2.2") {
+      v41_ = false;
+    } else {
+      r_.fail("MSH version " + version.substr(0, 20) + " is not supported (use 4.1 or 2.2)");
+    }
+    binary_ = r_.read_int("$MeshFormat file type", 0, 1) == 1;
+    const std::int64_t data_size = r_.read_int("$MeshFormat data size");
+    if (binary_) {
+      if (data_size != 8) r_.fail("binary MSH with data size " + std::to_string(data_size) + " is not supported");
+      r_.skip_line();
+      r_.set_binary_file(true);
+      if (r_.read_i32("$MeshFormat byte-order word") != 1) r_.fail("big-endian binary MSH is not supported");
+    }
+    expect_end("MeshFormat");
+  }
+
+  void read_physical_names() {
+    const auto n = r_.read_int("$PhysicalNames count", 0, 1 << 24);
+    for (std::int64_t i = 0; i < n; ++i) {
+      // Text even in binary files.
+      const auto dim = static_cast<int>(r_.read_int("$PhysicalNames dimension", 0, 3));
+      const auto tag = static_cast<int>(r_.read_int("$PhysicalNames tag", std::numeric_limits<std::int32_t>::min(),
+                                                    std::numeric_limits<std::int32_t>::max()));
+      names_[{dim, tag}] = unquote(r_.next_line_text("$PhysicalNames name"));
+    }
+    expect_end("PhysicalNames");
+  }
+
+  void read_entities() {
+    begin_binary();
+    std::array<std::uint64_t, 4> counts{};
+    for (auto& c : counts) c = size("$Entities count");
+    for (int dim = 0; dim < 4; ++dim) {
+      for (std::uint64_t i = 0; i < counts[static_cast<std::size_t>(dim)]; ++i) {
+        const std::int32_t tag = int32("$Entities tag");
+        for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) bbox_real("$Entities bounding box");
+        const std::uint64_t nphys = size("$Entities number of physical tags");
+        std::vector<int>& phys = entity_phys_[static_cast<std::size_t>(dim)][tag];
+        phys.clear();
+        for (std::uint64_t k = 0; k < nphys; ++k) phys.push_back(int32("$Entities physical tag"));
+        if (dim > 0) {
+          const std::uint64_t nbound = size("$Entities number of bounding entities");
+          for (std::uint64_t k = 0; k < nbound; ++k) int32("$Entities bounding entity");
+        }
+      }
+    }
+    expect_end("Entities");
+  }
+
+  void add_node(std::uint64_t tag, const glm::dvec3& p) {
+    if (m_.positions.size() >= kInvalid - 1) r_.fail("$Nodes: too many nodes");
+    if (!nodes_.insert(tag, static_cast<VertId>(m_.positions.size()))) r_.fail("$Nodes: duplicate node tag " + std::to_string(tag));
+    m_.positions.push_back(p);
+  }
+
+  void read_nodes41() {
+    begin_binary();
+    const std::uint64_t blocks = size("$Nodes number of blocks");
+    const std::uint64_t total = size("$Nodes number of nodes");
+    size("$Nodes min tag");
+    size("$Nodes max tag");
+    m_.positions.reserve(r_.reserve_hint(total, binary_ ? 32 : 8));
+    std::vector<std::uint64_t> tags;
+    for (std::uint64_t b = 0; b < blocks; ++b) {
+      const std::int32_t dim = int32("$Nodes entity dimension");
+      int32("$Nodes entity tag");
+      const std::int32_t parametric = int32("$Nodes parametric flag");
+      const std::uint64_t n = size("$Nodes block size");
+      if (dim < 0 || dim > 3) r_.fail("$Nodes: entity dimension " + std::to_string(dim) + " out of range");
+      const int extra = parametric != 0 ? dim : 0;  // u, (v, (w)) after x y z
+      tags.clear();
+      tags.reserve(r_.reserve_hint(n, binary_ ? 8 : 2));
+      for (std::uint64_t i = 0; i < n; ++i) tags.push_back(node_tag("$Nodes node tag"));
+      for (std::uint64_t i = 0; i < n; ++i) {
+        glm::dvec3 p;
+        p.x = real("$Nodes coordinate");
+        p.y = real("$Nodes coordinate");
+        p.z = real("$Nodes coordinate");
+        for (int k = 0; k < extra; ++k) bbox_real("$Nodes parametric coordinate");
+        add_node(tags[i], p);
+      }
+    }
+    if (m_.positions.size() != total) {
+      r_.fail("$Nodes: header announces " + std::to_string(total) + " nodes, blocks hold " +
+              std::to_string(m_.positions.size()));
+    }
+    expect_end("Nodes");
+  }
+
+  void read_nodes22() {
+    const auto n = r_.read_int("$Nodes count", 0, kInvalid - 2);
+    begin_binary();
+    m_.positions.reserve(r_.reserve_hint(static_cast<std::uint64_t>(n), binary_ ? 28 : 8));
+    for (std::int64_t i = 0; i < n; ++i) {
+      const std::uint64_t tag = node_tag("$Nodes node tag");
+      glm::dvec3 p;
+      p.x = real("$Nodes coordinate");
+      p.y = real("$Nodes coordinate");
+      p.z = real("$Nodes coordinate");
+      add_node(tag, p);
+    }
+    expect_end("Nodes");
+  }
+
+  // Appends one element of `type` with node tags `tags`; returns false for ignored types.
+  bool add_element(std::int64_t type, const std::uint64_t* tags) {
+    switch (type) {
+      case kTet: {
+        std::array<VertId, 4> t;
+        for (int k = 0; k < 4; ++k) t[static_cast<std::size_t>(k)] = vertex(tags[k], "$Elements");
+        m_.tets.push_back(t);
+        return true;
+      }
+      case kTriangle: {
+        Triangle t;
+        for (int k = 0; k < 3; ++k) t.v[static_cast<std::size_t>(k)] = vertex(tags[k], "$Elements");
+        m_.triangles.push_back(t);
+        return true;
+      }
+      case kLine: {
+        Segment s;
+        for (int k = 0; k < 2; ++k) s.v[static_cast<std::size_t>(k)] = vertex(tags[k], "$Elements");
+        m_.segments.push_back(s);
+        return true;
+      }
+      case kPoint:
+        points_.push_back(vertex(tags[0], "$Elements"));
+        return true;
+      default:
+        return false;
+    }
+  }
+
+  std::size_t count_of_dim(int dim) const {
+    switch (dim) {
+      case 0: return points_.size();
+      case 1: return m_.segments.size();
+      case 2: return m_.triangles.size();
+      default: return m_.tets.size();
+    }
+  }
+
+  void add_to_run(int dim, int entity, int physical, std::size_t begin) {
+    const std::size_t end = count_of_dim(dim);
+    if (end == begin) return;
+    std::size_t& last = last_run_[static_cast<std::size_t>(dim)];
+    if (last != kNoRun) {
+      Run& run = runs_[last];
+      if (run.entity == entity && run.physical == physical && run.end == begin) {
+        run.end = end;
+        return;
+      }
+    }
+    last = runs_.size();
+    runs_.push_back({dim, entity, physical, begin, end});
+  }
+
+  ElementType checked_type(std::int64_t type) {
+    const ElementType t = element_type(type);
+    if (t.order > 1) {
+      r_.fail("element type " + std::to_string(type) + " (" + t.name + "): second-order elements not supported");
+    }
+    return t;
+  }
+
+  void read_elements41() {
+    begin_binary();
+    const std::uint64_t blocks = size("$Elements number of blocks");
+    const std::uint64_t total = size("$Elements number of elements");
+    size("$Elements min tag");
+    size("$Elements max tag");
+    m_.tets.reserve(r_.reserve_hint(total, binary_ ? 40 : 10));  // most elements are tets
+    std::uint64_t seen = 0;
+    std::array<std::uint64_t, 128> tags{};
+    for (std::uint64_t b = 0; b < blocks; ++b) {
+      const std::int32_t entity_dim = int32("$Elements entity dimension");
+      const std::int32_t entity = int32("$Elements entity tag");
+      const std::int32_t type = int32("$Elements element type");
+      const std::uint64_t n = size("$Elements block size");
+      if (entity_dim < 0 || entity_dim > 3) r_.fail("$Elements: entity dimension " + std::to_string(entity_dim) + " out of range");
+      const ElementType et = checked_type(type);
+      seen += n;
+      if (et.nodes == 0) {
+        // Unknown type: its size is unknown too, but ASCII elements are one per line.
+        if (binary_) r_.fail("$Elements: unknown element type " + std::to_string(type));
+        r_.skip_line();
+        for (std::uint64_t i = 0; i < n; ++i) r_.skip_line(true);
+        continue;
+      }
+      const int dim = element_dim(type);
+      const std::size_t begin = count_of_dim(dim);
+      for (std::uint64_t i = 0; i < n; ++i) {
+        size("$Elements element tag");
+        for (int k = 0; k < et.nodes; ++k) tags[static_cast<std::size_t>(k)] = node_tag("$Elements node tag");
+        add_element(type, tags.data());
+      }
+      add_to_run(dim, entity, 0, begin);
+    }
+    if (seen != total) {
+      r_.fail("$Elements: header announces " + std::to_string(total) + " elements, blocks hold " + std::to_string(seen));
+    }
+    expect_end("Elements");
+  }
+
+  void read_elements22() {
+    const auto total = r_.read_int("$Elements count", 0, std::numeric_limits<std::int32_t>::max());
+    begin_binary();
+    m_.tets.reserve(r_.reserve_hint(static_cast<std::uint64_t>(total), binary_ ? 28 : 14));
+    std::array<std::uint64_t, 128> tags{};
+    std::int64_t done = 0;
+    while (done < total) {
+      // ASCII: one element per line. Binary: blocks of elements sharing type and tag count.
+      std::int64_t type = 0, count = 1, ntags = 0;
+      if (binary_) {
+        type = r_.read_i32("$Elements element type");
+        count = r_.read_i32("$Elements block size");
+        ntags = r_.read_i32("$Elements number of tags");
+        if (count < 1 || count > total - done) r_.fail("$Elements: bad block size " + std::to_string(count));
+        if (ntags < 0 || ntags > 1000) r_.fail("$Elements: bad number of tags " + std::to_string(ntags));
+      }
+      for (std::int64_t i = 0; i < count; ++i) {
+        if (binary_) {
+          r_.read_i32("$Elements element tag");
+        } else {
+          r_.read_int("$Elements element tag");
+          type = r_.read_int("$Elements element type");
+          ntags = r_.read_int("$Elements number of tags", 0, 1000);
+        }
+        const ElementType et = checked_type(type);
+        if (binary_ && et.nodes == 0) r_.fail("$Elements: unknown element type " + std::to_string(type));
+        std::int32_t physical = 0, elementary = 0;
+        for (std::int64_t k = 0; k < ntags; ++k) {
+          const std::int32_t t = int32("$Elements tag");
+          if (k == 0) physical = t;
+          if (k == 1) elementary = t;
+        }
+        if (et.nodes == 0) {  // unknown ASCII type: skip the rest of its line
+          r_.skip_line(true);
+          continue;
+        }
+        for (int k = 0; k < et.nodes; ++k) tags[static_cast<std::size_t>(k)] = node_tag("$Elements node tag");
+        const int dim = element_dim(type);
+        const std::size_t begin = count_of_dim(dim);
+        if (add_element(type, tags.data())) add_to_run(dim, elementary, physical, begin);
+      }
+      done += count;
+    }
+    expect_end("Elements");
+  }
+
+  void read_node_data() {
+    const auto nstrings = r_.read_int("$NodeData number of string tags", 0, 1000);
+    std::string name = "field" + std::to_string(m_.fields.size());
+    for (std::int64_t i = 0; i < nstrings; ++i) {
+      const std::string s = unquote(r_.next_line_text("$NodeData string tag"));
+      if (i == 0) name = s;
+    }
+    const auto nreals = r_.read_int("$NodeData number of real tags", 0, 1000);
+    for (std::int64_t i = 0; i < nreals; ++i) r_.read_double_any("$NodeData real tag");
+    const auto nints = r_.read_int("$NodeData number of integer tags", 0, 1000);
+    std::vector<std::int64_t> ints;
+    for (std::int64_t i = 0; i < nints; ++i) ints.push_back(r_.read_int("$NodeData integer tag"));
+    if (ints.size() < 3) r_.fail("$NodeData: expected at least 3 integer tags (time step, components, count)");
+    const std::int64_t comps = ints[1], n = ints[2];
+    if (comps < 1 || comps > 9) r_.fail("$NodeData: " + std::to_string(comps) + " components not supported (1 to 9)");
+    if (n < 0 || static_cast<std::uint64_t>(n) > m_.positions.size())
+      r_.fail("$NodeData: " + std::to_string(n) + " values for " + std::to_string(m_.positions.size()) + " nodes");
+    begin_binary();
+    VertexField f;
+    f.name = name;
+    f.components = static_cast<int>(comps);
+    // Nodes without a value (a partial view) get 0.
+    f.values.assign(m_.positions.size() * static_cast<std::size_t>(comps), 0.0);
+    for (std::int64_t i = 0; i < n; ++i) {
+      const std::uint64_t tag = binary_ ? static_cast<std::uint64_t>(static_cast<std::uint32_t>(r_.read_i32("$NodeData node tag")))
+                                        : static_cast<std::uint64_t>(r_.read_int("$NodeData node tag", 1, std::numeric_limits<std::int64_t>::max()));
+      const VertId v = vertex(tag, "$NodeData");
+      for (std::int64_t c = 0; c < comps; ++c)
+        f.values[static_cast<std::size_t>(v) * static_cast<std::size_t>(comps) + static_cast<std::size_t>(c)] =
+            real("$NodeData value");
+    }
+    expect_end("NodeData");
+    const auto same = std::find_if(m_.fields.begin(), m_.fields.end(), [&](const VertexField& g) { return g.name == f.name; });
+    if (same != m_.fields.end()) {
+      *same = std::move(f);
+    } else {
+      m_.fields.push_back(std::move(f));
+    }
+  }
+
+  // Unknown sections ($Periodic, $GhostElements, $Comments...) are skipped up to their end tag.
+  void skip_section(const std::string& name) {
+    const std::string end = "$End" + name;
+    for (;;) {
+      const std::string_view tok = r_.next_token();
+      if (tok.empty()) r_.fail("missing " + end);
+      if (tok == end) return;
+    }
+  }
+
+  // ---- refs ----
+  Resolved resolve_refs(int dim, const std::vector<int>& physicals, int fallback) const {
+    Resolved out;
+    bool have_ref = false, other_point_group = false;
+    for (int p : physicals) {
+      const auto it = names_.find({dim, p});
+      const std::string_view name = it == names_.end() ? std::string_view() : std::string_view(it->second);
+      if (dim == 1 && name == kRidgesName) {
+        out.ridge = true;
+        continue;
+      }
+      if (dim == 0 && name == kRequiredName) {
+        out.required = true;
+        continue;
+      }
+      other_point_group = true;
+      if (have_ref) continue;
+      have_ref = true;
+      out.ref = p;
+      if (name.substr(0, kRefPrefix.size()) == kRefPrefix) {
+        const std::string_view num = name.substr(kRefPrefix.size());
+        std::int32_t v = 0;
+        const auto [ptr, ec] = std::from_chars(num.data(), num.data() + num.size(), v);
+        if (ec == std::errc() && ptr == num.data() + num.size()) out.ref = v;
+      }
+    }
+    if (!have_ref) out.ref = fallback;
+    out.corner = physicals.empty() || other_point_group;
+    return out;
+  }
+
+  void resolve() {
+    std::vector<std::int32_t> seg_ref(m_.segments.size()), tri_ref(m_.triangles.size());
+    std::vector<std::uint8_t> point_kind(points_.size());  // bit 0 corner, bit 1 required
+    std::vector<std::uint8_t> seg_ridge(m_.segments.size());
+    m_.tet_material.assign(m_.tets.size(), 0);
+    std::vector<int> phys;
+    for (const Run& run : runs_) {
+      if (v41_) {
+        const auto& table = entity_phys_[static_cast<std::size_t>(run.dim)];
+        const auto it = table.find(run.entity);
+        phys = it == table.end() ? std::vector<int>() : it->second;
+      } else {
+        phys.clear();
+        if (run.physical != 0) phys.push_back(run.physical);
+      }
+      const Resolved res = resolve_refs(run.dim, phys, run.entity);
+      for (std::size_t i = run.begin; i < run.end; ++i) {
+        switch (run.dim) {
+          case 0: point_kind[i] = static_cast<std::uint8_t>((res.corner ? 1 : 0) | (res.required ? 2 : 0)); break;
+          case 1: seg_ref[i] = res.ref; seg_ridge[i] = res.ridge; break;
+          case 2: tri_ref[i] = res.ref; break;
+          default: m_.tet_material[i] = res.ref; break;
+        }
+      }
+    }
+    if (!v41_) drop_msh2_duplicates(point_kind, seg_ref, seg_ridge, tri_ref);
+    for (std::size_t i = 0; i < m_.segments.size(); ++i) {
+      m_.segments[i].ref = seg_ref[i];
+      if (seg_ridge[i]) m_.ridges.push_back(static_cast<std::uint32_t>(i));
+    }
+    for (std::size_t i = 0; i < m_.triangles.size(); ++i) m_.triangles[i].ref = tri_ref[i];
+    for (std::size_t i = 0; i < points_.size(); ++i) {
+      if (point_kind[i] & 1) m_.corners.push_back(points_[i]);
+      if (point_kind[i] & 2) m_.required_vertices.push_back(points_[i]);
+    }
+    finish_fields();
+  }
+
+  // MSH 2.x repeats the elements of an entity that is in several physical groups. Keep the first
+  // copy of each (same sorted nodes, same elementary entity) with the first group's ref, and merge
+  // the flags the other groups carry (ridge, corner, required vertex). Only entities seen with
+  // more than one physical tag are examined, so ordinary files pay nothing.
+  void drop_msh2_duplicates(std::vector<std::uint8_t>& point_kind, std::vector<std::int32_t>& seg_ref,
+                            std::vector<std::uint8_t>& seg_ridge, std::vector<std::int32_t>& tri_ref) {
+    std::map<std::pair<int, int>, std::set<int>> physicals;  // (dim, elementary) -> physical tags
+    for (const Run& run : runs_) physicals[{run.dim, run.entity}].insert(run.physical);
+    std::array<std::vector<std::uint8_t>, 4> keep;
+    std::array<std::map<std::pair<int, std::array<VertId, 4>>, std::size_t>, 4> first;  // -> kept index
+    for (const Run& run : runs_) {
+      if (physicals[{run.dim, run.entity}].size() < 2) continue;
+      const auto d = static_cast<std::size_t>(run.dim);
+      if (keep[d].empty()) keep[d].assign(count_of_dim(run.dim), 1);
+      for (std::size_t i = run.begin; i < run.end; ++i) {
+        std::array<VertId, 4> key{kInvalid, kInvalid, kInvalid, kInvalid};
+        switch (run.dim) {
+          case 0: key[0] = points_[i]; break;
+          case 1: std::copy(m_.segments[i].v.begin(), m_.segments[i].v.end(), key.begin()); break;
+          case 2: std::copy(m_.triangles[i].v.begin(), m_.triangles[i].v.end(), key.begin()); break;
+          default: key = m_.tets[i]; break;
+        }
+        std::sort(key.begin(), key.end());
+        const auto [it, fresh] = first[d].try_emplace({run.entity, key}, i);
+        if (fresh) continue;
+        keep[d][i] = 0;
+        if (run.dim == 0) point_kind[it->second] |= point_kind[i];
+        if (run.dim == 1) seg_ridge[it->second] |= seg_ridge[i];
+      }
+    }
+    const auto compact = [](auto& v, const std::vector<std::uint8_t>& k) {
+      if (k.empty()) return;
+      std::size_t j = 0;
+      for (std::size_t i = 0; i < v.size(); ++i)
+        if (k[i]) v[j++] = v[i];
+      v.resize(j);
+    };
+    compact(points_, keep[0]);
+    compact(point_kind, keep[0]);
+    compact(m_.segments, keep[1]);
+    compact(seg_ref, keep[1]);
+    compact(seg_ridge, keep[1]);
+    compact(m_.triangles, keep[2]);
+    compact(tri_ref, keep[2]);
+    compact(m_.tets, keep[3]);
+    compact(m_.tet_material, keep[3]);
+  }
+
+  void finish_fields() {
+    std::vector<VertexField> kept;
+    for (VertexField& f : m_.fields) {
+      if (f.name == kVertexRefField && f.components == 1 && as_vertex_refs(f)) continue;
+      if (f.components == 9) to_symmetric_if_exact(f);
+      kept.push_back(std::move(f));
+    }
+    m_.fields = std::move(kept);
+  }
+
+  bool as_vertex_refs(const VertexField& f) {
+    std::vector<std::int32_t> refs(f.values.size());
+    for (std::size_t i = 0; i < refs.size(); ++i) {
+      const double x = f.values[i];
+      if (!(x >= std::numeric_limits<std::int32_t>::min() && x <= std::numeric_limits<std::int32_t>::max()) ||
+          x != static_cast<double>(static_cast<std::int32_t>(x)))
+        return false;
+      refs[i] = static_cast<std::int32_t>(x);
+    }
+    if (std::any_of(refs.begin(), refs.end(), [](std::int32_t x) { return x != 0; })) m_.vertex_refs = std::move(refs);
+    return true;
+  }
+
+  // Row-major 3x3 -> MEDIT symmetric order (xx, xy, yy, xz, yz, zz), only if exactly symmetric.
+  static void to_symmetric_if_exact(VertexField& f) {
+    const std::size_t n = f.values.size() / 9;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double* a = &f.values[9 * i];
+      if (a[1] != a[3] || a[2] != a[6] || a[5] != a[7]) return;
+    }
+    std::vector<double> sym(6 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double* a = &f.values[9 * i];
+      const double s[6] = {a[0], a[1], a[4], a[2], a[5], a[8]};
+      std::copy(s, s + 6, &sym[6 * i]);
+    }
+    f.values = std::move(sym);
+    f.components = 6;
+  }
+
+  LineReader r_;
+  MeshData m_;
+  bool v41_ = false, binary_ = false;
+  bool seen_nodes_ = false, seen_elements_ = false;
+  NodeMap nodes_;
+  std::map<std::pair<int, int>, std::string> names_;                // (dim, physical tag) -> name
+  std::array<std::unordered_map<int, std::vector<int>>, 4> entity_phys_;  // [dim] entity -> physicals
+  std::vector<VertId> points_;                                      // point elements, in order
+  std::vector<Run> runs_;
+  static constexpr std::size_t kNoRun = ~std::size_t{0};
+  std::array<std::size_t, 4> last_run_{kNoRun, kNoRun, kNoRun, kNoRun};  // per dim, to extend runs
+};
+
+// ---------------------------------------------------------------------------------------------
+// Writer
+
+// Text or binary MSH 4.1 words. In ASCII each value is followed by `sep`.
+class MshOut {
+ public:
+  MshOut(AtomicFile& f, bool binary) : f_(f), binary_(binary) {}
+  void size(std::uint64_t v, char sep = ' ') {
+    if (binary_) return f_.put_raw(v);
+    f_.put_int(v);
+    f_.put(sep);
+  }
+  void i32(std::int32_t v, char sep = ' ') {
+    if (binary_) return f_.put_raw(v);
+    f_.put_int(v);
+    f_.put(sep);
+  }
+  void f64(double v, char sep = ' ') {
+    if (binary_) return f_.put_raw(v);
+    f_.put_double(v);
+    f_.put(sep);
+  }
+  void text(std::string_view s) { f_.put(s); }
+  // Binary data ends with a newline before the $End tag; ASCII lines already ended.
+  void end_section(std::string_view end_tag) {
+    if (binary_) f_.put('\n');
+    f_.put(end_tag);
+    f_.put('\n');
+  }
+  bool binary() const { return binary_; }
+
+ private:
+  AtomicFile& f_;
+  bool binary_;
+};
+
+struct Box {
+  glm::dvec3 lo{std::numeric_limits<double>::infinity()};
+  glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
+  void add(const glm::dvec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+};
+
+struct Entity {
+  int tag;
+  std::vector<int> physicals;
+  Box box;
+};
+
+// Physical groups of one dimension: positive refs are their own tags; others get free tags
+// named "topotet:ref=<r>".
+class PhysicalTags {
+ public:
+  explicit PhysicalTags(const std::set<std::int32_t>& refs) {
+    for (std::int32_t r : refs) next_ = std::max<std::int64_t>(next_, std::int64_t{r} + 1);
+    for (std::int32_t r : refs) tags_[r] = r > 0 ? r : allocate(std::string(kRefPrefix) + std::to_string(r));
+  }
+  int tag(std::int32_t ref) const { return tags_.at(ref); }
+  int allocate(std::string name) {
+    if (next_ > std::numeric_limits<std::int32_t>::max()) throw InputError("Gmsh writer: no free physical tag left");
+    names_.emplace_back(static_cast<int>(next_), std::move(name));
+    return static_cast<int>(next_++);
+  }
+  const std::vector<std::pair<int, std::string>>& names() const { return names_; }
+
+ private:
+  std::map<std::int32_t, int> tags_;
+  std::vector<std::pair<int, std::string>> names_;
+  std::int64_t next_ = 1;
+};
+
+std::string quoted(std::string s) {
+  std::replace(s.begin(), s.end(), '"', '\'');
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  return "\"" + s + "\"";
+}
+
+// Element blocks: runs of consecutive elements with the same entity (keeps element order).
+struct Block {
+  int dim, entity, type;
+  std::size_t begin, end;
+};
+
+void add_blocks(std::vector<Block>& blocks, int dim, int type, const std::vector<int>& entity_of) {
+  for (std::size_t i = 0; i < entity_of.size();) {
+    std::size_t j = i + 1;
+    while (j < entity_of.size() && entity_of[j] == entity_of[i]) ++j;
+    blocks.push_back({dim, entity_of[i], type, i, j});
+    i = j;
+  }
+}
+
+void write_node_data(AtomicFile& f, MshOut& out, const std::string& name, int components, std::size_t n,
+                     const auto& value) {
+  f.put("$NodeData\n1\n");
+  f.put(quoted(name));
+  f.put("\n1\n0\n3\n0\n");
+  f.put_int(components);
+  f.put('\n');
+  f.put_int(n);
+  f.put('\n');
+  for (std::size_t i = 0; i < n; ++i) {
+    out.i32(static_cast<std::int32_t>(i + 1));
+    for (int c = 0; c < components; ++c) out.f64(value(i, c), c + 1 == components ? '\n' : ' ');
+  }
+  out.end_section("$EndNodeData");
+}
+
+// What write_gmsh puts in the file, indexed by dimension (0 points ... 3 volumes): physical
+// groups, entities, and the entity of every element.
+struct GmshPlan {
+  std::array<PhysicalTags, 4> phys;
+  std::array<std::vector<Entity>, 4> entities;
+  std::vector<int> seg_entity, tri_entity, tet_entity;
+  std::vector<VertId> point_vertex;  // one point entity each: corners, then required vertices
+};
+
+// Entity of `key` in `by_key`, created on first use (tags 1, 2, ... in order), its box grown by
+// the element's vertices.
+template <class Key, std::size_t N>
+int entity_of(std::map<Key, int>& by_key, const Key& key, std::vector<Entity>& list, const std::vector<int>& physicals,
+              const MeshData& m, const std::array<VertId, N>& verts) {
+  const auto [it, fresh] = by_key.try_emplace(key, static_cast<int>(list.size()) + 1);
+  if (fresh) list.push_back({it->second, physicals, {}});
+  for (VertId v : verts) list[static_cast<std::size_t>(it->second - 1)].box.add(m.positions[v]);
+  return it->second;
+}
+
+// One volume per material, one surface per triangle ref, one curve per (segment ref, ridge), one
+// point per corner and per required vertex.
+GmshPlan plan_gmsh(const MeshData& m) {
+  const auto material = [&](std::size_t i) { return m.tet_material.empty() ? 0 : m.tet_material[i]; };
+  std::vector<std::uint8_t> is_ridge(m.segments.size(), 0);
+  for (std::uint32_t r : m.ridges) is_ridge[r] = 1;
+  std::array<std::set<std::int32_t>, 4> refs;
+  for (const Segment& x : m.segments) refs[1].insert(x.ref);
+  for (const Triangle& x : m.triangles) refs[2].insert(x.ref);
+  for (std::size_t i = 0; i < m.tets.size(); ++i) refs[3].insert(material(i));
+
+  GmshPlan plan{{PhysicalTags(refs[0]), PhysicalTags(refs[1]), PhysicalTags(refs[2]), PhysicalTags(refs[3])}, {}, {}, {}, {}, {}};
+  const int ridge_group = m.ridges.empty() ? 0 : plan.phys[1].allocate(std::string(kRidgesName));
+  const int corner_group = m.corners.empty() ? 0 : plan.phys[0].allocate(std::string(kCornersName));
+  const int required_group = m.required_vertices.empty() ? 0 : plan.phys[0].allocate(std::string(kRequiredName));
+
+  std::map<std::pair<std::int32_t, bool>, int> curves;
+  for (std::size_t i = 0; i < m.segments.size(); ++i) {
+    const std::pair<std::int32_t, bool> key{m.segments[i].ref, is_ridge[i] != 0};
+    std::vector<int> phys{plan.phys[1].tag(key.first)};
+    if (key.second) phys.push_back(ridge_group);
+    plan.seg_entity.push_back(entity_of(curves, key, plan.entities[1], phys, m, m.segments[i].v));
+  }
+  std::map<std::int32_t, int> surfaces, volumes;
+  for (const Triangle& t : m.triangles)
+    plan.tri_entity.push_back(entity_of(surfaces, t.ref, plan.entities[2], {plan.phys[2].tag(t.ref)}, m, t.v));
+  for (std::size_t i = 0; i < m.tets.size(); ++i)
+    plan.tet_entity.push_back(entity_of(volumes, material(i), plan.entities[3], {plan.phys[3].tag(material(i))}, m, m.tets[i]));
+  if (plan.entities[3].empty()) plan.entities[3].push_back({1, {}, {}});  // hosts the nodes of a tet-less mesh
+
+  plan.point_vertex = m.corners;
+  plan.point_vertex.insert(plan.point_vertex.end(), m.required_vertices.begin(), m.required_vertices.end());
+  for (std::size_t i = 0; i < plan.point_vertex.size(); ++i) {
+    const int group = i < m.corners.size() ? corner_group : required_group;
+    plan.entities[0].push_back({static_cast<int>(i) + 1, {group}, {}});
+  }
+  return plan;
+}
+
+void write_physical_names(AtomicFile& f, const GmshPlan& plan) {
+  std::size_t count = 0;
+  for (const PhysicalTags& tags : plan.phys) count += tags.names().size();
+  if (count == 0) return;
+  f.put("$PhysicalNames\n");
+  f.put_int(count);
+  f.put('\n');
+  for (int dim = 0; dim < 4; ++dim) {
+    for (const auto& [tag, name] : plan.phys[static_cast<std::size_t>(dim)].names()) {
+      f.put_int(dim);
+      f.put(' ');
+      f.put_int(tag);
+      f.put(' ');
+      f.put(quoted(name));
+      f.put('\n');
+    }
+  }
+  f.put("$EndPhysicalNames\n");
+}
+
+void write_entities(AtomicFile& f, MshOut& out, const GmshPlan& plan, const MeshData& m) {
+  f.put("$Entities\n");
+  for (int dim = 0; dim < 4; ++dim) out.size(plan.entities[static_cast<std::size_t>(dim)].size(), dim == 3 ? '\n' : ' ');
+  for (std::size_t i = 0; i < plan.entities[0].size(); ++i) {
+    const glm::dvec3& p = m.positions[plan.point_vertex[i]];
+    out.i32(plan.entities[0][i].tag);
+    out.f64(p.x);
+    out.f64(p.y);
+    out.f64(p.z);
+    out.size(1);
+    out.i32(plan.entities[0][i].physicals[0], '\n');
+  }
+  for (int dim = 1; dim < 4; ++dim) {
+    for (const Entity& e : plan.entities[static_cast<std::size_t>(dim)]) {
+      const bool empty = e.box.lo.x > e.box.hi.x;
+      const glm::dvec3 lo = empty ? glm::dvec3(0) : e.box.lo, hi = empty ? glm::dvec3(0) : e.box.hi;
+      out.i32(e.tag);
+      for (double x : {lo.x, lo.y, lo.z, hi.x, hi.y, hi.z}) out.f64(x);
+      out.size(e.physicals.size());
+      for (int p : e.physicals) out.i32(p);
+      out.size(0, '\n');  // no bounding entities: the mesh does not carry the model topology
+    }
+  }
+  out.end_section("$EndEntities");
+}
+
+// All nodes in one block, on the first volume entity, tagged 1..n in MeshData order.
+void write_nodes(AtomicFile& f, MshOut& out, const GmshPlan& plan, const MeshData& m) {
+  const std::size_t nv = m.positions.size();
+  f.put("$Nodes\n");
+  out.size(nv == 0 ? 0 : 1);
+  out.size(nv);
+  out.size(nv == 0 ? 0 : 1);
+  out.size(nv, '\n');
+  if (nv > 0) {
+    out.i32(3);
+    out.i32(plan.entities[3][0].tag);
+    out.i32(0);
+    out.size(nv, '\n');
+    for (std::size_t i = 0; i < nv; ++i) out.size(i + 1, '\n');
+    for (const glm::dvec3& p : m.positions) {
+      out.f64(p.x);
+      out.f64(p.y);
+      out.f64(p.z, '\n');
+    }
+  }
+  out.end_section("$EndNodes");
+}
+
+void write_elements(AtomicFile& f, MshOut& out, const GmshPlan& plan, const MeshData& m) {
+  std::vector<Block> blocks;
+  for (std::size_t i = 0; i < plan.point_vertex.size(); ++i) blocks.push_back({0, plan.entities[0][i].tag, kPoint, i, i + 1});
+  add_blocks(blocks, 1, kLine, plan.seg_entity);
+  add_blocks(blocks, 2, kTriangle, plan.tri_entity);
+  add_blocks(blocks, 3, kTet, plan.tet_entity);
+  const std::size_t ne = plan.point_vertex.size() + m.segments.size() + m.triangles.size() + m.tets.size();
+  f.put("$Elements\n");
+  out.size(blocks.size());
+  out.size(ne);
+  out.size(ne == 0 ? 0 : 1);
+  out.size(ne, '\n');
+  std::uint64_t tag = 0;
+  for (const Block& b : blocks) {
+    out.i32(b.dim);
+    out.i32(b.entity);
+    out.i32(b.type);
+    out.size(b.end - b.begin, '\n');
+    for (std::size_t i = b.begin; i < b.end; ++i) {
+      out.size(++tag);
+      const VertId* v = nullptr;
+      int k = 0;
+      switch (b.type) {
+        case kPoint: v = &plan.point_vertex[i]; k = 1; break;
+        case kLine: v = m.segments[i].v.data(); k = 2; break;
+        case kTriangle: v = m.triangles[i].v.data(); k = 3; break;
+        default: v = m.tets[i].data(); k = 4; break;
+      }
+      for (int j = 0; j < k; ++j) out.size(std::uint64_t{v[j]} + 1, j + 1 == k ? '\n' : ' ');
+    }
+  }
+  out.end_section("$EndElements");
+}
+
+void write_fields(AtomicFile& f, MshOut& out, const MeshData& m) {
+  const std::size_t nv = m.positions.size();
+  if (std::any_of(m.vertex_refs.begin(), m.vertex_refs.end(), [](std::int32_t r) { return r != 0; })) {
+    write_node_data(f, out, std::string(kVertexRefField), 1, nv,
+                    [&](std::size_t i, int) { return static_cast<double>(m.vertex_refs[i]); });
+  }
+  for (const VertexField& fd : m.fields) {
+    const std::size_t c = static_cast<std::size_t>(fd.components);
+    if (fd.components == 6) {
+      // MEDIT symmetric order (xx, xy, yy, xz, yz, zz) -> row-major 3x3.
+      static constexpr int kFull[9] = {0, 1, 3, 1, 2, 4, 3, 4, 5};
+      write_node_data(f, out, fd.name, 9, nv,
+                      [&](std::size_t i, int k) { return fd.values[i * 6 + static_cast<std::size_t>(kFull[k])]; });
+    } else {
+      write_node_data(f, out, fd.name, fd.components, nv,
+                      [&](std::size_t i, int k) { return fd.values[i * c + static_cast<std::size_t>(k)]; });
+    }
+  }
+}
+
+}  // namespace
+
+MeshData read_gmsh(const std::string& path) { return GmshReader(path).read(); }
+
+void write_gmsh(const std::string& path, const MeshData& m, bool binary) {
+  for (const VertexField& fd : m.fields) {
+    if (fd.components > 9) {
+      throw InputError(path + ": cannot write field '" + fd.name + "' with " + std::to_string(fd.components) +
+                       " components (Gmsh views have 1 to 9)");
+    }
+  }
+  const GmshPlan plan = plan_gmsh(m);
+  AtomicFile f(path);
+  MshOut out(f, binary);
+  f.put(binary ? "$MeshFormat\n4.1 1 8\n" : "$MeshFormat\n4.1 0 8\n");
+  if (binary) {
+    f.put_raw(std::int32_t{1});
+    f.put('\n');
+  }
+  f.put("$EndMeshFormat\n");
+  write_physical_names(f, plan);
+  write_entities(f, out, plan, m);
+  write_nodes(f, out, plan, m);
+  write_elements(f, out, plan, m);
+  write_fields(f, out, m);
+  f.commit();
+}
+
+}  // namespace topotet::io

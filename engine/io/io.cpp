@@ -1,1 +1,98 @@
-// placeholder: being written
+// Format dispatch by file extension, and the consistency check every writer relies on.
+#include "topotet/io.h"
+
+#include <string>
+
+#include "io/formats.h"
+#include "topotet/error.h"
+
+namespace topotet {
+namespace io {
+
+bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    char x = a[i], y = b[i];
+    if (x >= 'A' && x <= 'Z') x = static_cast<char>(x - 'A' + 'a');
+    if (y >= 'A' && y <= 'Z') y = static_cast<char>(y - 'A' + 'a');
+    if (x != y) return false;
+  }
+  return true;
+}
+
+bool iends_with(std::string_view s, std::string_view suffix) {
+  return s.size() >= suffix.size() && iequals(s.substr(s.size() - suffix.size()), suffix);
+}
+
+void check_writable(const std::string& path, const MeshData& mesh) {
+  const auto bad = [&](const std::string& what) { throw InputError(path + ": cannot write: " + what); };
+  const std::size_t nv = mesh.positions.size();
+  if (nv >= kInvalid) bad("too many vertices");
+  if (!mesh.vertex_refs.empty() && mesh.vertex_refs.size() != nv) bad("vertex_refs size differs from vertex count");
+  if (!mesh.tet_material.empty() && mesh.tet_material.size() != mesh.tets.size())
+    bad("tet_material size differs from tet count");
+  const auto check_vertex = [&](VertId v, const char* what, std::size_t i) {
+    if (v >= nv) bad(std::string(what) + " " + std::to_string(i) + ": vertex " + std::to_string(v) + " out of range");
+  };
+  for (std::size_t i = 0; i < mesh.tets.size(); ++i)
+    for (VertId v : mesh.tets[i]) check_vertex(v, "tet", i);
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+    for (VertId v : mesh.triangles[i].v) check_vertex(v, "triangle", i);
+  for (std::size_t i = 0; i < mesh.segments.size(); ++i)
+    for (VertId v : mesh.segments[i].v) check_vertex(v, "segment", i);
+  for (std::size_t i = 0; i < mesh.corners.size(); ++i) check_vertex(mesh.corners[i], "corner", i);
+  for (std::size_t i = 0; i < mesh.required_vertices.size(); ++i)
+    check_vertex(mesh.required_vertices[i], "required vertex", i);
+  for (std::size_t i = 0; i < mesh.ridges.size(); ++i)
+    if (mesh.ridges[i] >= mesh.segments.size()) bad("ridge " + std::to_string(i) + ": segment index out of range");
+  for (const VertexField& f : mesh.fields) {
+    if (f.components < 1) bad("field '" + f.name + "': components < 1");
+    if (f.values.size() != nv * static_cast<std::size_t>(f.components))
+      bad("field '" + f.name + "': " + std::to_string(f.values.size()) + " values for " + std::to_string(nv) +
+          " vertices x " + std::to_string(f.components) + " components");
+  }
+}
+
+}  // namespace io
+
+MeshFormat format_from_path(std::string_view path) {
+  std::string_view p = path;
+  if (io::iends_with(p, ".gz")) p.remove_suffix(3);
+  if (io::iends_with(p, ".mesh")) return MeshFormat::kMedit;
+  if (io::iends_with(p, ".msh")) return MeshFormat::kGmsh;
+  if (io::iends_with(p, ".vtu")) return MeshFormat::kVtu;
+  if (io::iends_with(p, ".meshb")) {
+    throw InputError(std::string(path) +
+                     ": binary MEDIT (.meshb) is not supported; convert it to ASCII .mesh first (e.g. "
+                     "'transmesh in.meshb out.mesh' from libMeshb)");
+  }
+  throw InputError(std::string(path) + ": unknown mesh format (expected .mesh, .msh or .vtu, optionally + .gz)");
+}
+
+MeshData read_mesh(const std::string& path) {
+  switch (format_from_path(path)) {
+    case MeshFormat::kMedit:
+      return io::read_medit(path);
+    case MeshFormat::kGmsh:
+      return io::read_gmsh(path);
+    case MeshFormat::kVtu:
+      break;
+  }
+  throw InputError(path + ": reading .vtu is not supported (it is an output format for ParaView)");
+}
+
+void write_mesh(const std::string& path, const MeshData& mesh, const WriteOptions& options) {
+  const MeshFormat format = format_from_path(path);
+  if (io::iends_with(path, ".gz")) throw InputError(path + ": writing compressed (.gz) files is not supported");
+  io::check_writable(path, mesh);
+  switch (format) {
+    case MeshFormat::kMedit:
+      return io::write_medit(path, mesh);
+    case MeshFormat::kGmsh:
+      return io::write_gmsh(path, mesh, options.binary);
+    case MeshFormat::kVtu:
+      return io::write_vtu(path, mesh, options.binary);
+  }
+}
+
+}  // namespace topotet

@@ -14,11 +14,11 @@
 // run never leaves a half-written file. For .mesh it also writes `<stem>.sol` when there are fields
 // (and `<stem>.sol.fields.txt` when their names are not the defaults); companion files left from
 // an earlier write of the same stem that this one does not produce are removed, so a later read
-// never attaches a stale .sol to the new mesh. A Gmsh file written here
-// reads back as the identical MeshData: refs <= 0, ridges, corners, required vertices and vertex
-// refs travel as named physical groups / a $NodeData (see engine/io/gmsh.cpp). For .vtu it writes
-// the tets (with material and fields) and, when there are substructures,
-// `<stem>_substructures.vtp` with the listed triangles and segments and their refs.
+// never attaches a stale .sol to the new mesh. A Gmsh file written here reads back as the
+// identical MeshData: refs <= 0, ridges, corners, required vertices and vertex refs travel as
+// named physical groups / a $NodeData (see engine/io/gmsh.cpp). For .vtu it writes the tets (with
+// material and fields) and, when there are substructures, `<stem>_substructures.vtp` with the
+// listed triangles and segments and their refs.
 #pragma once
 
 #include <string>
