@@ -13,7 +13,11 @@
 //     3. apply (parallel over winners): check full legality (link conditions included) on the
 //        current mesh and collapse; disjoint stencils mean no locks. A winner that fails bans its
 //        edge at its owner until the owner's neighbourhood changes again
-//     4. mark every stencil vertex of a winner dirty (its proposal is re-evaluated)
+//     4. after a collapse u <- v, update the proposals of its stencil: u, the vertices of the
+//        removed tets (their orders may change) and any vertex whose proposal involved u or v, had
+//        none, or had bans are re-proposed from scratch; every other stencil vertex x only had
+//        its edge to u change cost, so only the edge xu is re-evaluated and compared with x's
+//        current proposal (an edge whose legality changed meanwhile is caught when applied)
 //   stop when no vertex has a proposal (no legal collapse left) or the target is reached
 //
 // Why the output is bit-identical for any thread count: proposals are pure functions of the mesh
@@ -123,6 +127,21 @@ Proposal propose(const TetMesh& mesh, CostModel& cost, const CollapseOptions& ke
   return {};
 }
 
+// The proposal of a through the single edge ab (whichever end owns it is a, b > a), or none.
+Proposal propose_edge(const TetMesh& mesh, CostModel& cost, const CollapseOptions& kernel, VertId a, VertId b,
+                      ThreadScratch& s, std::uint64_t& evals, std::uint64_t& checks) {
+  if (b == kInvalid || mesh.is_dead_vertex(b)) return {};
+  ++evals;
+  const int n = cost.candidates(mesh, a, b, s.cands, s.collapse.link);
+  if (n == 0) return {};
+  Placement placements[4];
+  for (int i = 0; i < n; ++i) placements[i] = {s.cands[i].u, s.cands[i].v, s.cands[i].p};
+  ++checks;
+  const int chosen = first_acceptable(mesh, placements, n, kernel, s.collapse, &s.rejected, false);
+  if (chosen < 0) return {};
+  return {s.cands[chosen].cost, b};
+}
+
 }  // namespace
 
 void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint64_t target, Report& report) {
@@ -137,7 +156,9 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
   });
 
   std::vector<Proposal> proposal(nv);
-  std::vector<std::uint8_t> dirty(nv, 1);
+  enum : std::uint8_t { kClean = 0, kFull = 1, kEdgeOnly = 2 };
+  std::vector<std::uint8_t> dirty(nv, kFull);
+  std::vector<VertId> dirty_partner(nv, kInvalid);  // kEdgeOnly: the survivor u of the edge to look at
   std::vector<std::uint8_t> claimed(nv, 0);  // in the stencil of a winner of the current round
   std::vector<std::array<VertId, 2>> banned(nv, {kInvalid, kInvalid});  // edges that failed at apply
   std::vector<std::uint8_t> exhausted(nv, 0);  // more failures than ban slots: no proposal
@@ -165,8 +186,15 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
       std::uint64_t ev = 0, ch = 0;
       for (std::size_t i = b; i < e; ++i) {
         const VertId a = dirty_list[i];
-        proposal[a] = exhausted[a] ? Proposal{} : propose(mesh, cost, kernel, a, banned[a], s, ev, ch);
-        dirty[a] = 0;
+        if (exhausted[a]) {
+          proposal[a] = {};
+        } else if (dirty[a] == kFull) {
+          proposal[a] = propose(mesh, cost, kernel, a, banned[a], s, ev, ch);
+        } else {
+          const Proposal p = propose_edge(mesh, cost, kernel, a, dirty_partner[a], s, ev, ch);
+          if (p.cost < proposal[a].cost || (p.cost == proposal[a].cost && p.b < proposal[a].b)) proposal[a] = p;
+        }
+        dirty[a] = kClean;
       }
       evals.fetch_add(ev, std::memory_order_relaxed);  // counters only: relaxed
       checks.fetch_add(ch, std::memory_order_relaxed);
@@ -317,17 +345,28 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
           cost.on_collapse(mesh, c.u, c.v, s.collapse.star_uv);
           applied_cost[w] = c.cost;
           ++n_applied;
-          // The neighbourhood changed: the stencil is re-evaluated next round and earlier bans
-          // there are lifted (owned data: disjoint writes).
+          // The neighbourhood changed: update the stencil's proposals next round (see step 4
+          // above) and lift earlier bans there (owned data: disjoint writes).
           for (std::uint32_t k = stencil_offsets[winners[w]]; k < stencil_offsets[winners[w] + 1]; ++k) {
-            dirty[stencils[k]] = 1;
-            banned[stencils[k]] = {kInvalid, kInvalid};
-            exhausted[stencils[k]] = 0;
+            const VertId x = stencils[k];
+            const bool full = x == c.u || proposal[x].b == c.u || proposal[x].b == c.v ||
+                              !std::isfinite(proposal[x].cost) || banned[x][0] != kInvalid || exhausted[x];
+            if (full || x > c.u) {
+              dirty[x] = full ? kFull : kClean;  // x > u: the edge xu is owned (and re-proposed) by u
+            } else {
+              dirty[x] = kEdgeOnly;
+              dirty_partner[x] = c.u;
+            }
+            banned[x] = {kInvalid, kInvalid};
+            exhausted[x] = 0;
           }
+          for (TetId t : s.collapse.star_uv)  // orders may change around the removed tets
+            for (VertId x : mesh.tets[t])
+              if (x != c.v) dirty[x] = kFull;
         } else {
           // Nothing changed; only the owner proposes again, without this edge. An owner out of
           // ban slots waits until a collapse changes its neighbourhood.
-          dirty[r.a] = 1;
+          dirty[r.a] = kFull;
           std::array<VertId, 2>& ban = banned[r.a];
           if (ban[0] == kInvalid)
             ban[0] = r.b;
