@@ -1,0 +1,114 @@
+// topotet check IN OUT [--json FILE] [--fast]: the independent topology checker on two meshes.
+// Prints the topology of both, the verdict (exit 1 on any difference) and the quality of OUT
+// (whose inverted tets must be 0).
+#include <cstdio>
+#include <memory>
+#include <numbers>
+
+#include "common.h"
+#include "topotet/metrics/quality.h"
+#include "topotet/metrics/topology.h"
+
+namespace topotet::cli {
+namespace {
+
+struct CheckArgs {
+  std::string before;
+  std::string after;
+  std::string json_path;
+  bool fast = false;
+};
+
+void print_indented(const std::string& text) {
+  std::size_t begin = 0;
+  while (begin < text.size()) {
+    std::size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    std::printf("  %s\n", text.substr(begin, end - begin).c_str());
+    begin = end + 1;
+  }
+}
+
+int run_check(const CheckArgs& args) {
+  check_output_folder(args.json_path);
+  double read_before = 0.0, read_after = 0.0;
+  const MeshData before = read_input(args.before, &read_before);
+  const MeshData after = read_input(args.after, &read_after);
+
+  metrics::TopologyOptions options;
+  options.fast = args.fast;
+  const Stopwatch topology_clock;
+  const metrics::TopologyReport before_topology = metrics::compute_topology(before, options);
+  const metrics::TopologyReport after_topology = metrics::compute_topology(after, options);
+  const double topology_seconds = topology_clock.seconds();
+  std::string differences;
+  bool ok = metrics::same_topology(before_topology, after_topology, &differences);
+
+  const Stopwatch quality_clock;
+  const QualityStats quality = compute_quality(after);
+  const double quality_seconds = quality_clock.seconds();
+  if (quality.inverted != 0) {
+    ok = false;
+    differences += "inverted tets (quality check): " + std::to_string(quality.inverted) + "\n";
+  }
+
+  std::printf("IN  %s: %s vertices, %s tets (read %s)\n", args.before.c_str(), format_count(before.vertex_count()).c_str(),
+              format_count(before.tet_count()).c_str(), format_seconds(read_before).c_str());
+  print_indented(metrics::format_topology_table(before_topology));
+  std::printf("\nOUT %s: %s vertices, %s tets (read %s)\n", args.after.c_str(), format_count(after.vertex_count()).c_str(),
+              format_count(after.tet_count()).c_str(), format_seconds(read_after).c_str());
+  print_indented(metrics::format_topology_table(after_topology));
+  constexpr double kRad = std::numbers::pi / 180.0;
+  std::printf("\nquality   OUT: std dev dihedral %s rad, solid %s sr, face %s rad; min mean ratio %s; inverted %zu, "
+              "zero volume %zu (%s)\n",
+              format_number(quality.dihedral_deg.std_dev * kRad).c_str(), format_number(quality.solid_sr.std_dev).c_str(),
+              format_number(quality.face_deg.std_dev * kRad).c_str(), format_number(quality.mean_ratio.min).c_str(),
+              quality.inverted, quality.zero_volume, format_seconds(quality_seconds).c_str());
+  std::printf("topology  %s (%s%s)\n", ok ? "PASS" : "FAIL", args.fast ? "fast mode, " : "",
+              format_seconds(topology_seconds).c_str());
+  if (!ok) print_indented(differences);
+
+  if (!args.json_path.empty()) {
+    Json j;
+    j["before_file"] = args.before;
+    j["after_file"] = args.after;
+    j["fast"] = args.fast;
+    j["topology"] = ok ? "pass" : "fail";
+    Json lines = Json::array();
+    std::size_t begin = 0;
+    while (begin < differences.size()) {
+      std::size_t end = differences.find('\n', begin);
+      if (end == std::string::npos) end = differences.size();
+      if (end > begin) lines.push_back(differences.substr(begin, end - begin));
+      begin = end + 1;
+    }
+    j["differences"] = lines;
+    j["before"] = Json::parse(metrics::topology_to_json(before_topology));
+    j["after"] = Json::parse(metrics::topology_to_json(after_topology));
+    j["after_quality"] = {{"std_dev_dihedral_rad", quality.dihedral_deg.std_dev * kRad},
+                          {"std_dev_solid_sr", quality.solid_sr.std_dev},
+                          {"std_dev_face_rad", quality.face_deg.std_dev * kRad},
+                          {"min_mean_ratio", quality.mean_ratio.min},
+                          {"inverted_tets", quality.inverted},
+                          {"zero_volume_tets", quality.zero_volume}};
+    j["topology_seconds"] = topology_seconds;
+    write_json_atomically(args.json_path, j);
+  }
+  return ok ? kExitOk : kExitCheckFailed;
+}
+
+}  // namespace
+
+void add_check_command(CLI::App& app, CommandRunner& run) {
+  auto args = std::make_shared<CheckArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "check", "Compare the topology of two meshes (Betti numbers of the mesh and of every substructure) and check "
+               "OUT's tets (exit 1 on any difference or inverted tet).");
+  cmd->add_option("IN", args->before, "Original mesh")->required();
+  cmd->add_option("OUT", args->after, "Simplified mesh")->required();
+  cmd->add_option("--json", args->json_path, "Also write both reports and the verdict as JSON");
+  cmd->add_flag("--fast", args->fast, "Euler characteristics and components only (for huge meshes)");
+  cmd->callback([args, &run] { run = [args] { return run_check(*args); }; });
+}
+
+}  // namespace topotet::cli

@@ -1,0 +1,227 @@
+#include "common.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "topotet/error.h"
+#include "topotet/io.h"
+
+namespace topotet::cli {
+
+// ---- formatting ----
+
+std::string format_number(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+  return buf;
+}
+
+namespace {
+// 3 significant digits without switching to exponent notation for values in [0.01, 1000).
+std::string three_digits(double x) {
+  char buf[64];
+  if (x >= 99.95)
+    std::snprintf(buf, sizeof buf, "%.0f", x);
+  else if (x >= 9.995)
+    std::snprintf(buf, sizeof buf, "%.1f", x);
+  else
+    std::snprintf(buf, sizeof buf, "%.2f", x);
+  return buf;
+}
+}  // namespace
+
+std::string format_seconds(double seconds) {
+  if (!(seconds >= 0.0)) return "?";
+  if (seconds < 0.9995) {
+    const double ms = seconds * 1e3;
+    if (ms < 0.01) return "0 ms";
+    return three_digits(ms) + " ms";
+  }
+  return three_digits(seconds) + " s";
+}
+
+std::string format_count(std::uint64_t n) {
+  std::string digits = std::to_string(n), out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i != 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+
+std::string format_bytes(std::uint64_t bytes) {
+  const double b = static_cast<double>(bytes);
+  if (b < 1e3) return std::to_string(bytes) + " B";
+  if (b < 999.5e3) return three_digits(b / 1e3) + " kB";
+  if (b < 999.5e6) return three_digits(b / 1e6) + " MB";
+  return three_digits(b / 1e9) + " GB";
+}
+
+std::string format_ratio(double x) {
+  // The shortest of %.1g .. %.6g that reads back to x (0.3 -> "0.3", 0.25 -> "0.25").
+  for (int digits = 1; digits <= 17; ++digits) {
+    const std::string s = format_number(x, digits);
+    if (std::strtod(s.c_str(), nullptr) == x) return s;
+  }
+  return format_number(x, 17);
+}
+
+// ---- system ----
+
+std::uint64_t peak_rss_bytes() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) {
+      // "VmHWM:     12345 kB"
+      const unsigned long long kb = std::strtoull(line.c_str() + 6, nullptr, 10);
+      return static_cast<std::uint64_t>(kb) * 1024u;
+    }
+  }
+  return 0;
+}
+
+bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) == 1; }
+
+int hardware_threads() {
+  const unsigned n = std::thread::hardware_concurrency();
+  return n == 0 ? 1 : static_cast<int>(n);
+}
+
+// ---- errors ----
+
+std::string prefix_file(const std::string& file, const std::string& message) {
+  if (file.empty() || message.rfind(file, 0) == 0) return message;
+  return file + ": " + message;
+}
+
+void throw_input_error(const std::string& file, const std::string& message) {
+  throw InputError(prefix_file(file, message));
+}
+
+MeshData read_input(const std::string& path, double* seconds) {
+  const Stopwatch clock;
+  // The readers name the file in their errors; a missing file is checked here so that the message
+  // is the usual one whatever the reader does.
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw_input_error(path, "no such file");
+  MeshData data;
+  try {
+    data = read_mesh(path);
+  } catch (const InputError& e) {
+    throw_input_error(path, e.what());
+  }
+  if (seconds) *seconds = clock.seconds();
+  return data;
+}
+
+TetMesh build_input(const std::string& label, const MeshData& data, double* seconds) {
+  const Stopwatch clock;
+  try {
+    TetMesh mesh = build_tet_mesh(data);
+    if (seconds) *seconds = clock.seconds();
+    return mesh;
+  } catch (const InputError& e) {
+    throw_input_error(label, e.what());
+  }
+}
+
+std::vector<double> normalize_levels(std::vector<double> levels) {
+  for (double level : levels)
+    if (!(level > 0.0 && level <= 1.0))
+      throw InputError("--levels: " + format_number(level, 6) + " is not a vertex ratio in (0, 1]");
+  std::sort(levels.begin(), levels.end(), [](double a, double b) { return a > b; });
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  return levels;
+}
+
+std::string level_path(const std::string& path, double level) {
+  const std::filesystem::path p(path);
+  std::string name = p.filename().string();
+  std::string extension;
+  std::string stem = name;
+  const auto ends_with = [](const std::string& s, const char* suffix) {
+    const std::size_t n = std::strlen(suffix);
+    return s.size() > n && s.compare(s.size() - n, n, suffix) == 0;
+  };
+  if (ends_with(stem, ".gz")) {
+    extension = ".gz";
+    stem.resize(stem.size() - 3);
+  }
+  const std::size_t dot = stem.rfind('.');
+  if (dot != std::string::npos && dot != 0) {
+    extension = stem.substr(dot) + extension;
+    stem.resize(dot);
+  }
+  name = stem + "_" + format_ratio(level) + extension;
+  return (p.parent_path() / name).string();
+}
+
+void check_output_folder(const std::string& path) {
+  if (path.empty()) return;
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
+    throw_input_error(path, "no such folder: " + folder.string());
+}
+
+void write_text_atomically(const std::string& path, const std::string& text) {
+  const std::string temp = path + ".tmp";
+  {
+    std::FILE* f = std::fopen(temp.c_str(), "wb");
+    if (!f) throw_input_error(path, std::string("cannot create ") + temp + ": " + std::strerror(errno));
+    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    const int err = errno;
+    if (std::fclose(f) != 0 || !ok) {
+      std::remove(temp.c_str());
+      throw_input_error(path, std::string("write failed: ") + std::strerror(err));
+    }
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    std::remove(temp.c_str());
+    throw_input_error(path, std::string("cannot replace file: ") + std::strerror(err));
+  }
+}
+
+void write_json_atomically(const std::string& path, const Json& json) {
+  write_text_atomically(path, json.dump(2) + "\n");
+}
+
+// ---- progress bar ----
+
+ProgressBar::ProgressBar(std::string label, bool enabled)
+    : label_(std::move(label)), enabled_(enabled && stderr_is_terminal()) {}
+
+void ProgressBar::update(double done_fraction) {
+  if (!enabled_) return;
+  const double now = clock_.seconds();
+  if (now < 1.0 || now - last_draw_seconds_ < 0.1) return;
+  last_draw_seconds_ = now;
+  const double f = std::clamp(done_fraction, 0.0, 1.0);
+  constexpr int kWidth = 30;
+  const int filled = static_cast<int>(f * kWidth + 0.5);
+  std::string bar(static_cast<std::size_t>(filled), '#');
+  bar.append(static_cast<std::size_t>(kWidth - filled), '.');
+  std::fprintf(stderr, "\r%s [%s] %3d%%  %s\033[K", label_.c_str(), bar.c_str(), static_cast<int>(f * 100.0),
+               format_seconds(now).c_str());
+  std::fflush(stderr);
+  drawn_ = true;
+}
+
+void ProgressBar::finish() {
+  if (!drawn_) return;
+  std::fprintf(stderr, "\r\033[K");
+  std::fflush(stderr);
+  drawn_ = false;
+}
+
+}  // namespace topotet::cli

@@ -1,0 +1,127 @@
+// Shared pieces of the `topotet` command-line tool: command registration, timing, formatting,
+// peak memory, error reporting, the progress bar and atomic JSON output.
+//
+// Every command file defines one add_*_command(app, run): it registers the subcommand and its
+// options, and when CLI11 selects it, stores in `run` the function main() calls (inside its
+// try/catch) after parsing. A command returns its exit code:
+//   kExitOk (0) success, kExitCheckFailed (1) a failed check (topology, inverted tets),
+//   kExitBadInput (2) bad usage or bad input.
+// Errors are thrown, never printed by commands: main() prints exactly one line
+//   topotet: error: <file>: <message>
+// (InputError messages from the readers already start with the file; input_error() adds it to
+// those that do not, e.g. the builder's "tet 17: zero volume ...").
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <string_view>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "topotet/mesh_data.h"
+#include "topotet/simplify.h"
+#include "topotet/tet_mesh.h"
+
+namespace topotet::cli {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitCheckFailed = 1;
+inline constexpr int kExitBadInput = 2;
+
+using CommandRunner = std::function<int()>;
+using Json = nlohmann::ordered_json;  // keeps keys in insertion order: stable, readable reports
+
+void add_info_command(CLI::App& app, CommandRunner& run);
+void add_generate_command(CLI::App& app, CommandRunner& run);
+void add_convert_command(CLI::App& app, CommandRunner& run);
+void add_simplify_command(CLI::App& app, CommandRunner& run);
+void add_check_command(CLI::App& app, CommandRunner& run);
+void add_demo_command(CLI::App& app, CommandRunner& run);
+
+// ---- simplification pipeline, shared by `simplify` and `demo` (simplify.cpp) ----
+struct SimplifyJob {
+  std::string input_label;  // file name, or a description of a generated mesh
+  MeshData input;           // the input as read (kept for verification and field errors)
+  double read_seconds = 0.0;
+  std::string read_verb = "read";  // "generate" for the demo
+  SimplifyOptions options;     // target and engine settings (targets overridden by `levels`)
+  std::vector<double> levels;  // descending vertex ratios; empty = one run with `options`
+  std::string output_path;     // empty = write nothing
+  bool binary = false;         // WriteOptions::binary
+  std::string report_path;     // empty = no JSON report
+  bool verify = true;
+  bool quiet = false;
+};
+// Builds, simplifies, writes, measures and verifies; prints the report. Returns the exit code.
+int run_simplify_job(SimplifyJob& job);
+
+// ---- timing ----
+class Stopwatch {
+ public:
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+// ---- formatting (timings with 2-3 significant digits) ----
+std::string format_seconds(double seconds);      // "0.8 ms", "12.3 ms", "1.23 s", "45.6 s", "123 s"
+std::string format_count(std::uint64_t n);       // "1,234,567"
+std::string format_bytes(std::uint64_t bytes);   // "812 kB", "12.3 MB", "1.23 GB" (decimal)
+std::string format_number(double x, int digits = 3);  // %.*g
+std::string format_ratio(double x);              // "0.3" / "0.25": shortest text of a level
+
+// ---- system ----
+std::uint64_t peak_rss_bytes();  // VmHWM of /proc/self/status; 0 if unavailable
+bool stderr_is_terminal();
+int hardware_threads();
+
+// ---- errors ----
+// An InputError whose message starts with `file` (unless it already does).
+[[noreturn]] void throw_input_error(const std::string& file, const std::string& message);
+std::string prefix_file(const std::string& file, const std::string& message);
+
+// read_mesh / build_tet_mesh with the file named in every error.
+MeshData read_input(const std::string& path, double* seconds = nullptr);
+TetMesh build_input(const std::string& label, const MeshData& data, double* seconds = nullptr);
+
+// The values of --levels (CLI11 splits "0.5,0.3,0.1" at the commas): checks each is in (0, 1],
+// sorts them descending and drops repeats. Throws InputError on a bad value.
+std::vector<double> normalize_levels(std::vector<double> levels);
+
+// `out.mesh` + 0.3 -> `out_0.3.mesh` (the extension includes a trailing .gz).
+std::string level_path(const std::string& path, double level);
+
+// Throws InputError unless the folder `path` would be written in exists (checked before long work,
+// so that a typo in -o does not cost the whole run).
+void check_output_folder(const std::string& path);
+
+// Writes `text` to path.tmp and renames it over path; throws InputError naming the path.
+void write_text_atomically(const std::string& path, const std::string& text);
+void write_json_atomically(const std::string& path, const Json& json);
+
+// ---- progress bar on stderr ----
+// Draws only when stderr is a terminal and the work has run for more than a second. update() may
+// be called from any thread but never concurrently (SimplifyOptions::on_progress's contract).
+class ProgressBar {
+ public:
+  explicit ProgressBar(std::string label, bool enabled = true);
+  ~ProgressBar() { finish(); }
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
+  void update(double done_fraction);
+  void finish();  // erases the bar if it was drawn
+
+ private:
+  std::string label_;
+  bool enabled_;
+  bool drawn_ = false;
+  double last_draw_seconds_ = -1.0;
+  Stopwatch clock_;
+};
+
+}  // namespace topotet::cli

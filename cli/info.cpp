@@ -1,0 +1,188 @@
+// topotet info FILE [--json F]: what a mesh file holds, and whether it builds into a valid model.
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <memory>
+#include <set>
+
+#include <glm/common.hpp>
+
+#include "common.h"
+#include "topotet/error.h"
+#include "topotet/metrics/topology.h"
+
+namespace topotet::cli {
+namespace {
+
+struct InfoArgs {
+  std::string input;
+  std::string json_path;
+};
+
+template <class Element>
+std::map<std::int32_t, std::uint64_t> count_by_ref(const std::vector<Element>& elements) {
+  std::map<std::int32_t, std::uint64_t> out;
+  for (const Element& e : elements) ++out[e.ref];
+  return out;
+}
+
+// "3 (ref 1: 2, ref 10: 1)"
+std::string by_ref_text(std::uint64_t total, const std::map<std::int32_t, std::uint64_t>& counts, const char* what) {
+  std::string s = format_count(total);
+  if (counts.empty()) return s;
+  s += " (";
+  bool first = true;
+  for (const auto& [ref, n] : counts) {
+    if (!first) s += ", ";
+    first = false;
+    s += std::string(what) + " " + std::to_string(ref) + ": " + format_count(n);
+  }
+  return s + ")";
+}
+
+Json counts_json(const std::map<std::int32_t, std::uint64_t>& counts) {
+  Json j = Json::object();
+  for (const auto& [ref, n] : counts) j[std::to_string(ref)] = n;
+  return j;
+}
+
+int run_info(const InfoArgs& args) {
+  check_output_folder(args.json_path);
+  double read_seconds = 0.0;
+  const MeshData data = read_input(args.input, &read_seconds);
+
+  const auto materials = [&] {
+    std::map<std::int32_t, std::uint64_t> out;
+    if (data.tet_material.empty()) {
+      if (!data.tets.empty()) out[0] = data.tets.size();
+    } else {
+      for (std::int32_t m : data.tet_material) ++out[m];
+    }
+    return out;
+  }();
+  const auto triangles = count_by_ref(data.triangles);
+  const auto segments = count_by_ref(data.segments);
+  std::set<VertId> pinned(data.corners.begin(), data.corners.end());
+  pinned.insert(data.required_vertices.begin(), data.required_vertices.end());
+
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const glm::dvec3& p : data.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+
+  // Topology first (it never throws on bad input), then validation by building the model.
+  const Stopwatch topology_clock;
+  metrics::TopologyOptions topology_options;
+  topology_options.fast = true;
+  const metrics::TopologyReport topology = metrics::compute_topology(data, topology_options);
+  const double topology_seconds = topology_clock.seconds();
+
+  std::string build_error;
+  double build_seconds = 0.0;
+  std::size_t model_bytes = 0;
+  try {
+    const TetMesh mesh = build_input(args.input, data, &build_seconds);
+    model_bytes = mesh.memory_bytes();
+  } catch (const InputError& e) {
+    build_error = e.what();
+  }
+
+  const auto row = [](const char* key, const std::string& value) { std::printf("%-14s %s\n", key, value.c_str()); };
+  row("file", args.input + " (read " + format_seconds(read_seconds) + ")");
+  row("vertices", format_count(data.vertex_count()));
+  row("tets", format_count(data.tet_count()));
+  std::string material_text = std::to_string(materials.size());
+  if (!materials.empty()) {
+    material_text += " (";
+    bool first = true;
+    for (const auto& [m, n] : materials) {
+      material_text += (first ? "" : ", ") + std::to_string(m) + ": " + format_count(n) + " tets";
+      first = false;
+    }
+    material_text += ")";
+  }
+  row("materials", material_text);
+  row("triangles", by_ref_text(data.triangles.size(), triangles, "ref"));
+  row("edges", by_ref_text(data.segments.size(), segments, "ref") +
+                   (data.ridges.empty() ? "" : ", " + format_count(data.ridges.size()) + " ridges"));
+  row("pinned", format_count(pinned.size()) + " vertices (" + format_count(data.corners.size()) + " corners, " +
+                    format_count(data.required_vertices.size()) + " required)");
+  std::string field_text = std::to_string(data.fields.size());
+  if (!data.fields.empty()) {
+    field_text += " (";
+    for (std::size_t i = 0; i < data.fields.size(); ++i)
+      field_text += (i ? ", " : "") + data.fields[i].name + ": " + std::to_string(data.fields[i].components) +
+                    (data.fields[i].components == 1 ? " component" : " components");
+    field_text += ")";
+  }
+  row("fields", field_text);
+  if (!data.positions.empty())
+    row("bounding box", "[" + format_number(lo.x, 6) + ", " + format_number(hi.x, 6) + "] x [" +
+                            format_number(lo.y, 6) + ", " + format_number(hi.y, 6) + "] x [" +
+                            format_number(lo.z, 6) + ", " + format_number(hi.z, 6) + "]");
+  row("euler", "mesh " + std::to_string(topology.mesh.euler_characteristic) + ", boundary " +
+                   std::to_string(topology.boundary.euler_characteristic) + "; " +
+                   std::to_string(topology.mesh.betti[0]) + " connected component" +
+                   (topology.mesh.betti[0] == 1 ? "" : "s") + " (" + format_seconds(topology_seconds) + ")");
+  if (build_error.empty()) {
+    row("model", format_count(data.tet_count() ? model_bytes / data.tet_count() : 0) + " bytes/tet, " +
+                     format_bytes(model_bytes) + " (build " + format_seconds(build_seconds) + ")");
+    row("valid", "yes");
+  } else {
+    row("valid", "no (see the error)");
+  }
+
+  if (!args.json_path.empty()) {
+    Json j;
+    j["file"] = args.input;
+    j["vertices"] = data.vertex_count();
+    j["tets"] = data.tet_count();
+    j["materials"] = counts_json(materials);
+    j["triangles"] = data.triangles.size();
+    j["triangles_by_ref"] = counts_json(triangles);
+    j["edges"] = data.segments.size();
+    j["edges_by_ref"] = counts_json(segments);
+    j["ridges"] = data.ridges.size();
+    j["corners"] = data.corners.size();
+    j["required_vertices"] = data.required_vertices.size();
+    j["pinned_vertices"] = pinned.size();
+    j["fields"] = Json::array();
+    for (const VertexField& f : data.fields) j["fields"].push_back({{"name", f.name}, {"components", f.components}});
+    if (!data.positions.empty()) {
+      j["bounding_box"] = {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}};
+    } else {
+      j["bounding_box"] = nullptr;
+    }
+    j["euler_characteristic"] = topology.mesh.euler_characteristic;
+    j["boundary_euler_characteristic"] = topology.boundary.euler_characteristic;
+    j["connected_components"] = topology.mesh.betti[0];
+    j["valid"] = build_error.empty();
+    if (build_error.empty()) {
+      j["model_bytes"] = model_bytes;
+      j["bytes_per_tet"] = data.tet_count() ? static_cast<double>(model_bytes) / data.tet_count() : 0.0;
+    } else {
+      j["error"] = build_error;
+    }
+    j["read_seconds"] = read_seconds;
+    j["build_seconds"] = build_seconds;
+    j["topology_seconds"] = topology_seconds;
+    write_json_atomically(args.json_path, j);
+  }
+  if (!build_error.empty()) throw InputError(build_error);
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& app, CommandRunner& run) {
+  auto args = std::make_shared<InfoArgs>();
+  CLI::App* cmd = app.add_subcommand("info", "Counts, substructures, fields, bounding box, Euler characteristic, "
+                                             "memory per tet; validates by building the model (exit 2 if invalid).");
+  cmd->add_option("FILE", args->input, "Mesh file (.mesh, .msh, optionally .gz)")->required();
+  cmd->add_option("--json", args->json_path, "Also write the numbers as JSON to this file");
+  cmd->callback([args, &run] { run = [args] { return run_info(*args); }; });
+}
+
+}  // namespace topotet::cli

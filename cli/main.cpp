@@ -1,0 +1,67 @@
+// topotet: command-line front end of the library (see README.md, "The command-line tool").
+//
+// main() parses with CLI11, runs the selected command and turns every error into one line on
+// stderr and exit code 2: bad usage (CLI11 parse errors), bad input (topotet::InputError) and any
+// other std::exception. A failed check (topology, inverted tets) is exit code 1.
+#include <cstdio>
+#include <exception>
+#include <new>
+#include <string>
+
+#include "common.h"
+#include "topotet/error.h"
+
+namespace {
+
+// One line, whatever the message holds.
+void print_error(const std::string& message) {
+  std::string line = message;
+  for (char& c : line)
+    if (c == '\n' || c == '\r') c = ' ';
+  std::fprintf(stderr, "topotet: error: %s\n", line.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace topotet::cli;
+  CLI::App app{"topotet: simplify tetrahedral meshes by edge collapses, keeping the topology of the mesh and of "
+               "every embedded surface, interface, polyline and pinned vertex."};
+  app.name("topotet");
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "topotet 0.1.0");
+
+  CommandRunner run;
+  add_info_command(app, run);
+  add_generate_command(app, run);
+  add_convert_command(app, run);
+  add_simplify_command(app, run);
+  add_check_command(app, run);
+  add_demo_command(app, run);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    print_error(std::string(e.what()) + " (run 'topotet --help')");
+    return kExitBadInput;
+  }
+
+  try {
+    return run ? run() : kExitBadInput;
+  } catch (const topotet::InputError& e) {
+    print_error(e.what());
+  } catch (const std::bad_alloc&) {
+    print_error("out of memory");
+  } catch (const std::exception& e) {
+    print_error(e.what());
+  } catch (...) {
+    print_error("unknown error");
+  }
+  return kExitBadInput;
+}

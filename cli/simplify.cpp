@@ -1,0 +1,454 @@
+// topotet simplify IN -o OUT [...]: the simplification pipeline and its report.
+//
+//   read -> build (validates) -> for each level: simplify, to_mesh_data, write
+//        -> measure each output: quality, field error, topology against the input's
+//        -> print the report (one block, or one table row per level) and the JSON report.
+// The outputs are measured after the last level so that the peak memory reported is the one of
+// reading, building and simplifying, not of the checker.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <numbers>
+#include <optional>
+
+#include "common.h"
+#include "parallel/for_range.h"
+#include "topotet/error.h"
+#include "topotet/io.h"
+#include "topotet/metrics/field_error.h"
+#include "topotet/metrics/quality.h"
+#include "topotet/metrics/topology.h"
+
+namespace topotet::cli {
+namespace {
+
+// Inputs above this use the checker's fast mode (Euler characteristics and components only).
+constexpr std::size_t kFastCheckTets = 2'000'000;
+
+// Indexed like CollapseReason in engine/collapse.h (ok, link_K, link_Ktilde, pinned, inversion,
+// quality, tolerance); the JSON keys are the snake_case forms.
+constexpr const char* kReasonNames[7] = {"ok", "link_K", "link_Ktilde", "pinned", "inversion", "quality", "tolerance"};
+constexpr const char* kReasonKeys[7] = {"ok", "link_k", "link_ktilde", "pinned", "inversion", "quality", "tolerance"};
+constexpr const char* kPhaseKeys[4] = {"evaluate", "select", "apply", "compact"};
+
+constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
+
+struct LevelResult {
+  double target_ratio = 0.0;  // 0 = the options' own target (no --levels)
+  Report report;
+  std::string output_path;  // empty when nothing was written
+  double write_seconds = 0.0;
+  double cumulative_seconds = 0.0;  // simplify time of this level and the ones before
+  MeshData output;
+  QualityStats quality;
+  std::optional<FieldError> field_error;
+  bool verified = false;
+  bool topology_ok = true;
+  std::string differences;
+  metrics::TopologyReport topology;
+};
+
+std::size_t complex_count(const metrics::TopologyReport& r) {
+  return 6 + r.materials.size() + r.surfaces.size() + r.interfaces.size() + r.polylines.size();
+}
+
+double per(double a, double b) { return b > 0 ? a / b : 0.0; }
+
+Json sample_json(const SampleStats& s) {
+  return {{"count", s.count}, {"min", s.min}, {"max", s.max}, {"mean", s.mean}, {"std_dev", s.std_dev}};
+}
+
+Json quality_json(const QualityStats& q) {
+  return {{"tets", q.tet_count},
+          {"dihedral_deg", sample_json(q.dihedral_deg)},
+          {"solid_sr", sample_json(q.solid_sr)},
+          {"face_deg", sample_json(q.face_deg)},
+          {"mean_ratio", sample_json(q.mean_ratio)},
+          {"std_dev_dihedral_rad", q.dihedral_deg.std_dev * kRadiansPerDegree},
+          {"std_dev_solid_sr", q.solid_sr.std_dev},
+          {"std_dev_face_rad", q.face_deg.std_dev * kRadiansPerDegree},
+          {"min_mean_ratio", q.mean_ratio.min},
+          {"inverted_tets", q.inverted},
+          {"zero_volume_tets", q.zero_volume}};
+}
+
+Json direction_json(const DirectionalError& d) {
+  return {{"samples", d.samples}, {"rms", d.rms}, {"max_abs", d.max_abs}, {"rms_rel", d.rms_rel}, {"max_rel", d.max_rel}};
+}
+
+Json field_error_json(const FieldError& f) {
+  Json components = Json::array();
+  for (const ComponentError& c : f.components)
+    components.push_back({{"field", c.field},
+                          {"component", c.component},
+                          {"range", c.range},
+                          {"rms", c.rms_both},
+                          {"rms_rel", c.rms_both_rel},
+                          {"original_to_simplified", direction_json(c.original_to_simplified)},
+                          {"simplified_to_original", direction_json(c.simplified_to_original)}});
+  return {{"rms_rel", f.worst_rms_rel},
+          {"max_rel", f.worst_max_rel},
+          {"components", components},
+          {"unmatched_fields", f.unmatched_fields}};
+}
+
+Json parse_topology(const metrics::TopologyReport& r) { return Json::parse(metrics::topology_to_json(r)); }
+
+std::vector<std::string> split_lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::size_t begin = 0;
+  while (begin < text.size()) {
+    std::size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    if (end > begin) lines.push_back(text.substr(begin, end - begin));
+    begin = end + 1;
+  }
+  return lines;
+}
+
+Json level_json(const LevelResult& l) {
+  const Report& r = l.report;
+  Json rejected = Json::object();
+  for (int i = 1; i < 7; ++i) rejected[kReasonKeys[i]] = r.rejected[static_cast<std::size_t>(i)];
+  Json phases = Json::object();
+  for (int i = 0; i < 4; ++i) phases[kPhaseKeys[i]] = r.phase_seconds[static_cast<std::size_t>(i)];
+  Json j;
+  j["target_vertex_ratio"] = l.target_ratio > 0 ? Json(l.target_ratio) : Json(nullptr);
+  j["output_file"] = l.output_path.empty() ? Json(nullptr) : Json(l.output_path);
+  j["status"] = to_string(r.status);
+  j["message"] = r.message;
+  j["vertices_before"] = r.vertices_before;
+  j["vertices_after"] = r.vertices_after;
+  j["tets_before"] = r.tets_before;
+  j["tets_after"] = r.tets_after;
+  j["simplify_seconds"] = r.seconds;
+  j["cumulative_seconds"] = l.cumulative_seconds;
+  j["write_seconds"] = l.write_seconds;
+  j["collapses"] = r.collapses;
+  j["collapses_per_second"] = per(static_cast<double>(r.collapses), r.seconds);
+  j["evaluations"] = r.evaluations;
+  j["evaluations_per_collapse"] = per(static_cast<double>(r.evaluations), static_cast<double>(r.collapses));
+  j["legality_checks"] = r.legality_checks;
+  j["rejected"] = rejected;
+  j["rounds"] = r.rounds;
+  j["phase_seconds"] = phases;
+  j["max_cost"] = r.max_cost;
+  j["quality"] = quality_json(l.quality);
+  j["field_error"] = l.field_error ? field_error_json(*l.field_error) : Json(nullptr);
+  if (l.verified) {
+    j["topology"] = l.topology_ok ? "pass" : "fail";
+    j["topology_differences"] = split_lines(l.differences);
+    j["output_topology"] = parse_topology(l.topology);
+  } else {
+    j["topology"] = "skipped";
+  }
+  return j;
+}
+
+std::string rejected_text(const Report& r) {
+  std::string s;
+  for (int i = 1; i < 7; ++i) {
+    if (!s.empty()) s += ", ";
+    s += std::string(kReasonNames[i]) + " " + format_count(r.rejected[static_cast<std::size_t>(i)]);
+  }
+  return s;
+}
+
+std::string angles_text(const QualityStats& q) {
+  return format_number(q.dihedral_deg.std_dev * kRadiansPerDegree) + " / " + format_number(q.solid_sr.std_dev) +
+         " / " + format_number(q.face_deg.std_dev * kRadiansPerDegree);
+}
+
+std::string field_text(const FieldError& f) {
+  return "rms " + format_number(f.worst_rms_rel) + ", max " + format_number(f.worst_max_rel) +
+         " (relative to the field's range, worst of " + std::to_string(f.components.size()) + " component" +
+         (f.components.size() == 1 ? "" : "s") + ")";
+}
+
+void row(const char* key, const std::string& value) { std::printf("%-10s%s\n", key, value.c_str()); }
+
+}  // namespace
+
+int run_simplify_job(SimplifyJob& job) {
+  if (!job.output_path.empty()) {
+    format_from_path(job.output_path);  // unknown extensions fail before the work
+    if (job.output_path.size() >= 3 && job.output_path.compare(job.output_path.size() - 3, 3, ".gz") == 0)
+      throw_input_error(job.output_path, "writing compressed (.gz) files is not supported");
+  }
+  check_output_folder(job.output_path);
+  check_output_folder(job.report_path);
+  const int threads = job.options.num_threads > 0 ? job.options.num_threads : hardware_threads();
+  const bool is_parallel = job.options.engine == Engine::kParallel;
+
+  // Everything runs in an arena of `threads` threads, so --threads also bounds building and
+  // checking, not only the simplifier.
+  return parallel::run_with_threads(job.options.num_threads, [&]() -> int {
+    double build_seconds = 0.0;
+    TetMesh mesh = build_input(job.input_label, job.input, &build_seconds);
+    const std::size_t model_bytes = mesh.memory_bytes();
+    const std::uint64_t vertices_in = job.input.vertex_count(), tets_in = job.input.tet_count();
+
+    // ---- simplify, level by level ----
+    std::vector<double> levels = job.levels;
+    if (levels.empty()) levels.push_back(0.0);
+    std::vector<LevelResult> results;
+    double cumulative = 0.0;
+    for (double level : levels) {
+      LevelResult& result = results.emplace_back();
+      result.target_ratio = level > 0 ? level : (job.options.target_vertices ? 0.0 : job.options.target_vertex_ratio);
+      SimplifyOptions options = job.options;
+      if (level > 0) {
+        options.target_vertices = std::max<std::uint64_t>(
+            1, static_cast<std::uint64_t>(std::llround(level * static_cast<double>(vertices_in))));
+      }
+      ProgressBar bar(level > 0 ? "level " + format_ratio(level) : "simplify", !job.quiet);
+      options.on_progress = [&bar](double done) {
+        bar.update(done);
+        return true;
+      };
+      result.report = simplify(mesh, options);
+      bar.finish();
+      if (result.report.status == Status::kInvalidInput) throw_input_error(job.input_label, result.report.message);
+      if (result.report.status == Status::kOutOfMemory)
+        throw_input_error(job.input_label, "out of memory while simplifying");
+      cumulative += result.report.seconds;
+      result.cumulative_seconds = cumulative;
+      result.output = mesh.to_mesh_data();
+      if (!job.output_path.empty()) {
+        result.output_path = level > 0 ? level_path(job.output_path, level) : job.output_path;
+        const Stopwatch write_clock;
+        WriteOptions write_options;
+        write_options.binary = job.binary;
+        write_mesh(result.output_path, result.output, write_options);
+        result.write_seconds = write_clock.seconds();
+      }
+    }
+    const std::uint64_t peak_bytes = peak_rss_bytes();
+    mesh = TetMesh{};  // the checker does not need the model
+
+    // ---- measure ----
+    const Stopwatch measure_clock;
+    const QualityStats input_quality = compute_quality(job.input);
+    const bool has_fields = !job.input.fields.empty();
+    for (LevelResult& l : results) {
+      l.quality = compute_quality(l.output);
+      if (has_fields) l.field_error = compare_fields(job.input, l.output);
+    }
+    const double measure_seconds = measure_clock.seconds();
+
+    const Stopwatch verify_clock;
+    const bool fast = tets_in > kFastCheckTets;
+    metrics::TopologyReport input_topology;
+    bool all_ok = true;
+    if (job.verify) {
+      metrics::TopologyOptions topology_options;
+      topology_options.fast = fast;
+      input_topology = metrics::compute_topology(job.input, topology_options);
+      for (LevelResult& l : results) {
+        l.topology = metrics::compute_topology(l.output, topology_options);
+        l.topology_ok = metrics::same_topology(input_topology, l.topology, &l.differences);
+        l.verified = true;
+      }
+    }
+    for (LevelResult& l : results) {
+      if (l.quality.inverted != 0) {
+        l.topology_ok = false;
+        l.differences += "inverted tets (quality check): " + std::to_string(l.quality.inverted) + "\n";
+      }
+      all_ok = all_ok && l.topology_ok;
+    }
+    const double verify_seconds = verify_clock.seconds();
+
+    // ---- print ----
+    const LevelResult& last = results.back();
+    const Report& r = last.report;
+    if (!job.quiet) {
+      row("input", job.input_label + ": " + format_count(vertices_in) + " vertices, " + format_count(tets_in) +
+                       " tets (" + job.read_verb + " " + format_seconds(job.read_seconds) + ", build " + format_seconds(build_seconds) +
+                       ")");
+      const std::string engine_text = is_parallel ? "parallel, " + std::to_string(threads) + " thread" +
+                                                        (threads == 1 ? "" : "s")
+                                                  : std::string("sequential");
+      if (job.levels.empty()) {
+        char pct[32];
+        std::snprintf(pct, sizeof pct, "%.1f%%", 100.0 * per(static_cast<double>(r.vertices_after), vertices_in));
+        row("output", (last.output_path.empty() ? std::string("(not written)") : last.output_path) + ": " +
+                          format_count(r.vertices_after) + " vertices (" + pct + "), " + format_count(r.tets_after) +
+                          " tets" + (last.output_path.empty() ? "" : " (write " + format_seconds(last.write_seconds) + ")"));
+        row("time", format_seconds(r.seconds) + " " + engine_text + ", " +
+                        format_count(static_cast<std::uint64_t>(per(static_cast<double>(r.collapses), r.seconds))) +
+                        " collapses/s" + (is_parallel ? ", " + format_count(r.rounds) + " rounds" : ""));
+        row("work", format_count(r.collapses) + " collapses, " +
+                        format_number(per(static_cast<double>(r.evaluations), static_cast<double>(r.collapses))) +
+                        " evaluations/collapse, " + format_count(r.legality_checks) + " legality checks");
+        row("rejected", rejected_text(r));
+        if (r.status != Status::kOk) row("status", std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message));
+      } else {
+        row("engine", engine_text);
+        std::printf("\n%6s %10s %9s %8s %9s %7s %7s  %s\n", "%", "#vert", "rms", "time", "dihedral", "solid", "face",
+                    "topology");
+        std::printf("%6s %10s %9s %8s %9s %7s %7s\n", "100", format_count(vertices_in).c_str(), "0", "0",
+                    format_number(input_quality.dihedral_deg.std_dev * kRadiansPerDegree).c_str(),
+                    format_number(input_quality.solid_sr.std_dev).c_str(),
+                    format_number(input_quality.face_deg.std_dev * kRadiansPerDegree).c_str());
+        for (const LevelResult& l : results) {
+          char pct[32];
+          std::snprintf(pct, sizeof pct, "%.1f", 100.0 * per(static_cast<double>(l.report.vertices_after), vertices_in));
+          std::printf("%6s %10s %9s %8s %9s %7s %7s  %s\n", pct, format_count(l.report.vertices_after).c_str(),
+                      l.field_error ? format_number(l.field_error->worst_rms_rel).c_str() : "-",
+                      format_number(l.cumulative_seconds).c_str(),
+                      format_number(l.quality.dihedral_deg.std_dev * kRadiansPerDegree).c_str(),
+                      format_number(l.quality.solid_sr.std_dev).c_str(),
+                      format_number(l.quality.face_deg.std_dev * kRadiansPerDegree).c_str(),
+                      !l.verified ? (l.topology_ok ? "-" : "FAIL") : (l.topology_ok ? "PASS" : "FAIL"));
+        }
+        std::printf("(rms relative to the field's range; time = cumulative simplify seconds; std dev of dihedral and "
+                    "face angles in rad, solid angles in sr)\n\n");
+        std::string written;
+        for (const LevelResult& l : results)
+          if (!l.output_path.empty()) written += (written.empty() ? "" : ", ") + l.output_path;
+        if (!written.empty()) row("wrote", written);
+        for (const LevelResult& l : results)
+          if (l.report.status != Status::kOk)
+            row("status", "level " + format_ratio(l.target_ratio) + ": " + to_string(l.report.status) +
+                              (l.report.message.empty() ? "" : ": " + l.report.message));
+      }
+      row("memory", "peak " + format_bytes(peak_bytes) + " (" +
+                        format_count(tets_in ? peak_bytes / tets_in : 0) + " bytes/input tet); model " +
+                        format_count(tets_in ? model_bytes / tets_in : 0) + " bytes/tet");
+      if (job.levels.empty()) {
+        row("quality", "std dev dihedral/solid/face " + angles_text(input_quality) + " -> " +
+                           angles_text(last.quality) + " (rad/sr/rad)");
+        row("", "min mean ratio " + format_number(input_quality.mean_ratio.min) + " -> " +
+                    format_number(last.quality.mean_ratio.min) + ", inverted tets " +
+                    std::to_string(last.quality.inverted) + " (" + format_seconds(measure_seconds) + ")");
+        if (last.field_error) row("fields", field_text(*last.field_error));
+      }
+      if (!job.verify) {
+        row("topology", std::string("not checked (--no-verify)") + (all_ok ? "" : "; FAIL: inverted tets"));
+      } else {
+        const std::string how = fast ? "fast mode for inputs > 2M tets: Euler characteristics and components only"
+                                     : std::to_string(complex_count(input_topology)) + " complexes, Betti numbers over Z2";
+        row("topology", std::string(all_ok ? "PASS" : "FAIL") + (job.levels.empty() ? "" : " at every level") + " (" +
+                            how + ", " + format_seconds(verify_seconds) + ")");
+      }
+    }
+    if (!all_ok) {
+      std::FILE* out = job.quiet ? stderr : stdout;
+      if (job.quiet) std::fprintf(out, "topology: FAIL\n");
+      for (const LevelResult& l : results)
+        for (const std::string& line : split_lines(l.differences))
+          std::fprintf(out, "  %s%s\n", job.levels.empty() ? "" : ("level " + format_ratio(l.target_ratio) + ": ").c_str(),
+                       line.c_str());
+    }
+
+    // ---- JSON report ----
+    if (!job.report_path.empty()) {
+      Json j;
+      j["topotet_version"] = "0.1.0";
+      j["input"] = {{"file", job.input_label},
+                    {"vertices", vertices_in},
+                    {"tets", tets_in},
+                    {job.read_verb + "_seconds", job.read_seconds},
+                    {"build_seconds", build_seconds},
+                    {"model_bytes", model_bytes},
+                    {"model_bytes_per_tet", per(static_cast<double>(model_bytes), static_cast<double>(tets_in))},
+                    {"quality", quality_json(input_quality)}};
+      j["options"] = {{"engine", is_parallel ? "parallel" : "sequential"},
+                      {"threads", threads},
+                      {"target_vertex_ratio", job.levels.empty() ? Json(job.options.target_vertex_ratio) : Json(nullptr)},
+                      {"target_vertices", job.levels.empty() ? Json(job.options.target_vertices) : Json(nullptr)},
+                      {"levels", job.levels},
+                      {"max_cost", job.options.max_cost},
+                      {"min_quality", job.options.min_quality},
+                      {"verify", job.verify}};
+      j["peak_rss_bytes"] = peak_bytes;
+      j["peak_rss_bytes_per_input_tet"] = per(static_cast<double>(peak_bytes), static_cast<double>(tets_in));
+      j["measure_seconds"] = measure_seconds;
+      j["verify_seconds"] = verify_seconds;
+      j["topology_mode"] = !job.verify ? "skipped" : (fast ? "fast" : "full");
+      j["topology"] = !job.verify ? (all_ok ? "skipped" : "fail") : (all_ok ? "pass" : "fail");
+      j["input_topology"] = job.verify ? parse_topology(input_topology) : Json(nullptr);
+      j["levels"] = Json::array();
+      for (const LevelResult& l : results) j["levels"].push_back(level_json(l));
+      write_json_atomically(job.report_path, j);
+    }
+    return all_ok ? kExitOk : kExitCheckFailed;
+  });
+}
+
+namespace {
+
+struct SimplifyArgs {
+  std::string input;
+  std::string output;
+  double ratio = 0.25;
+  std::uint64_t target_vertices = 0;
+  double max_cost = 0.0;
+  double min_quality = SimplifyOptions{}.min_quality;
+  bool sequential = false;
+  int threads = 0;
+  std::string report;
+  bool no_verify = false;
+  std::vector<double> levels;
+  bool quiet = false;
+  bool binary = false;
+};
+
+int run_simplify(const SimplifyArgs& args) {
+  SimplifyJob job;
+  job.levels = normalize_levels(args.levels);
+  job.input_label = args.input;
+  job.input = read_input(args.input, &job.read_seconds);
+  job.options.target_vertex_ratio = args.ratio;
+  job.options.target_vertices = args.target_vertices;
+  job.options.max_cost = args.max_cost;
+  job.options.min_quality = args.min_quality;
+  job.options.engine = args.sequential ? Engine::kSequential : Engine::kParallel;
+  job.options.num_threads = args.threads;
+  job.output_path = args.output;
+  job.binary = args.binary;
+  job.report_path = args.report;
+  job.verify = !args.no_verify;
+  job.quiet = args.quiet;
+  return run_simplify_job(job);
+}
+
+}  // namespace
+
+void add_simplify_command(CLI::App& app, CommandRunner& run) {
+  auto args = std::make_shared<SimplifyArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "simplify", "Simplify by topology-preserving edge collapses, write OUT, report speed, quality and the topology "
+                  "verdict (exit 1 if the topology changed).");
+  cmd->add_option("IN", args->input, "Input mesh (.mesh, .msh, optionally .gz)")->required();
+  cmd->add_option("-o,--output", args->output, "Output mesh (.mesh, .msh or .vtu)")->required();
+  auto* ratio = cmd->add_option("--ratio", args->ratio, "Keep this fraction of the vertices, in (0, 1]")
+                    ->check(CLI::Range(0.0, 1.0))
+                    ->capture_default_str();
+  auto* target = cmd->add_option("--target-vertices", args->target_vertices, "Stop at this many vertices");
+  cmd->add_option("--max-cost", args->max_cost,
+                  "Stop when the cheapest collapse costs more (quadric error / bbox diagonal^2; 0 = no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--min-quality", args->min_quality, "Reject collapses creating tets below this mean ratio")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_flag("--sequential", args->sequential, "Use the sequential reference engine (lazy priority queue)");
+  cmd->add_option("--threads", args->threads, "Threads (0 = all cores; the output is the same for every value)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--report", args->report, "Write the report as JSON to this file");
+  cmd->add_flag("--no-verify", args->no_verify, "Skip the topology checker (for huge meshes)");
+  auto* levels = cmd->add_option("--levels", args->levels,
+                                 "Simplify successively to each vertex ratio, writing OUT with the ratio before the "
+                                 "extension (out_0.3.mesh), one table row per level")
+                     ->delimiter(',');
+  levels->excludes(ratio)->excludes(target);
+  ratio->excludes(target);
+  cmd->add_flag("--quiet", args->quiet, "No report and no progress bar (errors and a topology FAIL still print)");
+  cmd->add_flag("--binary", args->binary, "Binary Gmsh 4.1 / raw appended VTU data");
+  cmd->callback([args, &run] { run = [args] { return run_simplify(*args); }; });
+}
+
+}  // namespace topotet::cli

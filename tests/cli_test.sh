@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# Smoke test of the topotet command-line tool: every command on a small generated mesh, the JSON
+# reports, the exit codes (0 ok, 1 failed check, 2 bad usage/input with one error line), and no
+# temporary file left behind.
+#   usage: bash tests/cli_test.sh path/to/topotet
+set -euo pipefail
+
+topotet=$(realpath "${1:?usage: cli_test.sh path/to/topotet}")
+work=$(mktemp -d "${TMPDIR:-/tmp}/topotet_cli_test.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+
+passed=0
+failed=0
+pass() { passed=$((passed + 1)); echo "ok      $1"; }
+fail() { failed=$((failed + 1)); echo "FAILED  $1"; }
+
+# expect CODE NAME -- COMMAND...: runs COMMAND (stdout+stderr to NAME.out/.err), checks the code.
+expect() {
+  local want=$1 name=$2
+  shift 3
+  local got=0
+  "$@" >"$name.out" 2>"$name.err" || got=$?
+  if [[ $got == "$want" ]]; then
+    pass "$name (exit $got)"
+  else
+    fail "$name: exit $got, expected $want"
+    sed 's/^/        /' "$name.out" "$name.err" | tail -n 20
+  fi
+}
+
+# expect_error NAME -- COMMAND...: exit 2 and exactly one line on stderr, 'topotet: error: ...'.
+expect_error() {
+  local name=$1
+  shift
+  expect 2 "$name" "$@"
+  if [[ $(wc -l <"$name.err") == 1 ]] && grep -q '^topotet: error: ' "$name.err"; then
+    pass "$name: one error line"
+  else
+    fail "$name: stderr is not one 'topotet: error:' line:"
+    sed 's/^/        /' "$name.err" | head -n 10
+  fi
+}
+
+json_ok() {  # json_ok FILE KEY: FILE parses as JSON and has top-level KEY
+  if command -v python3 >/dev/null 2>&1; then
+    python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); sys.exit(0 if sys.argv[2] in d else 1)' "$1" "$2"
+  else
+    grep -q "\"$2\"" "$1"
+  fi
+}
+
+check_json() {  # check_json FILE KEY
+  if [[ -f $1 ]] && json_ok "$1" "$2"; then pass "$1 is JSON with '$2'"; else fail "$1 is not JSON with '$2'"; fi
+}
+
+# --- help and usage ---
+expect 0 help -- "$topotet" --help
+for cmd in info generate convert simplify check demo; do
+  expect 0 "help_$cmd" -- "$topotet" "$cmd" --help
+done
+
+# --- generate, info ---
+expect 0 generate -- "$topotet" generate cube-sphere --tets 20000 --seed 3 -o in.mesh
+expect 0 info -- "$topotet" info in.mesh --json info.json
+check_json info.json euler_characteristic
+if grep -q '^valid *yes' info.out; then pass "info says valid"; else fail "info does not say valid"; fi
+
+# --- convert: .mesh -> .msh -> .vtu, and .msh -> .mesh (.vtu is write-only) ---
+expect 0 convert_msh -- "$topotet" convert in.mesh in.msh
+expect 0 convert_msh_binary -- "$topotet" convert in.mesh in_binary.msh --binary --validate
+expect 0 convert_vtu -- "$topotet" convert in.msh in.vtu
+expect 0 convert_back -- "$topotet" convert in_binary.msh back.mesh --validate
+expect 0 check_roundtrip -- "$topotet" check in.mesh back.mesh
+[[ -s in.vtu ]] && pass "in.vtu written" || fail "in.vtu missing"
+
+# --- simplify: parallel (1 and 2 threads) and sequential, with JSON reports ---
+expect 0 simplify_parallel -- "$topotet" simplify in.mesh -o out.mesh --ratio 0.3 --threads 2 --report report.json
+check_json report.json levels
+if grep -q '^topology *PASS' simplify_parallel.out; then pass "simplify says PASS"; else fail "simplify does not say PASS"; fi
+expect 0 simplify_one_thread -- "$topotet" simplify in.mesh -o out1.mesh --ratio 0.3 --threads 1 --quiet
+if cmp -s out.mesh out1.mesh; then pass "same output for 1 and 2 threads"; else fail "output differs between 1 and 2 threads"; fi
+expect 0 simplify_sequential -- "$topotet" simplify in.mesh -o seq.msh --ratio 0.3 --sequential --report seq.json
+check_json seq.json levels
+expect 0 check_parallel -- "$topotet" check in.mesh out.mesh --json check.json
+check_json check.json topology
+expect 0 check_sequential -- "$topotet" check in.mesh seq.msh
+expect 0 simplify_levels -- "$topotet" simplify in.mesh -o lv.mesh --levels 0.5,0.2 --no-verify
+[[ -s lv_0.5.mesh && -s lv_0.2.mesh ]] && pass "level files written" || fail "level files missing"
+
+# --- bad input and usage: exit 2, one line ---
+head -c 4000 in.mesh >truncated.mesh
+expect_error truncated_info -- "$topotet" info truncated.mesh
+expect_error truncated_simplify -- "$topotet" simplify truncated.mesh -o never.mesh
+expect_error missing_file -- "$topotet" simplify no_such_file.mesh -o never.mesh
+expect_error bad_option -- "$topotet" simplify in.mesh -o never.mesh --no-such-option
+expect_error bad_ratio -- "$topotet" simplify in.mesh -o never.mesh --ratio 7
+expect_error bad_extension -- "$topotet" convert in.mesh never.xyz
+expect_error bad_family -- "$topotet" generate no-such-family --tets 20000 -o never.mesh
+expect_error no_command -- "$topotet"
+[[ ! -e never.mesh ]] && pass "nothing written on error" || fail "never.mesh was written"
+
+# --- a failed check: two different meshes ---
+expect 0 generate_slab -- "$topotet" generate slab --tets 3000 -o slab.mesh
+expect 1 check_fails -- "$topotet" check in.mesh slab.mesh
+
+# --- no temporary file left behind ---
+leftovers=$(find . -name '*.tmp*' | sort)
+if [[ -z $leftovers ]]; then pass "no temporary files"; else fail "temporary files left: $leftovers"; fi
+
+echo "$passed passed, $failed failed"
+[[ $failed == 0 ]]
