@@ -145,6 +145,9 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
   auto reject = [&](CollapseReason r) {
     if (rejected != nullptr) ++(*rejected)[static_cast<int>(r)];
   };
+  // Order hints are meant for this edge only: take them now so that none outlives this call.
+  const std::array<VertId, 2> hints = s.link.known_interior;
+  s.link.known_interior = {kInvalid, kInvalid};
   VertId gathered_u = kInvalid, gathered_v = kInvalid;
   bool link_done = false;
   double old_quality = -1.0;  // of this edge's stencil, computed once when first needed
@@ -170,6 +173,7 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
       continue;
     }
     if (check_topology && !link_done) {
+      s.link.known_interior = hints;  // consumed (reset) by check_link_conditions
       const LinkResult link = check_link_conditions(mesh, pl.u, pl.v, s.star_uv, s.link);
       if (link != LinkResult::kOk) {
         reject(link == LinkResult::kLinkK ? CollapseReason::kLinkK : CollapseReason::kLinkKtilde);

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <random>
+#include <ostream>
 #include <string>
 
 #include "collapse.h"
@@ -30,6 +31,9 @@ const RealMesh kMeshes[] = {
     {"palace/circular_hole.msh", 10},      // embedded sheet with a hole: free rim curves
     {"mmg/tinyBoxt.mesh", 10},             // ridges, corners, required vertices
 };
+
+// Names the parameter in test listings (instead of its bytes).
+void PrintTo(const RealMesh& mesh, std::ostream* os) { *os << mesh.path; }
 
 std::string shared(const char* rel) { return std::string(TOPOTET_SHARED_DATA_DIR) + "/" + rel; }
 
