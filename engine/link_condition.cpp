@@ -164,13 +164,7 @@ void interior_neighbours(const TetMesh& mesh, VertId a, VertexData& d, LinkScrat
   d.non_manifold = false;
   d.orders = {0, 0};
   auto& nbv = scratch.tmp_vertices;
-  nbv.clear();
-  mesh.for_each_tet_of(a, [&](TetId t) {
-    for (VertId x : mesh.tets[t])
-      if (x != a) nbv.push_back(x);
-  });
-  std::sort(nbv.begin(), nbv.end());
-  nbv.erase(std::unique(nbv.begin(), nbv.end()), nbv.end());
+  mesh.neighbours(a, nbv);
   for (VertId x : nbv) d.neighbours.push_back(Neighbour{x, {0, 0}, {0, 0}, false, false, 0, {}});
 }
 

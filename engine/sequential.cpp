@@ -35,16 +35,6 @@ struct Entry {
   }
 };
 
-void neighbours_of(const TetMesh& mesh, VertId a, std::vector<VertId>& out) {
-  out.clear();
-  mesh.for_each_tet_of(a, [&](TetId t) {
-    for (VertId x : mesh.tets[t])
-      if (x != a) out.push_back(x);
-  });
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-}
-
 }  // namespace
 
 void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, std::uint64_t target, Report& report) {
@@ -81,7 +71,7 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, std::uin
   };
   for (VertId a = 0; a < mesh.positions.size(); ++a) {
     if (mesh.is_dead_vertex(a)) continue;
-    neighbours_of(mesh, a, nbrs);
+    mesh.neighbours(a, nbrs);
     for (VertId b : nbrs)
       if (b > a) push(a, b);
   }
@@ -127,7 +117,7 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, std::uin
       ++report.collapses;
       --live;
       stamp[c.u] = ++clock;
-      neighbours_of(mesh, c.u, nbrs);
+      mesh.neighbours(c.u, nbrs);
       for (VertId x : nbrs) push(c.u, x);
       // Edges rejected earlier near this collapse may have become legal: offer them again.
       for (VertId x : stencil) {
@@ -136,7 +126,7 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, std::uin
           parked_overflow[x] = 0;
           parked[x].fill(kInvalid);
           stamp[x] = clock;  // supersedes x's live entries: no duplicates
-          neighbours_of(mesh, x, nbrs);
+          mesh.neighbours(x, nbrs);
           for (VertId y : nbrs) push(x, y);
           continue;
         }

@@ -25,6 +25,16 @@ int TetMesh::field_stride() const {
   return s;
 }
 
+void TetMesh::neighbours(VertId v, std::vector<VertId>& out) const {
+  out.clear();
+  for_each_tet_of(v, [&](TetId t) {
+    for (VertId x : tets[t])
+      if (x != v) out.push_back(x);
+  });
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
 std::size_t TetMesh::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   return bytes(positions) + bytes(field_values) + bytes(vertex_refs) + bytes(vertex_states) + bytes(tets) +

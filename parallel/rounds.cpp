@@ -74,14 +74,10 @@ struct ThreadScratch {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// The neighbours b > a: the edges a owns.
 void neighbours_above(const TetMesh& mesh, VertId a, std::vector<VertId>& out) {
-  out.clear();
-  mesh.for_each_tet_of(a, [&](TetId t) {
-    for (VertId x : mesh.tets[t])
-      if (x > a) out.push_back(x);
-  });
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
+  mesh.neighbours(a, out);
+  out.erase(out.begin(), std::upper_bound(out.begin(), out.end(), a));
 }
 
 void stencil_of(const TetMesh& mesh, VertId a, VertId b, std::vector<VertId>& out) {

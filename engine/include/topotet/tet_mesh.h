@@ -132,6 +132,9 @@ class TetMesh {
     }
   }
 
+  // The vertices sharing a live tet with v (v excluded), sorted and unique; `out` is cleared first.
+  void neighbours(VertId v, std::vector<VertId>& out) const;
+
   // Bytes held by the model's arrays (capacity, not size: what the process really pays).
   std::size_t memory_bytes() const;
 
