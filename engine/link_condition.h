@@ -92,7 +92,6 @@ struct LinkScratch {
   std::array<VertId, 2> known_interior{kInvalid, kInvalid};
   char failed_test = 0;  // after a failed check: which of (A)-(I) failed ('A'..'I'), for reports
   int failed_filtration = 0;  // 0 = K, 1 = K~
-  std::vector<VertId> walk_nodes;
   std::vector<Label> labels_x1, labels_x2;
   std::vector<VertId> tmp_vertices;
   std::vector<VertId> common;  // common neighbours of a and b (other than a, b)

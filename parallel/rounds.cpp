@@ -222,9 +222,10 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
       report.message = "the cheapest remaining collapse costs more than max_cost";
       break;
     }
-    if (options.max_cost > 0.0)
+    if (options.max_cost > 0.0) {
       while (keep > 1 && ranked[keep - 1].cost > options.max_cost) --keep;
-    ranked.resize(keep);
+      ranked.resize(keep);
+    }
     round.candidates = keep;
     // Stencils, flattened: each candidate's sorted stencil goes into a fixed slot; the rare one
     // that does not fit is gathered again once the exact sizes are known.
@@ -307,11 +308,9 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
       });
       if (new_winners.load() == 0) break;
     }
-    std::vector<std::uint8_t> wins(keep, 0);
-    for (std::size_t i = 0; i < keep; ++i) wins[i] = state[i] == kWon;
     winners.clear();
     for (std::size_t i = 0; i < keep; ++i)
-      if (wins[i]) winners.push_back(static_cast<std::uint32_t>(i));
+      if (state[i] == kWon) winners.push_back(static_cast<std::uint32_t>(i));
     round.winners = winners.size();
     // Each collapse can take at most |St(u)| + |St(v)| new side-table slots.
     std::size_t star_tets = 0;
