@@ -31,12 +31,10 @@
 #include <limits>
 #include <vector>
 
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
-
 #include "collapse.h"
 #include "cost.h"
 #include "engines.h"
+#include "parallel/filter.h"
 #include "parallel/for_range.h"
 #include "parallel/scratch.h"
 
@@ -60,6 +58,11 @@ struct Ranked {
   }
 };
 
+struct StencilMarks {
+  std::vector<std::uint32_t> mark;  // per vertex: the generation that last listed it
+  std::uint32_t generation = 0;
+};
+
 struct ThreadScratch {
   CollapseScratch collapse;
   CollapseCandidate cands[4];
@@ -68,6 +71,7 @@ struct ThreadScratch {
   std::vector<CollapseCandidate> all;
   std::vector<double> fields;
   std::vector<VertId> stencil;
+  StencilMarks stencil_marks;
   std::array<std::uint64_t, kCollapseReasonCount> rejected{};
 };
 
@@ -80,14 +84,27 @@ void neighbours_above(const TetMesh& mesh, VertId a, std::vector<VertId>& out) {
   out.erase(out.begin(), std::upper_bound(out.begin(), out.end(), a));
 }
 
-void stencil_of(const TetMesh& mesh, VertId a, VertId b, std::vector<VertId>& out) {
+// The vertices of St(a) ∪ St(b), each once, in the (deterministic) order the incidence chains
+// list them. Duplicates are dropped with per-thread generation marks rather than a sort: this runs
+// for every candidate of every round and the sort was a quarter of the engine's time.
+void stencil_of(const TetMesh& mesh, VertId a, VertId b, std::vector<VertId>& out, StencilMarks& marks) {
+  if (marks.mark.size() < mesh.positions.size()) {
+    marks.mark.assign(mesh.positions.size(), 0);
+    marks.generation = 0;
+  }
+  if (++marks.generation == 0) {  // wrapped around: old marks could collide
+    std::fill(marks.mark.begin(), marks.mark.end(), 0);
+    marks.generation = 1;
+  }
   out.clear();
   for (VertId x : {a, b})
     mesh.for_each_tet_of(x, [&](TetId t) {
-      for (VertId y : mesh.tets[t]) out.push_back(y);
+      for (VertId y : mesh.tets[t])
+        if (marks.mark[y] != marks.generation) {
+          marks.mark[y] = marks.generation;
+          out.push_back(y);
+        }
     });
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
 // a's cheapest legal collapse over the edges it owns: edges in order of their cheapest placement,
@@ -138,13 +155,44 @@ Proposal propose_edge(const TetMesh& mesh, CostModel& cost, const CollapseOption
   return {s.cands[chosen].cost, b};
 }
 
+// Keeps (about) the cheapest `fraction` of the proposals, sorted by rank. The cut is a sampled
+// quantile: an evenly spaced sample of the list (which is in vertex order, so the sample does not
+// depend on the schedule) is sorted and its key at the wanted quantile becomes a threshold; the
+// list is then filtered and sorted in parallel. An exact nth_element would be a sequential O(n)
+// pass per round, the largest Amdahl term of the rounds. Adds the time of the sequential
+// part (the sample) to serial_seconds.
+void keep_cheapest(std::vector<Ranked>& ranked, double fraction, std::vector<Ranked>& sample, std::vector<Ranked>& kept,
+                   double& serial_seconds) {
+  const std::size_t n = ranked.size();
+  const std::size_t want = std::clamp<std::size_t>(
+      static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(n))), 1, n);
+  if (want < n) {
+    const auto t0 = Clock::now();
+    constexpr std::size_t kSampleSize = 4096;
+    const std::size_t stride = std::max<std::size_t>(1, n / kSampleSize);
+    sample.clear();
+    for (std::size_t i = 0; i < n; i += stride) sample.push_back(ranked[i]);
+    std::sort(sample.begin(), sample.end());
+    // q >= 1: the smallest sampled proposal always stays, so a round never comes out empty.
+    const std::size_t q = std::clamp<std::size_t>(
+        static_cast<std::size_t>(std::ceil(static_cast<double>(want) / static_cast<double>(n) *
+                                           static_cast<double>(sample.size()))),
+        1, sample.size() - 1);
+    const Ranked threshold = sample[q];
+    serial_seconds += since(t0);
+    parallel::filter_map(n, kept, [&](std::size_t i) { return ranked[i] < threshold; },
+                         [&](std::size_t i) { return ranked[i]; });
+    ranked.swap(kept);
+  }
+  parallel::sort(ranked.begin(), ranked.end());
+}
+
 }  // namespace
 
-void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint64_t target, Report& report) {
+void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
+                       std::uint64_t target, Report& report) {
   const std::size_t nv = mesh.positions.size();
   CostModel cost(mesh, options);
-  CollapseOptions kernel;
-  kernel.quality_floor = options.min_quality;
   parallel::PerThread<ThreadScratch> scratch([&] {
     ThreadScratch s;
     s.fields.resize(static_cast<std::size_t>(mesh.field_stride()));
@@ -161,7 +209,7 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
   std::unique_ptr<std::atomic<std::uint32_t>[]> owner(new std::atomic<std::uint32_t>[nv]);
   for (std::size_t v = 0; v < nv; ++v) owner[v].store(kFree, std::memory_order_relaxed);
   std::vector<VertId> dirty_list;
-  std::vector<Ranked> ranked;
+  std::vector<Ranked> ranked, sample, kept;
   std::vector<std::uint32_t> stencil_offsets;
   std::vector<VertId> stencils, slots;
   std::vector<std::uint32_t> winners;
@@ -173,9 +221,9 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
     RoundStats round;
     // --- 1. evaluate ---
     auto t0 = Clock::now();
-    dirty_list.clear();
-    for (VertId v = 0; v < nv; ++v)
-      if (dirty[v] && !mesh.is_dead_vertex(v)) dirty_list.push_back(v);
+    parallel::filter_map(
+        nv, dirty_list, [&](std::size_t v) { return dirty[v] && !mesh.is_dead_vertex(static_cast<VertId>(v)); },
+        [](std::size_t v) { return static_cast<VertId>(v); });
     std::atomic<std::uint64_t> evals{0}, checks{0};
     parallel::for_range<std::size_t>(0, dirty_list.size(), 64, "evaluate", [&](std::size_t b, std::size_t e) {
       ThreadScratch& s = scratch.local();
@@ -202,21 +250,18 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
 
     // --- 2. select ---
     t0 = Clock::now();
-    ranked.clear();
-    for (VertId a = 0; a < nv; ++a)
-      if (!mesh.is_dead_vertex(a) && std::isfinite(proposal[a].cost)) ranked.push_back({proposal[a].cost, a, proposal[a].b});
+    parallel::filter_map(
+        nv, ranked,
+        [&](std::size_t a) { return !mesh.is_dead_vertex(static_cast<VertId>(a)) && std::isfinite(proposal[a].cost); },
+        [&](std::size_t a) { return Ranked{proposal[a].cost, static_cast<VertId>(a), proposal[a].b}; });
     if (ranked.empty()) {
       report.status = Status::kStoppedEarly;
       report.message = "no legal collapse left";
       break;
     }
-    std::size_t keep = static_cast<std::size_t>(std::ceil(options.round_fraction * static_cast<double>(ranked.size())));
-    keep = std::min<std::size_t>({std::max<std::size_t>(keep, 1), ranked.size(), live - target});
-    // Only the kept prefix needs an order: partition around the keep-th, then sort the prefix.
-    // (Ranked is a strict total order, so the prefix set is unique and the result deterministic.)
-    if (keep < ranked.size()) std::nth_element(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(keep), ranked.end());
-    ranked.resize(keep);
-    tbb::parallel_sort(ranked.begin(), ranked.end());
+    keep_cheapest(ranked, options.round_fraction, sample, kept, round.serial_seconds);
+    if (ranked.size() > live - target) ranked.resize(live - target);  // sorted: the cheapest stay
+    std::size_t keep = ranked.size();
     if (options.max_cost > 0.0 && ranked.front().cost > options.max_cost) {
       report.status = Status::kStoppedEarly;
       report.message = "the cheapest remaining collapse costs more than max_cost";
@@ -235,21 +280,23 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
     parallel::for_range<std::size_t>(0, keep, 256, "gather_stencils", [&](std::size_t b, std::size_t e) {
       ThreadScratch& s = scratch.local();
       for (std::size_t i = b; i < e; ++i) {
-        stencil_of(mesh, ranked[i].a, ranked[i].b, s.stencil);
+        stencil_of(mesh, ranked[i].a, ranked[i].b, s.stencil, s.stencil_marks);
         stencil_offsets[i + 1] = static_cast<std::uint32_t>(s.stencil.size());
         if (s.stencil.size() <= kSlot) std::copy(s.stencil.begin(), s.stencil.end(), slots.begin() + i * kSlot);
       }
     });
+    auto serial_start = Clock::now();
     std::vector<std::uint32_t> sizes(stencil_offsets.begin() + 1, stencil_offsets.end());
     for (std::size_t i = 0; i < keep; ++i) stencil_offsets[i + 1] += stencil_offsets[i];
     stencils.resize(stencil_offsets[keep]);
+    round.serial_seconds += since(serial_start);
     parallel::for_range<std::size_t>(0, keep, 1024, "flatten_stencils", [&](std::size_t b, std::size_t e) {
       ThreadScratch& s = scratch.local();
       for (std::size_t i = b; i < e; ++i) {
         if (sizes[i] <= kSlot) {
           std::copy_n(slots.begin() + i * kSlot, sizes[i], stencils.begin() + stencil_offsets[i]);
         } else {
-          stencil_of(mesh, ranked[i].a, ranked[i].b, s.stencil);
+          stencil_of(mesh, ranked[i].a, ranked[i].b, s.stencil, s.stencil_marks);
           std::copy(s.stencil.begin(), s.stencil.end(), stencils.begin() + stencil_offsets[i]);
         }
       }
@@ -308,14 +355,16 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
       });
       if (new_winners.load() == 0) break;
     }
-    winners.clear();
-    for (std::size_t i = 0; i < keep; ++i)
-      if (state[i] == kWon) winners.push_back(static_cast<std::uint32_t>(i));
+    parallel::filter_map(
+        keep, winners, [&](std::size_t i) { return state[i] == kWon; },
+        [](std::size_t i) { return static_cast<std::uint32_t>(i); });
     round.winners = winners.size();
     // Each collapse can take at most |St(u)| + |St(v)| new side-table slots.
+    serial_start = Clock::now();
     std::size_t star_tets = 0;
     for (std::uint32_t i : winners) star_tets += mesh.v2t_count[ranked[i].a] + mesh.v2t_count[ranked[i].b];
     reserve_refs_headroom(mesh, refs_used, star_tets);
+    round.serial_seconds += since(serial_start);
     round.phase_seconds[1] = since(t0);
 
     // --- 3. apply ---
@@ -355,9 +404,12 @@ void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint6
             banned[x] = {kInvalid, kInvalid};
             exhausted[x] = 0;
           }
-          for (TetId t : s.collapse.star_uv)  // orders may change around the removed tets
+          // Around the removed tets the orders of feature vertices may change, and with them the
+          // placements and costs of all their edges. Interior vertices stay interior (see
+          // CostModel::on_collapse): the update above covers them.
+          for (TetId t : s.collapse.star_uv)
             for (VertId x : mesh.tets[t])
-              if (x != c.v) dirty[x] = kFull;
+              if (x != c.v && !cost.known_interior(x)) dirty[x] = kFull;
         } else {
           // Nothing changed; only the owner proposes again, without this edge. An owner out of
           // ban slots waits until a collapse changes its neighbourhood.
