@@ -1,11 +1,12 @@
 // topotet check IN OUT [--json FILE] [--fast]: the independent topology checker on two meshes.
-// Prints the topology of both, the verdict (exit 1 on any difference) and the quality of OUT
-// (whose inverted tets must be 0).
+// Prints the topology of both, the verdict (exit 1 on any difference), the quality of OUT (whose
+// inverted tets must be 0) and the Hausdorff distances between their surfaces, per label.
 #include <cstdio>
 #include <memory>
 #include <numbers>
 
 #include "common.h"
+#include "distance_report.h"
 #include "topotet/metrics/quality.h"
 #include "topotet/metrics/topology.h"
 
@@ -17,6 +18,7 @@ struct CheckArgs {
   std::string after;
   std::string json_path;
   bool fast = false;
+  double sample_spacing_rel = SurfaceDistanceOptions{}.sample_spacing_rel;
 };
 
 void print_indented(const std::string& text) {
@@ -68,6 +70,13 @@ int run_check(const CheckArgs& args) {
               format_seconds(topology_seconds).c_str());
   if (!ok) print_indented(differences);
 
+  const Stopwatch distance_clock;
+  SurfaceDistanceOptions distance_options;
+  distance_options.sample_spacing_rel = args.sample_spacing_rel;
+  const SurfaceDistance distance = surface_distance(before, after, distance_options);
+  const double distance_seconds = distance_clock.seconds();
+  print_surface_distance(distance, distance_seconds, /*per_label=*/true);
+
   if (!args.json_path.empty()) {
     Json j;
     j["before_file"] = args.before;
@@ -92,6 +101,8 @@ int run_check(const CheckArgs& args) {
                           {"inverted_tets", quality.inverted},
                           {"zero_volume_tets", quality.zero_volume}};
     j["topology_seconds"] = topology_seconds;
+    j["surface_distance"] = surface_distance_json(distance);
+    j["surface_distance_seconds"] = distance_seconds;
     write_json_atomically(args.json_path, j);
   }
   return ok ? kExitOk : kExitCheckFailed;
@@ -108,6 +119,10 @@ void add_check_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("OUT", args->after, "Simplified mesh")->required();
   cmd->add_option("--json", args->json_path, "Also write both reports and the verdict as JSON");
   cmd->add_flag("--fast", args->fast, "Euler characteristics and components only (for huge meshes)");
+  cmd->add_option("--sample-spacing-rel", args->sample_spacing_rel,
+                  "Surface distance: finest sampling, relative to the bounding box diagonal (error <= it / sqrt(3))")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->callback([args, &run] { run = [args] { return run_check(*args); }; });
 }
 

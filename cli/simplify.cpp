@@ -1,7 +1,7 @@
 // topotet simplify IN -o OUT [...]: the simplification pipeline and its report.
 //
 //   read -> build (validates) -> for each level: simplify, to_mesh_data, write
-//        -> measure each output: quality, field error, topology against the input's
+//        -> measure each output: quality, field error, surface distance, topology against the input's
 //        -> print the report (one block, or one table row per level) and the JSON report.
 // The outputs are measured after the last level so that the peak memory reported is the one of
 // reading, building and simplifying, not of the checker.
@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "common.h"
+#include "distance_report.h"
 #include "parallel/for_range.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
@@ -42,6 +43,8 @@ struct LevelResult {
   MeshData output;
   QualityStats quality;
   std::optional<FieldError> field_error;
+  SurfaceDistance distance;  // boundary, interfaces, surfaces, polylines: output vs input
+  double distance_seconds = 0.0;
   bool verified = false;
   bool topology_ok = true;
   std::string differences;
@@ -135,6 +138,10 @@ Json level_json(const LevelResult& l) {
   j["max_cost"] = r.max_cost;
   j["quality"] = quality_json(l.quality);
   j["field_error"] = l.field_error ? field_error_json(*l.field_error) : Json(nullptr);
+  j["tolerance"] = r.tolerance;
+  j["tolerance_setup_seconds"] = r.tolerance_setup_seconds;
+  j["surface_distance"] = surface_distance_json(l.distance);
+  j["surface_distance_seconds"] = l.distance_seconds;
   if (l.verified) {
     j["topology"] = l.topology_ok ? "pass" : "fail";
     j["topology_differences"] = split_lines(l.differences);
@@ -233,6 +240,9 @@ int run_simplify_job(SimplifyJob& job) {
     for (LevelResult& l : results) {
       l.quality = compute_quality(l.output);
       if (has_fields) l.field_error = compare_fields(job.input, l.output);
+      const Stopwatch distance_clock;
+      l.distance = surface_distance(job.input, l.output);
+      l.distance_seconds = distance_clock.seconds();
     }
     const double measure_seconds = measure_clock.seconds();
 
@@ -323,6 +333,10 @@ int run_simplify_job(SimplifyJob& job) {
                     format_number(last.quality.mean_ratio.min) + ", inverted tets " +
                     std::to_string(last.quality.inverted) + " (" + format_seconds(measure_seconds) + ")");
         if (last.field_error) row("fields", field_text(*last.field_error));
+        if (r.tolerance > 0)
+          row("tolerance", format_number(r.tolerance) + " (Embree scene of the input's surfaces built in " +
+                               format_seconds(r.tolerance_setup_seconds) + ")");
+        print_surface_distance(last.distance, last.distance_seconds, /*per_label=*/false);
       }
       if (!job.verify) {
         row("topology", std::string("not checked (--no-verify)") + (all_ok ? "" : "; FAIL: inverted tets"));
@@ -361,6 +375,8 @@ int run_simplify_job(SimplifyJob& job) {
                       {"levels", job.levels},
                       {"max_cost", job.options.max_cost},
                       {"min_quality", job.options.min_quality},
+                      {"tolerance", job.options.tolerance},
+                      {"tolerance_rel", job.options.tolerance_rel},
                       {"verify", job.verify}};
       j["peak_rss_bytes"] = peak_bytes;
       j["peak_rss_bytes_per_input_tet"] = per(static_cast<double>(peak_bytes), static_cast<double>(tets_in));
@@ -386,6 +402,8 @@ struct SimplifyArgs {
   std::uint64_t target_vertices = 0;
   double max_cost = 0.0;
   double min_quality = SimplifyOptions{}.min_quality;
+  double tolerance = 0.0;
+  double tolerance_rel = 0.0;
   bool sequential = false;
   int threads = 0;
   std::string report;
@@ -404,6 +422,8 @@ int run_simplify(const SimplifyArgs& args) {
   job.options.target_vertices = args.target_vertices;
   job.options.max_cost = args.max_cost;
   job.options.min_quality = args.min_quality;
+  job.options.tolerance = args.tolerance;
+  job.options.tolerance_rel = args.tolerance_rel;
   job.options.engine = args.sequential ? Engine::kSequential : Engine::kParallel;
   job.options.num_threads = args.threads;
   job.output_path = args.output;
@@ -434,6 +454,13 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("--min-quality", args->min_quality, "Reject collapses creating tets below this mean ratio")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  auto* tolerance = cmd->add_option("--tolerance", args->tolerance,
+                                    "Keep boundary, interfaces, surfaces and polylines within this distance of the "
+                                    "original ones (mesh units; 0 = unchecked)")
+                       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--tolerance-rel", args->tolerance_rel, "The same, relative to the bounding box diagonal")
+      ->check(CLI::NonNegativeNumber)
+      ->excludes(tolerance);
   cmd->add_flag("--sequential", args->sequential, "Use the sequential reference engine (lazy priority queue)");
   cmd->add_option("--threads", args->threads, "Threads (0 = all cores; the output is the same for every value)")
       ->check(CLI::NonNegativeNumber)

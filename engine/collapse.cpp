@@ -79,6 +79,16 @@ bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& s) {
   s.star_uv.clear();
   std::set_intersection(s.star_u.begin(), s.star_u.end(), s.star_v.begin(), s.star_v.end(),
                         std::back_inserter(s.star_uv));
+  s.new_star.clear();
+  for (const VertId x : {u, v}) {
+    const std::vector<TetId>& star = x == u ? s.star_u : s.star_v;
+    for (TetId t : star) {
+      if (std::binary_search(s.star_uv.begin(), s.star_uv.end(), t)) continue;
+      const auto& tv = mesh.tets[t];
+      const std::uint8_t corner = tv[0] == x ? 0 : tv[1] == x ? 1 : tv[2] == x ? 2 : 3;
+      s.new_star.push_back({t, corner});
+    }
+  }
   return !s.star_uv.empty();
 }
 
@@ -96,8 +106,6 @@ double mean_ratio_cubed(const glm::dvec3& a, const glm::dvec3& b, const glm::dve
   return vol < 0.0 ? -q3 : q3;
 }
 
-enum class Geometry { kOk, kInversion, kQuality };
-
 // Worst (cubed) mean ratio of St(u) ∪ St(v) before the collapse.
 double old_star_quality(const TetMesh& mesh, const CollapseScratch& s) {
   const auto& P = mesh.positions;
@@ -114,27 +122,52 @@ double old_star_quality(const TetMesh& mesh, const CollapseScratch& s) {
   return worst;
 }
 
-// Inversion (and, when old_quality >= 0, the quality floor) of the new star, for the stars in
-// `s` (star_u belongs to u).
-Geometry check_geometry(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, double quality_floor,
-                        const CollapseScratch& s, double old_quality) {
+// Calls fn(q0, q1, q2, q3) with the corners of every tet of the new star (St(u) ∪ St(v) minus
+// St(uv), with u and v at p) until fn returns false.
+template <class Fn>
+bool for_each_new_tet(const TetMesh& mesh, const glm::dvec3& p, const CollapseScratch& s, Fn&& fn) {
   const auto& P = mesh.positions;
-  const bool check_quality = old_quality >= 0.0;
-  double new_min = 1.0;
-  for (const std::vector<TetId>* star : {&s.star_u, &s.star_v}) {
-    const VertId moved = star == &s.star_u ? u : v;
-    for (TetId t : *star) {
-      if (std::binary_search(s.star_uv.begin(), s.star_uv.end(), t)) continue;
-      const auto& tv = mesh.tets[t];
-      glm::dvec3 q[4];
-      for (int k = 0; k < 4; ++k) q[k] = tv[k] == moved ? p : P[tv[k]];
-      if (orient3d_sign(q[0], q[1], q[2], q[3]) <= 0) return Geometry::kInversion;
-      if (check_quality) new_min = std::min(new_min, mean_ratio_cubed(q[0], q[1], q[2], q[3]));
-    }
+  for (const auto& [t, corner] : s.new_star) {
+    const auto& tv = mesh.tets[t];
+    glm::dvec3 q[4] = {P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]};
+    q[corner] = p;
+    if (!fn(q[0], q[1], q[2], q[3])) return false;
   }
-  const double floor3 = quality_floor * quality_floor * quality_floor;
-  if (check_quality && new_min < std::min(floor3, old_quality)) return Geometry::kQuality;
-  return Geometry::kOk;
+  return true;
+}
+
+// Would a tet of the new star be inverted or flat (certified sign)?
+bool inverts(const TetMesh& mesh, const glm::dvec3& p, const CollapseScratch& s) {
+  return !for_each_new_tet(mesh, p, s, [](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+                                                  const glm::dvec3& d) { return orient3d_sign(a, b, c, d) > 0; });
+}
+
+// Worst (cubed) mean ratio of the new star.
+double new_star_quality(const TetMesh& mesh, const glm::dvec3& p, const CollapseScratch& s) {
+  double worst = 1.0;
+  for_each_new_tet(mesh, p, s, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
+    worst = std::min(worst, mean_ratio_cubed(a, b, c, d));
+    return true;
+  });
+  return worst;
+}
+
+// The tolerance check for one placement. Interior collapses (neither end on a surface or
+// polyline of the original) return at once. An interior vertex may not absorb a surface vertex:
+// that keeps SurfaceReference::on_surface an exact early out for the whole run (see
+// surface_tolerance.h). The surface stencil is gathered once per edge, for either direction.
+bool within_tolerance(const TetMesh& mesh, const Placement& pl, const CollapseOptions& options, CollapseScratch& s,
+                      std::array<VertId, 2>& surface_edge) {
+  const SurfaceReference& reference = *options.surfaces;
+  const bool surface_u = reference.on_surface(pl.u), surface_v = reference.on_surface(pl.v);
+  if (!surface_u && !surface_v) return true;
+  if (!surface_u) return false;
+  const std::array<VertId, 2> edge{std::min(pl.u, pl.v), std::max(pl.u, pl.v)};
+  if (surface_edge != edge) {
+    gather_surface_stencil(mesh, reference, pl.u, pl.v, s.star_u, s.star_v, s.star_uv, s.surface);
+    surface_edge = edge;
+  }
+  return placement_within_tolerance(mesh, reference, options.tolerance, pl.u, pl.v, pl.p, s.surface);
 }
 
 }  // namespace
@@ -151,6 +184,7 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
   VertId gathered_u = kInvalid, gathered_v = kInvalid;
   bool link_done = false;
   double old_quality = -1.0;  // of this edge's stencil, computed once when first needed
+  std::array<VertId, 2> surface_edge{kInvalid, kInvalid};  // edge whose surface stencil s.surface holds
   for (int i = 0; i < count; ++i) {
     const Placement& pl = placements[i];
     if (mesh.is_pinned(pl.v) || (mesh.is_pinned(pl.u) && pl.p != mesh.positions[pl.u])) {
@@ -168,7 +202,7 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
       gathered_v = pl.v;
     }
     // Inversion first: it is the cheapest test and the most frequent rejection.
-    if (check_geometry(mesh, pl.u, pl.v, pl.p, options.quality_floor, s, -1.0) == Geometry::kInversion) {
+    if (inverts(mesh, pl.p, s)) {
       reject(CollapseReason::kInversion);
       continue;
     }
@@ -181,12 +215,18 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
       }
       link_done = true;
     }
-    if (old_quality < 0.0) old_quality = old_star_quality(mesh, s);
-    if (check_geometry(mesh, pl.u, pl.v, pl.p, options.quality_floor, s, old_quality) == Geometry::kQuality) {
-      reject(CollapseReason::kQuality);
-      continue;
+    // Quality: the new star may not be worse than min(floor, worst of the old star). Above the
+    // floor that holds whatever the old star was, so the old star is measured only below it.
+    const double floor3 = options.quality_floor * options.quality_floor * options.quality_floor;
+    const double new_quality = new_star_quality(mesh, pl.p, s);
+    if (new_quality < floor3) {
+      if (old_quality < 0.0) old_quality = old_star_quality(mesh, s);
+      if (new_quality < std::min(floor3, old_quality)) {
+        reject(CollapseReason::kQuality);
+        continue;
+      }
     }
-    if (options.accept_position && !options.accept_position(mesh, pl.u, pl.v, pl.p)) {
+    if (options.surfaces != nullptr && !within_tolerance(mesh, pl, options, s, surface_edge)) {
       reject(CollapseReason::kTolerance);
       continue;
     }

@@ -12,12 +12,13 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
 #include "link_condition.h"
+#include "surface_tolerance.h"
 #include "topotet/tet_mesh.h"
 
 namespace topotet {
@@ -29,7 +30,7 @@ enum class CollapseReason : std::uint8_t {
   kPinned,      // v is pinned (it would disappear) or u is pinned and p is not u's position
   kInversion,   // a tet of the new star would be inverted or degenerate
   kQuality,     // a tet of the new star would fall below the quality floor
-  kTolerance,   // the geometric tolerance check (a user callback) refused p
+  kTolerance,   // a surface or polyline around p would leave the tolerance (surface_tolerance.h)
 };
 inline constexpr int kCollapseReasonCount = 7;
 const char* to_string(CollapseReason reason);
@@ -37,14 +38,20 @@ const char* to_string(CollapseReason reason);
 struct CollapseOptions {
   // The worst mean ratio of the new star may not fall below min(quality_floor, worst of the old).
   double quality_floor = 0.05;
-  // Optional: refuses p for geometric reasons (Hausdorff tolerance). Called last. Must be
-  // thread-safe when the kernel runs in parallel.
-  std::function<bool(const TetMesh&, VertId u, VertId v, const glm::dvec3& p)> accept_position;
+  // Optional geometric tolerance (surface_tolerance.h): with a reference, the surfaces and
+  // polylines around p must stay within `tolerance` of the original ones. Checked last; the
+  // reference is immutable, so the check is thread-safe.
+  const SurfaceReference* surfaces = nullptr;
+  double tolerance = 0.0;
 };
 
 // Per-thread scratch; keeps capacity between calls so that steady-state calls do not allocate.
 struct CollapseScratch {
   std::vector<TetId> star_u, star_v, star_uv;  // sorted tet ids
+  // The tets that survive the collapse (St(u) ∪ St(v) minus St(uv)) with the corner that moves to
+  // p (where u or v sits): the same for both directions of the edge and every placement, so the
+  // geometric tests of all placements share it. Filled by gather_stars.
+  std::vector<std::pair<TetId, std::uint8_t>> new_star;
   LinkScratch link;
   struct FlaggedFace {
     std::array<VertId, 3> key;
@@ -60,6 +67,7 @@ struct CollapseScratch {
   std::vector<FlaggedFace> faces;
   std::vector<FlaggedEdge> edges;
   std::vector<TetId> merged;
+  SurfaceStencil surface;  // the tolerance check's faces and edges at u, v
 };
 
 // One way to collapse an edge: v merges into u, which moves to p.
@@ -72,7 +80,7 @@ struct Placement {
 bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& scratch);
 
 // May v be merged into u, with u moved to p? Pure: reads the mesh only. Checks, cheapest first:
-// pinned, inversion, link conditions of K and K~, quality, then options.accept_position.
+// pinned, inversion, link conditions of K and K~, quality, then the tolerance (options.surfaces).
 // On success scratch.star_u/star_v/star_uv hold the stars for collapse().
 CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
                             const CollapseOptions& options, CollapseScratch& scratch);

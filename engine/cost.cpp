@@ -74,13 +74,13 @@ CostModel::CostModel(const TetMesh& mesh, const SimplifyOptions& options)
         const glm::dvec3 p0(pts[0], pts[1], pts[2]), p1(pts[n_], pts[n_ + 1], pts[n_ + 2]),
             p2(pts[2 * n_], pts[2 * n_ + 1], pts[2 * n_ + 2]);
         const double area = 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
-        quadric_add_simplex(q, n_, pts, 3, area * options.boundary_weight);
+        quadric_add_simplex_positions(q, n_, pts, 3, area * options.boundary_weight);
       }
       for (const auto& nb : data.neighbours) {
         if (!nb.polyline) continue;
         normalise(mesh, nb.x, pts + n_);
         const double length = glm::length(glm::dvec3(pts[n_] - pts[0], pts[n_ + 1] - pts[1], pts[n_ + 2] - pts[2]));
-        quadric_add_simplex(q, n_, pts, 2, length * options.polyline_weight);
+        quadric_add_simplex_positions(q, n_, pts, 2, length * options.polyline_weight);
       }
     }
   });
@@ -131,7 +131,12 @@ int CostModel::candidates(const TetMesh& mesh, VertId a, VertId b, CollapseCandi
     c.p = placement == kAtU ? mesh.positions[u]
           : placement == kMidpoint ? 0.5 * (mesh.positions[a] + mesh.positions[b])
                                    : origin_ + glm::dvec3(x[0], x[1], x[2]) / inv_diag_;
-    c.cost = quadric_eval(q, n_, x) + tie;
+    // Where the position is constrained (an endpoint, the midpoint), the field values need not
+    // be: take the ones the merged quadric likes best at that position. Keeping an endpoint's
+    // values instead let the greedy order wipe out narrow field features for free. A pinned
+    // vertex keeps its values exactly (see fields_at).
+    if (placement != kOptimum && !(placement == kAtU && mesh.is_pinned(u))) quadric_minimize_fields(q, n_, c.x);
+    c.cost = quadric_eval(q, n_, c.x) + tie;
   };
   // A pinned end, or the end of higher order, stays where it is.
   if (pa || (!pb && oa > ob)) {
@@ -161,11 +166,16 @@ int CostModel::candidates(const TetMesh& mesh, VertId a, VertId b, CollapseCandi
 void CostModel::fields_at(const TetMesh& mesh, const CollapseCandidate& c, double* out) const {
   const double* fu = mesh.field_values.data() + static_cast<std::size_t>(c.u) * stride_;
   const double* fv = mesh.field_values.data() + static_cast<std::size_t>(c.v) * stride_;
+  // The quadric's field coordinates (optimal for the placement, see candidates()); components
+  // beyond the quadric's (more than 16) are interpolated. A pinned vertex keeps its own values.
+  const bool keep_u = c.placement == kAtU && mesh.is_pinned(c.u);
   for (int k = 0; k < stride_; ++k) {
-    if (c.placement == kAtU) {
+    if (keep_u) {
       out[k] = fu[k];
-    } else if (c.placement == kOptimum && k < n_ - 3) {
+    } else if (k < n_ - 3) {
       out[k] = c.x[3 + k] / field_scale_[k] + field_min_[k];
+    } else if (c.placement == kAtU) {
+      out[k] = fu[k];
     } else {
       out[k] = 0.5 * (fu[k] + fv[k]);
     }
@@ -179,11 +189,14 @@ void CostModel::on_collapse(const TetMesh& mesh, VertId u, VertId v, const std::
   // is adjacent to u or to v but not both: its faces and edges through v are only renamed to u
   // (no face or edge of x merges, since a merge needs a removed tet uvxy), so the special faces,
   // polyline edges and labels around x form the same configuration and its order is unchanged.
-  // Only the vertices of St(uv) (the link of uv) see faces merge or vanish.
+  // Only the vertices of St(uv) (the link of uv) see faces merge or vanish, and of those only the
+  // ones on a feature: an interior vertex (order 0: no special face or edge, not pinned) has no
+  // special simplex to merge, and every special simplex after the collapse is the image of one
+  // before it, so it stays interior. Most vertices are interior: this spares their reclassification.
   orders_[u].store(kStale, std::memory_order_relaxed);
   for (TetId t : star_uv)
     for (VertId x : mesh.tets[t])
-      if (x != v) orders_[x].store(kStale, std::memory_order_relaxed);
+      if (x != v && orders_[x].load(std::memory_order_relaxed) != 0) orders_[x].store(kStale, std::memory_order_relaxed);
 }
 
 std::size_t CostModel::memory_bytes() const {

@@ -7,6 +7,12 @@
 //   - the plane quadric of every incident boundary or surface face, weighted by area x
 //     boundary_weight (geometric error of interfaces and boundary);
 //   - the line quadric of every incident polyline edge, weighted by length x polyline_weight.
+// The feature quadrics measure position only (quadric_add_simplex_positions): built in R^(3+k)
+// they would also pin the field along every feature with the feature's penalty, which kept nearly
+// all boundary vertices and left the interior's field short of them (RMS field error on the
+// 100k-tet cube-sphere at 10%: 0.034 -> 0.024 sequential, 0.028 -> 0.017 parallel).
+// Where a placement fixes the position (an endpoint, the midpoint) the field values still come
+// from the quadric: its minimum over the field coordinates at that position.
 // After a collapse u <- v, Q_u += Q_v (the standard Garland–Heckbert accumulation).
 //
 // Placement of the merged vertex (ord = order in the substructure filtration, link_condition.h):
@@ -64,6 +70,10 @@ class CostModel {
   // Order of v in the substructure filtration (cached; thread-safe for distinct or equal v:
   // concurrent recomputations write the same value).
   std::uint8_t order(const TetMesh& mesh, VertId v, LinkScratch& scratch);
+
+  // True when v is known to be of order 0 (interior: on no feature). Interior stays interior
+  // through every legal collapse, so the answer never goes stale.
+  bool known_interior(VertId v) const { return orders_[v].load(std::memory_order_relaxed) == 0; }
 
   // Tells the kernel which ends of edge ab are known to be of order 0 (LinkScratch::known_interior).
   void hint_orders(VertId a, VertId b, LinkScratch& scratch) const {

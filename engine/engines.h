@@ -5,6 +5,7 @@
 
 #include <cstdint>
 
+#include "collapse.h"
 #include "topotet/simplify.h"
 #include "topotet/tet_mesh.h"
 
@@ -27,7 +28,10 @@ class Progress {
   std::uint64_t start_, target_;
 };
 
-void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, std::uint64_t target_vertices, Report& report);
-void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, std::uint64_t target_vertices, Report& report);
+// `kernel` carries the kernel settings derived from the options (quality floor, tolerance).
+void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
+                         std::uint64_t target_vertices, Report& report);
+void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
+                       std::uint64_t target_vertices, Report& report);
 
 }  // namespace topotet::detail

@@ -37,10 +37,9 @@ struct Entry {
 
 }  // namespace
 
-void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, std::uint64_t target, Report& report) {
+void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel_options,
+                         std::uint64_t target, Report& report) {
   CostModel cost(mesh, options);
-  CollapseOptions kernel_options;
-  kernel_options.quality_floor = options.min_quality;
   CollapseScratch scratch;
   CollapseCandidate cands[4];
   std::vector<VertId> nbrs, stencil;

@@ -51,8 +51,14 @@ struct SimplifyOptions {
   // Weight of boundary/surface (plane) and polyline (line) quadrics relative to tet quadrics.
   double boundary_weight = 100.0;
   double polyline_weight = 100.0;
-  // Hausdorff-like bound on the drift of boundary, surface and polyline vertices, relative to the
-  // bounding box diagonal; 0 = unchecked. (Geometric tolerance, see metrics/surface_distance.)
+  // Geometric tolerance (like MMG's -hausd): a collapse is refused (reason "tolerance") when the
+  // boundary, interface, listed surfaces or polylines around the moved vertex would leave a
+  // distance H of the ORIGINAL ones of the same label (ref and material pair). H = tolerance (mesh
+  // units) if > 0, else tolerance_rel * bounding box diagonal; both 0 = unchecked. Checked at the
+  // new vertex, the centroid and edge midpoints of every new surface triangle, and at the removed
+  // vertex (engine/surface_tolerance.h says what is guaranteed); measure the result with
+  // metrics/surface_distance.h. The reference is the mesh as passed to this call.
+  double tolerance = 0.0;
   double tolerance_rel = 0.0;
   Engine engine = Engine::kParallel;
   int num_threads = 0;  // 0 = the caller's current task arena; the output is identical for every value
@@ -70,6 +76,9 @@ struct RoundStats {
   std::uint64_t winners = 0;     // independent set size
   std::uint64_t collapses = 0;   // winners still legal when applied
   std::array<double, 4> phase_seconds{};  // evaluate, select, apply, compact
+  // The part of phase_seconds spent in sequential code (the quantile sample, prefix sums, table
+  // growth): the Amdahl term of the round. The rest runs in parallel loops.
+  double serial_seconds = 0.0;
 };
 
 struct Report {
@@ -86,7 +95,10 @@ struct Report {
   std::uint64_t rounds = 0;  // parallel engine: rounds run
   double seconds = 0.0;
   double max_cost = 0.0;  // largest accepted collapse cost
-  // Parallel engine: wall time per phase (evaluate, select, apply, compact), seconds.
+  double tolerance = 0.0;                // H used (mesh units); 0 = no tolerance check
+  double tolerance_setup_seconds = 0.0;  // building the Embree scene of the original surfaces
+  // Wall time per phase (evaluate, select, apply: parallel engine; compact: both, the final
+  // renumbering of the live vertices and tets), seconds.
   std::array<double, 4> phase_seconds{};
   std::vector<RoundStats> round_stats;
 };
