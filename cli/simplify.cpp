@@ -375,6 +375,7 @@ int run_simplify_job(SimplifyJob& job) {
                       {"levels", job.levels},
                       {"max_cost", job.options.max_cost},
                       {"min_quality", job.options.min_quality},
+                      {"round_fraction", job.options.round_fraction},
                       {"tolerance", job.options.tolerance},
                       {"tolerance_rel", job.options.tolerance_rel},
                       {"verify", job.verify}};
@@ -406,6 +407,7 @@ struct SimplifyArgs {
   double tolerance_rel = 0.0;
   bool sequential = false;
   int threads = 0;
+  double round_fraction = SimplifyOptions{}.round_fraction;
   std::string report;
   bool no_verify = false;
   std::vector<double> levels;
@@ -426,6 +428,7 @@ int run_simplify(const SimplifyArgs& args) {
   job.options.tolerance_rel = args.tolerance_rel;
   job.options.engine = args.sequential ? Engine::kSequential : Engine::kParallel;
   job.options.num_threads = args.threads;
+  job.options.round_fraction = args.round_fraction;
   job.output_path = args.output;
   job.binary = args.binary;
   job.report_path = args.report;
@@ -447,7 +450,7 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
                     ->check(CLI::Range(0.0, 1.0))
                     ->capture_default_str();
   auto* target = cmd->add_option("--target-vertices", args->target_vertices, "Stop at this many vertices");
-  cmd->add_option("--max-cost", args->max_cost,
+  cmd->add_option("--max-cost,--max-error", args->max_cost,
                   "Stop when the cheapest collapse costs more (quadric error / bbox diagonal^2; 0 = no limit)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
@@ -464,6 +467,10 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
   cmd->add_flag("--sequential", args->sequential, "Use the sequential reference engine (lazy priority queue)");
   cmd->add_option("--threads", args->threads, "Threads (0 = all cores; the output is the same for every value)")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--round-fraction", args->round_fraction,
+                  "Parallel engine: the cheapest fraction of the proposals that compete in one round")
+      ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   cmd->add_option("--report", args->report, "Write the report as JSON to this file");
   cmd->add_flag("--no-verify", args->no_verify, "Skip the topology checker (for huge meshes)");
