@@ -29,13 +29,16 @@ for path in sorted(glob.glob(os.path.join(sys.argv[1], "*.json"))):
     name = os.path.basename(path)[:-5]
     family, size, engine = name.rsplit("_", 2)
     report = json.load(open(path))
+    peak = report.get("peak_rss_bytes_per_input_tet", float("nan"))  # whole run, all levels
     for level in report["levels"]:
         q = level["quality"]
         fe = level["field_error"] or {}
         rows.append((family, int(size), engine, level["target_vertex_ratio"], level["vertices_after"],
-                     level["cumulative_seconds"], level["collapses_per_second"], fe.get("rms_rel", float("nan")),
-                     q["dihedral_deg"]["std_dev"], level["topology"]))
-print(f"{'family':<12}{'tets':>9} {'engine':<11}{'level':>6}{'#vert':>9}{'cum_s':>9}{'coll/s':>10}{'rms_rel':>10}{'dih_sd':>8}  topology")
+                     level["cumulative_seconds"], level["collapses_per_second"], level["evaluations_per_collapse"],
+                     peak, fe.get("rms_rel", float("nan")), q["dihedral_deg"]["std_dev"], level["topology"]))
+print(f"{'family':<12}{'tets':>9} {'engine':<11}{'level':>6}{'#vert':>9}{'cum_s':>9}{'coll/s':>10}{'eval/c':>8}"
+      f"{'B/tet':>7}{'rms_rel':>10}{'dih_sd':>8}  topology")
 for r in sorted(rows, key=lambda r: (r[0], r[1], r[3] * -1, r[2])):
-    print(f"{r[0]:<12}{r[1]:>9} {r[2]:<11}{r[3]:>6.2f}{r[4]:>9}{r[5]:>9.2f}{r[6]:>10.0f}{r[7]:>10.4f}{r[8]:>8.2f}  {r[9]}")
+    print(f"{r[0]:<12}{r[1]:>9} {r[2]:<11}{r[3]:>6.2f}{r[4]:>9}{r[5]:>9.2f}{r[6]:>10.0f}{r[7]:>8.1f}"
+          f"{r[8]:>7.0f}{r[9]:>10.4f}{r[10]:>8.2f}  {r[11]}")
 PY
