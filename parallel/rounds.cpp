@@ -5,8 +5,9 @@
 //     1. evaluate (parallel over dirty vertices a): a proposes its cheapest collapse that passes
 //        the geometric checks (inversion, quality) among the edges ab it owns (b > a) and has not
 //        banned; clean vertices keep their proposal
-//     2. select: sort the proposals by (cost, a, b) -> rank; keep the cheapest round_fraction of
-//        them (at most live - target); gather each one's stencil St(a) ∪ St(b) (its vertices);
+//     2. select: keep about the cheapest round_fraction of the proposals (a sampled quantile of
+//        (cost, a, b) as threshold, at most live - target), sorted by (cost, a, b) -> rank;
+//        gather each one's stencil St(a) ∪ St(b) (its vertices);
 //        owner[x] = min rank over the kept proposals whose stencil holds x (atomic min);
 //        a proposal wins iff it owns its whole stencil (deterministic reservations: the set is
 //        a function of the ranks only, not of the schedule; winners' stencils are disjoint)
