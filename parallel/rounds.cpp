@@ -3,8 +3,8 @@
 //   quadrics, orders <- CostModel(mesh); every vertex is dirty
 //   while live vertices > target:
 //     1. evaluate (parallel over dirty vertices a): a proposes its cheapest collapse that passes
-//        the geometric checks (inversion, quality) among the edges ab it owns (b > a) and has not
-//        banned; clean vertices keep their proposal
+//        the geometric checks (inversion, quality, tolerance) among the edges ab it owns (b > a)
+//        and has not banned; clean vertices keep their proposal
 //     2. select: keep about the cheapest round_fraction of the proposals (a sampled quantile of
 //        (cost, a, b) as threshold, at most live - target), sorted by (cost, a, b) -> rank;
 //        gather each one's stencil St(a) ∪ St(b) (its vertices);
