@@ -4,7 +4,10 @@
 //
 //   build/bench/bench_simplify --dataset cube-sphere --tets 200000,1000000 --ratio 0.1
 //       --threads 1,2 --repeat 3 --json bench/results.jsonl   (one command line)
+//   build/bench/bench_simplify --dataset ../shared/data/large/liver_1.31M.mesh.gz --threads 1,2
 //
+// A dataset is a generator family (--tets sets its size) or a mesh file (read in each child; the
+// reading is not timed).
 // Besides speed, every run measures what it produced: the RMS field error (both directions pooled,
 // relative to the field's range; the mean over components) and the standard deviation of the
 // dihedral angles, so the parallel engine's quality is printed next to the sequential reference's.
@@ -25,6 +28,7 @@
 #include <vector>
 
 #include "topotet/generate.h"
+#include "topotet/io.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
 #include "topotet/simplify.h"
@@ -102,10 +106,13 @@ double serial_seconds(const Report& r) {
 
 std::string run_child(const Args& a, const std::string& dataset, std::uint64_t tets, const std::string& engine,
                       int threads) {
+  // A dataset is a generator family, or a mesh file (any name with a '.' or a '/').
+  const bool from_file = dataset.find_first_of("./") != std::string::npos;
   GenerateOptions g;
   g.family = dataset;
   g.target_tets = tets;
-  TetMesh mesh = build_tet_mesh(generate_mesh(g));
+  const auto input = [&] { return from_file ? read_mesh(dataset) : generate_mesh(g); };
+  TetMesh mesh = build_tet_mesh(input());
   SimplifyOptions o;
   o.target_vertex_ratio = a.ratio;
   o.round_fraction = a.round_fraction;
@@ -117,18 +124,26 @@ std::string run_child(const Args& a, const std::string& dataset, std::uint64_t t
   if (a.quality) {
     const MeshData output = mesh.to_mesh_data();
     // Generated again (deterministic, fast) rather than kept: it would count in the peak above.
-    const FieldError error = compare_fields(generate_mesh(g), output);
+    const FieldError error = compare_fields(input(), output);
     for (const ComponentError& c : error.components) rms_rel += c.rms_both_rel / static_cast<double>(error.components.size());
     dihedral_sd = compute_quality(output).dihedral_deg.std_dev;
   }
   std::ostringstream js;
-  double set = 0;
-  for (const RoundStats& s : r.round_stats) set += static_cast<double>(s.winners);
+  double set = 0, competing = 0, evaluated = 0;
+  for (const RoundStats& s : r.round_stats) {
+    set += static_cast<double>(s.winners);
+    competing += static_cast<double>(s.candidates);
+    evaluated += static_cast<double>(s.evaluated);
+  }
   js << "{\"dataset\":\"" << dataset << "\",\"tets\":" << tets << ",\"engine\":\"" << engine << "\",\"threads\":" << threads
      << ",\"tets_in\":" << r.tets_before << ",\"tets_out\":" << r.tets_after << ",\"vertices_in\":" << r.vertices_before
      << ",\"vertices_out\":" << r.vertices_after << ",\"collapses\":" << r.collapses << ",\"evaluations\":" << r.evaluations << ",\"legality_checks\":" << r.legality_checks
      << ",\"seconds\":" << r.seconds << ",\"collapses_per_second\":" << r.collapses / std::max(r.seconds, 1e-9)
      << ",\"rounds\":" << r.rounds << ",\"mean_independent_set\":" << (r.rounds ? set / r.rounds : 0)
+     << ",\"mean_candidates\":" << (r.rounds ? competing / r.rounds : 0)
+     << ",\"mean_reevaluated\":" << (r.rounds ? evaluated / r.rounds : 0)
+     << ",\"evaluations_per_collapse\":" << static_cast<double>(r.evaluations) / std::max<double>(1, r.collapses)
+     << ",\"checks_per_collapse\":" << static_cast<double>(r.legality_checks) / std::max<double>(1, r.collapses)
      << ",\"phase_seconds\":{\"evaluate\":" << r.phase_seconds[0] << ",\"select\":" << r.phase_seconds[1]
      << ",\"apply\":" << r.phase_seconds[2] << ",\"compact\":" << r.phase_seconds[3] << "}"
      << ",\"serial_seconds\":" << serial_seconds(r) << ",\"round_fraction\":" << a.round_fraction

@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cassert>
+#include <cmath>
+#include <limits>
+#include <span>
 
 #include "orient.h"
 
@@ -27,8 +30,13 @@ namespace {
 void star_of(const TetMesh& mesh, VertId x, std::vector<TetId>& out) {
   out.clear();
   mesh.for_each_tet_of(x, [&](TetId t) { out.push_back(t); });
-  // Chains stay sorted (see collapse()), but sorting a sorted small vector is cheap insurance.
-  if (!std::is_sorted(out.begin(), out.end())) std::sort(out.begin(), out.end());
+  // Chains are kept sorted by tet id (rebuild_incidence fills them in tet order, collapse() writes
+  // a sorted union, drop_dead_tets keeps the order): the set logic below relies on it.
+  assert(std::is_sorted(out.begin(), out.end()));
+}
+
+std::uint64_t pack_pair(VertId x, VertId y) {
+  return x < y ? (std::uint64_t{x} << 32) | y : (std::uint64_t{y} << 32) | x;
 }
 
 std::array<VertId, 4> renamed(const std::array<VertId, 4>& v, VertId from, VertId to) {
@@ -76,18 +84,32 @@ void drop_dead_tets(TetMesh& mesh, VertId x) {
 bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& s) {
   star_of(mesh, u, s.star_u);
   star_of(mesh, v, s.star_v);
+  // One pass per star instead of set operations: a tet of St(u) is in St(uv) iff it has v.
   s.star_uv.clear();
-  std::set_intersection(s.star_u.begin(), s.star_u.end(), s.star_v.begin(), s.star_v.end(),
-                        std::back_inserter(s.star_uv));
   s.new_star.clear();
-  for (const VertId x : {u, v}) {
-    const std::vector<TetId>& star = x == u ? s.star_u : s.star_v;
-    for (TetId t : star) {
-      if (std::binary_search(s.star_uv.begin(), s.star_uv.end(), t)) continue;
-      const auto& tv = mesh.tets[t];
-      const std::uint8_t corner = tv[0] == x ? 0 : tv[1] == x ? 1 : tv[2] == x ? 2 : 3;
-      s.new_star.push_back({t, corner});
+  s.moved_count = 0;
+  for (TetId t : s.star_u) {
+    const auto& tv = mesh.tets[t];
+    std::uint8_t corner = 0;
+    bool has_v = false;
+    for (std::uint8_t k = 0; k < 4; ++k) {
+      corner = tv[k] == u ? k : corner;
+      has_v |= tv[k] == v;
     }
+    if (has_v)
+      s.star_uv.push_back(t);  // stays sorted: St(u) is
+    else
+      s.new_star.push_back({t, corner});
+  }
+  for (TetId t : s.star_v) {
+    const auto& tv = mesh.tets[t];
+    std::uint8_t corner = 0;
+    bool has_u = false;
+    for (std::uint8_t k = 0; k < 4; ++k) {
+      corner = tv[k] == v ? k : corner;
+      has_u |= tv[k] == u;
+    }
+    if (!has_u) s.new_star.push_back({t, corner});
   }
   return !s.star_uv.empty();
 }
@@ -122,34 +144,64 @@ double old_star_quality(const TetMesh& mesh, const CollapseScratch& s) {
   return worst;
 }
 
-// Calls fn(q0, q1, q2, q3) with the corners of every tet of the new star (St(u) ∪ St(v) minus
-// St(uv), with u and v at p) until fn returns false.
-template <class Fn>
-bool for_each_new_tet(const TetMesh& mesh, const glm::dvec3& p, const CollapseScratch& s, Fn&& fn) {
+// The geometric test of one placement reads, for every tet of the new star, only the three corners
+// that stay and p. Writing the moving corner second, (a, p, c, d) is an even permutation of the
+// tet's corners (a, c, d = kTetFaces[corner]), so its orientation is
+//     det[p - a, c - a, d - a] = (p - a) . ((c - a) x (d - a)),
+// which is orient3d_sign(a, p, c, d) term by term: the cross product and the permanent's matching
+// terms are the same for every placement and are computed once per edge. The certified sign is
+// therefore exactly orient3d_sign's. Quality needs the six squared edge lengths, three of them fixed.
+void prepare_moved_tet(const TetMesh& mesh, CollapseScratch& s, std::size_t i) {
   const auto& P = mesh.positions;
-  for (const auto& [t, corner] : s.new_star) {
-    const auto& tv = mesh.tets[t];
-    glm::dvec3 q[4] = {P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]};
-    q[corner] = p;
-    if (!fn(q[0], q[1], q[2], q[3])) return false;
-  }
-  return true;
+  const auto& [t, corner] = s.new_star[i];
+  const auto& tv = mesh.tets[t];
+  CollapseScratch::MovedTet& m = s.moved[i];
+  m.a = P[tv[kTetFaces[corner][0]]];
+  m.c = P[tv[kTetFaces[corner][1]]];
+  m.d = P[tv[kTetFaces[corner][2]]];
+  const double bdx = m.c.x - m.a.x, bdy = m.c.y - m.a.y, bdz = m.c.z - m.a.z;
+  const double cdx = m.d.x - m.a.x, cdy = m.d.y - m.a.y, cdz = m.d.z - m.a.z;
+  const double m1 = bdy * cdz, m2 = bdz * cdy, m3 = bdz * cdx, m4 = bdx * cdz, m5 = bdx * cdy, m6 = bdy * cdx;
+  m.normal = {m1 - m2, m3 - m4, m5 - m6};
+  m.normal_bound = {std::fabs(m1) + std::fabs(m2), std::fabs(m3) + std::fabs(m4), std::fabs(m5) + std::fabs(m6)};
+  const double ex = m.d.x - m.c.x, ey = m.d.y - m.c.y, ez = m.d.z - m.c.z;
+  m.fixed_edges_sq = (bdx * bdx + bdy * bdy + bdz * bdz) + (cdx * cdx + cdy * cdy + cdz * cdz) + (ex * ex + ey * ey + ez * ez);
 }
 
-// Would a tet of the new star be inverted or flat (certified sign)?
-bool inverts(const TetMesh& mesh, const glm::dvec3& p, const CollapseScratch& s) {
-  return !for_each_new_tet(mesh, p, s, [](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
-                                                  const glm::dvec3& d) { return orient3d_sign(a, b, c, d) > 0; });
-}
-
-// Worst (cubed) mean ratio of the new star.
-double new_star_quality(const TetMesh& mesh, const glm::dvec3& p, const CollapseScratch& s) {
+// Places the moving corner of every new tet at p. Returns false when a tet would be inverted or
+// flat (sign not certainly positive); otherwise `worst_q3` is the worst (mean ratio)^3 of the new
+// star, with (mean ratio)^3 = 15552 V^2 / S^3 = 432 det^2 / S^3 (S the sum of squared edge
+// lengths): monotone in the mean ratio and free of the cube root.
+// Most placements fail on one of the first tets, so the per-tet data is prepared lazily: tet i
+// is prepared the first time a placement of this edge gets that far.
+bool new_star_geometry(const TetMesh& mesh, CollapseScratch& s, const glm::dvec3& p, double& worst_q3) {
+  constexpr double eps = std::numeric_limits<double>::epsilon() * 0.5;
+  constexpr double bound = 4.0 * (7.0 + 56.0 * eps) * eps;  // orient3d_sign's (orient.cpp)
   double worst = 1.0;
-  for_each_new_tet(mesh, p, s, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
-    worst = std::min(worst, mean_ratio_cubed(a, b, c, d));
-    return true;
-  });
-  return worst;
+  if (s.moved.size() < s.new_star.size()) s.moved.resize(s.new_star.size());
+  for (std::size_t i = 0; i < s.new_star.size(); ++i) {
+    if (i == s.moved_count) prepare_moved_tet(mesh, s, s.moved_count++);
+    const CollapseScratch::MovedTet& m = s.moved[i];
+    const double adx = p.x - m.a.x, ady = p.y - m.a.y, adz = p.z - m.a.z;
+    const double det = adx * m.normal.x + ady * m.normal.y + adz * m.normal.z;
+    const double permanent =
+        std::fabs(adx) * m.normal_bound.x + std::fabs(ady) * m.normal_bound.y + std::fabs(adz) * m.normal_bound.z;
+    if (!(det > bound * permanent)) {  // also false for NaN and infinities
+      // The next placement is likely to fail on the same tet: test it first (move to front).
+      if (i != 0) {
+        std::swap(s.new_star[i], s.new_star[0]);
+        std::swap(s.moved[i], s.moved[0]);
+      }
+      return false;
+    }
+    const glm::dvec3 pc = p - m.c, pd = p - m.d;
+    const double edges_sq = m.fixed_edges_sq + (adx * adx + ady * ady + adz * adz) +
+                            (pc.x * pc.x + pc.y * pc.y + pc.z * pc.z) + (pd.x * pd.x + pd.y * pd.y + pd.z * pd.z);
+    const double q3 = edges_sq > 0.0 ? 432.0 * det * det / (edges_sq * edges_sq * edges_sq) : 0.0;
+    worst = std::min(worst, q3);
+  }
+  worst_q3 = worst;
+  return true;
 }
 
 // The tolerance check for one placement. Interior collapses (neither end on a surface or
@@ -193,7 +245,7 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
     }
     if (pl.u != gathered_u || pl.v != gathered_v) {
       if (pl.u == gathered_v && pl.v == gathered_u) {
-        std::swap(s.star_u, s.star_v);  // same edge, other direction
+        std::swap(s.star_u, s.star_v);  // same edge, other direction: the new star is the same
       } else if (!gather_stars(mesh, pl.u, pl.v, s)) {
         reject(CollapseReason::kLinkK);  // not an edge
         return -1;
@@ -201,10 +253,22 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
       gathered_u = pl.u;
       gathered_v = pl.v;
     }
-    // Inversion first: it is the cheapest test and the most frequent rejection.
-    if (inverts(mesh, pl.p, s)) {
+    // Geometry first (inversion, then quality): it is cheap once the edge is prepared and by far
+    // the most frequent rejection; the link conditions (placement-independent) come after it.
+    double new_quality = 0.0;
+    if (!new_star_geometry(mesh, s, pl.p, new_quality)) {
       reject(CollapseReason::kInversion);
       continue;
+    }
+    // Quality: the new star may not be worse than min(floor, worst of the old star). Above the
+    // floor that holds whatever the old star was, so the old star is measured only below it.
+    const double floor3 = options.quality_floor * options.quality_floor * options.quality_floor;
+    if (new_quality < floor3) {
+      if (old_quality < 0.0) old_quality = old_star_quality(mesh, s);
+      if (new_quality < std::min(floor3, old_quality)) {
+        reject(CollapseReason::kQuality);
+        continue;
+      }
     }
     if (check_topology && !link_done) {
       s.link.known_interior = hints;  // consumed (reset) by check_link_conditions
@@ -214,17 +278,6 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
         return -1;  // the same for every placement of this edge
       }
       link_done = true;
-    }
-    // Quality: the new star may not be worse than min(floor, worst of the old star). Above the
-    // floor that holds whatever the old star was, so the old star is measured only below it.
-    const double floor3 = options.quality_floor * options.quality_floor * options.quality_floor;
-    const double new_quality = new_star_quality(mesh, pl.p, s);
-    if (new_quality < floor3) {
-      if (old_quality < 0.0) old_quality = old_star_quality(mesh, s);
-      if (new_quality < std::min(floor3, old_quality)) {
-        reject(CollapseReason::kQuality);
-        continue;
-      }
     }
     if (options.surfaces != nullptr && !within_tolerance(mesh, pl, options, s, surface_edge)) {
       reject(CollapseReason::kTolerance);
@@ -254,9 +307,11 @@ void collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const doub
               CollapseScratch& s, std::uint32_t& refs_used) {
   gather_stars(mesh, u, v, s);
 
-  // 1. The flagged faces and edges of the old stencil, with v renamed to u. Faces and edges that
-  //    contain both u and v degenerate and vanish with St(uv); merged ones appear twice and are
-  //    united below (the listed ref wins over an implicit interface: refs sort descending).
+  // 1. The flagged faces and edges through u or v in the old stencil, with v renamed to u: only
+  //    those can change (a face or edge away from u and v keeps its vertices, its tets and its
+  //    flags). Faces and edges that contain both u and v degenerate and vanish with St(uv); merged
+  //    ones (uxy and vxy of a removed tet uvxy, ux and vx of a removed face uvx) appear twice and
+  //    are united below (the listed ref wins over an implicit interface: refs sort descending).
   s.faces.clear();
   s.edges.clear();
   auto collect = [&](TetId t) {
@@ -266,16 +321,21 @@ void collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const doub
     const auto r = renamed(mesh.tets[t], v, u);
     for (int f = 0; f < 4; ++f) {
       if (!is_surface_face(fl, f)) continue;
-      std::array<VertId, 3> key{r[kTetFaces[f][0]], r[kTetFaces[f][1]], r[kTetFaces[f][2]]};
-      std::sort(key.begin(), key.end());
-      if (key[0] == key[1] || key[1] == key[2]) continue;
-      s.faces.push_back({key, refs.face[f]});
+      VertId others[3];
+      int n = 0, at_u = 0;
+      for (int k = 0; k < 4; ++k) {
+        if (k == f) continue;
+        if (r[k] == u)
+          ++at_u;
+        else
+          others[n++] = r[k];
+      }
+      if (at_u == 1) s.faces.push_back({pack_pair(others[0], others[1]), refs.face[f]});
     }
     for (int e = 0; e < 6; ++e) {
       if (!is_polyline_edge(fl, e)) continue;
       const VertId x = r[kTetEdges[e][0]], y = r[kTetEdges[e][1]];
-      if (x == y) continue;
-      s.edges.push_back({{std::min(x, y), std::max(x, y)}, refs.edge[e], ((refs.ridge_mask >> e) & 1u) != 0});
+      if ((x == u) != (y == u)) s.edges.push_back({x == u ? y : x, refs.edge[e], ((refs.ridge_mask >> e) & 1u) != 0});
     }
   };
   for (TetId t : s.star_u) collect(t);
@@ -307,30 +367,48 @@ void collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const doub
   mesh.v2t_next[last] = v;
   write_incidence(mesh, u, s.merged);
   mesh.v2t_count[v] = 0;
+  // The link of uv is a cycle (or a path): each of its vertices lies in two removed tets; drop the
+  // dead tets from its list once.
+  s.link_vertices.clear();
   for (TetId t : s.star_uv)
     for (VertId x : mesh.tets[t])
-      if (x != u && x != v) drop_dead_tets(mesh, x);
+      if (x != u && x != v && std::find(s.link_vertices.begin(), s.link_vertices.end(), x) == s.link_vertices.end())
+        s.link_vertices.push_back(x);
+  for (VertId x : s.link_vertices) drop_dead_tets(mesh, x);
 
-  // 4. Recompute flags and refs of the new star from the collected set (never patched by cases).
+  // 4. Recompute the flags and refs of the faces and edges through u in the new star from the
+  //    collected set (never patched by cases); the face and edges opposite u keep theirs. Nothing
+  //    collected means no flag changes: the usual interior collapse.
   std::atomic_ref<std::uint32_t> used(refs_used);
-  for (TetId t : s.merged) {
+  const bool nothing_through_u = s.faces.empty() && s.edges.empty();  // every flag stays as it is
+  for (TetId t : nothing_through_u ? std::span<const TetId>() : std::span<const TetId>(s.merged)) {
+    const TetFlags old_flags = mesh.flags[t];
     const auto& tv = mesh.tets[t];
-    TetFlags fl = 0;
+    const int cu = tv[0] == u ? 0 : tv[1] == u ? 1 : tv[2] == u ? 2 : 3;
+    // Kept: face cu and the edges of that face.
+    TetFlags fl = old_flags & TetFlags(1u << (tet_flag::kSurfaceFaceShift + cu));
+    for (int e = 0; e < 6; ++e)
+      if (kTetEdges[e][0] != cu && kTetEdges[e][1] != cu) fl |= old_flags & TetFlags(1u << (tet_flag::kPolylineEdgeShift + e));
     SubstructureRefs refs;
+    if (old_flags != 0) refs = mesh.refs_table[mesh.tet_refs_slot[t]];
+    refs.ridge_mask &= static_cast<std::uint8_t>(fl >> tet_flag::kPolylineEdgeShift);
     for (int f = 0; f < 4; ++f) {
-      std::array<VertId, 3> key{tv[kTetFaces[f][0]], tv[kTetFaces[f][1]], tv[kTetFaces[f][2]]};
-      std::sort(key.begin(), key.end());
-      auto it = std::lower_bound(s.faces.begin(), s.faces.end(), CollapseScratch::FlaggedFace{key, INT32_MAX});
+      if (f == cu) continue;
+      int o[2], n = 0;
+      for (int k = 0; k < 4; ++k)
+        if (k != f && k != cu) o[n++] = k;
+      const std::uint64_t key = pack_pair(tv[o[0]], tv[o[1]]);
+      const auto it = std::lower_bound(s.faces.begin(), s.faces.end(), CollapseScratch::FlaggedFace{key, INT32_MAX});
       if (it != s.faces.end() && it->key == key) {
         fl |= TetFlags(1u << (tet_flag::kSurfaceFaceShift + f));
         refs.face[f] = it->ref;
       }
     }
     for (int e = 0; e < 6; ++e) {
-      const VertId x = tv[kTetEdges[e][0]], y = tv[kTetEdges[e][1]];
-      const std::array<VertId, 2> key{std::min(x, y), std::max(x, y)};
-      auto it = std::lower_bound(s.edges.begin(), s.edges.end(), CollapseScratch::FlaggedEdge{key, INT32_MAX, false});
-      if (it != s.edges.end() && it->key == key) {
+      if (kTetEdges[e][0] != cu && kTetEdges[e][1] != cu) continue;
+      const VertId other = tv[kTetEdges[e][0] == cu ? kTetEdges[e][1] : kTetEdges[e][0]];
+      const auto it = std::lower_bound(s.edges.begin(), s.edges.end(), CollapseScratch::FlaggedEdge{other, INT32_MAX, false});
+      if (it != s.edges.end() && it->key == other) {
         fl |= TetFlags(1u << (tet_flag::kPolylineEdgeShift + e));
         refs.edge[e] = it->ref;
         if (it->ridge) refs.ridge_mask |= std::uint8_t(1u << e);

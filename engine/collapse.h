@@ -52,14 +52,27 @@ struct CollapseScratch {
   // p (where u or v sits): the same for both directions of the edge and every placement, so the
   // geometric tests of all placements share it. Filled by gather_stars.
   std::vector<std::pair<TetId, std::uint8_t>> new_star;
+  // The same tets seen from the moving corner, with everything that does not depend on p
+  // precomputed (see MovedTet in collapse.cpp): a placement then costs ~30 flops per tet.
+  // Filled on demand by the geometric test (moved[0, moved_count) are ready; gather_stars resets).
+  struct MovedTet {
+    glm::dvec3 a, c, d;        // the three fixed corners, in the order that makes (a, p, c, d) positive
+    glm::dvec3 normal;         // (c - a) x (d - a), rounded exactly as orient3d_sign rounds it
+    glm::dvec3 normal_bound;   // the matching terms of orient3d_sign's permanent
+    double fixed_edges_sq;     // |c - a|^2 + |d - a|^2 + |d - c|^2
+  };
+  std::vector<MovedTet> moved;
+  std::size_t moved_count = 0;
   LinkScratch link;
+  // Flagged faces and edges through u after the collapse (v renamed to u), keyed by their other
+  // vertices (a face by its two other vertices packed low/high).
   struct FlaggedFace {
-    std::array<VertId, 3> key;
+    std::uint64_t key;
     std::int32_t ref;
     bool operator<(const FlaggedFace& o) const { return key != o.key ? key < o.key : ref > o.ref; }
   };
   struct FlaggedEdge {
-    std::array<VertId, 2> key;
+    VertId key;
     std::int32_t ref;
     bool ridge;
     bool operator<(const FlaggedEdge& o) const { return key != o.key ? key < o.key : ref > o.ref; }
@@ -67,6 +80,7 @@ struct CollapseScratch {
   std::vector<FlaggedFace> faces;
   std::vector<FlaggedEdge> edges;
   std::vector<TetId> merged;
+  std::vector<VertId> link_vertices;  // vertices of St(uv) other than u, v
   SurfaceStencil surface;  // the tolerance check's faces and edges at u, v
 };
 

@@ -7,11 +7,13 @@
 #include <glm/geometric.hpp>
 
 #include "parallel/for_range.h"
+#include "quadric.h"
 
 namespace topotet {
 namespace {
 
-constexpr std::uint8_t kStale = 0xFF;
+constexpr std::uint8_t kStale = 0xFF;         // unknown
+constexpr std::uint8_t kStaleFeature = 0xFE;  // unknown, but it was not 0: skip the interior test
 constexpr double kLengthTieBreak = 1e-6;
 
 enum Placement : int { kAtU = 0, kMidpoint = 1, kOptimum = 2 };
@@ -45,8 +47,11 @@ CostModel::CostModel(const TetMesh& mesh, const SimplifyOptions& options)
   }
 
   orders_ = std::make_unique<std::atomic<std::uint8_t>[]>(nv);
-  const int qs = quadric_size(n_);
-  quadrics_.assign(nv * qs, 0.0);
+  record_size_ = static_cast<std::size_t>(quadric_size(n_) + n_);
+  records_.assign(nv * record_size_, 0.0);
+  parallel::for_range<std::size_t>(0, nv, 4096, "normalise", [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v) normalise(mesh, static_cast<VertId>(v), coordinates(static_cast<VertId>(v)));
+  });
   parallel::for_range<std::size_t>(0, nv, 512, "init_quadrics", [&](std::size_t begin, std::size_t end) {
     LinkScratch scratch;
     double pts[4 * kMaxQuadricDim];
@@ -56,14 +61,24 @@ CostModel::CostModel(const TetMesh& mesh, const SimplifyOptions& options)
         orders_[a].store(kStale, std::memory_order_relaxed);
         continue;
       }
-      double* q = &quadrics_[vi * qs];
+      double* q = quadric(a);
       mesh.for_each_tet_of(a, [&](TetId t) {
-        for (int k = 0; k < 4; ++k) normalise(mesh, mesh.tets[t][k], pts + k * n_);
+        for (int k = 0; k < 4; ++k) std::copy_n(coordinates(mesh.tets[t][k]), n_, pts + k * n_);
         const glm::dvec3 p0(pts[0], pts[1], pts[2]), p1(pts[n_], pts[n_ + 1], pts[n_ + 2]),
             p2(pts[2 * n_], pts[2 * n_ + 1], pts[2 * n_ + 2]), p3(pts[3 * n_], pts[3 * n_ + 1], pts[3 * n_ + 2]);
         const double volume = std::fabs(glm::dot(p1 - p0, glm::cross(p2 - p0, p3 - p0))) / 6.0;
-        if (n_ > 3) quadric_add_simplex(q, n_, pts, 4, volume);  // in 3D a tet's hull is all of space
+        // In 3D a tet's hull is all of space: no tet quadric. One field (the common case) has a
+        // closed form for the 3-flat's normal.
+        if (n_ == 4)
+          quadric_add_tet_one_field(q, pts, volume);
+        else if (n_ > 3)
+          quadric_add_simplex(q, n_, pts, 4, volume);
       });
+      // Most vertices are interior: no special face or polyline edge to add, order 0.
+      if (is_interior_vertex(mesh, a)) {
+        orders_[a].store(0, std::memory_order_relaxed);
+        continue;
+      }
       LinkScratch::VertexData& data = scratch.a;
       const VertexOrders orders = classify_vertex(mesh, a, data, scratch);
       orders_[a].store(orders.ktilde, std::memory_order_relaxed);
@@ -97,8 +112,8 @@ void CostModel::normalise(const TetMesh& mesh, VertId v, double* x) const {
 
 std::uint8_t CostModel::order(const TetMesh& mesh, VertId v, LinkScratch& scratch) {
   std::uint8_t o = orders_[v].load(std::memory_order_relaxed);
-  if (o == kStale) {
-    o = classify_vertex(mesh, v, scratch.b, scratch).ktilde;
+  if (o == kStale || o == kStaleFeature) {
+    o = o == kStale && is_interior_vertex(mesh, v) ? 0 : classify_vertex(mesh, v, scratch.b, scratch).ktilde;
     // Relaxed: the value is a pure function of the (unchanging during evaluation) mesh.
     orders_[v].store(o, std::memory_order_relaxed);
   }
@@ -106,61 +121,145 @@ std::uint8_t CostModel::order(const TetMesh& mesh, VertId v, LinkScratch& scratc
 }
 
 int CostModel::candidates(const TetMesh& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch) {
-  const bool pa = mesh.is_pinned(a), pb = mesh.is_pinned(b);
-  if (pa && pb) return 0;
+  // The hot path of both engines: the quadric arithmetic is instantiated for the common
+  // dimensions (positions plus up to 4 field components) so that its loops unroll.
+  switch (n_) {
+    case 3: return candidates_n<3>(mesh, a, b, out, scratch);
+    case 4: return candidates_n<4>(mesh, a, b, out, scratch);
+    case 5: return candidates_n<5>(mesh, a, b, out, scratch);
+    case 6: return candidates_n<6>(mesh, a, b, out, scratch);
+    case 7: return candidates_n<7>(mesh, a, b, out, scratch);
+    default: return candidates_n<0>(mesh, a, b, out, scratch);
+  }
+}
+
+double CostModel::edge_cost(const TetMesh& mesh, VertId a, VertId b, LinkScratch& scratch) {
+  switch (n_) {
+    case 3: return edge_cost_n<3>(mesh, a, b, scratch);
+    case 4: return edge_cost_n<4>(mesh, a, b, scratch);
+    case 5: return edge_cost_n<5>(mesh, a, b, scratch);
+    case 6: return edge_cost_n<6>(mesh, a, b, scratch);
+    case 7: return edge_cost_n<7>(mesh, a, b, scratch);
+    default: return edge_cost_n<0>(mesh, a, b, scratch);
+  }
+}
+
+// The merged quadric of an edge ab and what every placement of it needs.
+template <int kN>
+struct CostModel::EdgeQuadric {
+  static constexpr int kQ = quadric_size(kN > 0 ? kN : kMaxQuadricDim);
+  int n;
+  double q[kQ];
+  double xa[kMaxQuadricDim], xb[kMaxQuadricDim], xm[kMaxQuadricDim];
+  double length, tie;
+
+  EdgeQuadric(const CostModel& model, VertId a, VertId b) : n(quadric_detail::dim<kN>(model.n_)) {
+    // One record per end: quadric and normalised coordinates side by side (few cache lines).
+    std::copy_n(model.quadric(a), quadric_size(n), q);
+    quadric_detail::add<kN>(q, model.quadric(b), n);
+    std::copy_n(model.coordinates(a), n, xa);
+    std::copy_n(model.coordinates(b), n, xb);
+    for (int i = 0; i < n; ++i) xm[i] = 0.5 * (xa[i] + xb[i]);
+    length = glm::length(glm::dvec3(xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]));
+    tie = kLengthTieBreak * length * length * length;
+  }
+
+  // Cost at x (normalised). Where the position is constrained (an endpoint, the midpoint), the
+  // field values need not be: x's field part becomes the values the merged quadric likes best at
+  // that position. Keeping an endpoint's values instead let the greedy order wipe out narrow
+  // field features for free. A pinned vertex keeps its values exactly (see fields_at).
+  double placement_cost(double* x, bool free_fields) const {
+    if (free_fields) quadric_detail::minimize_fields<kN>(q, n, x);
+    return quadric_detail::eval<kN>(q, n, x) + tie;
+  }
+
+  // The optimum, when the quadric is well conditioned and its minimum lies near the edge
+  // (far-away minima come from nearly flat quadrics).
+  bool optimum(double* xo) const {
+    if (!quadric_detail::minimize<kN>(q, n, xo)) return false;
+    const glm::dvec3 po(xo[0], xo[1], xo[2]), pm(xm[0], xm[1], xm[2]);
+    return glm::length(po - pm) <= length;
+  }
+};
+
+template <int kN>
+int CostModel::candidates_n(const TetMesh& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch) {
   const std::uint8_t oa = order(mesh, a, scratch), ob = order(mesh, b, scratch);
-  if (oa == 3 && ob == 3 && !(pa || pb)) return 0;
+  if (oa == 3 && ob == 3) return 0;  // link condition (I); pinned vertices have order 3
+  const bool pa = oa == 3 && mesh.is_pinned(a), pb = ob == 3 && mesh.is_pinned(b);
+  const EdgeQuadric<kN> e(*this, a, b);
+  const int n = e.n;
 
-  const int qs = quadric_size(n_);
-  double q[quadric_size(kMaxQuadricDim)];
-  std::copy_n(&quadrics_[static_cast<std::size_t>(a) * qs], qs, q);
-  quadric_add(q, &quadrics_[static_cast<std::size_t>(b) * qs], n_);
-  double xa[kMaxQuadricDim], xb[kMaxQuadricDim];
-  normalise(mesh, a, xa);
-  normalise(mesh, b, xb);
-  const double length = glm::length(mesh.positions[a] - mesh.positions[b]) * inv_diag_;
-  const double tie = kLengthTieBreak * length * length * length;
-
+  CollapseCandidate found[4];
   int count = 0;
   auto add = [&](VertId u, VertId v, const double* x, int placement) {
-    CollapseCandidate& c = out[count++];
+    CollapseCandidate& c = found[count++];
     c.u = u;
     c.v = v;
     c.placement = placement;
-    std::copy_n(x, n_, c.x);
+    std::copy_n(x, n, c.x);
     c.p = placement == kAtU ? mesh.positions[u]
           : placement == kMidpoint ? 0.5 * (mesh.positions[a] + mesh.positions[b])
                                    : origin_ + glm::dvec3(x[0], x[1], x[2]) / inv_diag_;
-    // Where the position is constrained (an endpoint, the midpoint), the field values need not
-    // be: take the ones the merged quadric likes best at that position. Keeping an endpoint's
-    // values instead let the greedy order wipe out narrow field features for free. A pinned
-    // vertex keeps its values exactly (see fields_at).
-    if (placement != kOptimum && !(placement == kAtU && mesh.is_pinned(u))) quadric_minimize_fields(q, n_, c.x);
-    c.cost = quadric_eval(q, n_, c.x) + tie;
+    c.cost = e.placement_cost(c.x, placement != kOptimum && !(placement == kAtU && mesh.is_pinned(u)));
   };
   // A pinned end, or the end of higher order, stays where it is.
   if (pa || (!pb && oa > ob)) {
-    add(a, b, xa, kAtU);
-    return count;
+    add(a, b, e.xa, kAtU);
+  } else if (pb || ob > oa) {
+    add(b, a, e.xb, kAtU);
+  } else {
+    add(a, b, e.xa, kAtU);
+    add(b, a, e.xb, kAtU);
+    add(a, b, e.xm, kMidpoint);
+    double xo[kMaxQuadricDim];
+    if (oa == 0 && e.optimum(xo)) add(a, b, xo, kOptimum);
+  }
+  // Cheapest first; ties keep the order above (deterministic). Sorted by index: a candidate is
+  // large (its quadric coordinates), and only the winner order matters.
+  int order_of[4] = {0, 1, 2, 3};
+  for (int i = 1; i < count; ++i)
+    for (int j = i; j > 0 && found[order_of[j]].cost < found[order_of[j - 1]].cost; --j)
+      std::swap(order_of[j], order_of[j - 1]);
+  for (int i = 0; i < count; ++i) {
+    const CollapseCandidate& c = found[order_of[i]];
+    CollapseCandidate& o = out[i];
+    o.u = c.u;
+    o.v = c.v;
+    o.p = c.p;
+    o.cost = c.cost;
+    o.placement = c.placement;
+    std::copy_n(c.x, n, o.x);
+  }
+  return count;
+}
+
+template <int kN>
+double CostModel::edge_cost_n(const TetMesh& mesh, VertId a, VertId b, LinkScratch& scratch) {
+  constexpr double kForbidden = std::numeric_limits<double>::infinity();
+  const std::uint8_t oa = order(mesh, a, scratch), ob = order(mesh, b, scratch);
+  if (oa == 3 && ob == 3) return kForbidden;  // link condition (I); pinned vertices have order 3
+  const bool pa = oa == 3 && mesh.is_pinned(a), pb = ob == 3 && mesh.is_pinned(b);
+  const EdgeQuadric<kN> e(*this, a, b);
+  double x[kMaxQuadricDim];
+  // The same placements as candidates_n, in the same arithmetic; only the cheapest cost is kept.
+  if (pa || (!pb && oa > ob)) {
+    std::copy_n(e.xa, e.n, x);
+    return e.placement_cost(x, !pa);
   }
   if (pb || ob > oa) {
-    add(b, a, xb, kAtU);
-    return count;
+    std::copy_n(e.xb, e.n, x);
+    return e.placement_cost(x, !pb);
   }
-  add(a, b, xa, kAtU);
-  add(b, a, xb, kAtU);
-  double xm[kMaxQuadricDim];
-  for (int i = 0; i < n_; ++i) xm[i] = 0.5 * (xa[i] + xb[i]);
-  add(a, b, xm, kMidpoint);
-  double xo[kMaxQuadricDim];
-  if (oa == 0 && quadric_minimize(q, n_, xo)) {
-    // Trust the optimum only near the edge: far-away minima come from nearly flat quadrics.
-    const glm::dvec3 po(xo[0], xo[1], xo[2]), pm(xm[0], xm[1], xm[2]);
-    if (glm::length(po - pm) <= length) add(a, b, xo, kOptimum);
+  // The optimum minimises the quadric over all positions and field values, so when it is a
+  // candidate it is the cheapest one: the three others need not be evaluated.
+  if (oa == 0 && e.optimum(x)) return e.placement_cost(x, false);
+  double best = kForbidden;
+  for (const double* start : {e.xa, e.xb, e.xm}) {
+    std::copy_n(start, e.n, x);
+    best = std::min(best, e.placement_cost(x, true));
   }
-  // Cheapest first; ties keep the order above (deterministic).
-  std::stable_sort(out, out + count, [](const CollapseCandidate& l, const CollapseCandidate& r) { return l.cost < r.cost; });
-  return count;
+  return best;
 }
 
 void CostModel::fields_at(const TetMesh& mesh, const CollapseCandidate& c, double* out) const {
@@ -183,8 +282,8 @@ void CostModel::fields_at(const TetMesh& mesh, const CollapseCandidate& c, doubl
 }
 
 void CostModel::on_collapse(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_uv) {
-  const int qs = quadric_size(n_);
-  quadric_add(&quadrics_[static_cast<std::size_t>(u) * qs], &quadrics_[static_cast<std::size_t>(v) * qs], n_);
+  quadric_add(quadric(u), quadric(v), n_);
+  normalise(mesh, u, coordinates(u));  // u moved and took new field values
   // Which orders can change? u's star changed wholesale. A vertex x outside the removed tets St(uv)
   // is adjacent to u or to v but not both: its faces and edges through v are only renamed to u
   // (no face or edge of x merges, since a merge needs a removed tet uvxy), so the special faces,
@@ -193,14 +292,24 @@ void CostModel::on_collapse(const TetMesh& mesh, VertId u, VertId v, const std::
   // ones on a feature: an interior vertex (order 0: no special face or edge, not pinned) has no
   // special simplex to merge, and every special simplex after the collapse is the image of one
   // before it, so it stays interior. Most vertices are interior: this spares their reclassification.
-  orders_[u].store(kStale, std::memory_order_relaxed);
+  // u itself: its star changed wholesale, unless u was interior. Then so was v (the cost model
+  // keeps the end of higher order), every tet of St(u) ∪ St(v) had one material and no special
+  // face or edge at u or v, and the merged faces of the removed tets stay interior (the link
+  // conditions hold): u is still interior.
+  // A vertex that was on a feature goes straight to the classification when its order is next
+  // needed (the fast interior test would almost always fail: its special simplices have images).
+  const auto mark_stale = [&](VertId x) {
+    const std::uint8_t o = orders_[x].load(std::memory_order_relaxed);
+    if (o != 0) orders_[x].store(o == kStale ? kStale : kStaleFeature, std::memory_order_relaxed);
+  };
+  mark_stale(u);
   for (TetId t : star_uv)
     for (VertId x : mesh.tets[t])
-      if (x != v && orders_[x].load(std::memory_order_relaxed) != 0) orders_[x].store(kStale, std::memory_order_relaxed);
+      if (x != v) mark_stale(x);
 }
 
 std::size_t CostModel::memory_bytes() const {
-  return quadrics_.capacity() * sizeof(double) + vertex_count_ * sizeof(std::atomic<std::uint8_t>) +
+  return records_.capacity() * sizeof(double) + vertex_count_ * sizeof(std::atomic<std::uint8_t>) +
          (field_min_.capacity() + field_scale_.capacity()) * sizeof(double);
 }
 

@@ -59,6 +59,11 @@ class CostModel {
   // collapse outright (both ends order 3, or a pinned end that would have to move).
   int candidates(const TetMesh& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch);
 
+  // The cost of edge ab's cheapest placement (candidates()[0].cost, up to rounding: the optimum,
+  // when it is a candidate, is taken as the cheapest without evaluating the others); infinity
+  // when the orders forbid the collapse. For ranking edges; candidates() for checking them.
+  double edge_cost(const TetMesh& mesh, VertId a, VertId b, LinkScratch& scratch);
+
   // Field values (mesh units, field_stride() of them) for u after collapsing with candidate c.
   void fields_at(const TetMesh& mesh, const CollapseCandidate& c, double* out) const;
 
@@ -84,6 +89,13 @@ class CostModel {
   std::size_t memory_bytes() const;
 
  private:
+  // kN > 0: the quadric dimension n_ fixed at compile time; 0: read at run time.
+  template <int kN>
+  struct EdgeQuadric;
+  template <int kN>
+  int candidates_n(const TetMesh& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch);
+  template <int kN>
+  double edge_cost_n(const TetMesh& mesh, VertId a, VertId b, LinkScratch& scratch);
   void normalise(const TetMesh& mesh, VertId v, double* x) const;
 
   int n_ = 3;             // quadric dimension
@@ -91,7 +103,14 @@ class CostModel {
   glm::dvec3 origin_{0.0};
   double inv_diag_ = 1.0;
   std::vector<double> field_min_, field_scale_;  // per quadric field component
-  std::vector<double> quadrics_;                 // [vert * quadric_size(n_)]
+  // Per vertex, side by side: its quadric (quadric_size(n_) doubles), then its normalised
+  // coordinates (n_ doubles). A candidate edge reads one record per end.
+  std::vector<double> records_;
+  std::size_t record_size_ = 0;
+  double* quadric(VertId v) { return &records_[v * record_size_]; }
+  const double* quadric(VertId v) const { return &records_[v * record_size_]; }
+  double* coordinates(VertId v) { return &records_[v * record_size_ + quadric_size(n_)]; }
+  const double* coordinates(VertId v) const { return &records_[v * record_size_ + quadric_size(n_)]; }
   std::unique_ptr<std::atomic<std::uint8_t>[]> orders_;  // 0xFF = stale
   std::size_t vertex_count_ = 0;
 };

@@ -2,6 +2,9 @@
 #include "link_condition.h"
 
 #include <algorithm>
+#include <span>
+
+#include "probe_set.h"
 
 namespace topotet {
 namespace {
@@ -13,6 +16,18 @@ constexpr int kFiltrationK = 0, kFiltrationKtilde = 1;
 std::uint64_t pack(VertId x, VertId y) {
   return x < y ? (std::uint64_t{x} << 32) | y : (std::uint64_t{y} << 32) | x;
 }
+
+// The local vertices of face f other than la (both != f): kFaceOthers[la][f].
+constexpr std::array<std::array<std::array<std::uint8_t, 2>, 4>, 4> kFaceOthers = [] {
+  std::array<std::array<std::array<std::uint8_t, 2>, 4>, 4> t{};
+  for (int la = 0; la < 4; ++la)
+    for (int f = 0; f < 4; ++f) {
+      int m = 0;
+      for (int k = 0; k < 4 && m < 2; ++k)
+        if (k != f && k != la) t[la][f][m++] = static_cast<std::uint8_t>(k);
+    }
+  return t;
+}();
 
 int local_of(const std::array<VertId, 4>& v, VertId a) {
   for (int k = 0; k < 4; ++k)
@@ -168,6 +183,88 @@ void interior_neighbours(const TetMesh& mesh, VertId a, VertexData& d, LinkScrat
   for (VertId x : nbv) d.neighbours.push_back(Neighbour{x, {0, 0}, {0, 0}, false, false, 0, {}});
 }
 
+// (A)-(C) for an edge whose ends are both interior (order 0 in both filtrations, so (D)-(I) hold
+// trivially). Returns the failed test, 0 when all hold, or '?' when the star is too unusual for
+// this path (the caller then runs the general one). C = the vertices of St(ab) other than a, b
+// (the link of ab); every common neighbour of a and b that spans a triangle with ab is in C.
+//   (A) a common neighbour outside C;
+//   (B) a pair of C joined by an edge of Lk(a) and of Lk(b) (some tet of each star holds both)
+//       that is not a pair of a tet of St(ab);
+//   (C) a triple of C that is a face of Lk(a) and of Lk(b).
+// With (A) passed the common neighbours are exactly C, which is the domain the general tests
+// range over, so the answers agree.
+char interior_link_test(const TetMesh& mesh, VertId a, VertId b, const std::vector<TetId>& stab, LinkScratch& s) {
+  auto& c = s.common;
+  c.clear();
+  for (TetId t : stab)
+    for (VertId x : mesh.tets[t])
+      if (x != a && x != b && std::find(c.begin(), c.end(), x) == c.end()) c.push_back(x);
+  if (c.size() > 32) return '?';
+  // a's neighbours in a probe set, each tagged with its index in C (-1: not in C).
+  const std::size_t slots = probe_slots_for(3 * static_cast<std::size_t>(mesh.v2t_count[a]));
+  std::array<VertId, 512> keys;
+  std::array<std::int8_t, 512> tag;
+  if (slots > keys.size()) return '?';
+  ProbeSet<VertId> around_a(std::span<VertId>(keys.data(), slots));
+  // Bit j of adjacency[i]: the pair (c_i, c_j) lies in a tet of the star (an edge of its link).
+  std::array<std::uint32_t, 32> adj_a{}, adj_b{}, adj_ab{};
+  auto& triples_a = s.pairs_a;
+  auto& triples_b = s.pairs_b;
+  triples_a.clear();
+  triples_b.clear();
+  const auto record = [](const int* idx, int n, std::array<std::uint32_t, 32>& adj, std::vector<std::uint64_t>& triples) {
+    for (int p = 0; p < n; ++p)
+      for (int q = p + 1; q < n; ++q) {
+        adj[idx[p]] |= 1u << idx[q];
+        adj[idx[q]] |= 1u << idx[p];
+      }
+    if (n == 3) {
+      int sorted[3] = {idx[0], idx[1], idx[2]};
+      std::sort(sorted, sorted + 3);
+      triples.push_back((std::uint64_t(sorted[0]) << 16) | (std::uint64_t(sorted[1]) << 8) | std::uint64_t(sorted[2]));
+    }
+  };
+  mesh.for_each_tet_of(a, [&](TetId t) {
+    int idx[3], n = 0;
+    for (VertId x : mesh.tets[t]) {
+      if (x == a) continue;
+      const auto [slot, fresh] = around_a.insert(x);
+      if (fresh) {
+        const auto it = std::find(c.begin(), c.end(), x);
+        tag[slot] = it == c.end() ? std::int8_t{-1} : static_cast<std::int8_t>(it - c.begin());
+      }
+      if (tag[slot] >= 0) idx[n++] = tag[slot];
+    }
+    record(idx, n, adj_a, triples_a);
+  });
+  // (A) and St(b)'s side of (B), (C) in one pass.
+  bool failed_a = false;
+  mesh.for_each_tet_of(b, [&](TetId t) {
+    int idx[3], n = 0;
+    for (VertId x : mesh.tets[t]) {
+      if (x == a || x == b) continue;
+      const std::uint32_t slot = around_a.find(x);
+      if (slot == ProbeSet<VertId>::kNotFound) continue;  // not a common neighbour
+      if (tag[slot] < 0) failed_a = true;                 // a common neighbour outside Lk(ab)
+      else idx[n++] = tag[slot];
+    }
+    record(idx, n, adj_b, triples_b);
+  });
+  if (failed_a) return 'A';
+  for (TetId t : stab) {
+    int idx[2], n = 0;
+    for (VertId x : mesh.tets[t])
+      if (x != a && x != b) idx[n++] = tag[around_a.find(x)];
+    adj_ab[idx[0]] |= 1u << idx[1];
+    adj_ab[idx[1]] |= 1u << idx[0];
+  }
+  for (std::size_t i = 0; i < c.size(); ++i)
+    if ((adj_a[i] & adj_b[i] & ~adj_ab[i]) != 0) return 'B';
+  for (std::uint64_t x : triples_a)
+    if (std::find(triples_b.begin(), triples_b.end(), x) != triples_b.end()) return 'C';
+  return 0;
+}
+
 }  // namespace
 
 VertexOrders classify_vertex(const TetMesh& mesh, VertId a, VertexData& d, LinkScratch& scratch) {
@@ -177,46 +274,54 @@ VertexOrders classify_vertex(const TetMesh& mesh, VertId a, VertexData& d, LinkS
   d.non_manifold = false;
 
   auto& nbv = scratch.tmp_vertices;
-  nbv.clear();
+  mesh.neighbours(a, nbv);
+  for (VertId x : nbv) d.neighbours.push_back(Neighbour{x, {0, 0}, {0, 0}, false, false, 0, {}});
+
+  // The faces through a, in chain order (ascending tet ids), grouped by their two other vertices.
   mesh.for_each_tet_of(a, [&](TetId t) {
     const auto& v = mesh.tets[t];
     const int la = local_of(v, a);
-    for (int k = 0; k < 4; ++k)
-      if (k != la) nbv.push_back(v[k]);
     for (int f = 0; f < 4; ++f) {
       if (f == la) continue;
-      VertId xy[2];
-      int m = 0;
-      for (int k = 0; k < 4; ++k)
-        if (k != f && k != la) xy[m++] = v[k];
-      d.recs.push_back({pack(xy[0], xy[1]), t, static_cast<std::uint8_t>(f)});
+      const auto& o = kFaceOthers[la][f];
+      d.recs.push_back({pack(v[o[0]], v[o[1]]), t, static_cast<std::uint8_t>(f)});
     }
   });
-  std::sort(d.recs.begin(), d.recs.end(), [](const auto& p, const auto& q) {
-    return p.key != q.key ? p.key < q.key : p.tet < q.tet;
-  });
-  std::sort(nbv.begin(), nbv.end());
-  nbv.erase(std::unique(nbv.begin(), nbv.end()), nbv.end());
-  for (VertId x : nbv) d.neighbours.push_back(Neighbour{x, {0, 0}, {0, 0}, false, false, 0, {}});
+  scratch.face_slots.resize(probe_slots_for(d.recs.size()));
+  scratch.slot_group.resize(scratch.face_slots.size());
+  ProbeSet<std::uint64_t> faces(scratch.face_slots);
+  auto& groups = scratch.face_groups;  // in order of first appearance: deterministic
+  groups.clear();
+  for (std::uint32_t i = 0; i < d.recs.size(); ++i) {
+    const LinkScratch::FaceRec& r = d.recs[i];
+    const bool flagged = is_surface_face(mesh.flags[r.tet], r.local_face);
+    const auto [slot, fresh] = faces.insert(r.key);
+    if (fresh) {
+      scratch.slot_group[slot] = static_cast<std::uint32_t>(groups.size());
+      groups.push_back({1, i, kInvalid, flagged ? i : kInvalid});
+      continue;
+    }
+    LinkScratch::FaceGroup& g = groups[scratch.slot_group[slot]];
+    if (++g.count == 2) g.second = i;
+    if (flagged) g.last_flagged = i;  // the flagged tet of highest id gives the ref
+  }
 
-  for (std::size_t i = 0; i < d.recs.size();) {
-    std::size_t j = i + 1;
-    while (j < d.recs.size() && d.recs[j].key == d.recs[i].key) ++j;
-    if (j - i > 2) d.non_manifold = true;
-    const bool boundary = j - i == 1;
-    const LinkScratch::FaceRec* flagged = nullptr;
-    for (std::size_t k = i; k < j; ++k)
-      if (is_surface_face(mesh.flags[d.recs[k].tet], d.recs[k].local_face)) flagged = &d.recs[k];
-    if (boundary || flagged != nullptr) {
+  for (const LinkScratch::FaceGroup& g : groups) {
+    if (g.count > 2) d.non_manifold = true;
+    const bool boundary = g.count == 1;
+    const LinkScratch::FaceRec& first = d.recs[g.first];
+    if (boundary || g.last_flagged != kInvalid) {
       LinkScratch::Label label{kNoRef, 0, 0};
-      if (flagged != nullptr)
-        label.ref = mesh.refs_table[mesh.tet_refs_slot[flagged->tet]].face[flagged->local_face];
-      const std::int32_t m0 = mesh.material[d.recs[i].tet];
-      const std::int32_t m1 = boundary ? kBoundarySide : mesh.material[d.recs[i + 1].tet];
+      if (g.last_flagged != kInvalid) {
+        const LinkScratch::FaceRec& flagged = d.recs[g.last_flagged];
+        label.ref = mesh.refs_table[mesh.tet_refs_slot[flagged.tet]].face[flagged.local_face];
+      }
+      const std::int32_t m0 = mesh.material[first.tet];
+      const std::int32_t m1 = boundary ? kBoundarySide : mesh.material[d.recs[g.second].tet];
       label.m0 = std::min(m0, m1);
       label.m1 = std::max(m0, m1);
-      d.special.push_back({d.recs[i].x(), d.recs[i].y(), label, boundary});
-      for (VertId x : {d.recs[i].x(), d.recs[i].y()}) {
+      d.special.push_back({first.x(), first.y(), label, boundary});
+      for (VertId x : {first.x(), first.y()}) {
         Neighbour* nb = find_neighbour(d, x);
         nb->count[kFiltrationK] += boundary ? 1 : 0;
         if (nb->count[kFiltrationKtilde]++ == 0)
@@ -225,7 +330,6 @@ VertexOrders classify_vertex(const TetMesh& mesh, VertId a, VertexData& d, LinkS
           nb->mixed_labels = true;
       }
     }
-    i = j;
   }
 
   mesh.for_each_tet_of(a, [&](TetId t) {
@@ -251,6 +355,42 @@ VertexOrders classify_vertex(const TetMesh& mesh, VertId a, VertexData& d, LinkS
   return d.orders;
 }
 
+bool is_interior_vertex(const TetMesh& mesh, VertId a) {
+  if (mesh.is_pinned(a)) return false;
+  // Faces through a, keyed by their two other vertices, counted in a probe set on the stack (3
+  // faces per tet; stars of more than 170 tets take the classification instead).
+  const std::size_t items = 3 * static_cast<std::size_t>(mesh.v2t_count[a]);
+  const std::size_t slots = probe_slots_for(items);
+  std::array<std::uint64_t, 512> keys;
+  std::array<std::uint8_t, 512> counts;
+  if (slots > keys.size()) return false;
+  ProbeSet<std::uint64_t> faces(std::span<std::uint64_t>(keys.data(), slots));
+  bool special = false;  // a flagged face or edge through a, or a face in three or more tets
+  std::size_t distinct = 0;
+  mesh.for_each_tet_of(a, [&](TetId t) {
+    const auto& v = mesh.tets[t];
+    const int la = local_of(v, a);
+    const TetFlags fl = mesh.flags[t];
+    for (int f = 0; f < 4; ++f) {
+      if (f == la) continue;
+      special |= is_surface_face(fl, f);  // face f contains a (it is opposite another corner)
+      const auto& o = kFaceOthers[la][f];
+      const auto [slot, fresh] = faces.insert(pack(v[o[0]], v[o[1]]));
+      if (fresh) {
+        counts[slot] = 1;
+        ++distinct;
+      } else {
+        special |= ++counts[slot] > 2;
+      }
+    }
+    for (int e = 0; e < 6; ++e)
+      if (is_polyline_edge(fl, e) && (kTetEdges[e][0] == la || kTetEdges[e][1] == la)) special = true;
+  });
+  // No count above 2 and 3|St(a)| = 2 * distinct: every face through a is in exactly two tets
+  // (none on the boundary).
+  return !special && 2 * distinct == items;
+}
+
 VertexOrders vertex_orders(const TetMesh& mesh, VertId a, LinkScratch& scratch) {
   return classify_vertex(mesh, a, scratch.a, scratch);
 }
@@ -268,6 +408,11 @@ LinkResult check_link_conditions(const TetMesh& mesh, VertId a, VertId b, const 
   const auto hinted = [&](VertId x) { return scratch.known_interior[0] == x || scratch.known_interior[1] == x; };
   const bool interior_a = hinted(a), interior_b = hinted(b);
   scratch.known_interior = {kInvalid, kInvalid};
+  if (interior_a && interior_b) {
+    const char test = interior_link_test(mesh, a, b, stab, scratch);
+    if (test == 0) return LinkResult::kOk;
+    if (test != '?') return failed(test, kFiltrationK);
+  }
   if (interior_a)
     interior_neighbours(mesh, a, da, scratch);
   else

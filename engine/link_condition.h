@@ -94,6 +94,12 @@ struct LinkScratch {
   int failed_filtration = 0;  // 0 = K, 1 = K~
   std::vector<Label> labels_x1, labels_x2;
   std::vector<VertId> tmp_vertices;
+  struct FaceGroup {  // the records of one face through a (indices into VertexData::recs)
+    std::uint32_t count, first, second, last_flagged;
+  };
+  std::vector<FaceGroup> face_groups;
+  std::vector<std::uint64_t> face_slots;   // probe set storage for the face grouping
+  std::vector<std::uint32_t> slot_group;   // face slot -> index into face_groups
   std::vector<VertId> common;  // common neighbours of a and b (other than a, b)
   std::vector<std::uint64_t> pairs_a, pairs_b, pairs_ab;
   std::vector<std::array<VertId, 3>> faces_a, faces_b;
@@ -101,6 +107,13 @@ struct LinkScratch {
 
 // Classifies vertex a from its star (fills scratch data; returns its orders).
 VertexOrders classify_vertex(const TetMesh& mesh, VertId a, LinkScratch::VertexData& data, LinkScratch& scratch);
+
+// True when a has order 0 in both filtrations, decided without building its link: a is not
+// pinned, no face or edge of St(a) through a is flagged, and every face through a has exactly two
+// tets (none on the boundary, none non-manifold). Equivalent to vertex_orders(a).ktilde == 0 (the
+// classification gives order 0 exactly when a has no special face, no polyline edge and is not
+// pinned), at a fraction of the cost; used to skip the classification of the many interior vertices.
+bool is_interior_vertex(const TetMesh& mesh, VertId a);
 
 // Orders of vertex a, for callers outside the kernel (cost, placement, tests).
 VertexOrders vertex_orders(const TetMesh& mesh, VertId a, LinkScratch& scratch);

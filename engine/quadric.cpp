@@ -3,12 +3,8 @@
 #include <cmath>
 
 namespace topotet {
-namespace {
 
-// Index of A(i, j), i <= j, in the packed upper triangle.
-inline int tri_index(int n, int i, int j) { return i * n - i * (i - 1) / 2 + (j - i); }
-
-}  // namespace
+using quadric_detail::tri_index;
 
 void quadric_add_simplex(double* q, int n, const double* points, int count, double weight) {
   // Orthonormal basis of the directions p_i - p_0 by modified Gram-Schmidt.
@@ -69,81 +65,47 @@ void quadric_add_simplex_positions(double* q, int n, const double* points, int c
   b[n] += b3[3];
 }
 
-void quadric_add(double* q, const double* other, int n) {
-  const int size = quadric_size(n);
-  for (int i = 0; i < size; ++i) q[i] += other[i];
-}
-
-double quadric_eval(const double* q, int n, const double* x) {
-  const double* b = q + n * (n + 1) / 2;
-  double s = b[n];
+void quadric_add_tet_one_field(double* q, const double* points, double weight) {
+  constexpr int n = 4;
+  const double* p0 = points;
+  double e[3][3], df[3];
+  for (int i = 0; i < 3; ++i) {
+    for (int d = 0; d < 3; ++d) e[i][d] = points[(i + 1) * n + d] - p0[d];
+    df[i] = points[(i + 1) * n + 3] - p0[3];
+  }
+  auto cross = [](const double* a, const double* b, double* out) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+  };
+  double c23[3], c31[3], c12[3];
+  cross(e[1], e[2], c23);
+  cross(e[2], e[0], c31);
+  cross(e[0], e[1], c12);
+  const double det = e[0][0] * c23[0] + e[0][1] * c23[1] + e[0][2] * c23[2];
+  if (det == 0.0) return;
+  // Gradient of the linear interpolant (Cramer's rule: g . e_i = df_i).
+  double normal[4];
+  for (int d = 0; d < 3; ++d) normal[d] = (df[0] * c23[d] + df[1] * c31[d] + df[2] * c12[d]) / det;
+  normal[3] = -1.0;
+  const double norm2 = normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2] + 1.0;
+  const double s = weight / norm2;
+  const double offset = normal[0] * p0[0] + normal[1] * p0[1] + normal[2] * p0[2] + normal[3] * p0[3];
+  if (!std::isfinite(s * offset * offset)) return;
+  // A = s n n^T, b = -A p0 = -s (n . p0) n, c = s (n . p0)^2.
   int k = 0;
-  for (int i = 0; i < n; ++i) {
-    s += 2.0 * b[i] * x[i] + q[k++] * x[i] * x[i];
-    for (int j = i + 1; j < n; ++j) s += 2.0 * q[k++] * x[i] * x[j];
-  }
-  return s > 0.0 ? s : 0.0;  // rounding can make a PSD form slightly negative
+  for (int i = 0; i < n; ++i)
+    for (int j = i; j < n; ++j) q[k++] += s * normal[i] * normal[j];
+  for (int i = 0; i < n; ++i) q[k++] -= s * offset * normal[i];
+  q[k] += s * offset * offset;
 }
 
-namespace {
+void quadric_add(double* q, const double* other, int n) { quadric_detail::add<0>(q, other, n); }
 
-// Solves the m x m system in `m` (augmented: column m is the right-hand side) by Gaussian
-// elimination with partial pivoting into y. False when a pivot is tiny relative to the largest
-// diagonal entry (a nearly flat direction) or the result is not finite.
-bool solve_dense(double (&m)[kMaxQuadricDim][kMaxQuadricDim + 1], int n, double* y) {
-  double max_diag = 0.0;
-  for (int i = 0; i < n; ++i) max_diag = std::fmax(max_diag, std::fabs(m[i][i]));
-  if (!(max_diag > 0.0)) return false;
-  for (int col = 0; col < n; ++col) {
-    int piv = col;
-    for (int r = col + 1; r < n; ++r)
-      if (std::fabs(m[r][col]) > std::fabs(m[piv][col])) piv = r;
-    // A pivot this small relative to the largest diagonal entry means a (nearly) flat direction.
-    if (std::fabs(m[piv][col]) < 1e-9 * max_diag) return false;
-    if (piv != col)
-      for (int c = col; c <= n; ++c) std::swap(m[piv][c], m[col][c]);
-    for (int r = col + 1; r < n; ++r) {
-      const double f = m[r][col] / m[col][col];
-      for (int c = col; c <= n; ++c) m[r][c] -= f * m[col][c];
-    }
-  }
-  double r[kMaxQuadricDim];
-  for (int i = n - 1; i >= 0; --i) {
-    double s = m[i][n];
-    for (int j = i + 1; j < n; ++j) s -= m[i][j] * r[j];
-    r[i] = s / m[i][i];
-    if (!std::isfinite(r[i])) return false;
-  }
-  for (int i = 0; i < n; ++i) y[i] = r[i];
-  return true;
-}
+double quadric_eval(const double* q, int n, const double* x) { return quadric_detail::eval<0>(q, n, x); }
 
-}  // namespace
+bool quadric_minimize(const double* q, int n, double* x) { return quadric_detail::minimize<0>(q, n, x); }
 
-bool quadric_minimize(const double* q, int n, double* x) {
-  // Solve A x = -b on a dense copy.
-  double m[kMaxQuadricDim][kMaxQuadricDim + 1];
-  const double* b = q + n * (n + 1) / 2;
-  for (int i = 0; i < n; ++i) {
-    for (int j = i; j < n; ++j) m[i][j] = m[j][i] = q[tri_index(n, i, j)];
-    m[i][n] = -b[i];
-  }
-  return solve_dense(m, n, x);
-}
-
-bool quadric_minimize_fields(const double* q, int n, double* x) {
-  // With x = (p, f): dQ/df = 0  <=>  A_ff f = -(b_f + A_fp p).
-  const int k = n - 3;
-  if (k <= 0) return false;
-  double m[kMaxQuadricDim][kMaxQuadricDim + 1];
-  const double* b = q + n * (n + 1) / 2;
-  for (int i = 0; i < k; ++i) {
-    for (int j = i; j < k; ++j) m[i][j] = m[j][i] = q[tri_index(n, 3 + i, 3 + j)];
-    double rhs = -b[3 + i];
-    for (int d = 0; d < 3; ++d) rhs -= q[tri_index(n, d, 3 + i)] * x[d];
-    m[i][k] = rhs;
-  }
-  return solve_dense(m, k, x + 3);
-}
+bool quadric_minimize_fields(const double* q, int n, double* x) { return quadric_detail::minimize_fields<0>(q, n, x); }
 
 }  // namespace topotet

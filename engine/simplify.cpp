@@ -10,6 +10,7 @@
 
 #include "engines.h"
 #include "parallel/for_range.h"
+#include "reorder.h"
 #include "surface_tolerance.h"
 #include "topotet/simplify.h"
 
@@ -70,6 +71,8 @@ Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept {
                                                                          static_cast<double>(report.vertices_before)));
     target = std::max<std::uint64_t>(target, 4);
     parallel::run_with_threads(options.num_threads, [&] {
+      // Neighbours in space become neighbours in memory: every phase walks stars (reorder.h).
+      reorder_for_locality(mesh);
       CollapseOptions kernel;
       kernel.quality_floor = options.min_quality;
       // The original surfaces, built before the first collapse and shared read-only by all threads.

@@ -3,6 +3,7 @@
 #include <numeric>
 
 #include "parallel/for_range.h"
+#include "probe_set.h"
 #include "topotet/tet_mesh.h"
 
 namespace topotet {
@@ -27,12 +28,18 @@ int TetMesh::field_stride() const {
 
 void TetMesh::neighbours(VertId v, std::vector<VertId>& out) const {
   out.clear();
+  // Every neighbour appears in several tets of the star (about 5 times in the interior): a probe
+  // set drops the repeats, so only the distinct ones are sorted. This runs for every candidate edge.
+  const std::size_t slots = probe_slots_for(3 * static_cast<std::size_t>(v2t_count[v]));
+  std::array<VertId, 512> on_stack;  // stars of up to 85 tets
+  std::vector<VertId> on_heap;
+  if (slots > on_stack.size()) on_heap.resize(slots);
+  ProbeSet<VertId> seen(slots > on_stack.size() ? std::span<VertId>(on_heap) : std::span<VertId>(on_stack.data(), slots));
   for_each_tet_of(v, [&](TetId t) {
     for (VertId x : tets[t])
-      if (x != v) out.push_back(x);
+      if (x != v && seen.insert(x).second) out.push_back(x);
   });
   std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
 std::size_t TetMesh::memory_bytes() const {

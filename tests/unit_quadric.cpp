@@ -88,5 +88,38 @@ TEST(Quadric, FullMinimiserFindsTheCommonPointOfThreePlanes) {
   EXPECT_FALSE(quadric_minimize(flat, 3, y));
 }
 
+TEST(Quadric, OneFieldTetQuadricEqualsTheGeneralOne) {
+  // The closed form (normal (grad f, -1)) against Gram-Schmidt, on random and on thin tets.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 200; ++trial) {
+    double pts[4 * kN];
+    for (double& x : pts) x = u(rng);
+    if (trial % 4 == 0)
+      for (int d = 0; d < 3; ++d) pts[3 * kN + d] = pts[d] + 1e-4 * u(rng);  // a sliver
+    double general[quadric_size(kN)] = {}, closed[quadric_size(kN)] = {};
+    quadric_add_simplex(general, kN, pts, 4, 0.7);
+    quadric_add_tet_one_field(closed, pts, 0.7);
+    for (int i = 0; i < quadric_size(kN); ++i)
+      EXPECT_NEAR(closed[i], general[i], 1e-9 * (1.0 + std::fabs(general[i]))) << "trial " << trial << " entry " << i;
+  }
+}
+
+TEST(Quadric, FlatTetAddsNothingInClosedForm) {
+  const double pts[4 * kN] = {0, 0, 0, 1, 1, 0, 0, 2, 0, 1, 0, 3, 1, 1, 0, 4};  // all in z = 0
+  double q[quadric_size(kN)] = {};
+  quadric_add_tet_one_field(q, pts, 1.0);
+  for (double x : q) EXPECT_EQ(x, 0.0);
+}
+
+TEST(Quadric, MinimiserRefusesAFlatQuadric) {
+  // Plane quadrics of z = 0 only: the minimum is a whole plane, so there is no optimum to trust.
+  const double pts[3 * kN] = {0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0};
+  double q[quadric_size(kN)] = {};
+  quadric_add_simplex_positions(q, kN, pts, 3, 1.0);
+  double x[kN];
+  EXPECT_FALSE(quadric_minimize(q, kN, x));
+}
+
 }  // namespace
 }  // namespace topotet

@@ -2,6 +2,8 @@
 // parallel engine gives the same mesh for every thread count.
 #include <gtest/gtest.h>
 
+#include <numeric>
+#include <random>
 #include <thread>
 
 #include "test_meshes.h"
@@ -73,6 +75,51 @@ TEST(Simplify, ParallelOutputIsIdenticalForEveryThreadCount) {
     else
       EXPECT_TRUE(out == reference) << "threads = " << threads << " differs from threads = 1";
   }
+}
+
+// The same mesh numbered another way (vertices and tets shuffled): simplify() renumbers along a
+// space-filling curve first, so the simplified meshes are the same up to numbering.
+TEST(Simplify, OutputDoesNotDependOnTheInputNumbering) {
+  testing::Grid g = testing::make_grid(10, 9, 8, [](int i, int j, int k) {
+    const double dx = i - 5, dy = j - 4.5, dz = k - 4;
+    return dx * dx + dy * dy + dz * dz < 9 ? 2 : 1;
+  });
+  testing::add_polyline(g, testing::grid_line({1, 4, 4}, {9, 4, 4}), 3);
+  testing::add_box_boundary(g, 10);
+  testing::add_linear_field(g);
+  MeshData shuffled = g.data;
+  std::vector<VertId> perm(shuffled.positions.size());
+  std::iota(perm.begin(), perm.end(), 0);
+  std::mt19937 rng(5);
+  std::shuffle(perm.begin(), perm.end(), rng);  // old id -> new id
+  for (VertId v = 0; v < perm.size(); ++v) shuffled.positions[perm[v]] = g.data.positions[v];
+  for (auto& f : shuffled.fields)
+    for (VertId v = 0; v < perm.size(); ++v) f.values[perm[v]] = g.data.fields[0].values[v];
+  for (auto& t : shuffled.tets)
+    for (VertId& x : t) x = perm[x];
+  for (auto& tri : shuffled.triangles)
+    for (VertId& x : tri.v) x = perm[x];
+  for (auto& seg : shuffled.segments)
+    for (VertId& x : seg.v) x = perm[x];
+  std::vector<std::size_t> order(shuffled.tets.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::shuffle(order.begin(), order.end(), rng);
+  MeshData reordered = shuffled;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    reordered.tets[i] = shuffled.tets[order[i]];
+    reordered.tet_material[i] = shuffled.tet_material[order[i]];
+  }
+  std::vector<MeshData> outputs;
+  for (const MeshData* input : {&g.data, &reordered}) {
+    TetMesh mesh = build_tet_mesh(*input);
+    SimplifyOptions options;
+    options.target_vertex_ratio = 0.2;
+    ASSERT_EQ(simplify(mesh, options).status, Status::kOk);
+    outputs.push_back(mesh.to_mesh_data());
+  }
+  ASSERT_EQ(outputs[0].positions.size(), outputs[1].positions.size());
+  // Same numbering after simplification: the renumbering depends on positions only.
+  EXPECT_TRUE(outputs[0] == outputs[1]);
 }
 
 TEST(Simplify, InvalidOptionsAreReportedNotThrown) {

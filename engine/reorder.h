@@ -1,0 +1,19 @@
+// Renumbering a TetMesh for memory locality before it is simplified.
+//
+// Every kernel of the engines walks stars: a vertex's tets through the incidence chains, then
+// their vertices' positions, flags and quadrics. On a large mesh those reads miss the cache unless
+// neighbours in space are neighbours in memory. Meshers write vertices and tets in all kinds of
+// orders (a randomly shuffled 1M-tet mesh simplified 1.7x slower than the same mesh in grid
+// order), so simplify() first sorts the live vertices along a Morton (Z-order) curve of their
+// positions and the live tets along the curve of their centroids, then rebuilds the incidence.
+// Ties are broken by the old ids, so the result is a pure function of the mesh (deterministic for
+// any thread count). Dead vertices and tets are dropped, as compact() would.
+#pragma once
+
+#include "topotet/tet_mesh.h"
+
+namespace topotet {
+
+void reorder_for_locality(TetMesh& mesh);
+
+}  // namespace topotet
