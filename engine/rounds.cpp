@@ -65,13 +65,13 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 struct Proposal {
   double cost = kNoCost;         // cheapest placement of edge (a, b); kNoCost = no proposal
   double second_cost = kNoCost;  // cheapest placement of the runner-up edge (a, second)
-  double verified_cost = kNoCost;
   VertId b = kInvalid;
   VertId second = kInvalid;          // kInvalid = runner-up unknown (or none)
   std::uint32_t verified_round = 0;  // round of the last successful verification; 0 = never
   std::int8_t placement = -1;        // verified: index into CostModel::candidates(a, b)
+  // The cost the proposal competes with (the verified placement's, once verified) is kept in
+  // Rounds::rank_cost_, where the round's scans read it.
 
-  double rank_cost() const { return placement >= 0 ? verified_cost : cost; }
   void set_best(double c, VertId x) {
     cost = c;
     b = x;
@@ -88,6 +88,7 @@ enum class Dirty : std::uint8_t { kClean, kFull, kEdge };
 struct Ranked {
   double cost;
   VertId a, b;
+  std::uint32_t slot = 0;  // select: position of a in the round's candidate list (not part of the order)
   bool operator<(const Ranked& o) const { return cost != o.cost ? cost < o.cost : (a != o.a ? a < o.a : b < o.b); }
 };
 
@@ -105,6 +106,7 @@ struct ThreadScratch {
   std::vector<std::uint32_t> edge_order;
   std::vector<double> fields;
   std::vector<VertId> stencil;
+  std::vector<VertId> stencil_pool;  // stencils of the proposals this thread verified this round
   std::vector<VertId> stencil_slots;  // probe set storage for stencil_of
   std::vector<VertId> marked;  // vertices the apply phase made dirty
   std::array<std::uint64_t, kCollapseReasonCount> rejected{};
@@ -275,8 +277,10 @@ class Rounds {
     proposal_[a] = p;
   }
 
-  // The cost a's proposal competes with, where the round's scans read it (8 bytes per vertex).
-  void publish(VertId a) { rank_cost_[a] = proposal_[a].rank_cost(); }
+  // After a's proposal changed without a verification: it competes with its edge's cost.
+  void publish(VertId a) {
+    if (proposal_[a].placement < 0) rank_cost_[a] = proposal_[a].cost;
+  }
 
   // After a collapse that kept u (and removed some v): the edge au changed cost and edges to dead
   // vertices are gone; a's other edges kept their costs. Updates best and runner-up from what is
@@ -316,7 +320,7 @@ class Rounds {
     const Proposal& p = proposal_[a];
     return p.placement >= 0 && p.verified_round > changed_round_[a] && p.verified_round > changed_round_[p.b];
   }
-  Ranked ranked(VertId a) const { return Ranked{proposal_[a].rank_cost(), a, proposal_[a].b}; }
+  Ranked ranked(VertId a) const { return Ranked{rank_cost_[a], a, proposal_[a].b}; }
 
   // The round's threshold and the proposals below it (candidates_, in vertex order).
   void collect_proposals(RoundStats& stats) {
@@ -340,24 +344,32 @@ class Rounds {
     sample_.clear();
     for (std::size_t a = 0; a < nv; a += stride)
       if (std::isfinite(rank_cost_[a])) sample_.push_back(ranked(static_cast<VertId>(a)));
-    std::sort(sample_.begin(), sample_.end());
     const std::size_t q = std::clamp<std::size_t>(
         static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(sample_.size()))), 1, sample_.size());
+    if (q >= sample_.size()) {
+      serial_seconds += since(t0);
+      return Ranked{kNoCost, kInvalid, kInvalid};
+    }
+    std::nth_element(sample_.begin(), sample_.begin() + static_cast<std::ptrdiff_t>(q), sample_.end());
     serial_seconds += since(t0);
-    return q >= sample_.size() ? Ranked{kNoCost, kInvalid, kInvalid} : sample_[q];
+    return sample_[q];
   }
 
   bool below_threshold(double cost, VertId a, VertId b) const { return Ranked{cost, a, b} < threshold_; }
 
   void verify(RoundStats&) {
     // The proposals that compete this round; some were verified in an earlier round and are still.
+    for (ThreadScratch& s : scratch_) s.stencil_pool.clear();
+    stored_.assign(candidates_.size(), StoredStencil{});
     parallel::for_range<std::size_t>(0, candidates_.size(), 16, "verify", [&](std::size_t begin, std::size_t end) {
       ThreadScratch& s = scratch_.local();
-      for (std::size_t i = begin; i < end; ++i)
-        if (!is_verified(candidates_[i])) {
-          verify_vertex(candidates_[i], s);
-          publish(candidates_[i]);
-        }
+      for (std::size_t i = begin; i < end; ++i) {
+        const VertId a = candidates_[i];
+        if (is_verified(a)) continue;
+        verify_vertex(a, s);
+        publish(a);
+        if (proposal_[a].verified_round == round_) keep_stencil(i, s);
+      }
     });
   }
 
@@ -427,10 +439,24 @@ class Rounds {
     p = Proposal{};
   }
 
-  void verified(Proposal& p, double cost, int placement) const {
-    p.verified_cost = cost;
+  // The stencil of the edge just verified, from the stars the kernel gathered (still in cache),
+  // kept for select(): most proposals that compete were verified in the same round.
+  void keep_stencil(std::size_t candidate, ThreadScratch& s) {
+    const CollapseScratch& c = s.collapse;
+    s.stencil_slots.resize(probe_slots_for(4 * (c.star_u.size() + c.star_v.size())));
+    ProbeSet<VertId> seen(s.stencil_slots);
+    const std::size_t offset = s.stencil_pool.size();
+    for (const auto* star : {&c.star_u, &c.star_v})
+      for (TetId t : *star)
+        for (VertId y : mesh_.tets[t])
+          if (seen.insert(y).second) s.stencil_pool.push_back(y);
+    stored_[candidate] = {&s, static_cast<std::uint32_t>(offset), static_cast<std::uint32_t>(s.stencil_pool.size() - offset)};
+  }
+
+  void verified(Proposal& p, double cost, int placement) {
     p.verified_round = round_;
     p.placement = static_cast<std::int8_t>(placement);
+    rank_cost_[&p - proposal_.data()] = cost;
   }
 
   int check(VertId a, VertId b, const CollapseCandidate* cands, int n, ThreadScratch& s) {
@@ -463,7 +489,11 @@ class Rounds {
           const VertId a = candidates_[i];
           return is_verified(a) && ranked(a) < threshold_;
         },
-        [&](std::size_t i) { return ranked(candidates_[i]); });
+        [&](std::size_t i) {
+          Ranked r = ranked(candidates_[i]);
+          r.slot = static_cast<std::uint32_t>(i);
+          return r;
+        });
     parallel::sort(ranked_.begin(), ranked_.end());
     if (ranked_.size() > live_ - target_) ranked_.resize(live_ - target_);  // sorted: the cheapest stay
     stats.candidates = ranked_.size();
@@ -486,7 +516,13 @@ class Rounds {
     parallel::for_range<std::size_t>(0, n, 256, "gather_stencils", [&](std::size_t b, std::size_t e) {
       ThreadScratch& s = scratch_.local();
       for (std::size_t i = b; i < e; ++i) {
-        stencil_of(mesh_, ranked_[i].a, ranked_[i].b, s.stencil, s.stencil_slots);
+        const StoredStencil& kept = stored_[ranked_[i].slot];
+        if (kept.owner != nullptr) {
+          const VertId* begin = kept.owner->stencil_pool.data() + kept.offset;
+          s.stencil.assign(begin, begin + kept.size);
+        } else {
+          stencil_of(mesh_, ranked_[i].a, ranked_[i].b, s.stencil, s.stencil_slots);
+        }
         stencil_offsets_[i + 1] = static_cast<std::uint32_t>(s.stencil.size());
         if (s.stencil.size() <= kSlot) std::copy(s.stencil.begin(), s.stencil.end(), slots_.begin() + i * kSlot);
       }
@@ -501,6 +537,9 @@ class Rounds {
       for (std::size_t i = b; i < e; ++i) {
         if (sizes_[i] <= kSlot) {
           std::copy_n(slots_.begin() + i * kSlot, sizes_[i], stencils_.begin() + stencil_offsets_[i]);
+        } else if (const StoredStencil& kept = stored_[ranked_[i].slot]; kept.owner != nullptr) {
+          const VertId* begin = kept.owner->stencil_pool.data() + kept.offset;
+          std::copy(begin, begin + kept.size, stencils_.begin() + stencil_offsets_[i]);
         } else {
           stencil_of(mesh_, ranked_[i].a, ranked_[i].b, s.stencil, s.stencil_slots);
           std::copy(s.stencil.begin(), s.stencil.end(), stencils_.begin() + stencil_offsets_[i]);
@@ -569,10 +608,14 @@ class Rounds {
         n, winners_, [&](std::size_t i) { return state_[i] == kWon; },
         [](std::size_t i) { return static_cast<std::uint32_t>(i); });
     stats.winners = winners_.size();
-    // Each collapse can take at most |St(u)| + |St(v)| new side-table slots.
+    // A collapse can take at most |St(u)| + |St(v)| new side-table slots, and none when both ends
+    // are interior (no flagged face or edge through them: collapse() changes no flag).
     const auto serial_start = Clock::now();
     std::size_t star_tets = 0;
-    for (std::uint32_t i : winners_) star_tets += mesh_.v2t_count[ranked_[i].a] + mesh_.v2t_count[ranked_[i].b];
+    for (std::uint32_t i : winners_) {
+      const VertId a = ranked_[i].a, b = ranked_[i].b;
+      if (!cost_.known_interior(a) || !cost_.known_interior(b)) star_tets += mesh_.v2t_count[a] + mesh_.v2t_count[b];
+    }
     reserve_refs_headroom(mesh_, refs_used_, star_tets);
     stats.serial_seconds += since(serial_start);
   }
@@ -679,7 +722,9 @@ class Rounds {
 
   // Per vertex.
   std::vector<Proposal> proposal_;
-  std::vector<double> rank_cost_;  // proposal_[a].rank_cost(), kNoCost for none or a dead vertex
+  // The cost a's proposal competes with: its verified placement's, else its edge's; kNoCost for
+  // none or a dead vertex. 8 bytes per vertex for the scans of every round.
+  std::vector<double> rank_cost_;
   std::vector<Dirty> dirty_;
   std::vector<VertId> dirty_partner_;  // Dirty::kEdge: the survivor u of the edge to re-cost
   std::vector<std::uint32_t> bans_;    // bit k: the k-th owned neighbour's edge failed; ~0 = all
@@ -691,6 +736,11 @@ class Rounds {
   std::vector<VertId> dirty_list_;
   std::vector<Ranked> ranked_, sample_;
   std::vector<VertId> candidates_;
+  struct StoredStencil {  // where verify() left a candidate's stencil (owner == nullptr: nowhere)
+    const ThreadScratch* owner = nullptr;
+    std::uint32_t offset = 0, size = 0;
+  };
+  std::vector<StoredStencil> stored_;  // [position in candidates_]
   std::vector<std::uint32_t> stencil_offsets_, sizes_;
   std::vector<VertId> stencils_, slots_;
   std::vector<std::uint8_t> state_;
