@@ -33,7 +33,7 @@ enum class Status : std::uint8_t {
 const char* to_string(Status status);
 
 enum class Engine : std::uint8_t {
-  kParallel,    // deterministic rounds of independent collapses (parallel/rounds.cpp)
+  kParallel,    // deterministic rounds of independent collapses (engine/rounds.cpp)
   kSequential,  // the reference: one lazy priority queue (engine/sequential.cpp)
 };
 

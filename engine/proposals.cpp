@@ -1,0 +1,212 @@
+// Per-vertex collapse proposals (see proposals.h).
+#include "proposals.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace topotet::detail {
+namespace {
+
+// Banned edges are remembered as bits over a vertex's owned neighbours (sorted), which stay the
+// same until the vertex's star changes; that is exactly when bans are lifted.
+constexpr int kBanBits = 32;
+constexpr std::uint32_t kAllBanned = ~0u;
+
+// (cost, b) order among one vertex's edges: ties go to the lower id.
+bool cheaper(double c1, VertId b1, double c2, VertId b2) { return c1 != c2 ? c1 < c2 : b1 < b2; }
+
+// The neighbours b > a: the edges a owns.
+void neighbours_above(const TetMesh& mesh, VertId a, std::vector<VertId>& out) {
+  mesh.neighbours(a, out);
+  out.erase(out.begin(), std::upper_bound(out.begin(), out.end(), a));
+}
+
+}  // namespace
+
+Proposals::Proposals(const TetMesh& mesh, CostModel& cost, const CollapseOptions& kernel)
+    : mesh_(mesh),
+      cost_(cost),
+      kernel_(kernel),
+      proposals_(mesh.vertex_capacity()),
+      rank_cost_(mesh.vertex_capacity(), kNoCost),
+      bans_(mesh.vertex_capacity(), 0),
+      changed_round_(mesh.vertex_capacity(), 0) {}
+
+void Proposals::set(VertId a, const Proposal& p) {
+  proposals_[a] = p;
+  rank_cost_[a] = p.cost;
+}
+
+// --- costs -----------------------------------------------------------------------------------
+
+void Proposals::cost_owned_edges(VertId a, ProposalScratch& s) {
+  neighbours_above(mesh_, a, s.nbrs);
+  s.edges.clear();
+  for (std::size_t k = 0; k < s.nbrs.size(); ++k) {
+    if (is_banned(a, static_cast<int>(k))) continue;
+    ++s.evaluations;
+    const double c = cost_.edge_cost(mesh_, a, s.nbrs[k], s.collapse.link);
+    if (std::isfinite(c)) s.edges.push_back({c, s.nbrs[k], static_cast<int>(k)});
+  }
+}
+
+void Proposals::propose(VertId a, ProposalScratch& s) {
+  cost_owned_edges(a, s);
+  Proposal p;
+  for (const ProposalScratch::EdgeCost& e : s.edges) {
+    if (cheaper(e.cost, e.b, p.cost, p.b)) {
+      p.second_cost = p.cost;
+      p.second = p.b;
+      p.set_best(e.cost, e.b);
+    } else if (cheaper(e.cost, e.b, p.second_cost, p.second)) {
+      p.second_cost = e.cost;
+      p.second = e.b;
+    }
+  }
+  set(a, p);
+}
+
+bool Proposals::update(VertId a, VertId u, ProposalScratch& s) {
+  Proposal p = proposals_[a];
+  const auto stale = [&](VertId x) { return x == kInvalid || x == u || mesh_.is_dead_vertex(x); };
+  if (stale(p.b)) {
+    if (stale(p.second)) return false;
+    p.set_best(p.second_cost, p.second);  // the runner-up was the cheapest of the others,
+    p.second = kInvalid;                   // and what comes after it is not known
+    p.second_cost = kNoCost;
+  } else if (p.second != kInvalid && stale(p.second)) {
+    p.second = kInvalid;
+    p.second_cost = kNoCost;
+  }
+  p.placement = -1;
+  if (u > a && !mesh_.is_dead_vertex(u)) {  // a owns au: re-cost it
+    ++s.evaluations;
+    const double c = cost_.edge_cost(mesh_, a, u, s.collapse.link);
+    if (std::isfinite(c)) {
+      if (cheaper(c, u, p.cost, p.b)) {
+        p.second_cost = p.cost;
+        p.second = p.b;
+        p.set_best(c, u);
+      } else if (p.second != kInvalid && cheaper(c, u, p.second_cost, p.second)) {
+        p.second_cost = c;
+        p.second = u;
+      }
+    }
+  }
+  set(a, p);
+  return true;
+}
+
+// --- the kernel ------------------------------------------------------------------------------
+
+bool Proposals::is_verified(VertId a) const {
+  const Proposal& p = proposals_[a];
+  return p.placement >= 0 && p.verified_round > changed_round_[a] && p.verified_round > changed_round_[p.b];
+}
+
+bool Proposals::is_banned(VertId a, int owned_index) const {
+  // Edges past the ban bits cannot be banned; a vertex that needs to is exhausted instead.
+  return bans_[a] == kAllBanned || (owned_index < kBanBits && ((bans_[a] >> owned_index) & 1u));
+}
+
+int Proposals::owned_index(VertId a, VertId b, ProposalScratch& s) const {
+  neighbours_above(mesh_, a, s.nbrs);
+  return static_cast<int>(std::lower_bound(s.nbrs.begin(), s.nbrs.end(), b) - s.nbrs.begin());
+}
+
+void Proposals::ban(VertId a, int owned_index) {
+  if (owned_index < kBanBits)
+    bans_[a] |= 1u << owned_index;
+  else
+    bans_[a] = kAllBanned;  // exhausted: no proposal until the star of a changes
+}
+
+int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
+  Placement placements[4];
+  for (int i = 0; i < n; ++i) placements[i] = {s.cands[i].u, s.cands[i].v, s.cands[i].p};
+  ++s.checks;
+  cost_.hint_orders(a, b, s.collapse.link);
+  return first_acceptable(mesh_, placements, n, kernel_, s.collapse, &s.rejected);
+}
+
+// Makes ab a's proposal (runner-up as given) with fresh costs and, if it ranks below the
+// threshold, runs the kernel on it. True when the search is over: ab was verified, or it ranks
+// above the threshold (it competes in a later round). False when ab failed (now banned) or is
+// forbidden: the caller tries the next edge.
+bool Proposals::try_edge(VertId a, VertId b, int owned, const Ranked& threshold, std::uint32_t round,
+                         ProposalScratch& s) {
+  ++s.evaluations;
+  const int n = cost_.candidates(mesh_, a, b, s.cands, s.collapse.link);
+  if (n == 0) return false;
+  Proposal p = proposals_[a];
+  p.set_best(s.cands[0].cost, b);
+  set(a, p);
+  if (!(Ranked{p.cost, a, b} < threshold)) return true;
+  const int chosen = check(a, b, n, s);
+  if (chosen < 0) {
+    ban(a, owned >= 0 ? owned : owned_index(a, b, s));
+    return false;
+  }
+  proposals_[a].verified_round = round;
+  proposals_[a].placement = static_cast<std::int8_t>(chosen);
+  rank_cost_[a] = s.cands[chosen].cost;
+  return true;
+}
+
+void Proposals::verify(VertId a, const Ranked& threshold, std::uint32_t round, ProposalScratch& s) {
+  // The proposed edge, then the runner-up (the next in cost order when known: one evaluation, not
+  // all), then every other edge in cost order.
+  const VertId proposed = proposals_[a].b, runner_up = proposals_[a].second;
+  if (try_edge(a, proposed, -1, threshold, round, s)) return;
+  proposals_[a].second = kInvalid;
+  if (runner_up != kInvalid && !mesh_.is_dead_vertex(runner_up)) {
+    const int owned = owned_index(a, runner_up, s);
+    if (!is_banned(a, owned) && try_edge(a, runner_up, owned, threshold, round, s)) return;
+  }
+  cost_owned_edges(a, s);
+  s.edge_order.resize(s.edges.size());
+  for (std::uint32_t k = 0; k < s.edges.size(); ++k) s.edge_order[k] = k;
+  std::sort(s.edge_order.begin(), s.edge_order.end(), [&](std::uint32_t x, std::uint32_t y) {
+    return cheaper(s.edges[x].cost, s.edges[x].b, s.edges[y].cost, s.edges[y].b);
+  });
+  for (std::size_t k = 0; k < s.edge_order.size(); ++k) {
+    Proposal p;
+    const ProposalScratch::EdgeCost& e = s.edges[s.edge_order[k]];
+    if (k + 1 < s.edge_order.size()) {
+      const ProposalScratch::EdgeCost& next = s.edges[s.edge_order[k + 1]];
+      p.second_cost = next.cost;
+      p.second = next.b;
+    }
+    set(a, p);
+    if (try_edge(a, e.b, e.owned_index, threshold, round, s)) return;
+  }
+  set(a, Proposal{});
+}
+
+// --- after a collapse ------------------------------------------------------------------------
+
+Proposals::Redo Proposals::star_changed(VertId x, VertId u, VertId v, std::uint32_t round) {
+  changed_round_[x] = round;
+  const Proposal& p = proposals_[x];
+  const bool had_bans = bans_[x] != 0;
+  bans_[x] = 0;
+  // u's edges all changed; banned edges (cheaper than the proposal) may be legal now.
+  if (x == u || !std::isfinite(p.cost) || had_bans) return Redo::kPropose;
+  // x owns xu, or its best or runner-up went through u or v.
+  if (x < u || p.b == u || p.b == v || p.second == u || p.second == v) return Redo::kUpdate;
+  return Redo::kNothing;  // xu is owned by u, which re-proposes; x's own edges kept their costs
+}
+
+void Proposals::removed(VertId v, std::uint32_t round) {
+  changed_round_[v] = round;
+  set(v, Proposal{});
+}
+
+void Proposals::lift_all_bans() { std::fill(bans_.begin(), bans_.end(), 0u); }
+
+std::size_t Proposals::memory_bytes() const {
+  return proposals_.capacity() * sizeof(Proposal) + rank_cost_.capacity() * sizeof(double) +
+         (bans_.capacity() + changed_round_.capacity()) * sizeof(std::uint32_t);
+}
+
+}  // namespace topotet::detail
