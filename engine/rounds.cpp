@@ -56,6 +56,7 @@ struct ThreadScratch {
   std::vector<VertId> stencil, stencil_slots;  // stencil_of's output and probe set storage
   std::vector<VertId> stencil_pool;            // stencils of the candidates verified this round
   std::vector<VertId> marked;                  // vertices the apply phase made dirty
+  std::vector<std::pair<VertId, Proposals::Redo>> redo;  // one collapse's stencil
 };
 
 // The vertices of St(a) ∪ St(b) (or of the given tets), each once, in the (deterministic) order
@@ -381,24 +382,37 @@ class Rounds {
   // also change order (CostModel::on_collapse marks them stale), and with it the placements and
   // costs of their edges: their proposals are updated like the others' and not redone, since an
   // order change is rare and verification always works from fresh costs (a stale ranking costs a
-  // little quality, never safety). Stencils of one round are disjoint, so every write here is to
-  // this winner's own vertices.
+  // little quality, never safety).
+  // The work that only reads this stencil is done at once, while it is in cache: u re-proposes
+  // (all its neighbours are in the stencil) and the updates re-cost edges xu. It gives the same
+  // result as in the next evaluate phase, since no other winner of the round touches the stencil.
+  // Proposals that need vertices outside it (from scratch, for x != u) wait for that phase.
+  // Stencils of one round are disjoint, so every write here is to this winner's own vertices.
   void mark_stencil(const CollapseCandidate& c, const VertId* first, const VertId* last, ThreadScratch& s) {
+    auto& redo = s.redo;
+    redo.clear();
     for (const VertId* it = first; it != last; ++it) {
       const VertId x = *it;
-      if (x == c.v) {
+      if (x == c.v)
         proposals_.removed(x, round_);
-        continue;
-      }
-      switch (proposals_.star_changed(x, c.u, c.v, round_)) {
-        case Proposals::Redo::kPropose: mark(x, Dirty::kPropose, c.u, s); break;
-        case Proposals::Redo::kUpdate: mark(x, Dirty::kUpdate, c.u, s); break;
-        case Proposals::Redo::kNothing: break;
-      }
+      else
+        redo.push_back({x, proposals_.star_changed(x, c.u, c.v, round_)});
     }
     for (TetId t : s.proposal.collapse.star_uv)
       for (VertId x : mesh_.tets[t])
-        if (x != c.v && !cost_.known_interior(x) && dirty_[x] == Dirty::kClean) mark(x, Dirty::kUpdate, c.u, s);
+        if (x != c.v && !cost_.known_interior(x))
+          for (auto& [y, what] : redo)
+            if (y == x && what == Proposals::Redo::kNothing) what = Proposals::Redo::kUpdate;
+    for (const auto& [x, what] : redo) {
+      if (what == Proposals::Redo::kPropose) {
+        if (x == c.u)
+          proposals_.propose(x, s.proposal);
+        else
+          mark(x, Dirty::kPropose, c.u, s);
+      } else if (what == Proposals::Redo::kUpdate && !proposals_.update(x, c.u, s.proposal)) {
+        mark(x, Dirty::kPropose, c.u, s);
+      }
+    }
   }
 
   void mark(VertId x, Dirty what, VertId u, ThreadScratch& s) {
