@@ -7,10 +7,6 @@
 namespace topotet::detail {
 namespace {
 
-// Banned edges are remembered as bits over a vertex's owned neighbours (sorted), which stay the
-// same until the vertex's star changes; that is exactly when bans are lifted.
-constexpr int kBanBits = 32;
-constexpr std::uint32_t kAllBanned = ~0u;
 
 // (cost, b) order among one vertex's edges: ties go to the lower id.
 bool cheaper(double c1, VertId b1, double c2, VertId b2) { return c1 != c2 ? c1 < c2 : b1 < b2; }
@@ -29,7 +25,7 @@ Proposals::Proposals(const TetMesh& mesh, CostModel& cost, const CollapseOptions
       kernel_(kernel),
       proposals_(mesh.vertex_capacity()),
       rank_cost_(mesh.vertex_capacity(), kNoCost),
-      bans_(mesh.vertex_capacity(), 0),
+      bans_(mesh.vertex_capacity()),
       changed_round_(mesh.vertex_capacity(), 0) {}
 
 void Proposals::set(VertId a, const Proposal& p) {
@@ -43,10 +39,10 @@ void Proposals::cost_owned_edges(VertId a, ProposalScratch& s) {
   neighbours_above(mesh_, a, s.nbrs);
   s.edges.clear();
   for (std::size_t k = 0; k < s.nbrs.size(); ++k) {
-    if (is_banned(a, static_cast<int>(k))) continue;
+    if (is_banned(a, s.nbrs[k])) continue;
     ++s.evaluations;
     const double c = cost_.edge_cost(mesh_, a, s.nbrs[k], s.collapse.link);
-    if (std::isfinite(c)) s.edges.push_back({c, s.nbrs[k], static_cast<int>(k)});
+    if (std::isfinite(c)) s.edges.push_back({c, s.nbrs[k]});
   }
 }
 
@@ -104,21 +100,19 @@ bool Proposals::is_verified(VertId a) const {
   return p.placement >= 0 && p.verified_round > changed_round_[a] && p.verified_round > changed_round_[p.b];
 }
 
-bool Proposals::is_banned(VertId a, int owned_index) const {
-  // Edges past the ban bits cannot be banned; a vertex that needs to is exhausted instead.
-  return bans_[a] == kAllBanned || (owned_index < kBanBits && ((bans_[a] >> owned_index) & 1u));
+bool Proposals::is_banned(VertId a, VertId b) const {
+  const Bans& bans = bans_[a];
+  return bans.exhausted || std::find(bans.edge.begin(), bans.edge.end(), b) != bans.edge.end();
 }
 
-int Proposals::owned_index(VertId a, VertId b, ProposalScratch& s) const {
-  neighbours_above(mesh_, a, s.nbrs);
-  return static_cast<int>(std::lower_bound(s.nbrs.begin(), s.nbrs.end(), b) - s.nbrs.begin());
-}
-
-void Proposals::ban(VertId a, int owned_index) {
-  if (owned_index < kBanBits)
-    bans_[a] |= 1u << owned_index;
-  else
-    bans_[a] = kAllBanned;  // exhausted: no proposal until the star of a changes
+void Proposals::ban(VertId a, VertId b) {
+  Bans& bans = bans_[a];
+  for (VertId& slot : bans.edge)
+    if (slot == kInvalid) {
+      slot = b;
+      return;
+    }
+  bans.exhausted = true;  // a vertex whose edges keep failing waits until its star changes
 }
 
 int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
@@ -133,8 +127,7 @@ int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
 // threshold, runs the kernel on it. True when the search is over: ab was verified, or it ranks
 // above the threshold (it competes in a later round). False when ab failed (now banned) or is
 // forbidden: the caller tries the next edge.
-bool Proposals::try_edge(VertId a, VertId b, int owned, const Ranked& threshold, std::uint32_t round,
-                         ProposalScratch& s) {
+bool Proposals::try_edge(VertId a, VertId b, const Ranked& threshold, std::uint32_t round, ProposalScratch& s) {
   ++s.evaluations;
   const int n = cost_.candidates(mesh_, a, b, s.cands, s.collapse.link);
   if (n == 0) return false;
@@ -144,7 +137,7 @@ bool Proposals::try_edge(VertId a, VertId b, int owned, const Ranked& threshold,
   if (!(Ranked{p.cost, a, b} < threshold)) return true;
   const int chosen = check(a, b, n, s);
   if (chosen < 0) {
-    ban(a, owned >= 0 ? owned : owned_index(a, b, s));
+    ban(a, b);
     return false;
   }
   proposals_[a].verified_round = round;
@@ -157,12 +150,11 @@ void Proposals::verify(VertId a, const Ranked& threshold, std::uint32_t round, P
   // The proposed edge, then the runner-up (the next in cost order when known: one evaluation, not
   // all), then every other edge in cost order.
   const VertId proposed = proposals_[a].b, runner_up = proposals_[a].second;
-  if (try_edge(a, proposed, -1, threshold, round, s)) return;
+  if (try_edge(a, proposed, threshold, round, s)) return;
   proposals_[a].second = kInvalid;
-  if (runner_up != kInvalid && !mesh_.is_dead_vertex(runner_up)) {
-    const int owned = owned_index(a, runner_up, s);
-    if (!is_banned(a, owned) && try_edge(a, runner_up, owned, threshold, round, s)) return;
-  }
+  if (runner_up != kInvalid && !mesh_.is_dead_vertex(runner_up) && !is_banned(a, runner_up) &&
+      try_edge(a, runner_up, threshold, round, s))
+    return;
   cost_owned_edges(a, s);
   s.edge_order.resize(s.edges.size());
   for (std::uint32_t k = 0; k < s.edges.size(); ++k) s.edge_order[k] = k;
@@ -178,7 +170,7 @@ void Proposals::verify(VertId a, const Ranked& threshold, std::uint32_t round, P
       p.second = next.b;
     }
     set(a, p);
-    if (try_edge(a, e.b, e.owned_index, threshold, round, s)) return;
+    if (try_edge(a, e.b, threshold, round, s)) return;
   }
   set(a, Proposal{});
 }
@@ -188,8 +180,8 @@ void Proposals::verify(VertId a, const Ranked& threshold, std::uint32_t round, P
 Proposals::Redo Proposals::star_changed(VertId x, VertId u, VertId v, std::uint32_t round) {
   changed_round_[x] = round;
   const Proposal& p = proposals_[x];
-  const bool had_bans = bans_[x] != 0;
-  bans_[x] = 0;
+  const bool had_bans = bans_[x].exhausted || bans_[x].edge[0] != kInvalid;
+  bans_[x] = Bans{};
   // u's edges all changed; banned edges (cheaper than the proposal) may be legal now.
   if (x == u || !std::isfinite(p.cost) || had_bans) return Redo::kPropose;
   // x owns xu, or its best or runner-up went through u or v.
@@ -202,11 +194,11 @@ void Proposals::removed(VertId v, std::uint32_t round) {
   set(v, Proposal{});
 }
 
-void Proposals::lift_all_bans() { std::fill(bans_.begin(), bans_.end(), 0u); }
+void Proposals::lift_all_bans() { std::fill(bans_.begin(), bans_.end(), Bans{}); }
 
 std::size_t Proposals::memory_bytes() const {
   return proposals_.capacity() * sizeof(Proposal) + rank_cost_.capacity() * sizeof(double) +
-         (bans_.capacity() + changed_round_.capacity()) * sizeof(std::uint32_t);
+         bans_.capacity() * sizeof(Bans) + changed_round_.capacity() * sizeof(std::uint32_t);
 }
 
 }  // namespace topotet::detail

@@ -37,9 +37,8 @@ struct Ranked {
 // Per-thread working memory of the proposals; keeps capacity between calls.
 struct ProposalScratch {
   struct EdgeCost {
-    double cost;      // of the edge's cheapest placement
+    double cost;  // of the edge's cheapest placement
     VertId b;
-    int owned_index;  // position among the owned neighbours (the ban bit)
   };
   CollapseScratch collapse;  // the kernel's; after a successful verify() it holds that edge's stars
   CollapseCandidate cands[4];
@@ -101,12 +100,10 @@ class Proposals {
   };
 
   void cost_owned_edges(VertId a, ProposalScratch& s);
-  bool is_banned(VertId a, int owned_index) const;
-  int owned_index(VertId a, VertId b, ProposalScratch& s) const;
-  void ban(VertId a, int owned_index);
+  bool is_banned(VertId a, VertId b) const;
+  void ban(VertId a, VertId b);
   int check(VertId a, VertId b, int n, ProposalScratch& s);
-  // `owned`: b's position among a's owned neighbours if known, else -1.
-  bool try_edge(VertId a, VertId b, int owned, const Ranked& threshold, std::uint32_t round, ProposalScratch& s);
+  bool try_edge(VertId a, VertId b, const Ranked& threshold, std::uint32_t round, ProposalScratch& s);
   void set(VertId a, const Proposal& p);
 
   const TetMesh& mesh_;
@@ -114,7 +111,14 @@ class Proposals {
   const CollapseOptions& kernel_;
   std::vector<Proposal> proposals_;
   std::vector<double> rank_cost_;             // read by every round's scans: 8 bytes per vertex
-  std::vector<std::uint32_t> bans_;           // bit k: the k-th owned neighbour's edge failed; ~0 = all
+  // Edges that failed the kernel, lifted when the vertex's star changes. A vertex with more
+  // failures than slots is exhausted: it proposes nothing until then (on meshes where most cheap
+  // collapses invert, this keeps the rounds from checking the same hopeless edges again).
+  struct Bans {
+    std::array<VertId, 3> edge{kInvalid, kInvalid, kInvalid};
+    bool exhausted = false;
+  };
+  std::vector<Bans> bans_;
   std::vector<std::uint32_t> changed_round_;  // last round a collapse changed the vertex's star
 };
 
