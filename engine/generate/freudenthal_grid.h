@@ -27,6 +27,8 @@ namespace topotet::gen {
 MeshData generate_cube_sphere(std::uint64_t target_tets, std::uint64_t seed);
 MeshData generate_slab(std::uint64_t target_tets, std::uint64_t seed);
 MeshData generate_linked_tori(std::uint64_t target_tets, std::uint64_t seed);
+// cells = 0 picks the default count.
+MeshData generate_polycrystal(std::uint64_t target_tets, std::uint64_t seed, std::uint32_t cells);
 
 // splitmix64 (Steele, Lea, Flood 2014): a fixed, portable 64-bit mixer, so the generated meshes
 // are the same on every platform and standard library (unlike std::uniform_real_distribution).
