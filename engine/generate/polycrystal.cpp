@@ -23,6 +23,7 @@
 //    or where a curve meets the box).
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <string>
 
 #include "generate/ball_growth.h"
@@ -126,16 +127,17 @@ TetId tet_holding(const FreudenthalGrid& grid, const glm::dvec3& p) {
   return grid.tet(cube[0], cube[1], cube[2], perm_index(axes[0], axes[1]));
 }
 
-// A fixed pseudo-random choice of about (out_of - skipped) / out_of of the keys.
-bool is_listed(std::uint64_t key, std::uint64_t out_of, std::uint64_t skipped) {
-  return splitmix64(kListingStream ^ splitmix64(key)) % out_of >= skipped;
+// A fixed pseudo-random choice of about (out_of - skipped) / out_of of the material tuples.
+bool is_listed(std::initializer_list<std::int32_t> materials, std::uint64_t out_of, std::uint64_t skipped) {
+  std::uint64_t key = kListingStream;
+  for (std::int32_t m : materials) key = splitmix64(key ^ static_cast<std::uint32_t>(m));
+  return key % out_of >= skipped;
 }
 
 void add_listed_interfaces(const CellJunctions& junctions, MeshData& mesh) {
   std::int32_t ref = kBoundaryRef;
   for (const Interface& f : junctions.interfaces) {
-    const std::uint64_t pair = (std::uint64_t(std::uint32_t(f.lower)) << 32) | std::uint32_t(f.higher);
-    if (!f.is_disc || !is_listed(pair, 4, 1)) continue;
+    if (!f.is_disc || !is_listed({f.lower, f.higher}, 4, 1)) continue;
     ++ref;
     for (std::uint32_t i = f.first_face; i < f.first_face + f.face_count; ++i) {
       const InterfaceFace& face = junctions.faces[i];
@@ -147,9 +149,7 @@ void add_listed_interfaces(const CellJunctions& junctions, MeshData& mesh) {
 void add_listed_curves(const CellJunctions& junctions, MeshData& mesh) {
   std::int32_t ref = 0;
   for (const JunctionCurve& c : junctions.curves) {
-    const std::uint64_t triple = (std::uint64_t(std::uint32_t(c.materials[0])) << 42) ^
-                                 (std::uint64_t(std::uint32_t(c.materials[1])) << 21) ^ std::uint32_t(c.materials[2]);
-    if (c.path.empty() || !is_listed(triple, 2, 1)) continue;
+    if (c.path.empty() || !is_listed({c.materials[0], c.materials[1], c.materials[2]}, 2, 1)) continue;
     ++ref;
     for (std::size_t i = 0; i + 1 < c.path.size(); ++i) mesh.segments.push_back({{c.path[i], c.path[i + 1]}, ref});
     mesh.corners.push_back(c.path.front());

@@ -59,10 +59,10 @@ TetNeighbourhood::TetNeighbourhood(const FreudenthalGrid& grid) : cells_(grid.ce
             const auto other = path_points({dx, dy, dz}, q);
             std::uint8_t shared = 0;
             for (int v = 0; v < 4; ++v)
-              if (std::find(other.begin(), other.end(), centre[v]) != other.end()) shared |= std::uint8_t(1u << v);
+              if (std::find(other.begin(), other.end(), centre[v]) != other.end()) shared = static_cast<std::uint8_t>(shared | (1u << v));
             if (shared == 0) continue;
             const Entry entry = {static_cast<std::int32_t>(6 * (dx + nx * (dy + ny * dz)) + (q - p)), shared,
-                                 {std::int8_t(dx), std::int8_t(dy), std::int8_t(dz)}};
+                                 {static_cast<std::int8_t>(dx), static_cast<std::int8_t>(dy), static_cast<std::int8_t>(dz)}};
             entries_[p].push_back(entry);
             if (std::popcount(unsigned{shared}) == 3) faces_[p].push_back(entry);
           }
