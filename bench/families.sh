@@ -12,7 +12,7 @@ sizes=${2:-100000}
 outdir=${3:-/tmp/topotet-families}
 mkdir -p "$outdir"
 for size in ${sizes//,/ }; do
-  for family in cube-sphere slab linked-tori; do
+  for family in cube-sphere slab linked-tori polycrystal; do
     mesh="$outdir/${family}_${size}.mesh"
     "$topotet" generate "$family" --tets "$size" -o "$mesh" > /dev/null
     for engine in sequential parallel; do

@@ -1,4 +1,5 @@
-// topotet generate NAME --tets N [--seed S] -o OUT: a procedural test mesh (topotet/generate.h).
+// topotet generate NAME --tets N [--seed S] [--cells C] -o OUT: a procedural test mesh
+// (topotet/generate.h).
 #include <cstdio>
 #include <memory>
 
@@ -14,6 +15,7 @@ struct GenerateArgs {
   std::string family;
   std::uint64_t tets = 100000;
   std::uint64_t seed = 1;
+  std::uint32_t cells = 0;
   std::string output;
   bool binary = false;
 };
@@ -25,6 +27,7 @@ int run_generate(const GenerateArgs& args) {
   options.family = args.family;
   options.target_tets = args.tets;
   options.seed = args.seed;
+  options.cells = args.cells;
   const Stopwatch generate_clock;
   MeshData mesh;
   try {
@@ -54,6 +57,8 @@ void add_generate_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("NAME", args->family, "Mesh family")->required()->check(CLI::IsMember(generator_families()));
   cmd->add_option("--tets", args->tets, "Approximate number of tets")->capture_default_str();
   cmd->add_option("--seed", args->seed, "Seed of the vertex jitter")->capture_default_str();
+  cmd->add_option("--cells", args->cells, "polycrystal: number of cells (materials); 0 = one per ~4000 tets")
+      ->capture_default_str();
   cmd->add_option("-o,--output", args->output, "Output file (.mesh, .msh or .vtu)")->required();
   cmd->add_flag("--binary", args->binary, "Binary Gmsh 4.1 / raw appended VTU data");
   cmd->callback([args, &run] { run = [args] { return run_generate(*args); }; });

@@ -13,20 +13,6 @@
 namespace topotet::gen {
 namespace {
 
-// splitmix64 (Steele, Lea, Flood 2014): a fixed, portable 64-bit mixer, so the jitter is the same
-// on every platform and standard library (unlike std::uniform_real_distribution).
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
-// Uniform in [-1, 1) from the top 53 bits.
-double to_symmetric_unit(std::uint64_t bits) {
-  return static_cast<double>(bits >> 11) * 0x1.0p-52 - 1.0;
-}
-
 // 6 * nx * ny * nz must fit TetId, and every vertex id VertId.
 constexpr std::uint64_t kMaxTets = 2'000'000'000;
 

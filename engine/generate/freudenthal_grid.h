@@ -27,6 +27,21 @@ namespace topotet::gen {
 MeshData generate_cube_sphere(std::uint64_t target_tets, std::uint64_t seed);
 MeshData generate_slab(std::uint64_t target_tets, std::uint64_t seed);
 MeshData generate_linked_tori(std::uint64_t target_tets, std::uint64_t seed);
+// cells = 0 picks the default count.
+MeshData generate_polycrystal(std::uint64_t target_tets, std::uint64_t seed, std::uint32_t cells);
+
+// splitmix64 (Steele, Lea, Flood 2014): a fixed, portable 64-bit mixer, so the generated meshes
+// are the same on every platform and standard library (unlike std::uniform_real_distribution).
+constexpr std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+// Uniform in [-1, 1) from the top 53 bits.
+constexpr double to_symmetric_unit(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1.0p-52 - 1.0; }
+// Uniform in [0, 1) from the top 53 bits.
+constexpr double to_unit(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1.0p-53; }
 
 // Throws InputError("<family>: --tets must be at least <min>") (or at most, for targets whose
 // indices would not fit 32 bits).

@@ -7,17 +7,24 @@
 namespace topotet {
 
 const std::vector<std::string>& generator_families() {
-  static const std::vector<std::string> families = {"cube-sphere", "slab", "linked-tori"};
+  static const std::vector<std::string> families = {"cube-sphere", "slab", "linked-tori", "polycrystal"};
   return families;
 }
 
 MeshData generate_mesh(const GenerateOptions& options) {
-  if (options.family == "cube-sphere") return gen::generate_cube_sphere(options.target_tets, options.seed);
-  if (options.family == "slab") return gen::generate_slab(options.target_tets, options.seed);
-  if (options.family == "linked-tori") return gen::generate_linked_tori(options.target_tets, options.seed);
-  std::string list;
-  for (const std::string& name : generator_families()) list += (list.empty() ? "" : ", ") + name;
-  throw InputError("unknown mesh family '" + options.family + "' (families: " + list + ")");
+  if (options.family == "polycrystal") return gen::generate_polycrystal(options.target_tets, options.seed, options.cells);
+  MeshData (*generate)(std::uint64_t, std::uint64_t) = nullptr;
+  if (options.family == "cube-sphere") generate = gen::generate_cube_sphere;
+  if (options.family == "slab") generate = gen::generate_slab;
+  if (options.family == "linked-tori") generate = gen::generate_linked_tori;
+  if (generate == nullptr) {
+    std::string list;
+    for (const std::string& name : generator_families()) list += (list.empty() ? "" : ", ") + name;
+    throw InputError("unknown mesh family '" + options.family + "' (families: " + list + ")");
+  }
+  // Only polycrystal has cells: refuse the option rather than ignore it.
+  if (options.cells != 0) throw InputError(options.family + ": --cells applies to polycrystal only");
+  return generate(options.target_tets, options.seed);
 }
 
 }  // namespace topotet
