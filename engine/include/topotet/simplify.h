@@ -74,11 +74,13 @@ struct SimplifyOptions {
 
 // Work of one parallel round, for the scaling benchmark's work/span projection.
 struct RoundStats {
-  std::uint64_t evaluated = 0;   // vertices whose proposal was recomputed
-  std::uint64_t candidates = 0;  // proposals competing in the round
+  std::uint64_t evaluated = 0;   // dirty vertices re-costed in the evaluate phase
+  std::uint64_t candidates = 0;  // verified proposals competing for the independent set
   std::uint64_t winners = 0;     // independent set size
-  std::uint64_t collapses = 0;   // winners still legal when applied
-  std::array<double, 4> phase_seconds{};  // evaluate, select, apply, compact
+  std::uint64_t collapses = 0;   // winners applied (all: they were verified before selection)
+  // Wall time: evaluate (costs, then the kernel on the round's candidates), select (threshold,
+  // stencils, reservations), apply (collapses and the updates of their stencils), compact.
+  std::array<double, 4> phase_seconds{};
   // The part of phase_seconds spent in sequential code (the quantile sample, prefix sums, table
   // growth): the Amdahl term of the round. The rest runs in parallel loops.
   double serial_seconds = 0.0;
