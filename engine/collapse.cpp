@@ -87,7 +87,7 @@ bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& s) {
   // One pass per star instead of set operations: a tet of St(u) is in St(uv) iff it has v.
   s.star_uv.clear();
   s.new_star.clear();
-  s.moved_count = 0;
+  s.prepared.clear();
   for (TetId t : s.star_u) {
     const auto& tv = mesh.tets[t];
     std::uint8_t corner = 0;
@@ -99,7 +99,7 @@ bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& s) {
     if (has_v)
       s.star_uv.push_back(t);  // stays sorted: St(u) is
     else
-      s.new_star.push_back({t, corner});
+      s.new_star.push_back({t, corner, u});
   }
   for (TetId t : s.star_v) {
     const auto& tv = mesh.tets[t];
@@ -109,7 +109,7 @@ bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& s) {
       corner = tv[k] == v ? k : corner;
       has_u |= tv[k] == u;
     }
-    if (!has_u) s.new_star.push_back({t, corner});
+    if (!has_u) s.new_star.push_back({t, corner, v});
   }
   return !s.star_uv.empty();
 }
@@ -153,7 +153,7 @@ double old_star_quality(const TetMesh& mesh, const CollapseScratch& s) {
 // therefore exactly orient3d_sign's. Quality needs the six squared edge lengths, three of them fixed.
 void prepare_moved_tet(const TetMesh& mesh, CollapseScratch& s, std::size_t i) {
   const auto& P = mesh.positions;
-  const auto& [t, corner] = s.new_star[i];
+  const auto& [t, corner, at] = s.new_star[i];
   const auto& tv = mesh.tets[t];
   CollapseScratch::MovedTet& m = s.moved[i];
   m.a = P[tv[kTetFaces[corner][0]]];
@@ -174,13 +174,20 @@ void prepare_moved_tet(const TetMesh& mesh, CollapseScratch& s, std::size_t i) {
 // lengths): monotone in the mean ratio and free of the cube root.
 // Most placements fail on one of the first tets, so the per-tet data is prepared lazily: tet i
 // is prepared the first time a placement of this edge gets that far.
-bool new_star_geometry(const TetMesh& mesh, CollapseScratch& s, const glm::dvec3& p, double& worst_q3) {
+bool new_star_geometry(const TetMesh& mesh, CollapseScratch& s, const glm::dvec3& p, VertId staying, double& worst_q3) {
   constexpr double eps = std::numeric_limits<double>::epsilon() * 0.5;
   constexpr double bound = 4.0 * (7.0 + 56.0 * eps) * eps;  // orient3d_sign's (orient.cpp)
   double worst = 1.0;
   if (s.moved.size() < s.new_star.size()) s.moved.resize(s.new_star.size());
+  if (s.prepared.size() < s.new_star.size()) s.prepared.resize(s.new_star.size(), 0);
   for (std::size_t i = 0; i < s.new_star.size(); ++i) {
-    if (i == s.moved_count) prepare_moved_tet(mesh, s, s.moved_count++);
+    // A tet whose moving corner is the vertex that stays where it is keeps its shape: it can
+    // neither invert nor fall below the quality it had (which the floor rule compares against).
+    if (s.new_star[i].at == staying) continue;
+    if (!s.prepared[i]) {
+      prepare_moved_tet(mesh, s, i);
+      s.prepared[i] = 1;
+    }
     const CollapseScratch::MovedTet& m = s.moved[i];
     const double adx = p.x - m.a.x, ady = p.y - m.a.y, adz = p.z - m.a.z;
     const double det = adx * m.normal.x + ady * m.normal.y + adz * m.normal.z;
@@ -191,6 +198,7 @@ bool new_star_geometry(const TetMesh& mesh, CollapseScratch& s, const glm::dvec3
       if (i != 0) {
         std::swap(s.new_star[i], s.new_star[0]);
         std::swap(s.moved[i], s.moved[0]);
+        std::swap(s.prepared[i], s.prepared[0]);
       }
       return false;
     }
@@ -256,7 +264,9 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
     // Geometry first (inversion, then quality): it is cheap once the edge is prepared and by far
     // the most frequent rejection; the link conditions (placement-independent) come after it.
     double new_quality = 0.0;
-    if (!new_star_geometry(mesh, s, pl.p, new_quality)) {
+    // At an endpoint, the tets around that endpoint do not move.
+    const VertId staying = pl.p == mesh.positions[pl.u] ? pl.u : (pl.p == mesh.positions[pl.v] ? pl.v : kInvalid);
+    if (!new_star_geometry(mesh, s, pl.p, staying, new_quality)) {
       reject(CollapseReason::kInversion);
       continue;
     }

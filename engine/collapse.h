@@ -51,10 +51,15 @@ struct CollapseScratch {
   // The tets that survive the collapse (St(u) ∪ St(v) minus St(uv)) with the corner that moves to
   // p (where u or v sits): the same for both directions of the edge and every placement, so the
   // geometric tests of all placements share it. Filled by gather_stars.
-  std::vector<std::pair<TetId, std::uint8_t>> new_star;
+  struct NewStarTet {
+    TetId tet;
+    std::uint8_t corner;  // local index of the corner that moves to p
+    VertId at;            // the vertex there now (u or v)
+  };
+  std::vector<NewStarTet> new_star;
   // The same tets seen from the moving corner, with everything that does not depend on p
   // precomputed (see MovedTet in collapse.cpp): a placement then costs ~30 flops per tet.
-  // Filled on demand by the geometric test (moved[0, moved_count) are ready; gather_stars resets).
+  // Filled on demand by the geometric test (moved[i] is ready when prepared[i]; gather_stars resets).
   struct MovedTet {
     glm::dvec3 a, c, d;        // the three fixed corners, in the order that makes (a, p, c, d) positive
     glm::dvec3 normal;         // (c - a) x (d - a), rounded exactly as orient3d_sign rounds it
@@ -62,7 +67,7 @@ struct CollapseScratch {
     double fixed_edges_sq;     // |c - a|^2 + |d - a|^2 + |d - c|^2
   };
   std::vector<MovedTet> moved;
-  std::size_t moved_count = 0;
+  std::vector<std::uint8_t> prepared;
   LinkScratch link;
   // Flagged faces and edges through u after the collapse (v renamed to u), keyed by their other
   // vertices (a face by its two other vertices packed low/high).
