@@ -81,37 +81,58 @@ void drop_dead_tets(TetMesh& mesh, VertId x) {
 
 }  // namespace
 
-bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& s) {
-  star_of(mesh, u, s.star_u);
-  star_of(mesh, v, s.star_v);
-  // One pass per star instead of set operations: a tet of St(u) is in St(uv) iff it has v.
+namespace {
+
+// Starts a new edge: nothing gathered yet.
+void reset_stars(CollapseScratch& s) {
+  s.star_u.clear();
+  s.star_v.clear();
   s.star_uv.clear();
   s.new_star.clear();
   s.prepared.clear();
-  for (TetId t : s.star_u) {
+  s.have_u = s.have_v = false;
+}
+
+// Gathers St(x) (x = u or v of the edge, `other` the other end) into `star`: a tet with `other`
+// is in St(uv) (listed from the first star gathered: the chains are sorted, so St(uv) is too),
+// any other one survives the collapse with x's corner moving.
+void gather_star(const TetMesh& mesh, VertId x, VertId other, std::vector<TetId>& star, CollapseScratch& s) {
+  const bool first = !s.have_u && !s.have_v;
+  star_of(mesh, x, star);
+  for (TetId t : star) {
     const auto& tv = mesh.tets[t];
     std::uint8_t corner = 0;
-    bool has_v = false;
+    bool has_other = false;
     for (std::uint8_t k = 0; k < 4; ++k) {
-      corner = tv[k] == u ? k : corner;
-      has_v |= tv[k] == v;
+      corner = tv[k] == x ? k : corner;
+      has_other |= tv[k] == other;
     }
-    if (has_v)
-      s.star_uv.push_back(t);  // stays sorted: St(u) is
-    else
-      s.new_star.push_back({t, corner, u});
+    if (!has_other)
+      s.new_star.push_back({t, corner, x});
+    else if (first)
+      s.star_uv.push_back(t);
   }
-  for (TetId t : s.star_v) {
-    const auto& tv = mesh.tets[t];
-    std::uint8_t corner = 0;
-    bool has_u = false;
-    for (std::uint8_t k = 0; k < 4; ++k) {
-      corner = tv[k] == v ? k : corner;
-      has_u |= tv[k] == u;
-    }
-    if (!has_u) s.new_star.push_back({t, corner, v});
+}
+
+// Makes sure the stars asked for are gathered (u, v: the edge in the scratch's current
+// orientation). False when uv is not an edge.
+bool need_stars(const TetMesh& mesh, VertId u, VertId v, bool need_u, bool need_v, CollapseScratch& s) {
+  if (need_v && !s.have_v) {
+    gather_star(mesh, v, u, s.star_v, s);
+    s.have_v = true;
+  }
+  if (need_u && !s.have_u) {
+    gather_star(mesh, u, v, s.star_u, s);
+    s.have_u = true;
   }
   return !s.star_uv.empty();
+}
+
+}  // namespace
+
+bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& s) {
+  reset_stars(s);
+  return need_stars(mesh, u, v, true, true, s);
 }
 
 namespace {
@@ -253,23 +274,29 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
     }
     if (pl.u != gathered_u || pl.v != gathered_v) {
       if (pl.u == gathered_v && pl.v == gathered_u) {
-        std::swap(s.star_u, s.star_v);  // same edge, other direction: the new star is the same
-      } else if (!gather_stars(mesh, pl.u, pl.v, s)) {
-        reject(CollapseReason::kLinkK);  // not an edge
-        return -1;
+        // Same edge, other direction: the new star is the same.
+        std::swap(s.star_u, s.star_v);
+        std::swap(s.have_u, s.have_v);
+      } else {
+        reset_stars(s);
       }
       gathered_u = pl.u;
       gathered_v = pl.v;
     }
     // Geometry first (inversion, then quality): it is cheap once the edge is prepared and by far
     // the most frequent rejection; the link conditions (placement-independent) come after it.
-    double new_quality = 0.0;
-    // At an endpoint, the tets around that endpoint do not move.
+    // At an endpoint, the tets around that endpoint do not move, and its star is not needed yet.
     const VertId staying = pl.p == mesh.positions[pl.u] ? pl.u : (pl.p == mesh.positions[pl.v] ? pl.v : kInvalid);
+    if (!need_stars(mesh, pl.u, pl.v, staying != pl.u, staying != pl.v, s)) {
+      reject(CollapseReason::kLinkK);  // not an edge
+      return -1;
+    }
+    double new_quality = 0.0;
     if (!new_star_geometry(mesh, s, pl.p, staying, new_quality)) {
       reject(CollapseReason::kInversion);
       continue;
     }
+    need_stars(mesh, pl.u, pl.v, true, true, s);  // the rest needs the whole stencil
     // Quality: the new star may not be worse than min(floor, worst of the old star). Above the
     // floor that holds whatever the old star was, so the old star is measured only below it.
     const double floor3 = options.quality_floor * options.quality_floor * options.quality_floor;

@@ -48,9 +48,13 @@ struct CollapseOptions {
 // Per-thread scratch; keeps capacity between calls so that steady-state calls do not allocate.
 struct CollapseScratch {
   std::vector<TetId> star_u, star_v, star_uv;  // sorted tet ids
+  // first_acceptable gathers a star only when it needs it: an endpoint placement moves only the
+  // other end's star, and most of them fail there. gather_stars (and a successful
+  // first_acceptable) leaves both.
+  bool have_u = false, have_v = false;
   // The tets that survive the collapse (St(u) ∪ St(v) minus St(uv)) with the corner that moves to
   // p (where u or v sits): the same for both directions of the edge and every placement, so the
-  // geometric tests of all placements share it. Filled by gather_stars.
+  // geometric tests of all placements share it. Appended star by star as they are gathered.
   struct NewStarTet {
     TetId tet;
     std::uint8_t corner;  // local index of the corner that moves to p
