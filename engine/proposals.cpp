@@ -11,6 +11,20 @@ namespace {
 // (cost, b) order among one vertex's edges: ties go to the lower id.
 bool cheaper(double c1, VertId b1, double c2, VertId b2) { return c1 != c2 ? c1 < c2 : b1 < b2; }
 
+// Inserts edge (a, b) of cost c into best and runner-up. The runner-up stays unknown when it was
+// (an unknown edge might come between).
+void insert_edge(double c, VertId b, double& best_cost, VertId& best, double& second_cost, VertId& second) {
+  if (cheaper(c, b, best_cost, best)) {
+    second_cost = best_cost;
+    second = best;
+    best_cost = c;
+    best = b;
+  } else if (second != kInvalid && cheaper(c, b, second_cost, second)) {
+    second_cost = c;
+    second = b;
+  }
+}
+
 // The neighbours b > a: the edges a owns.
 void neighbours_above(const TetMesh& mesh, VertId a, std::vector<VertId>& out) {
   mesh.neighbours(a, out);
@@ -64,6 +78,7 @@ void Proposals::propose(VertId a, ProposalScratch& s) {
 
 bool Proposals::update(VertId a, VertId u, ProposalScratch& s) {
   Proposal p = proposals_[a];
+  restore_lifted_bans(a, p, u);
   const auto stale = [&](VertId x) { return x == kInvalid || x == u || mesh_.is_dead_vertex(x); };
   if (stale(p.b)) {
     if (stale(p.second)) return false;
@@ -79,14 +94,11 @@ bool Proposals::update(VertId a, VertId u, ProposalScratch& s) {
     ++s.evaluations;
     const double c = cost_.edge_cost(mesh_, a, u, s.collapse.link);
     if (std::isfinite(c)) {
-      if (cheaper(c, u, p.cost, p.b)) {
-        p.second_cost = p.cost;
-        p.second = p.b;
-        p.set_best(c, u);
-      } else if (p.second != kInvalid && cheaper(c, u, p.second_cost, p.second)) {
-        p.second_cost = c;
-        p.second = u;
-      }
+      const VertId before = p.b;
+      double best_cost = p.cost;
+      VertId best = p.b;
+      insert_edge(c, u, best_cost, best, p.second_cost, p.second);
+      if (best != before) p.set_best(best_cost, best);
     }
   }
   set(a, p);
@@ -102,17 +114,55 @@ bool Proposals::is_verified(VertId a) const {
 
 bool Proposals::is_banned(VertId a, VertId b) const {
   const Bans& bans = bans_[a];
+  if (bans.lifted) return false;
   return bans.exhausted || std::find(bans.edge.begin(), bans.edge.end(), b) != bans.edge.end();
 }
 
-void Proposals::ban(VertId a, VertId b) {
+void Proposals::ban(VertId a, VertId b, double cost) {
   Bans& bans = bans_[a];
-  for (VertId& slot : bans.edge)
-    if (slot == kInvalid) {
-      slot = b;
+  if (bans.lifted) bans = Bans{};  // a fresh failure after a lift: the old list is void
+  for (std::size_t k = 0; k < bans.edge.size(); ++k)
+    if (bans.edge[k] == kInvalid) {
+      bans.edge[k] = b;
+      bans.cost[k] = static_cast<float>(cost);
       return;
     }
   bans.exhausted = true;  // a vertex whose edges keep failing waits until its star changes
+}
+
+void Proposals::restore_lifted_bans(VertId a, Proposal& p, VertId u) {
+  Bans& bans = bans_[a];
+  if (!bans.lifted) return;
+  double best_cost = p.cost, second_cost = p.second_cost;
+  VertId best = p.b, second = p.second;
+  if (best == kInvalid) {
+    // No proposal: the banned edges were all the edges left, so best and runner-up are exact.
+    second_cost = kNoCost;
+    second = kInvalid;
+    for (std::size_t k = 0; k < bans.edge.size(); ++k) {
+      const VertId b = bans.edge[k];
+      if (b == kInvalid || b == u || mesh_.is_dead_vertex(b)) continue;
+      if (cheaper(bans.cost[k], b, best_cost, best)) {
+        second_cost = best_cost;
+        second = best;
+        best_cost = bans.cost[k];
+        best = b;
+      } else if (cheaper(bans.cost[k], b, second_cost, second)) {
+        second_cost = bans.cost[k];
+        second = b;
+      }
+    }
+  } else {
+    for (std::size_t k = 0; k < bans.edge.size(); ++k) {
+      const VertId b = bans.edge[k];
+      if (b == kInvalid || b == u || mesh_.is_dead_vertex(b)) continue;
+      insert_edge(bans.cost[k], b, best_cost, best, second_cost, second);
+    }
+  }
+  if (best != p.b) p.set_best(best_cost, best);
+  p.second_cost = second_cost;
+  p.second = second;
+  bans = Bans{};
 }
 
 int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
@@ -137,7 +187,7 @@ bool Proposals::try_edge(VertId a, VertId b, const Ranked& threshold, std::uint3
   if (!(Ranked{p.cost, a, b} < threshold)) return true;
   const int chosen = check(a, b, n, s);
   if (chosen < 0) {
-    ban(a, b);
+    ban(a, b, p.cost);
     return false;
   }
   proposals_[a].verified_round = round;
@@ -180,10 +230,18 @@ void Proposals::verify(VertId a, const Ranked& threshold, std::uint32_t round, P
 Proposals::Redo Proposals::star_changed(VertId x, VertId u, VertId v, std::uint32_t round) {
   changed_round_[x] = round;
   const Proposal& p = proposals_[x];
-  const bool had_bans = bans_[x].exhausted || bans_[x].edge[0] != kInvalid;
-  bans_[x] = Bans{};
-  // u's edges all changed; banned edges (cheaper than the proposal) may be legal now.
-  if (x == u || !std::isfinite(p.cost) || had_bans) return Redo::kPropose;
+  Bans& bans = bans_[x];
+  // u's edges all changed; an exhausted vertex forgot some of its failed edges.
+  if (x == u || bans.exhausted) {
+    bans = Bans{};
+    return Redo::kPropose;
+  }
+  // Failed edges may be legal now: update() puts them back (their costs are kept).
+  if (bans.edge[0] != kInvalid) {
+    bans.lifted = true;
+    return Redo::kUpdate;
+  }
+  if (!std::isfinite(p.cost)) return Redo::kPropose;
   // x owns xu, or its best or runner-up went through u or v.
   if (x < u || p.b == u || p.b == v || p.second == u || p.second == v) return Redo::kUpdate;
   return Redo::kNothing;  // xu is owned by u, which re-proposes; x's own edges kept their costs
@@ -194,7 +252,7 @@ void Proposals::removed(VertId v, std::uint32_t round) {
   set(v, Proposal{});
 }
 
-void Proposals::lift_all_bans() { std::fill(bans_.begin(), bans_.end(), Bans{}); }
+void Proposals::lift_all_bans() { std::fill(bans_.begin(), bans_.end(), Bans{}); }  // then everyone proposes
 
 std::size_t Proposals::memory_bytes() const {
   return proposals_.capacity() * sizeof(Proposal) + rank_cost_.capacity() * sizeof(double) +

@@ -101,7 +101,7 @@ class Proposals {
 
   void cost_owned_edges(VertId a, ProposalScratch& s);
   bool is_banned(VertId a, VertId b) const;
-  void ban(VertId a, VertId b);
+  void ban(VertId a, VertId b, double cost);
   int check(VertId a, VertId b, int n, ProposalScratch& s);
   bool try_edge(VertId a, VertId b, const Ranked& threshold, std::uint32_t round, ProposalScratch& s);
   void set(VertId a, const Proposal& p);
@@ -111,14 +111,20 @@ class Proposals {
   const CollapseOptions& kernel_;
   std::vector<Proposal> proposals_;
   std::vector<double> rank_cost_;             // read by every round's scans: 8 bytes per vertex
-  // Edges that failed the kernel, lifted when the vertex's star changes. A vertex with more
-  // failures than slots is exhausted: it proposes nothing until then (on meshes where most cheap
-  // collapses invert, this keeps the rounds from checking the same hopeless edges again).
+  // Edges that failed the kernel. When the vertex's star changes they are lifted: the next
+  // update() puts them back among its candidates with the costs kept here (they did not change,
+  // unless through u, which is re-costed anyway), so no full re-proposal is needed. A vertex with
+  // more failures than slots is exhausted: it proposes nothing until its star changes, and then
+  // from scratch (on meshes where most cheap collapses invert, this keeps the rounds from
+  // checking the same hopeless edges again).
   struct Bans {
     std::array<VertId, 3> edge{kInvalid, kInvalid, kInvalid};
+    std::array<float, 3> cost{};  // ranking only: verification recomputes exact costs
     bool exhausted = false;
+    bool lifted = false;
   };
   std::vector<Bans> bans_;
+  void restore_lifted_bans(VertId a, Proposal& p, VertId u);
   std::vector<std::uint32_t> changed_round_;  // last round a collapse changed the vertex's star
 };
 
