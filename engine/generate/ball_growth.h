@@ -1,5 +1,11 @@
 // Region growing on a Freudenthal grid that keeps every material region a 3-ball.
 //
+// Why not classify and repair (repair_pinches in freudenthal_grid.h): that grows one material
+// over a background at interior vertices. With hundreds of cells there is no background, a repair
+// of one cell can pinch its neighbour, cells meet the box everywhere, and a repaired region can
+// still hold a tunnel or a cavity. Growing by ball-preserving steps makes the guarantee hold by
+// construction instead.
+//
 // A region starts as one seed tet (a ball) and only ever changes by steps that keep it a ball
 // (TetNeighbourhood::joins_as_ball, leaves_as_ball), so every region is a ball at every step,
 // whatever the order of the steps: one component, no pinch, no tunnel, no cavity.
