@@ -9,6 +9,7 @@
 #include <span>
 
 #include "orient.h"
+#include "prefetch.h"
 
 namespace topotet {
 
@@ -99,6 +100,7 @@ void reset_stars(CollapseScratch& s) {
 void gather_star(const TetMesh& mesh, VertId x, VertId other, std::vector<TetId>& star, CollapseScratch& s) {
   const bool first = !s.have_u && !s.have_v;
   star_of(mesh, x, star);
+  for (TetId t : star) prefetch(&mesh.tets[t]);
   for (TetId t : star) {
     const auto& tv = mesh.tets[t];
     std::uint8_t corner = 0;

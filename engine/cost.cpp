@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "parallel/for_range.h"
+#include "prefetch.h"
 #include "quadric.h"
 
 namespace topotet {
@@ -279,6 +280,12 @@ void CostModel::fields_at(const TetMesh& mesh, const CollapseCandidate& c, doubl
       out[k] = 0.5 * (fu[k] + fv[k]);
     }
   }
+}
+
+void CostModel::prefetch(VertId v) const {
+  const double* record = quadric(v);
+  for (std::size_t offset = 0; offset < record_size_; offset += 8) topotet::prefetch(record + offset);  // 64-byte lines
+  topotet::prefetch(&orders_[v]);
 }
 
 void CostModel::on_collapse(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_uv) {

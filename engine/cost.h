@@ -67,6 +67,9 @@ class CostModel {
   // Field values (mesh units, field_stride() of them) for u after collapsing with candidate c.
   void fields_at(const TetMesh& mesh, const CollapseCandidate& c, double* out) const;
 
+  // Asks the memory system for what edge_cost / candidates will read about v (see prefetch.h).
+  void prefetch(VertId v) const;
+
   // Bookkeeping after mesh collapse(u <- v): Q_u += Q_v, and the orders of u and of the vertices
   // of the removed tets `star_uv` are recomputed on demand. Writes only u's quadric and the order
   // bytes of vertices of St(uv), all inside the collapse's stencil.

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <span>
 
+#include "prefetch.h"
 #include "probe_set.h"
 
 namespace topotet {
@@ -365,6 +366,7 @@ bool is_interior_vertex(const TetMesh& mesh, VertId a) {
   std::array<std::uint8_t, 512> counts;
   if (slots > keys.size()) return false;
   ProbeSet<std::uint64_t> faces(std::span<std::uint64_t>(keys.data(), slots));
+  prefetch_star(mesh, a);
   bool special = false;  // a flagged face or edge through a, or a face in three or more tets
   std::size_t distinct = 0;
   mesh.for_each_tet_of(a, [&](TetId t) {

@@ -51,6 +51,7 @@ void Proposals::set(VertId a, const Proposal& p) {
 
 void Proposals::cost_owned_edges(VertId a, ProposalScratch& s) {
   neighbours_above(mesh_, a, s.nbrs);
+  for (VertId b : s.nbrs) cost_.prefetch(b);  // the records' cache misses overlap
   s.edges.clear();
   for (std::size_t k = 0; k < s.nbrs.size(); ++k) {
     if (is_banned(a, s.nbrs[k])) continue;

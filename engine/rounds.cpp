@@ -35,6 +35,7 @@
 #include "parallel/for_range.h"
 #include "parallel/reservations.h"
 #include "parallel/scratch.h"
+#include "prefetch.h"
 #include "probe_set.h"
 #include "proposals.h"
 
@@ -75,6 +76,8 @@ void stencil_vertices(const TetMesh& mesh, const Tets& tets, std::size_t tet_cou
 
 void stencil_of(const TetMesh& mesh, VertId a, VertId b, std::vector<VertId>& out, std::vector<VertId>& slots) {
   out.clear();
+  prefetch_star(mesh, a);
+  prefetch_star(mesh, b);
   stencil_vertices(
       mesh,
       [&](auto&& f) {
@@ -176,6 +179,7 @@ class Rounds {
       ThreadScratch& s = scratch_.local();
       for (std::size_t i = begin; i < end; ++i) {
         const VertId a = dirty_list_[i];
+        if (i + 2 < end) prefetch_star(mesh_, dirty_list_[i + 2]);  // overlap the next stars' misses
         if (mesh_.is_dead_vertex(a)) continue;
         if (dirty_[a] == Dirty::kPropose || !proposals_.update(a, dirty_partner_[a], s.proposal))
           proposals_.propose(a, s.proposal);
@@ -231,6 +235,13 @@ class Rounds {
       ThreadScratch& s = scratch_.local();
       for (std::size_t i = begin; i < end; ++i) {
         const VertId a = candidates_[i];
+        if (i + 1 < end) {  // the next candidate's edge, while this one is checked
+          const Ranked next = proposals_.ranked(candidates_[i + 1]);
+          for (VertId x : {next.a, next.b}) {
+            cost_.prefetch(x);
+            prefetch_star(mesh_, x);
+          }
+        }
         if (proposals_.is_verified(a)) continue;
         proposals_.verify(a, threshold_, round_, s.proposal);
         if (proposals_.is_verified(a)) keep_stencil(i, s);
@@ -347,6 +358,13 @@ class Rounds {
       for (std::size_t w = b; w < e; ++w) {
         const std::uint32_t i = winners_[w];
         const Ranked& r = ranked_[i];
+        if (w + 1 < e) {  // the next winner's stars and records, while this one collapses
+          const Ranked& next = ranked_[winners_[w + 1]];
+          for (VertId x : {next.a, next.b}) {
+            cost_.prefetch(x);
+            prefetch_star(mesh_, x);
+          }
+        }
         CollapseCandidate* cands = s.proposal.cands;
         CollapseScratch& kernel = s.proposal.collapse;
         const int n = cost_.candidates(mesh_, r.a, r.b, cands, kernel.link);

@@ -3,6 +3,7 @@
 #include <numeric>
 
 #include "parallel/for_range.h"
+#include "prefetch.h"
 #include "probe_set.h"
 #include "topotet/tet_mesh.h"
 
@@ -35,6 +36,7 @@ void TetMesh::neighbours(VertId v, std::vector<VertId>& out) const {
   std::vector<VertId> on_heap;
   if (slots > on_stack.size()) on_heap.resize(slots);
   ProbeSet<VertId> seen(slots > on_stack.size() ? std::span<VertId>(on_heap) : std::span<VertId>(on_stack.data(), slots));
+  prefetch_star(*this, v);
   for_each_tet_of(v, [&](TetId t) {
     for (VertId x : tets[t])
       if (x != v && seen.insert(x).second) out.push_back(x);
