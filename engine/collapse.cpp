@@ -58,8 +58,10 @@ void write_incidence(TetMesh& mesh, VertId x, const std::vector<TetId>& tets) {
   mesh.v2t_count[x] = static_cast<std::uint32_t>(tets.size());
 }
 
-// Removes dead tets from x's incidence list, in place and in order.
-void drop_dead_tets(TetMesh& mesh, VertId x) {
+// Removes the tets of `removed` (sorted; the tets a collapse just killed) from x's incidence
+// list, in place and in order. Chains hold only live tets, so those are the only dead ones there;
+// looking them up in the short list spares a flag load (a cache miss) per tet of St(x).
+void drop_dead_tets(TetMesh& mesh, VertId x, const std::vector<TetId>& removed) {
   std::uint32_t remaining = mesh.v2t_count[x], kept = 0;
   std::uint32_t wc = x, wi = 0;  // write cursor: chunk, index within chunk
   for (std::uint32_t c = x; remaining != 0; c = mesh.v2t_next[c]) {
@@ -67,7 +69,7 @@ void drop_dead_tets(TetMesh& mesh, VertId x) {
     const std::uint32_t n = std::min(remaining, mesh.v2t_offsets[c + 1] - begin);
     for (std::uint32_t i = 0; i < n; ++i) {
       const TetId t = mesh.v2t[begin + i];
-      if (mesh.is_dead_tet(t)) continue;
+      if (std::find(removed.begin(), removed.end(), t) != removed.end()) continue;
       while (wi == mesh.v2t_offsets[wc + 1] - mesh.v2t_offsets[wc]) {  // write chunk full: move on
         wc = mesh.v2t_next[wc];
         wi = 0;
@@ -399,7 +401,8 @@ void collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const doub
   // 3. Incidence: u takes v's chunks; the other vertices of St(uv) lose the dead tets.
   s.merged.clear();
   std::set_union(s.star_u.begin(), s.star_u.end(), s.star_v.begin(), s.star_v.end(), std::back_inserter(s.merged));
-  s.merged.erase(std::remove_if(s.merged.begin(), s.merged.end(), [&](TetId t) { return mesh.is_dead_tet(t); }),
+  s.merged.erase(std::remove_if(s.merged.begin(), s.merged.end(),
+                                [&](TetId t) { return std::find(s.star_uv.begin(), s.star_uv.end(), t) != s.star_uv.end(); }),
                  s.merged.end());
   std::uint32_t last = u;
   while (mesh.v2t_next[last] != kInvalid) last = mesh.v2t_next[last];
@@ -413,7 +416,7 @@ void collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const doub
     for (VertId x : mesh.tets[t])
       if (x != u && x != v && std::find(s.link_vertices.begin(), s.link_vertices.end(), x) == s.link_vertices.end())
         s.link_vertices.push_back(x);
-  for (VertId x : s.link_vertices) drop_dead_tets(mesh, x);
+  for (VertId x : s.link_vertices) drop_dead_tets(mesh, x, s.star_uv);
 
   // 4. Recompute the flags and refs of the faces and edges through u in the new star from the
   //    collected set (never patched by cases); the face and edges opposite u keep theirs. Nothing
