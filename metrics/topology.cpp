@@ -6,9 +6,8 @@
 #include <algorithm>
 #include <vector>
 
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
+#include "parallel/for_range.h"
+#include "parallel/scratch.h"
 #include "robust_orient.h"
 #include "simplex_index.h"
 #include "z2_homology.h"
@@ -185,9 +184,10 @@ TopologyReport compute_topology(const MeshData& mesh, const TopologyOptions& opt
     // Biggest first so that the long jobs do not end up last on one thread. Every job writes its
     // own ComplexTopology (map nodes are stable and all inserted above), so no synchronisation.
     std::stable_sort(jobs.begin(), jobs.end(), [](const Job& a, const Job& b) { return a.size() > b.size(); });
-    tbb::enumerable_thread_specific<Workspace> workspaces;
-    tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t i) {
-      *jobs[i].out = compute_complex(index, jobs[i].tops, options.fast, workspaces.local());
+    parallel::PerThread<Workspace> workspaces;
+    parallel::for_range<std::size_t>(0, jobs.size(), 1, "topology_complexes", [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i)
+        *jobs[i].out = compute_complex(index, jobs[i].tops, options.fast, workspaces.local());
     });
   }
   for (const auto& [to, from] : copies) *to = *from;

@@ -11,12 +11,12 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-#include <tbb/task_arena.h>
 
 #include "test_meshes.h"
 #include "topotet/error.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
+#include "topotet/threads.h"
 
 namespace topotet {
 namespace {
@@ -56,8 +56,9 @@ void add_field(MeshData& d, const std::string& name, int components, Fn&& fn) {
 
 template <class Fn>
 auto with_threads(int threads, Fn&& fn) {
-  tbb::task_arena arena(threads);
-  return arena.execute(fn);
+  decltype(fn()) result{};
+  run_with_thread_limit(threads, [&] { result = fn(); });
+  return result;
 }
 
 // ---------------------------------------------------------------- quality
@@ -418,7 +419,7 @@ TEST(MetricsTiming, MillionTets) {
   const double t_fields = seconds(t0);
   std::printf("[ timing ] compute_quality %zu tets: %.3f s; compare_fields %zu vs %zu tets: %.3f s (%d threads)\n",
               fine.tets.size(), t_quality, fine.tets.size(), coarse.tets.size(), t_fields,
-              tbb::this_task_arena::max_concurrency());
+              current_thread_limit());
   std::printf("[ timing ] dihedral %.2f+-%.2f deg, rms_both_rel %.2e, outside %zu/%zu\n", q.dihedral_deg.mean,
               q.dihedral_deg.std_dev, e.worst_rms_rel, e.original_in_simplified.outside,
               e.original_in_simplified.points);
