@@ -206,7 +206,7 @@ void measure_levels(const SimplifyJob& job, std::vector<LevelResult>& results) {
       l.field_error_seconds = clock.seconds();
     }
     clock = Stopwatch();
-    l.distance = surface_distance(job.input, l.output);
+    l.distance = surface_distance(job.input, l.output, report_surface_distance_options());
     l.distance_seconds = clock.seconds();
     l.measured = true;
   }

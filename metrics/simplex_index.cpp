@@ -8,10 +8,10 @@
 #include <stdexcept>
 #include <utility>
 
+#include "radix_sort.h"
+
 namespace topotet::metrics::detail {
 namespace {
-
-__extension__ typedef unsigned __int128 U128;  // face keys when n^3 does not fit in 64 bits
 
 // Local vertex pairs of the 6 edges of a tet with sorted vertices, and the edges of face i (the
 // face opposite local vertex i) as indices into that list.
@@ -19,44 +19,6 @@ constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}
 constexpr int kTetFaceEdges[4][3] = {{3, 4, 5}, {1, 2, 5}, {0, 2, 4}, {0, 1, 3}};
 // Edges of a triangle with sorted vertices.
 constexpr int kTriangleEdges[3][2] = {{0, 1}, {0, 2}, {1, 2}};
-
-template <class Key>
-struct KeyedSlot {
-  Key key;
-  std::uint32_t slot;  // where the simplex came from (see the slot layouts below)
-};
-
-int bit_width_of(std::uint64_t x) { return std::bit_width(x); }
-int bit_width_of(U128 x) {
-  const auto high = static_cast<std::uint64_t>(x >> 64);
-  return high != 0 ? 64 + std::bit_width(high) : std::bit_width(static_cast<std::uint64_t>(x));
-}
-
-// LSD radix sort on the low key_bits bits. It is stable, so items with equal keys stay in
-// generation order (increasing slot), which the duplicate-tet detection relies on.
-template <class Key>
-void radix_sort(std::vector<KeyedSlot<Key>>& items, int key_bits) {
-  if (items.size() < 2 || key_bits <= 0) return;
-  const int pass_count = (key_bits + 10) / 11;  // digits of at most 11 bits: counts stay in L1
-  const int digit_bits = (key_bits + pass_count - 1) / pass_count;
-  const std::size_t bucket_count = std::size_t{1} << digit_bits;
-  const Key mask = static_cast<Key>(bucket_count - 1);
-  std::vector<std::size_t> offsets(bucket_count);
-  std::vector<KeyedSlot<Key>> sorted(items.size());
-  for (int pass = 0; pass < pass_count; ++pass) {
-    const int shift = pass * digit_bits;
-    auto digit = [&](const KeyedSlot<Key>& item) {
-      return static_cast<std::size_t>((item.key >> shift) & mask);
-    };
-    std::fill(offsets.begin(), offsets.end(), 0);
-    for (const auto& item : items) ++offsets[digit(item)];
-    if (offsets[digit(items[0])] == items.size()) continue;  // one bucket: nothing would move
-    std::size_t running = 0;
-    for (auto& offset : offsets) running += std::exchange(offset, running);
-    for (const auto& item : items) sorted[offsets[digit(item)]++] = item;
-    items.swap(sorted);
-  }
-}
 
 // Sorted copies of the elements (in internal vertex ids), and whether each is valid (indices in
 // range and distinct). Out-of-range ids are left as they are, so they stay invalid.

@@ -1,6 +1,7 @@
 // compute_topology: one global simplex index, then each complex of the report as the closure of
-// its top simplices, reduced and eliminated over Z2 (z2_homology.cpp). Large meshes check their
-// complexes in parallel; the result does not depend on the thread count.
+// its top simplices. A complex certified to be a surface or a solid (manifold_betti.h) gets its
+// Betti numbers from counts; any other is reduced and eliminated over Z2 (z2_homology.cpp). Large
+// meshes check their complexes in parallel; the result does not depend on the thread count.
 #include "topotet/metrics/topology.h"
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 
 #include "parallel/for_range.h"
 #include "parallel/scratch.h"
+#include "manifold_betti.h"
 #include "robust_orient.h"
 #include "simplex_index.h"
 #include "z2_homology.h"
@@ -28,9 +30,17 @@ struct Workspace {
   detail::ClosureScratch closure;
   detail::LocalComplex complex;
   detail::HomologyScratch homology;
+  detail::ManifoldScratch manifold;
 };
 
-ComplexTopology compute_complex(const SimplexIndex& index, const TopSimplices& tops, bool fast, Workspace& ws) {
+// Which manifold certificates a complex may try (manifold_betti.h).
+struct FastPaths {
+  bool surface = false;  // pure 2-complexes
+  bool solid = false;    // pure 3-complexes; only when every tet is positively oriented
+};
+
+ComplexTopology compute_complex(const SimplexIndex& index, const TopSimplices& tops, bool fast, FastPaths paths,
+                                Workspace& ws) {
   detail::extract_closure(index, tops, ws.closure, ws.complex);
   const detail::LocalComplex& c = ws.complex;
   ComplexTopology result;
@@ -39,6 +49,10 @@ ComplexTopology compute_complex(const SimplexIndex& index, const TopSimplices& t
   const auto& n = result.simplex_count;
   result.euler_characteristic = n[0] - n[1] + n[2] - n[3];
   if (!fast) {
+    const bool is_pure_solid = !tops.tets.empty() && tops.faces.empty() && tops.edges.empty() && tops.vertices.empty();
+    const bool is_pure_surface = tops.tets.empty() && !tops.faces.empty() && tops.edges.empty() && tops.vertices.empty();
+    if (paths.solid && is_pure_solid && detail::solid_betti(c, ws.manifold, result.betti)) return result;
+    if (paths.surface && is_pure_surface && detail::surface_betti(c, ws.manifold, result.betti)) return result;
     result.betti = detail::z2_betti(c, ws.homology);
     return result;
   }
@@ -172,6 +186,10 @@ TopologyReport compute_topology(const MeshData& mesh, const TopologyOptions& opt
   std::sort(feature_faces.begin(), feature_faces.end());
   feature_faces.erase(std::unique(feature_faces.begin(), feature_faces.end()), feature_faces.end());
   jobs.push_back({&report.features, {.faces = feature_faces, .edges = lists.all_polyline_edges, .vertices = lists.pinned}});
+
+  FastPaths paths;
+  paths.surface = options.manifold_fast_path;
+  paths.solid = options.manifold_fast_path && report.inverted_tet_count == 0 && report.degenerate_tet_count == 0;
   if (index.kept_tets.size() < kParallelTetThreshold) {
     // Reused across calls on this thread, so the thousands of small checks a property test makes
     // allocate (and page-fault) much less; only small meshes use it, so it never holds much.
@@ -179,7 +197,7 @@ TopologyReport compute_topology(const MeshData& mesh, const TopologyOptions& opt
     Workspace uncached;
     const std::size_t slot_count = index.vertex_count + index.edge2verts.size() + index.face2edges.size();
     Workspace& ws = slot_count < kCachedScratchSlots ? cached : uncached;
-    for (const Job& job : jobs) *job.out = compute_complex(index, job.tops, options.fast, ws);
+    for (const Job& job : jobs) *job.out = compute_complex(index, job.tops, options.fast, paths, ws);
   } else {
     // Biggest first so that the long jobs do not end up last on one thread. Every job writes its
     // own ComplexTopology (map nodes are stable and all inserted above), so no synchronisation.
@@ -187,7 +205,7 @@ TopologyReport compute_topology(const MeshData& mesh, const TopologyOptions& opt
     parallel::PerThread<Workspace> workspaces;
     parallel::for_range<std::size_t>(0, jobs.size(), 1, "topology_complexes", [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i)
-        *jobs[i].out = compute_complex(index, jobs[i].tops, options.fast, workspaces.local());
+        *jobs[i].out = compute_complex(index, jobs[i].tops, options.fast, paths, workspaces.local());
     });
   }
   for (const auto& [to, from] : copies) *to = *from;

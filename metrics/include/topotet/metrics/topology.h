@@ -17,6 +17,15 @@
 //   embedded      all surfaces, all polylines and the pinned vertices (corners, required vertices)
 //   features      the boundary together with the embedded structure: catches a substructure that
 //                 comes to touch the boundary (or the boundary pinching onto a substructure)
+// Betti numbers: a complex certified to be a surface (every edge in at most 2 triangles, the
+// triangles around every vertex one fan) or a solid (every triangle in at most 2 tets, the tets
+// around every edge one fan, every vertex link a sphere or a disk) gets them from counts: Euler
+// characteristic, components, closed components (surfaces), boundary components (solids, whose
+// b2 = boundary components - components follows from Alexander duality in R^3: this path runs
+// only when every tet is positively oriented, and it takes the mesh's coordinates as an
+// embedding, which tets overlapping elsewhere would break). Every other complex is reduced and
+// eliminated over Z2. metrics/manifold_betti.h has the details.
+//
 // Elements with a vertex index out of range or a repeated vertex are counted as invalid and left
 // out of every complex; a tet with the same vertex set as an earlier one is counted as a duplicate
 // and left out. Material ids, refs and vertex refs are otherwise taken as they are; `ridges` only
@@ -76,6 +85,10 @@ struct TopologyOptions {
   // dimension, and b1 = b0 - chi for graphs (polylines, and the embedded structure when it has
   // no triangles).
   bool fast = false;
+  // Exact Betti numbers without elimination for the complexes certified to be manifolds (see
+  // below); false runs the reference reduction and elimination on every complex (the tests
+  // compare both).
+  bool manifold_fast_path = true;
 };
 
 // Computes every complex of the report. Never throws on bad input (faults are counted instead);
