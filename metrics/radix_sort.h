@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "parallel/for_range.h"
+
 namespace topotet::metrics::detail {
 
 __extension__ typedef unsigned __int128 U128;  // face keys when n^3 does not fit in 64 bits
@@ -49,6 +51,30 @@ void radix_sort(std::vector<KeyedSlot<Key>>& items, int key_bits) {
     for (const auto& item : items) sorted[offsets[digit(item)]++] = item;
     items.swap(sorted);
   }
+}
+
+// Sorts by (key, slot), the order of a stable sort by key when items come in increasing slot
+// order: a counting sort by bucket_of(key) (a monotone function of the key into [0,
+// bucket_count): the smallest vertex of a simplex), then every bucket on its own, in parallel.
+// Simplices have few cofaces per smallest vertex, so buckets are small; this beats the radix
+// sort's passes over the whole array when keys are wide.
+template <class Key, class BucketOf>
+void bucket_sort(std::vector<KeyedSlot<Key>>& items, std::size_t bucket_count, BucketOf&& bucket_of) {
+  if (items.size() < 2) return;
+  std::vector<std::size_t> start(bucket_count + 1, 0);
+  for (const auto& item : items) ++start[bucket_of(item.key) + 1];
+  for (std::size_t b = 0; b < bucket_count; ++b) start[b + 1] += start[b];
+  std::vector<KeyedSlot<Key>> sorted(items.size());
+  {
+    std::vector<std::size_t> cursor(start.begin(), start.end() - 1);
+    for (const auto& item : items) sorted[cursor[bucket_of(item.key)]++] = item;
+  }
+  parallel::for_range<std::size_t>(0, bucket_count, 2048, "bucket_sort", [&](std::size_t b0, std::size_t b1) {
+    for (std::size_t b = b0; b < b1; ++b)
+      std::sort(sorted.begin() + static_cast<std::ptrdiff_t>(start[b]), sorted.begin() + static_cast<std::ptrdiff_t>(start[b + 1]),
+                [](const KeyedSlot<Key>& x, const KeyedSlot<Key>& y) { return x.key != y.key ? x.key < y.key : x.slot < y.slot; });
+  });
+  items.swap(sorted);
 }
 
 }  // namespace topotet::metrics::detail

@@ -116,7 +116,7 @@ std::vector<std::uint32_t> enumerate_edges(const SortedElements& el, std::uint64
     if (!el.segment_is_valid[i]) continue;
     items.push_back({key(el.segments[i][0], el.segments[i][1]), static_cast<std::uint32_t>(segment_base + i)});
   }
-  radix_sort(items, n < 2 ? 0 : bit_width_of(n * n - 1));
+  bucket_sort(items, n, [n](std::uint64_t k) { return static_cast<std::size_t>(k / n); });
 
   std::vector<std::uint32_t> slot2edge(segment_base + el.segments.size(), kInvalid);
   index.edge2verts.clear();
@@ -161,7 +161,7 @@ void enumerate_faces(const MeshData& mesh, const SortedElements& el, std::uint64
     const auto& s = el.triangles[i];
     items.push_back({key(s[0], s[1], s[2]), static_cast<std::uint32_t>(triangle_base + i)});
   }
-  radix_sort(items, n < 3 ? 0 : bit_width_of(Key{n} * n * n - 1));
+  bucket_sort(items, n, [n2 = Key{n} * n](Key k) { return static_cast<std::size_t>(k / n2); });
 
   index.tet2faces.assign(tet_count, {kInvalid, kInvalid, kInvalid, kInvalid});
   index.triangle2face.assign(triangle_count, kInvalid);
