@@ -2,9 +2,11 @@
 //
 // Point location is a uniform grid of cubic cells; every tet is listed in each cell its bounding
 // box overlaps (CSR arrays, cell lists sorted by tet id so that the grid, and every answer, is the
-// same whatever the thread interleaving while building it). A query tests the tets of its cell:
-// the one with the largest minimum barycentric coordinate wins (ties to the smaller tet id), and
-// it contains the point if that coordinate is >= -kInsideTolerance. Otherwise the point is outside
+// same whatever the thread interleaving while building it). A query tests the tets of its cell in
+// increasing id order: the first whose barycentric coordinates all exceed kInsideTolerance wins
+// (in a valid mesh no other tet contains the point); otherwise the one with the largest minimum
+// barycentric coordinate (ties to the smaller tet id), which contains the point if that
+// coordinate is >= -kInsideTolerance. Otherwise the point is outside
 // the mesh and a ring search over the cells around it finds the closest tet exactly.
 //
 // Determinism: queries are independent; sums over samples run in fixed-size blocks whose partial
@@ -64,6 +66,21 @@ bool barycentric(const std::array<glm::dvec3, 4>& p, const glm::dvec3& q, Bary& 
   const double sum = l[0] + l[1] + l[2] + l[3];  // = d up to rounding
   if (sum == 0.0 || !std::isfinite(sum)) return false;
   for (double& x : l) x /= sum;
+  return true;
+}
+
+// False when q is clearly outside the bounding box of tet p: farther than 1e-6 times the box's
+// extent. A point whose barycentric coordinates are all >= -kInsideTolerance lies within
+// 4 kInsideTolerance times the tet's diameter of it, so such a tet could never have been chosen
+// (it is not inside, and a point inside no tet is located by the closest-tet search instead):
+// the test only saves the barycentric coordinates of most tets listed in a query's cell.
+bool near_box(const std::array<glm::dvec3, 4>& p, const glm::dvec3& q) {
+  for (int k = 0; k < 3; ++k) {
+    const double lo = std::min({p[0][k], p[1][k], p[2][k], p[3][k]});
+    const double hi = std::max({p[0][k], p[1][k], p[2][k], p[3][k]});
+    const double slack = 1e-6 * (hi - lo);
+    if (q[k] < lo - slack || q[k] > hi + slack) return false;
+  }
   return true;
 }
 
@@ -164,10 +181,13 @@ class TetGrid {
     double best_min = -std::numeric_limits<double>::infinity();
     for (std::uint64_t s = start_[cell]; s < start_[cell + 1]; ++s) {
       const TetId t = items_[s];  // increasing ids: strict > keeps the smallest on ties
+      const auto p = points(t);
+      if (!near_box(p, q)) continue;  // min barycentric coordinate far below -kInsideTolerance
       Bary l;
-      if (!barycentric(points(t), q, l)) continue;
+      if (!barycentric(p, q, l)) continue;
       const double m = std::min({l[0], l[1], l[2], l[3]});
       if (m > best_min) best_min = m, loc.tet = t, loc.bary = l;
+      if (m > kInsideTolerance) break;  // inside with a margin: in a valid mesh no other tet can be
     }
     if (loc.tet != kInvalid && best_min >= -kInsideTolerance) {
       if (best_min < 0.0) {  // on a face up to rounding: snap onto it

@@ -39,8 +39,9 @@ struct FastPaths {
   bool solid = false;    // pure 3-complexes; only when every tet is positively oriented
 };
 
+// `certified` is set when a manifold certificate gave the Betti numbers.
 ComplexTopology compute_complex(const SimplexIndex& index, const TopSimplices& tops, bool fast, FastPaths paths,
-                                Workspace& ws) {
+                                Workspace& ws, bool& certified) {
   detail::extract_closure(index, tops, ws.closure, ws.complex);
   const detail::LocalComplex& c = ws.complex;
   ComplexTopology result;
@@ -51,8 +52,9 @@ ComplexTopology compute_complex(const SimplexIndex& index, const TopSimplices& t
   if (!fast) {
     const bool is_pure_solid = !tops.tets.empty() && tops.faces.empty() && tops.edges.empty() && tops.vertices.empty();
     const bool is_pure_surface = tops.tets.empty() && !tops.faces.empty() && tops.edges.empty() && tops.vertices.empty();
-    if (paths.solid && is_pure_solid && detail::solid_betti(c, ws.manifold, result.betti)) return result;
-    if (paths.surface && is_pure_surface && detail::surface_betti(c, ws.manifold, result.betti)) return result;
+    certified = (paths.solid && is_pure_solid && detail::solid_betti(c, ws.manifold, result.betti)) ||
+                (paths.surface && is_pure_surface && detail::surface_betti(c, ws.manifold, result.betti));
+    if (certified) return result;
     result.betti = detail::z2_betti(c, ws.homology);
     return result;
   }
@@ -134,6 +136,7 @@ TopLists collect_top_lists(const MeshData& mesh, const SimplexIndex& index, std:
 struct Job {
   ComplexTopology* out = nullptr;
   TopSimplices tops;
+  bool certified = false;
   std::size_t size() const { return 8 * tops.tets.size() + 4 * tops.faces.size() + 2 * tops.edges.size() + tops.vertices.size(); }
 };
 
@@ -197,7 +200,7 @@ TopologyReport compute_topology(const MeshData& mesh, const TopologyOptions& opt
     Workspace uncached;
     const std::size_t slot_count = index.vertex_count + index.edge2verts.size() + index.face2edges.size();
     Workspace& ws = slot_count < kCachedScratchSlots ? cached : uncached;
-    for (const Job& job : jobs) *job.out = compute_complex(index, job.tops, options.fast, paths, ws);
+    for (Job& job : jobs) *job.out = compute_complex(index, job.tops, options.fast, paths, ws, job.certified);
   } else {
     // Biggest first so that the long jobs do not end up last on one thread. Every job writes its
     // own ComplexTopology (map nodes are stable and all inserted above), so no synchronisation.
@@ -205,10 +208,11 @@ TopologyReport compute_topology(const MeshData& mesh, const TopologyOptions& opt
     parallel::PerThread<Workspace> workspaces;
     parallel::for_range<std::size_t>(0, jobs.size(), 1, "topology_complexes", [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i)
-        *jobs[i].out = compute_complex(index, jobs[i].tops, options.fast, paths, workspaces.local());
+        *jobs[i].out = compute_complex(index, jobs[i].tops, options.fast, paths, workspaces.local(), jobs[i].certified);
     });
   }
   for (const auto& [to, from] : copies) *to = *from;
+  for (const Job& job : jobs) report.certified_manifold_count += job.certified;
   return report;
 }
 

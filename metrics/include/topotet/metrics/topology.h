@@ -76,6 +76,8 @@ struct TopologyReport {
                                                 // an index out of range or a repeated vertex
   std::uint64_t detached_triangle_count = 0;    // listed triangles that are not a face of any tet
   std::uint64_t detached_segment_count = 0;     // listed segments that are not an edge of any tet
+  std::uint64_t certified_manifold_count = 0;   // complexes computed by the manifold fast path
+                                                // (informative; same_topology ignores it)
   friend bool operator==(const TopologyReport&, const TopologyReport&) = default;
 };
 
