@@ -79,6 +79,7 @@ struct Side {
   SurfacePrimitives prims;
   std::vector<std::uint32_t> triangle_label, segment_label;
   std::vector<std::size_t> label_primitives;  // [label] primitive count
+  std::vector<std::uint32_t> label_first;     // [label] its first primitive (a query's last-resort seed)
 };
 
 // Both sides in one Embree scene: geometry 2s holds side s's triangles, 2s + 1 its segments (a
@@ -139,18 +140,23 @@ class Scene {
   };
 
   // The closest primitive of side s with label g to p. `known` is a primitive of that label
-  // already known to be at squared distance known2 (known2 = infinity: none): the search only
-  // looks for closer ones, so it stays in the neighbourhood of p.
+  // already known to be at squared distance known2 (known2 = infinity: none, then the label's
+  // first primitive serves): the search only looks for closer ones, so it stays in the
+  // neighbourhood of p and rarely meets primitives of other labels.
   Closest closest(int s, std::uint32_t g, bool polyline, const glm::dvec3& p, double known2,
                   std::uint32_t known) const {
     if (sides_[s]->label_primitives[g] == 0) return {kInfinity, 0};
+    if (!std::isfinite(known2)) {
+      known = sides_[s]->label_first[g];
+      known2 = squared_distance(s, polyline, known, p);
+    }
     Query q{this, s, g, polyline, p, known2, known};
     RTCPointQuery query;
     query.x = static_cast<float>(p.x);
     query.y = static_cast<float>(p.y);
     query.z = static_cast<float>(p.z);
     query.time = 0.0f;
-    query.radius = std::isfinite(known2) ? radius_for(known2) : std::numeric_limits<float>::infinity();
+    query.radius = radius_for(known2);
     RTCPointQueryContext context;
     rtcInitPointQueryContext(&context);
     rtcPointQuery(scene_, &query, &context, &Scene::on_primitive, &q);
@@ -371,20 +377,6 @@ Directional one_side(const Scene& scene, const Side& from, int to_side, const st
     return k;
   };
 
-  // The centre of every primitive too: where a piece that cuts a corner of the other side is
-  // farthest, so the floors start close to the final maxima and little needs refining.
-  std::vector<Sample> centre(n);
-  parallel::for_range<std::size_t>(0, n, 256, "surface_distance_centres", [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      Sample s[3];
-      const int k = corner_samples(i, s);
-      const glm::dvec3 x = k == 3 ? (s[0].x + s[1].x + s[2].x) / 3.0 : 0.5 * (s[0].x + s[1].x);
-      const std::uint32_t g = label_of(i);
-      Refiner r{scene, to_side, g, is_polyline[g], spacing, 0.0};
-      centre[i] = r.at(x, s, k);
-    }
-  });
-
   std::vector<double> floor(label_count, 0.0);
   double overall_floor = 0.0;
   const auto raise_floor = [&](std::uint32_t g, double d) {
@@ -393,7 +385,30 @@ Directional one_side(const Scene& scene, const Side& from, int to_side, const st
     overall_floor = std::max(overall_floor, d);
   };
   for (std::size_t k = 0; k < keys.size(); ++k) raise_floor(static_cast<std::uint32_t>(keys[k] >> 32), corner[k].d);
-  for (std::size_t i = 0; i < n; ++i) raise_floor(label_of(i), centre[i].d);
+
+  // The centre of every primitive that its corners do not settle: where a piece that cuts a
+  // corner of the other side is farthest, so the floors get close to the final maxima before the
+  // refinement, and little needs refining. (Settled on its corners: the primitive is done.)
+  const std::vector<double> corner_floor = floor;
+  const double corner_overall_floor = overall_floor;
+  constexpr double kNoCentre = -1.0;
+  std::vector<Sample> centre(n, Sample{glm::dvec3(0.0), kNoCentre, 0});
+  parallel::for_range<std::size_t>(0, n, 256, "surface_distance_centres", [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      Sample s[3];
+      const int k = corner_samples(i, s);
+      const std::uint32_t g = label_of(i);
+      Refiner r{scene, to_side, g, is_polyline[g], spacing, per_label_floor ? corner_floor[g] : corner_overall_floor};
+      const double longest = k == 3 ? std::max({glm::length(s[1].x - s[0].x), glm::length(s[2].x - s[1].x),
+                                                glm::length(s[0].x - s[2].x)})
+                                    : glm::length(s[1].x - s[0].x);
+      if (r.settled(s, k, longest)) continue;
+      const glm::dvec3 x = k == 3 ? (s[0].x + s[1].x + s[2].x) / 3.0 : 0.5 * (s[0].x + s[1].x);
+      centre[i] = r.at(x, s, k);
+    }
+  });
+  for (std::size_t i = 0; i < n; ++i)
+    if (centre[i].d != kNoCentre) raise_floor(label_of(i), centre[i].d);
 
   std::vector<double> prim_max(n, 0.0);
   std::vector<std::size_t> prim_samples(n, 0);
@@ -401,10 +416,16 @@ Directional one_side(const Scene& scene, const Side& from, int to_side, const st
     for (std::size_t i = b; i < e; ++i) {
       const std::uint32_t g = label_of(i);
       Refiner r{scene, to_side, g, is_polyline[g], spacing, per_label_floor ? floor[g] : overall_floor};
+      Sample s[3];
+      const int k = corner_samples(i, s);
+      if (centre[i].d == kNoCentre) {  // settled on its corners
+        for (int j = 0; j < k; ++j) r.best = std::max(r.best, s[j].d);
+        prim_max[i] = r.best;
+        continue;
+      }
       r.best = centre[i].d;  // a sample of this primitive: part of its reported maximum
       r.samples = 1;
-      Sample s[3];
-      if (corner_samples(i, s) == 3)
+      if (k == 3)
         r.triangle(s[0], s[1], s[2]);
       else
         r.segment(s[0], s[1]);
@@ -453,12 +474,13 @@ void assign_labels(Side& side, const std::vector<SurfaceLabel>& labels) {
     return static_cast<std::uint32_t>(std::lower_bound(labels.begin(), labels.end(), l) - labels.begin());
   };
   side.label_primitives.assign(labels.size(), 0);
+  side.label_first.assign(labels.size(), 0);
   for (const auto* from : {&side.prims.triangle_label, &side.prims.segment_label}) {
     auto& to = from == &side.prims.triangle_label ? side.triangle_label : side.segment_label;
     to.resize(from->size());
     for (std::size_t i = 0; i < from->size(); ++i) {
       to[i] = index_of((*from)[i]);
-      ++side.label_primitives[to[i]];
+      if (side.label_primitives[to[i]]++ == 0) side.label_first[to[i]] = static_cast<std::uint32_t>(i);
     }
   }
 }

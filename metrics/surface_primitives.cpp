@@ -1,11 +1,12 @@
 // special_primitives: every tet face and listed triangle is bucketed by its smallest vertex
-// (counting sort), each bucket is sorted by the other two vertices, and each run of equal faces
+// (counting sort), each bucket is sorted by the other two vertices (and the owner), and each run of equal faces
 // is classified by the tets and listed triangles in it. Linear in the mesh size, and the buckets
 // are independent, so they are sorted and classified in parallel; the output order (sorted vertex
 // triples) does not depend on the thread count.
 #include "surface_primitives.h"
 
 #include <algorithm>
+#include <atomic>
 #include <string>
 
 #include "parallel/for_range.h"
@@ -61,17 +62,25 @@ SurfacePrimitives special_primitives(const MeshData& m, const char* which) {
     return sorted3(v[0], v[1], v[2]);
   };
   const std::size_t slot_count = 4 * nt + m.triangles.size();
+  // Counts and scatter in parallel (atomic counters): the order inside a bucket then depends on
+  // the threads, but every bucket is sorted by (b, c, owner) below, so the result does not.
+  constexpr std::size_t kSlotGrain = 16384;
   std::vector<std::uint32_t> start(nv + 1, 0);
-  for (std::size_t slot = 0; slot < slot_count; ++slot) ++start[face_of(slot)[0] + 1];
+  parallel::for_range<std::size_t>(0, slot_count, kSlotGrain, "surface_face_count", [&](std::size_t b, std::size_t e) {
+    for (std::size_t slot = b; slot < e; ++slot)
+      std::atomic_ref(start[face_of(slot)[0] + 1]).fetch_add(1, std::memory_order_relaxed);
+  });
   for (std::size_t a = 0; a < nv; ++a) start[a + 1] += start[a];
   std::vector<BucketedFace> faces(slot_count);
   {
     std::vector<std::uint32_t> cursor(start.begin(), start.end() - 1);
-    for (std::size_t slot = 0; slot < slot_count; ++slot) {
-      const auto k = face_of(slot);
-      const auto owner = static_cast<std::uint32_t>(slot < 4 * nt ? slot / 4 : nt + (slot - 4 * nt));
-      faces[cursor[k[0]]++] = {k[1], k[2], owner};
-    }
+    parallel::for_range<std::size_t>(0, slot_count, kSlotGrain, "surface_face_scatter", [&](std::size_t b, std::size_t e) {
+      for (std::size_t slot = b; slot < e; ++slot) {
+        const auto k = face_of(slot);
+        const auto owner = static_cast<std::uint32_t>(slot < 4 * nt ? slot / 4 : nt + (slot - 4 * nt));
+        faces[std::atomic_ref(cursor[k[0]]).fetch_add(1, std::memory_order_relaxed)] = {k[1], k[2], owner};
+      }
+    });
   }
 
   const auto material = [&](std::size_t t) { return m.tet_material.empty() ? 0 : m.tet_material[t]; };
