@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "parallel/for_range.h"
+#include "parallel/reduce.h"
 #include "radix_sort.h"
 
 namespace topotet::metrics::detail {
@@ -29,16 +31,23 @@ void sort_elements(const std::array<VertId, N>* elements, std::size_t count, con
   const std::uint32_t n = index.vertex_count;
   sorted.resize(count);
   is_valid.resize(count);
-  for (std::size_t i = 0; i < count; ++i) {
-    auto s = elements[i];
-    for (VertId& v : s) v = v < n ? index.vertex_of(v) : v;
-    std::sort(s.begin(), s.end());
-    bool ok = s[N - 1] < n;
-    for (std::size_t k = 1; k < N; ++k) ok = ok && s[k - 1] < s[k];
-    sorted[i] = s;
-    is_valid[i] = ok;
-    invalid_count += !ok;
-  }
+  invalid_count += parallel::block_reduce(
+      count, 16384, "sort_elements", std::uint64_t{0},
+      [&](std::size_t begin, std::size_t end) {
+        std::uint64_t invalid = 0;
+        for (std::size_t i = begin; i < end; ++i) {
+          auto s = elements[i];
+          for (VertId& v : s) v = v < n ? index.vertex_of(v) : v;
+          std::sort(s.begin(), s.end());
+          bool ok = s[N - 1] < n;
+          for (std::size_t k = 1; k < N; ++k) ok = ok && s[k - 1] < s[k];
+          sorted[i] = s;
+          is_valid[i] = ok;
+          invalid += !ok;
+        }
+        return invalid;
+      },
+      [](std::uint64_t& total, std::uint64_t part) { total += part; });
 }
 
 // Below this many vertices everything fits in cache anyway, and the thousands of small checks of
@@ -66,15 +75,17 @@ std::vector<VertId> spatial_vertex_order(const std::vector<glm::dvec3>& position
         hi[k] = std::max(hi[k], p[k]);
       }
   std::vector<KeyedSlot<std::uint64_t>> items(positions.size());
-  for (std::size_t v = 0; v < positions.size(); ++v) {
-    std::uint64_t code = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double extent = hi[k] - lo[k];
-      const double t = extent > 0 && std::isfinite(positions[v][k]) ? (positions[v][k] - lo[k]) / extent : 0.0;
-      code |= spread_bits(static_cast<std::uint64_t>(t * 2097151.0)) << k;
+  parallel::for_range<std::size_t>(0, positions.size(), 16384, "morton_codes", [&](std::size_t b, std::size_t e) {
+    for (std::size_t v = b; v < e; ++v) {
+      std::uint64_t code = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double extent = hi[k] - lo[k];
+        const double t = extent > 0 && std::isfinite(positions[v][k]) ? (positions[v][k] - lo[k]) / extent : 0.0;
+        code |= spread_bits(static_cast<std::uint64_t>(t * 2097151.0)) << k;
+      }
+      items[v] = {code, static_cast<std::uint32_t>(v)};
     }
-    items[v] = {code, static_cast<std::uint32_t>(v)};
-  }
+  });
   radix_sort(items, 63);
   std::vector<VertId> mesh2vertex(positions.size());
   for (std::size_t i = 0; i < items.size(); ++i) mesh2vertex[items[i].slot] = static_cast<VertId>(i);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "parallel/for_range.h"
+#include "parallel/reduce.h"
 #include "parallel/scratch.h"
 #include "manifold_betti.h"
 #include "robust_orient.h"
@@ -69,16 +70,27 @@ ComplexTopology compute_complex(const SimplexIndex& index, const TopSimplices& t
 
 void count_tet_faults(const MeshData& mesh, TopologyReport& report) {
   const std::size_t n = mesh.positions.size();
-  for (const auto& tet : mesh.tets) {
-    if (tet[0] >= n || tet[1] >= n || tet[2] >= n || tet[3] >= n) continue;  // invalid, counted by the index
-    const bool has_repeat = tet[0] == tet[1] || tet[0] == tet[2] || tet[0] == tet[3] || tet[1] == tet[2] ||
-                            tet[1] == tet[3] || tet[2] == tet[3];
-    const int sign = has_repeat ? 0
-                                : detail::orient3d_sign(mesh.positions[tet[0]], mesh.positions[tet[1]],
-                                                        mesh.positions[tet[2]], mesh.positions[tet[3]]);
-    report.inverted_tet_count += sign < 0;
-    report.degenerate_tet_count += sign == 0;
-  }
+  using Counts = std::array<std::uint64_t, 2>;  // inverted, degenerate
+  const Counts counts = parallel::block_reduce(
+      mesh.tets.size(), 16384, "tet_orientation", Counts{},
+      [&](std::size_t begin, std::size_t end) {
+        Counts c{};
+        for (std::size_t t = begin; t < end; ++t) {
+          const auto& tet = mesh.tets[t];
+          if (tet[0] >= n || tet[1] >= n || tet[2] >= n || tet[3] >= n) continue;  // invalid, counted by the index
+          const bool has_repeat = tet[0] == tet[1] || tet[0] == tet[2] || tet[0] == tet[3] || tet[1] == tet[2] ||
+                                  tet[1] == tet[3] || tet[2] == tet[3];
+          const int sign = has_repeat ? 0
+                                      : detail::orient3d_sign(mesh.positions[tet[0]], mesh.positions[tet[1]],
+                                                              mesh.positions[tet[2]], mesh.positions[tet[3]]);
+          c[0] += sign < 0;
+          c[1] += sign == 0;
+        }
+        return c;
+      },
+      [](Counts& total, const Counts& part) { total[0] += part[0], total[1] += part[1]; });
+  report.inverted_tet_count += counts[0];
+  report.degenerate_tet_count += counts[1];
 }
 
 // The top simplices of every complex, owned here so that jobs can refer to them by span.
