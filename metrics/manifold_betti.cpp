@@ -147,11 +147,16 @@ bool solid_betti(const LocalComplex& c, ManifoldScratch& s, std::array<std::int6
       for (std::uint32_t x : f0)
         if (x != fk[0] && x != fk[1] && x != fk[2]) v[k] = x;
     }
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j)
-        for (std::uint32_t e : c.faces[faces[i]])
-          if (e == c.faces[faces[j]][0] || e == c.faces[faces[j]][1] || e == c.faces[faces[j]][2])
-            s.tet_edges[t][kPair[i][j]] = e;
+    // Edge e of local face i misses one vertex of that face, v[j]: e is shared by faces i and j.
+    // Faces 0, 1 and 2 hold all six edges.
+    for (int i = 0; i < 3; ++i)
+      for (std::uint32_t e : c.faces[faces[i]]) {
+        const auto& ends = c.edges[e];
+        int j = 0;
+        for (int k = 0; k < 4; ++k)
+          if (k != i && v[k] != ends[0] && v[k] != ends[1]) j = k;
+        s.tet_edges[t][kPair[i][j]] = e;
+      }
   }
   const auto local_face = [&](std::uint32_t t, std::uint32_t f) {
     const auto& faces = c.tets[t];
@@ -162,30 +167,24 @@ bool solid_betti(const LocalComplex& c, ManifoldScratch& s, std::array<std::int6
   };
 
   // Vertex stars (incidence 4t + k) and edge stars (incidence 6t + pair), joined across every
-  // interior triangle.
+  // interior triangle; one union-find over both, vertex incidences first.
   {
-    UnionFind vertex_stars(s.parent, 4 * tet_count);
-    for (std::uint32_t f = 0; f < face_count; ++f) {
-      if (s.coface_count[f] != 2) continue;
-      const std::uint32_t t1 = s.face_cofaces[2 * f], t2 = s.face_cofaces[2 * f + 1];
-      for (std::uint32_t v : s.face_vertices[f])
-        vertex_stars.unite(4 * t1 + slot_of(s.tet_vertices[t1], v), 4 * t2 + slot_of(s.tet_vertices[t2], v));
-    }
-    if (vertex_stars.count() != c.vertex_count) return false;
-  }
-  {
-    UnionFind edge_stars(s.parent, 6 * tet_count);
+    UnionFind stars(s.parent, 10 * tet_count);
+    const std::uint32_t edge_base = static_cast<std::uint32_t>(4 * tet_count);
     for (std::uint32_t f = 0; f < face_count; ++f) {
       if (s.coface_count[f] != 2) continue;
       const std::uint32_t t1 = s.face_cofaces[2 * f], t2 = s.face_cofaces[2 * f + 1];
       const int i1 = local_face(t1, f);
-      for (int j = 0; j < 4; ++j)
-        if (j != i1) {
-          const std::uint32_t e = s.tet_edges[t1][kPair[i1][j]];
-          edge_stars.unite(6 * t1 + kPair[i1][j], 6 * t2 + slot_of(s.tet_edges[t2], e));
-        }
+      for (int j = 0; j < 4; ++j) {
+        if (j == i1) continue;
+        const std::uint32_t v = s.tet_vertices[t1][j];
+        stars.unite(4 * t1 + j, 4 * t2 + slot_of(s.tet_vertices[t2], v));
+        const std::uint32_t e = s.tet_edges[t1][kPair[i1][j]];
+        stars.unite(edge_base + 6 * t1 + kPair[i1][j], edge_base + 6 * t2 + slot_of(s.tet_edges[t2], e));
+      }
     }
-    if (edge_stars.count() != c.edges.size()) return false;
+    // Classes never mix vertex and edge incidences, so they add up.
+    if (stars.count() != c.vertex_count + c.edges.size()) return false;
   }
 
   // Vertex links: Euler characteristic (edges - triangles + tets around the vertex) 2 inside
