@@ -20,7 +20,7 @@
 //    coordinates are then within [0, 1]). LocationStats count them and the largest distance.
 //  - Relative errors divide by the component's range (max - min over the used original vertices),
 //    so numbers compare across datasets; a constant component (range 0) divides by 1 instead.
-//  - Point location uses a uniform grid over the tets' bounding boxes, built and queried in
+//  - Point location uses a bounding volume hierarchy (Embree) over the tets' boxes, queried in
 //    parallel; the result is bit-identical for any thread count.
 //  - If either mesh has no tets, or no field matches, nothing is located and `components` is
 //    empty.
