@@ -23,7 +23,7 @@ using detail::TopSimplices;
 
 // Below this many tets a check takes a few milliseconds at most: threads would cost more than
 // they save, and tests call the checker thousands of times, often from parallel test runners.
-constexpr std::size_t kParallelTetThreshold = 100'000;
+constexpr std::size_t kParallelTetThreshold = 20'000;
 // Largest mesh (vertices + edges + triangles) whose scratch a thread keeps between calls (~8 MB).
 constexpr std::size_t kCachedScratchSlots = 1u << 20;
 

@@ -96,7 +96,7 @@ struct TopologyOptions {
 // Computes every complex of the report. Never throws on bad input (faults are counted instead);
 // throws std::bad_alloc when out of memory and std::length_error beyond 32-bit ids (meshes of
 // more than about 300M tets). Thread-safe (scratch is per thread); runs the complexes in parallel
-// for meshes of 100k tets or more, with the same result as sequentially.
+// for meshes of 20k tets or more, with the same result as sequentially.
 TopologyReport compute_topology(const MeshData& mesh, const TopologyOptions& options = {});
 
 // True iff `after` has the topology of `before`: same complexes (same material ids, refs,
