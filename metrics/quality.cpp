@@ -122,11 +122,6 @@ struct BlockSummary {
   }
 };
 
-// Angle between two vectors in [0, pi]. atan2 of |cross| and dot is accurate near 0 and pi (acos
-// of a normalised dot is not) and gives 0, not NaN, when a vector is zero.
-inline double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
-  return metrics::detail::atan2_nonnegative(glm::length(glm::cross(a, b)), glm::dot(a, b));
-}
 
 // Sign of det = u . (v x w), certified by Shewchuk's orient3d static bound o3derrboundA =
 // (7 + 56 eps) eps times the permanent, which also covers the rounding of the differences
@@ -146,16 +141,24 @@ void add_tet(const std::array<glm::dvec3, 4>& p, BlockSums& s) {
   // Edge (i, j) and the other two vertices (k, l) of the tet: the 6 edges in a fixed order.
   static constexpr int kEdges[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2},
                                        {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
+  // Every angle is atan2(y, x), for an angle between vectors a and b atan2(|a x b|, a . b): accurate
+  // near 0 and pi (acos of a normalised dot is not), and 0, not NaN, when a vector is zero. The 18
+  // pairs are gathered first and converted in one loop, whose independent iterations the
+  // processor overlaps (each one alone is a chain of dependent steps).
+  // 0-5 dihedral, 6-9 half solid angles, 10-17 two corner angles of each face.
+  double y[18], x[18];
+  const auto angle_pair = [&](int i, const glm::dvec3& a, const glm::dvec3& b) {
+    y[i] = glm::length(glm::cross(a, b));
+    x[i] = glm::dot(a, b);
+  };
   // The dihedral angle at edge e = pj - pi is the angle between the normals e x (pk - pi) and
   // e x (pl - pi) of its two faces: both are perpendicular to e, and the cross product with e
   // rotates the projections of pk - pi and pl - pi (which span the dihedral) by the same 90 deg.
-  for (const auto& e : kEdges) {
+  for (int k = 0; k < 6; ++k) {
+    const auto& e = kEdges[k];
     const glm::dvec3 edge = p[e[1]] - p[e[0]];
-    const glm::dvec3 n1 = glm::cross(edge, p[e[2]] - p[e[0]]);
-    const glm::dvec3 n2 = glm::cross(edge, p[e[3]] - p[e[0]]);
-    s.dihedral.add(angle_between(n1, n2) * kDeg);
+    angle_pair(k, glm::cross(edge, p[e[2]] - p[e[0]]), glm::cross(edge, p[e[3]] - p[e[0]]));
   }
-
   // Solid angle at vertex i, vectors a, b, c to the other three (van Oosterom & Strackee 1983).
   // atan2 keeps the quadrant: a negative denominator means the solid angle exceeds pi, which only
   // happens for (nearly) flat tets.
@@ -164,23 +167,33 @@ void add_tet(const std::array<glm::dvec3, 4>& p, BlockSums& s) {
     const glm::dvec3 b = p[(i + 2) % 4] - p[i];
     const glm::dvec3 c = p[(i + 3) % 4] - p[i];
     const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
-    const double num = std::abs(glm::dot(a, glm::cross(b, c)));
-    const double den = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
-    s.solid.add(2.0 * metrics::detail::atan2_nonnegative(num, den));
+    y[6 + i] = std::abs(glm::dot(a, glm::cross(b, c)));
+    x[6 + i] = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
   }
-
-  // Corner angles of the 4 faces: face f is the one opposite vertex f. The third angle of a
-  // triangle is pi minus the other two, unless an edge has zero length (then all three are 0).
+  // Corner angles of the 4 faces: face f is the one opposite vertex f; at its first two corners
+  // here, the third below.
+  bool has_zero_edge[4];
   for (int f = 0; f < 4; ++f) {
     const glm::dvec3& a = p[(f + 1) % 4];
     const glm::dvec3& b = p[(f + 2) % 4];
     const glm::dvec3& c = p[(f + 3) % 4];
     const glm::dvec3 ab = b - a, ac = c - a, bc = c - b;
-    const double at_a = angle_between(ab, ac), at_b = angle_between(-ab, bc);
-    const bool has_zero_edge = glm::dot(ab, ab) == 0.0 || glm::dot(ac, ac) == 0.0 || glm::dot(bc, bc) == 0.0;
+    angle_pair(10 + 2 * f, ab, ac);
+    angle_pair(11 + 2 * f, -ab, bc);
+    has_zero_edge[f] = glm::dot(ab, ab) == 0.0 || glm::dot(ac, ac) == 0.0 || glm::dot(bc, bc) == 0.0;
+  }
+  double angle[18];
+  for (int i = 0; i < 18; ++i) angle[i] = metrics::detail::atan2_nonnegative(y[i], x[i]);
+
+  for (int k = 0; k < 6; ++k) s.dihedral.add(angle[k] * kDeg);
+  for (int i = 0; i < 4; ++i) s.solid.add(2.0 * angle[6 + i]);
+  // The third angle of a triangle is pi minus the other two, unless an edge has zero length (then
+  // all three are 0).
+  for (int f = 0; f < 4; ++f) {
+    const double at_a = angle[10 + 2 * f], at_b = angle[11 + 2 * f];
     s.face.add(at_a * kDeg);
     s.face.add(at_b * kDeg);
-    s.face.add(has_zero_edge ? 0.0 : (std::numbers::pi - at_a - at_b) * kDeg);
+    s.face.add(has_zero_edge[f] ? 0.0 : (std::numbers::pi - at_a - at_b) * kDeg);
   }
 
   const glm::dvec3 u = p[1] - p[0], v = p[2] - p[0], w = p[3] - p[0];
