@@ -16,6 +16,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -326,9 +328,8 @@ std::vector<VertId> used_vertices(const MeshData& m) {
 }
 
 // Locates `queries` (vertices of `from`) in `in`.
-std::vector<Location> locate_all(const MeshData& from, const std::vector<VertId>& queries, const MeshData& in) {
+std::vector<Location> locate_all(const MeshData& from, const std::vector<VertId>& queries, const TetLocator& locator) {
   std::vector<Location> loc(queries.size());
-  const TetLocator locator(in);
   parallel::for_range<std::size_t>(0, queries.size(), 512, "locate", [&](std::size_t q0, std::size_t q1) {
     for (std::size_t q = q0; q < q1; ++q) loc[q] = locator.locate(from.positions[queries[q]]);
   });
@@ -397,8 +398,30 @@ DirectionalError finish(const ErrorSums& s, std::size_t n, double scale) {
 
 }  // namespace
 
-FieldError compare_fields(const MeshData& original, const MeshData& simplified) {
-  check_tets(original, "original");
+// The original's checked tets, used vertices and (built on first need) point locator.
+struct FieldErrorReference::Prepared {
+  explicit Prepared(const MeshData& mesh) : original(mesh) {
+    check_tets(original, "original");
+    used = used_vertices(original);
+  }
+  const TetLocator& locator() const {
+    std::call_once(locator_built, [&] { locator_ = std::make_unique<TetLocator>(original); });
+    return *locator_;
+  }
+
+  const MeshData& original;
+  std::vector<VertId> used;
+
+ private:
+  mutable std::once_flag locator_built;
+  mutable std::unique_ptr<TetLocator> locator_;
+};
+
+FieldErrorReference::FieldErrorReference(const MeshData& original) : prepared_(std::make_unique<Prepared>(original)) {}
+FieldErrorReference::~FieldErrorReference() = default;
+
+FieldError FieldErrorReference::compare(const MeshData& simplified) const {
+  const MeshData& original = prepared_->original;
   check_tets(simplified, "simplified");
 
   FieldError out;
@@ -430,10 +453,10 @@ FieldError compare_fields(const MeshData& original, const MeshData& simplified) 
   }
   if (pairs.empty() || original.tets.empty() || simplified.tets.empty()) return out;
 
-  const std::vector<VertId> orig_q = used_vertices(original);
+  const std::vector<VertId>& orig_q = prepared_->used;
   const std::vector<VertId> simp_q = used_vertices(simplified);
-  const std::vector<Location> orig_loc = locate_all(original, orig_q, simplified);
-  const std::vector<Location> simp_loc = locate_all(simplified, simp_q, original);
+  const std::vector<Location> orig_loc = locate_all(original, orig_q, TetLocator(simplified));
+  const std::vector<Location> simp_loc = locate_all(simplified, simp_q, prepared_->locator());
   out.original_in_simplified = location_stats(orig_loc);
   out.simplified_in_original = location_stats(simp_loc);
 
@@ -461,6 +484,10 @@ FieldError compare_fields(const MeshData& original, const MeshData& simplified) 
       out.components.push_back(std::move(e));
     }
   return out;
+}
+
+FieldError compare_fields(const MeshData& original, const MeshData& simplified) {
+  return FieldErrorReference(original).compare(simplified);
 }
 
 }  // namespace topotet

@@ -508,6 +508,18 @@ TEST(FieldError, SameBitsForAnyThreadCount) {
 
 // ---------------------------------------------------------------- timing
 
+TEST(FieldError, PreparedReferenceGivesCompareFieldsForEveryMesh) {
+  MeshData fine = box_grid(10, 1.0, 0.2, 3), coarse = box_grid(4, 1.0, 0.1, 5), other = box_grid(6, 1.0, 0.15, 9);
+  const auto f = [](const glm::dvec3& p, int c) { return std::sin(3.0 * p.x) * p.y + c * p.z * p.z; };
+  for (MeshData* m : {&fine, &coarse, &other}) add_field(*m, "f", 2, f);
+  const FieldErrorReference reference(fine);
+  for (int round = 0; round < 2; ++round) {  // the locator built for the first comparison serves the next
+    EXPECT_TRUE(reference.compare(coarse) == compare_fields(fine, coarse));
+    EXPECT_TRUE(reference.compare(other) == compare_fields(fine, other));
+  }
+  EXPECT_GT(reference.compare(coarse).worst_rms_rel, 0.0);
+}
+
 // ---------------------------------------------------------------- surface distance, report mode
 
 // A generated cube-sphere whose tets are relabelled by the cell of a coarse grid around their
