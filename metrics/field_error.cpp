@@ -28,6 +28,7 @@
 #include <glm/geometric.hpp>
 
 #include "parallel/for_range.h"
+#include "parallel/scratch.h"
 #include "topotet/error.h"
 
 namespace topotet {
@@ -336,6 +337,115 @@ std::vector<Location> locate_all(const MeshData& from, const std::vector<VertId>
   return loc;
 }
 
+// Below this many queries per tet, a sweep over the tets beats building a hierarchy over them.
+constexpr std::size_t kSweepTetsPerQuery = 4;
+
+// The same answers as locate_all for few points in a big mesh (simplified vertices in the
+// original): one pass over the tets, each testing the points that a uniform grid over the points
+// puts in its widened box (as TetLocator's: every tet that may hold a point within
+// kInsideTolerance is tested), so nothing is built over the big mesh. The best tet of each point
+// is kept per thread and merged with the same order-free rule (largest minimum barycentric
+// coordinate, ties to the smaller id); points inside no tet go to `fallback()`, a TetLocator.
+template <class Fallback>
+std::vector<Location> locate_by_sweep(const MeshData& from, const std::vector<VertId>& queries, const MeshData& in,
+                                      Fallback&& fallback) {
+  const std::size_t nq = queries.size();
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const VertId v : queries) lo = glm::min(lo, from.positions[v]), hi = glm::max(hi, from.positions[v]);
+  const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(0.0));
+  const double longest = std::max({extent.x, extent.y, extent.z});
+  // About one point per cell (cells of side h), at most 1024 cells per axis.
+  double volume = 1.0;
+  int flat_axes = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (extent[a] > 1e-9 * longest) {
+      volume *= extent[a];
+    } else {
+      ++flat_axes;
+    }
+  }
+  const double h = longest > 0.0 ? std::pow(volume / static_cast<double>(nq), 1.0 / (3 - std::min(flat_axes, 2))) : 1.0;
+  std::array<int, 3> dims{};
+  for (int a = 0; a < 3; ++a) dims[a] = std::clamp(static_cast<int>(std::ceil(extent[a] / h)), 1, 1024);
+  const auto cell_of = [&](double x, int a) {
+    const double f = extent[a] > 0.0 ? (x - lo[a]) / extent[a] * dims[a] : 0.0;
+    return std::clamp(static_cast<int>(f), 0, dims[a] - 1);
+  };
+  const std::size_t cell_count = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
+  const auto cell_index = [&](int i, int j, int k) {
+    return static_cast<std::size_t>(i) + static_cast<std::size_t>(dims[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(dims[1]) * k);
+  };
+  std::vector<std::uint32_t> start(cell_count + 1, 0), points(nq);
+  std::vector<std::size_t> point_cell(nq);
+  for (std::size_t q = 0; q < nq; ++q) {
+    const glm::dvec3& x = from.positions[queries[q]];
+    point_cell[q] = cell_index(cell_of(x.x, 0), cell_of(x.y, 1), cell_of(x.z, 2));
+    ++start[point_cell[q] + 1];
+  }
+  for (std::size_t c = 0; c < cell_count; ++c) start[c + 1] += start[c];
+  {
+    std::vector<std::uint32_t> cursor(start.begin(), start.end() - 1);
+    for (std::size_t q = 0; q < nq; ++q) points[cursor[point_cell[q]]++] = static_cast<std::uint32_t>(q);
+  }
+
+  struct Best {
+    double m = -std::numeric_limits<double>::infinity();
+    TetId tet = kInvalid;
+    Bary bary{};
+  };
+  parallel::PerThread<std::vector<Best>> per_thread([nq] { return std::vector<Best>(nq); });
+  const auto& P = in.positions;
+  parallel::for_range<std::size_t>(0, in.tets.size(), 4096, "locate_sweep", [&](std::size_t t0, std::size_t t1) {
+    std::vector<Best>& best = per_thread.local();
+    for (std::size_t t = t0; t < t1; ++t) {
+      const auto& tv = in.tets[t];
+      const std::array<glm::dvec3, 4> p = {P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]};
+      glm::dvec3 blo = p[0], bhi = p[0];
+      for (int i = 1; i < 4; ++i) blo = glm::min(blo, p[i]), bhi = glm::max(bhi, p[i]);
+      const glm::dvec3 size = bhi - blo;
+      const glm::dvec3 widen(1e-8 * std::max({size.x, size.y, size.z}));
+      blo -= widen;
+      bhi += widen;
+      if (blo.x > hi.x || blo.y > hi.y || blo.z > hi.z || bhi.x < lo.x || bhi.y < lo.y || bhi.z < lo.z) continue;
+      for (int k = cell_of(blo.z, 2); k <= cell_of(bhi.z, 2); ++k)
+        for (int j = cell_of(blo.y, 1); j <= cell_of(bhi.y, 1); ++j)
+          for (int i = cell_of(blo.x, 0); i <= cell_of(bhi.x, 0); ++i) {
+            const std::size_t c = cell_index(i, j, k);
+            for (std::uint32_t s = start[c]; s < start[c + 1]; ++s) {
+              const std::uint32_t q = points[s];
+              const glm::dvec3& x = from.positions[queries[q]];
+              if (x.x < blo.x || x.y < blo.y || x.z < blo.z || x.x > bhi.x || x.y > bhi.y || x.z > bhi.z) continue;
+              Bary l;
+              if (!barycentric(p, x, l)) continue;
+              const double m = std::min({l[0], l[1], l[2], l[3]});
+              Best& b = best[q];
+              if (m > b.m || (m == b.m && t < b.tet)) b = {m, static_cast<TetId>(t), l};
+            }
+          }
+    }
+  });
+
+  std::vector<Best> merged(nq);
+  for (const std::vector<Best>& best : per_thread)
+    for (std::size_t q = 0; q < nq; ++q)
+      if (best[q].m > merged[q].m || (best[q].m == merged[q].m && best[q].tet < merged[q].tet)) merged[q] = best[q];
+  std::vector<Location> loc(nq);
+  for (std::size_t q = 0; q < nq; ++q) {
+    if (merged[q].tet == kInvalid || merged[q].m < -kInsideTolerance) {
+      loc[q] = fallback().locate(from.positions[queries[q]]);  // outside the mesh: the closest tet
+      continue;
+    }
+    loc[q].tet = merged[q].tet;
+    loc[q].bary = merged[q].bary;
+    if (merged[q].m < 0.0) {  // on a face up to rounding: snap onto it, as TetLocator does
+      double sum = 0.0;
+      for (double& x : loc[q].bary) sum += (x = std::max(x, 0.0));
+      for (double& x : loc[q].bary) x /= sum;
+    }
+  }
+  return loc;
+}
+
 LocationStats location_stats(const std::vector<Location>& loc) {
   LocationStats s;
   s.points = loc.size();
@@ -456,7 +566,10 @@ FieldError FieldErrorReference::compare(const MeshData& simplified) const {
   const std::vector<VertId>& orig_q = prepared_->used;
   const std::vector<VertId> simp_q = used_vertices(simplified);
   const std::vector<Location> orig_loc = locate_all(original, orig_q, TetLocator(simplified));
-  const std::vector<Location> simp_loc = locate_all(simplified, simp_q, prepared_->locator());
+  const std::vector<Location> simp_loc =
+      simp_q.size() * kSweepTetsPerQuery < original.tets.size()
+          ? locate_by_sweep(simplified, simp_q, original, [&]() -> const TetLocator& { return prepared_->locator(); })
+          : locate_all(simplified, simp_q, prepared_->locator());
   out.original_in_simplified = location_stats(orig_loc);
   out.simplified_in_original = location_stats(simp_loc);
 

@@ -508,6 +508,27 @@ TEST(FieldError, SameBitsForAnyThreadCount) {
 
 // ---------------------------------------------------------------- timing
 
+// Few simplified vertices in a big original are located by a sweep over the original's tets, the
+// other direction by the Embree hierarchy. Swapping the meshes swaps the methods for the same
+// points, so both must give the same errors to the last bit, including the points outside (the
+// coarse box is larger: its boundary vertices take the closest tet).
+TEST(FieldError, SweepAndHierarchyLocateAlike) {
+  MeshData fine = box_grid(14, 1.0, 0.25, 4), coarse = box_grid(4, 1.03, 0.2, 8);
+  for (auto& p : coarse.positions) p -= glm::dvec3(0.015);
+  const auto f = [](const glm::dvec3& p, int c) { return std::cos(4.0 * p.y) * p.x + c * p.z; };
+  add_field(fine, "f", 2, f);
+  add_field(coarse, "f", 2, f);
+  ASSERT_LT(coarse.positions.size() * 4, fine.tets.size());  // compare_fields(fine, coarse) sweeps
+  const FieldError swept = compare_fields(fine, coarse), hierarchy = compare_fields(coarse, fine);
+  ASSERT_EQ(swept.components.size(), 2u);
+  for (std::size_t c = 0; c < 2; ++c) {
+    EXPECT_EQ(swept.components[c].simplified_to_original.rms, hierarchy.components[c].original_to_simplified.rms);
+    EXPECT_EQ(swept.components[c].simplified_to_original.max_abs, hierarchy.components[c].original_to_simplified.max_abs);
+  }
+  EXPECT_TRUE(swept.simplified_in_original == hierarchy.original_in_simplified);
+  EXPECT_GT(swept.simplified_in_original.outside, 0u);
+}
+
 TEST(FieldError, PreparedReferenceGivesCompareFieldsForEveryMesh) {
   MeshData fine = box_grid(10, 1.0, 0.2, 3), coarse = box_grid(4, 1.0, 0.1, 5), other = box_grid(6, 1.0, 0.15, 9);
   const auto f = [](const glm::dvec3& p, int c) { return std::sin(3.0 * p.x) * p.y + c * p.z * p.z; };
