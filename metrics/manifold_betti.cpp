@@ -99,6 +99,19 @@ bool surface_betti(const LocalComplex& c, ManifoldScratch& s, std::array<std::in
   // Vertex stars: incidence 3f + k (vertex k of triangle f), joined across interior edges.
   s.face_vertices.resize(face_count);
   for (std::uint32_t f = 0; f < face_count; ++f) s.face_vertices[f] = triangle_vertices(c, f);
+  // Cheap first: a fan has one more edge than triangles around its vertex when it is an arc (the
+  // vertex has boundary edges), as many when it is a cycle; more fans break that count, except
+  // for several cycles, which the union-find below catches.
+  s.is_on_boundary.assign(c.vertex_count, 0);
+  s.link_euler.assign(c.vertex_count, 0);
+  for (std::uint32_t e = 0; e < edge_count; ++e) {
+    for (std::uint32_t v : c.edges[e]) ++s.link_euler[v];
+    if (s.coface_count[e] == 1) s.is_on_boundary[c.edges[e][0]] = s.is_on_boundary[c.edges[e][1]] = 1;
+  }
+  for (const auto& fv : s.face_vertices)
+    for (std::uint32_t v : fv) --s.link_euler[v];
+  for (std::uint32_t v = 0; v < c.vertex_count; ++v)
+    if (s.link_euler[v] != (s.is_on_boundary[v] ? 1 : 0)) return false;
   {
     UnionFind stars(s.parent, 3 * face_count);
     for (std::uint32_t e = 0; e < edge_count; ++e) {
@@ -110,9 +123,6 @@ bool surface_betti(const LocalComplex& c, ManifoldScratch& s, std::array<std::in
     if (stars.count() != c.vertex_count) return false;
   }
 
-  s.is_on_boundary.assign(c.vertex_count, 0);
-  for (std::uint32_t e = 0; e < edge_count; ++e)
-    if (s.coface_count[e] == 1) s.is_on_boundary[c.edges[e][0]] = s.is_on_boundary[c.edges[e][1]] = 1;
   const auto [b0, closed] = components_and_closed(c, s);
   const std::int64_t chi = std::int64_t{c.vertex_count} - static_cast<std::int64_t>(edge_count) +
                            static_cast<std::int64_t>(face_count);
@@ -131,6 +141,22 @@ bool solid_betti(const LocalComplex& c, ManifoldScratch& s, std::array<std::int6
 
   s.face_vertices.resize(face_count);
   for (std::uint32_t f = 0; f < face_count; ++f) s.face_vertices[f] = triangle_vertices(c, f);
+  // Vertex links: Euler characteristic (edges - triangles + tets around the vertex) 2 inside
+  // (a sphere), 1 on the boundary (a disk); the stars below make the links connected surfaces.
+  // Checked first: it is cheap and already refuses most non-manifolds (pinched vertices). A tet
+  // around v has 3 of its triangles around v, so 3 x the tets around v is the sum, over the
+  // triangles around v, of their tet counts: counted in thirds, no tet's vertices are needed.
+  s.link_euler.assign(c.vertex_count, 0);  // 3 x the link's Euler characteristic
+  s.is_on_boundary.assign(c.vertex_count, 0);
+  for (const auto& e : c.edges) s.link_euler[e[0]] += 3, s.link_euler[e[1]] += 3;
+  for (std::uint32_t f = 0; f < face_count; ++f)
+    for (std::uint32_t v : s.face_vertices[f]) {
+      s.link_euler[v] += s.coface_count[f] - 3;
+      if (s.coface_count[f] == 1) s.is_on_boundary[v] = 1;
+    }
+  for (std::uint32_t v = 0; v < c.vertex_count; ++v)
+    if (s.link_euler[v] != (s.is_on_boundary[v] ? 3 : 6)) return false;
+
   // Per tet, vertex k is the one opposite its local face k, and edge kPair[i][j] is the one its
   // local faces i and j share; so local face i has the vertices k != i and the edges kPair[i][j].
   static constexpr int kPair[4][4] = {{-1, 0, 1, 2}, {0, -1, 3, 4}, {1, 3, -1, 5}, {2, 4, 5, -1}};
@@ -147,8 +173,20 @@ bool solid_betti(const LocalComplex& c, ManifoldScratch& s, std::array<std::int6
       for (std::uint32_t x : f0)
         if (x != fk[0] && x != fk[1] && x != fk[2]) v[k] = x;
     }
-    // Edge e of local face i misses one vertex of that face, v[j]: e is shared by faces i and j.
-    // Faces 0, 1 and 2 hold all six edges.
+  }
+  const auto local_face = [&](std::uint32_t t, std::uint32_t f) {
+    const auto& faces = c.tets[t];
+    return faces[0] == f ? 0 : faces[1] == f ? 1 : faces[2] == f ? 2 : 3;
+  };
+  const auto slot_of = [](const auto& items, auto x) {
+    return static_cast<std::uint32_t>(std::find(items.begin(), items.end(), x) - items.begin());
+  };
+
+  // Edge e of local face i misses one vertex of that face, v[j]: e is shared by faces i and j.
+  // Faces 0, 1 and 2 hold all six edges.
+  for (std::uint32_t t = 0; t < tet_count; ++t) {
+    const auto& faces = c.tets[t];
+    const auto& v = s.tet_vertices[t];
     for (int i = 0; i < 3; ++i)
       for (std::uint32_t e : c.faces[faces[i]]) {
         const auto& ends = c.edges[e];
@@ -158,13 +196,6 @@ bool solid_betti(const LocalComplex& c, ManifoldScratch& s, std::array<std::int6
         s.tet_edges[t][kPair[i][j]] = e;
       }
   }
-  const auto local_face = [&](std::uint32_t t, std::uint32_t f) {
-    const auto& faces = c.tets[t];
-    return faces[0] == f ? 0 : faces[1] == f ? 1 : faces[2] == f ? 2 : 3;
-  };
-  const auto slot_of = [](const auto& items, auto x) {
-    return static_cast<std::uint32_t>(std::find(items.begin(), items.end(), x) - items.begin());
-  };
 
   // Vertex stars (incidence 4t + k) and edge stars (incidence 6t + pair), joined across every
   // interior triangle; one union-find over both, vertex incidences first.
@@ -186,21 +217,6 @@ bool solid_betti(const LocalComplex& c, ManifoldScratch& s, std::array<std::int6
     // Classes never mix vertex and edge incidences, so they add up.
     if (stars.count() != c.vertex_count + c.edges.size()) return false;
   }
-
-  // Vertex links: Euler characteristic (edges - triangles + tets around the vertex) 2 inside
-  // (a sphere), 1 on the boundary (a disk); the links are connected surfaces by the above.
-  s.link_euler.assign(c.vertex_count, 0);
-  s.is_on_boundary.assign(c.vertex_count, 0);
-  for (const auto& e : c.edges) ++s.link_euler[e[0]], ++s.link_euler[e[1]];
-  for (std::uint32_t f = 0; f < face_count; ++f)
-    for (std::uint32_t v : s.face_vertices[f]) {
-      --s.link_euler[v];
-      if (s.coface_count[f] == 1) s.is_on_boundary[v] = 1;
-    }
-  for (const auto& tet : s.tet_vertices)
-    for (std::uint32_t v : tet) ++s.link_euler[v];
-  for (std::uint32_t v = 0; v < c.vertex_count; ++v)
-    if (s.link_euler[v] != (s.is_on_boundary[v] ? 1 : 2)) return false;
 
   const auto [b0, closed] = components_and_closed(c, s);
   if (closed != 0) return false;  // a closed 3-manifold: no embedding in R^3, use the algebra
