@@ -587,7 +587,7 @@ TEST(SurfaceDistanceReport, OverallValuesAgreeWithTheAccurateModeWithinTheSampli
     EXPECT_EQ(report.labels[g].simplified_primitives, accurate.labels[g].simplified_primitives);
   }
   EXPECT_LT(report.samples, accurate.samples);
-  // The spacing follows the input's resolution (8 pieces per triangle) when that is coarser.
+  // The spacing follows the input's resolution (16 pieces per triangle) when that is coarser.
   EXPECT_GE(report.sample_spacing, 1e-3 * report.diagonal);
   EXPECT_DOUBLE_EQ(report.sampling_error, report.sample_spacing / std::sqrt(3.0));
 }

@@ -50,12 +50,12 @@ struct SurfaceDistanceOptions {
   bool per_label_accuracy = true;    // every label within sampling_error (false: only the overall values)
 };
 
-// What `topotet simplify` reports with: spacing from the original's resolution (8 pieces per
+// What `topotet simplify` reports with: spacing from the original's resolution (16 pieces per
 // triangle) when coarser than 1e-3 x the diagonal, accuracy for the overall values only. Its cost
 // is proportional to the primitive count, whatever the meshes.
 inline SurfaceDistanceOptions report_surface_distance_options() {
   SurfaceDistanceOptions options;
-  options.pieces_per_triangle = 8.0;
+  options.pieces_per_triangle = 16.0;
   options.per_label_accuracy = false;
   return options;
 }
