@@ -366,10 +366,11 @@ std::vector<Location> locate_by_sweep(const MeshData& from, const std::vector<Ve
   }
   const double h = longest > 0.0 ? std::pow(volume / static_cast<double>(nq), 1.0 / (3 - std::min(flat_axes, 2))) : 1.0;
   std::array<int, 3> dims{};
-  for (int a = 0; a < 3; ++a) dims[a] = std::clamp(static_cast<int>(std::ceil(extent[a] / h)), 1, 1024);
-  const auto cell_of = [&](double x, int a) {
+  for (int a = 0; a < 3; ++a)
+    dims[a] = h > 0.0 ? static_cast<int>(std::clamp(std::ceil(extent[a] / h), 1.0, 1024.0)) : 1;
+  const auto cell_of = [&](double x, int a) {  // clamped before the cast: a big tet's box reaches far
     const double f = extent[a] > 0.0 ? (x - lo[a]) / extent[a] * dims[a] : 0.0;
-    return std::clamp(static_cast<int>(f), 0, dims[a] - 1);
+    return static_cast<int>(std::clamp(f, 0.0, static_cast<double>(dims[a] - 1)));
   };
   const std::size_t cell_count = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
   const auto cell_index = [&](int i, int j, int k) {

@@ -1,5 +1,6 @@
-// Stable LSD radix sort of (key, slot) pairs, private to metrics/: the simplex index and the
-// surface labelling find equal simplices by sorting packed sorted-vertex keys (no map per simplex).
+// Sorts of (key, slot) pairs, private to metrics/: the simplex index finds equal simplices by
+// sorting packed sorted-vertex keys (no map per simplex). radix_sort for narrow keys (Morton codes,
+// smallest vertices), bucket_sort (by smallest vertex, then each bucket) for edge and face keys.
 #pragma once
 
 #include <algorithm>
