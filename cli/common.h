@@ -53,7 +53,8 @@ struct SimplifyJob {
   std::string output_path;     // empty = write nothing
   bool binary = false;         // WriteOptions::binary
   std::string report_path;     // empty = no JSON report
-  bool verify = true;
+  bool verify = true;        // run the topology checker (--no-verify skips only it)
+  bool metrics = true;       // measure quality, field error, distance and topology (--no-metrics: none)
   bool quiet = false;
 };
 // Builds, simplifies, writes, measures and verifies; prints the report. Returns the exit code.

@@ -2,9 +2,11 @@
 //
 //   read -> build (validates) -> for each level: simplify, to_mesh_data, write
 //        -> measure each output: quality, field error, surface distance, topology against the input's
+//           (--no-verify skips the topology, --no-metrics all four)
 //        -> print the report (one block, or one table row per level) and the JSON report.
 // The outputs are measured after the last level so that the peak memory reported is the one of
-// reading, building and simplifying, not of the checker.
+// reading, building and simplifying, not of the checker. Each measurement is timed on its own, so
+// the report shows what the measurements cost next to the simplification.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -13,12 +15,12 @@
 
 #include "common.h"
 #include "distance_report.h"
-#include "parallel/for_range.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
 #include "topotet/metrics/topology.h"
+#include "topotet/threads.h"
 
 namespace topotet::cli {
 namespace {
@@ -41,10 +43,14 @@ struct LevelResult {
   double write_seconds = 0.0;
   double cumulative_seconds = 0.0;  // simplify time of this level and the ones before
   MeshData output;
+  bool measured = false;  // quality, field error and distance computed (not --no-metrics)
   QualityStats quality;
+  double quality_seconds = 0.0;
   std::optional<FieldError> field_error;
+  double field_error_seconds = 0.0;
   SurfaceDistance distance;  // boundary, interfaces, surfaces, polylines: output vs input
   double distance_seconds = 0.0;
+  double topology_seconds = 0.0;  // the output's topology and the comparison
   bool verified = false;
   bool topology_ok = true;
   std::string differences;
@@ -136,12 +142,15 @@ Json level_json(const LevelResult& l) {
   j["rounds"] = r.rounds;
   j["phase_seconds"] = phases;
   j["max_cost"] = r.max_cost;
-  j["quality"] = quality_json(l.quality);
+  j["quality"] = l.measured ? quality_json(l.quality) : Json(nullptr);
+  j["quality_seconds"] = l.quality_seconds;
   j["field_error"] = l.field_error ? field_error_json(*l.field_error) : Json(nullptr);
+  j["field_error_seconds"] = l.field_error_seconds;
   j["tolerance"] = r.tolerance;
   j["tolerance_setup_seconds"] = r.tolerance_setup_seconds;
-  j["surface_distance"] = surface_distance_json(l.distance);
+  j["surface_distance"] = l.measured ? surface_distance_json(l.distance) : Json(nullptr);
   j["surface_distance_seconds"] = l.distance_seconds;
+  j["topology_seconds"] = l.topology_seconds;
   if (l.verified) {
     j["topology"] = l.topology_ok ? "pass" : "fail";
     j["topology_differences"] = split_lines(l.differences);
@@ -176,6 +185,66 @@ void row(const char* key, const std::string& value) { std::printf("%-10s%s\n", k
 
 }  // namespace
 
+namespace {
+
+// Times of the measurements of every level together, for the report's "measure" line.
+struct MeasureTimes {
+  double input_quality = 0.0, quality = 0.0, field_error = 0.0, distance = 0.0, input_topology = 0.0, topology = 0.0;
+  double total() const { return input_quality + quality + field_error + distance + input_topology + topology; }
+};
+
+// Quality, field error and surface distance of every level's output against the input.
+void measure_levels(const SimplifyJob& job, std::vector<LevelResult>& results) {
+  const bool has_fields = !job.input.fields.empty();
+  // The input's side of the field comparison is prepared once for all levels.
+  std::optional<FieldErrorReference> input_fields;
+  if (has_fields) input_fields.emplace(job.input);
+  for (LevelResult& l : results) {
+    Stopwatch clock;
+    l.quality = compute_quality(l.output);
+    l.quality_seconds = clock.seconds();
+    if (has_fields) {
+      clock = Stopwatch();
+      l.field_error = input_fields->compare(l.output);
+      l.field_error_seconds = clock.seconds();
+    }
+    clock = Stopwatch();
+    l.distance = surface_distance(job.input, l.output, report_surface_distance_options());
+    l.distance_seconds = clock.seconds();
+    l.measured = true;
+  }
+}
+
+// The output of every level against the input's topology; returns the input's.
+metrics::TopologyReport verify_levels(const SimplifyJob& job, bool fast, std::vector<LevelResult>& results,
+                                      double& input_seconds) {
+  metrics::TopologyOptions options;
+  options.fast = fast;
+  const Stopwatch input_clock;
+  metrics::TopologyReport input_topology = metrics::compute_topology(job.input, options);
+  input_seconds = input_clock.seconds();
+  for (LevelResult& l : results) {
+    const Stopwatch clock;
+    l.topology = metrics::compute_topology(l.output, options);
+    l.topology_ok = metrics::same_topology(input_topology, l.topology, &l.differences);
+    l.verified = true;
+    l.topology_seconds = clock.seconds();
+  }
+  return input_topology;
+}
+
+std::string measure_text(const MeasureTimes& t, double simplify_seconds) {
+  std::string s = "quality " + format_seconds(t.input_quality + t.quality) + ", fields " +
+                  format_seconds(t.field_error) + ", distance " + format_seconds(t.distance) + ", topology " +
+                  format_seconds(t.input_topology + t.topology);
+  char share[64] = "";
+  if (simplify_seconds > 0)
+    std::snprintf(share, sizeof share, " = %.0f%% of the simplification", 100.0 * t.total() / simplify_seconds);
+  return s + " (total " + format_seconds(t.total()) + share + ")";
+}
+
+}  // namespace
+
 int run_simplify_job(SimplifyJob& job) {
   if (!job.output_path.empty()) {
     format_from_path(job.output_path);  // unknown extensions fail before the work
@@ -186,10 +255,12 @@ int run_simplify_job(SimplifyJob& job) {
   check_output_folder(job.report_path);
   const int threads = job.options.num_threads > 0 ? job.options.num_threads : hardware_threads();
   const bool is_parallel = job.options.engine == Engine::kParallel;
+  const bool verify = job.verify && job.metrics;
 
-  // Everything runs in an arena of `threads` threads, so --threads also bounds building and
-  // checking, not only the simplifier.
-  return parallel::run_with_threads(job.options.num_threads, [&]() -> int {
+  // Everything runs within `threads` threads, so --threads also bounds building and checking, not
+  // only the simplifier.
+  int exit_code = kExitOk;
+  run_with_thread_limit(job.options.num_threads, [&] {
     double build_seconds = 0.0;
     TetMesh mesh = build_input(job.input_label, job.input, &build_seconds);
     const std::size_t model_bytes = mesh.memory_bytes();
@@ -233,41 +304,30 @@ int run_simplify_job(SimplifyJob& job) {
     const std::uint64_t peak_bytes = peak_rss_bytes();
     mesh = TetMesh{};  // the checker does not need the model
 
-    // ---- measure ----
-    const Stopwatch measure_clock;
-    const QualityStats input_quality = compute_quality(job.input);
-    const bool has_fields = !job.input.fields.empty();
-    for (LevelResult& l : results) {
-      l.quality = compute_quality(l.output);
-      if (has_fields) l.field_error = compare_fields(job.input, l.output);
-      const Stopwatch distance_clock;
-      l.distance = surface_distance(job.input, l.output);
-      l.distance_seconds = distance_clock.seconds();
+    // ---- measure and verify ----
+    MeasureTimes times;
+    QualityStats input_quality;
+    if (job.metrics) {
+      const Stopwatch clock;
+      input_quality = compute_quality(job.input);
+      times.input_quality = clock.seconds();
+      measure_levels(job, results);
     }
-    const double measure_seconds = measure_clock.seconds();
-
-    const Stopwatch verify_clock;
     const bool fast = tets_in > kFastCheckTets;
     metrics::TopologyReport input_topology;
+    if (verify) input_topology = verify_levels(job, fast, results, times.input_topology);
     bool all_ok = true;
-    if (job.verify) {
-      metrics::TopologyOptions topology_options;
-      topology_options.fast = fast;
-      input_topology = metrics::compute_topology(job.input, topology_options);
-      for (LevelResult& l : results) {
-        l.topology = metrics::compute_topology(l.output, topology_options);
-        l.topology_ok = metrics::same_topology(input_topology, l.topology, &l.differences);
-        l.verified = true;
-      }
-    }
     for (LevelResult& l : results) {
-      if (l.quality.inverted != 0) {
+      if (l.measured && l.quality.inverted != 0) {
         l.topology_ok = false;
         l.differences += "inverted tets (quality check): " + std::to_string(l.quality.inverted) + "\n";
       }
+      times.quality += l.quality_seconds;
+      times.field_error += l.field_error_seconds;
+      times.distance += l.distance_seconds;
+      times.topology += l.topology_seconds;
       all_ok = all_ok && l.topology_ok;
     }
-    const double verify_seconds = verify_clock.seconds();
 
     // ---- print ----
     const LevelResult& last = results.back();
@@ -294,22 +354,25 @@ int run_simplify_job(SimplifyJob& job) {
         row("rejected", rejected_text(r));
         if (r.status != Status::kOk) row("status", std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message));
       } else {
+        const auto angle = [&](const QualityStats& q, const SampleStats QualityStats::*which, double scale) {
+          return job.metrics ? format_number((q.*which).std_dev * scale) : std::string("-");
+        };
         row("engine", engine_text);
         std::printf("\n%6s %10s %9s %8s %9s %7s %7s  %s\n", "%", "#vert", "rms", "time", "dihedral", "solid", "face",
                     "topology");
         std::printf("%6s %10s %9s %8s %9s %7s %7s\n", "100", format_count(vertices_in).c_str(), "0", "0",
-                    format_number(input_quality.dihedral_deg.std_dev * kRadiansPerDegree).c_str(),
-                    format_number(input_quality.solid_sr.std_dev).c_str(),
-                    format_number(input_quality.face_deg.std_dev * kRadiansPerDegree).c_str());
+                    angle(input_quality, &QualityStats::dihedral_deg, kRadiansPerDegree).c_str(),
+                    angle(input_quality, &QualityStats::solid_sr, 1.0).c_str(),
+                    angle(input_quality, &QualityStats::face_deg, kRadiansPerDegree).c_str());
         for (const LevelResult& l : results) {
           char pct[32];
           std::snprintf(pct, sizeof pct, "%.1f", 100.0 * per(static_cast<double>(l.report.vertices_after), vertices_in));
           std::printf("%6s %10s %9s %8s %9s %7s %7s  %s\n", pct, format_count(l.report.vertices_after).c_str(),
                       l.field_error ? format_number(l.field_error->worst_rms_rel).c_str() : "-",
                       format_number(l.cumulative_seconds).c_str(),
-                      format_number(l.quality.dihedral_deg.std_dev * kRadiansPerDegree).c_str(),
-                      format_number(l.quality.solid_sr.std_dev).c_str(),
-                      format_number(l.quality.face_deg.std_dev * kRadiansPerDegree).c_str(),
+                      angle(l.quality, &QualityStats::dihedral_deg, kRadiansPerDegree).c_str(),
+                      angle(l.quality, &QualityStats::solid_sr, 1.0).c_str(),
+                      angle(l.quality, &QualityStats::face_deg, kRadiansPerDegree).c_str(),
                       !l.verified ? (l.topology_ok ? "-" : "FAIL") : (l.topology_ok ? "PASS" : "FAIL"));
         }
         std::printf("(rms relative to the field's range; time = cumulative simplify seconds; std dev of dihedral and "
@@ -326,26 +389,31 @@ int run_simplify_job(SimplifyJob& job) {
       row("memory", "peak " + format_bytes(peak_bytes) + " (" +
                         format_count(tets_in ? peak_bytes / tets_in : 0) + " bytes/input tet); model " +
                         format_count(tets_in ? model_bytes / tets_in : 0) + " bytes/tet");
-      if (job.levels.empty()) {
+      if (job.levels.empty() && job.metrics) {
         row("quality", "std dev dihedral/solid/face " + angles_text(input_quality) + " -> " +
                            angles_text(last.quality) + " (rad/sr/rad)");
         row("", "min mean ratio " + format_number(input_quality.mean_ratio.min) + " -> " +
                     format_number(last.quality.mean_ratio.min) + ", inverted tets " +
-                    std::to_string(last.quality.inverted) + " (" + format_seconds(measure_seconds) + ")");
-        if (last.field_error) row("fields", field_text(*last.field_error));
-        if (r.tolerance > 0)
-          row("tolerance", format_number(r.tolerance) + " (Embree scene of the input's surfaces built in " +
-                               format_seconds(r.tolerance_setup_seconds) + ")");
-        print_surface_distance(last.distance, last.distance_seconds, /*per_label=*/false);
+                    std::to_string(last.quality.inverted) + " (" +
+                    format_seconds(times.input_quality + last.quality_seconds) + ")");
+        if (last.field_error)
+          row("fields", field_text(*last.field_error) + " (" + format_seconds(last.field_error_seconds) + ")");
       }
-      if (!job.verify) {
+      if (job.levels.empty() && r.tolerance > 0)
+        row("tolerance", format_number(r.tolerance) + " (Embree scene of the input's surfaces built in " +
+                             format_seconds(r.tolerance_setup_seconds) + ")");
+      if (job.levels.empty() && job.metrics) print_surface_distance(last.distance, last.distance_seconds, /*per_label=*/false);
+      if (!job.metrics) {
+        row("topology", "not checked (--no-metrics: no quality, field error, distance or topology)");
+      } else if (!job.verify) {
         row("topology", std::string("not checked (--no-verify)") + (all_ok ? "" : "; FAIL: inverted tets"));
       } else {
         const std::string how = fast ? "fast mode for inputs > 2M tets: Euler characteristics and components only"
                                      : std::to_string(complex_count(input_topology)) + " complexes, Betti numbers over Z2";
         row("topology", std::string(all_ok ? "PASS" : "FAIL") + (job.levels.empty() ? "" : " at every level") + " (" +
-                            how + ", " + format_seconds(verify_seconds) + ")");
+                            how + ", " + format_seconds(times.input_topology + times.topology) + ")");
       }
+      if (job.metrics) row("measure", measure_text(times, cumulative));
     }
     if (!all_ok) {
       std::FILE* out = job.quiet ? stderr : stdout;
@@ -367,7 +435,9 @@ int run_simplify_job(SimplifyJob& job) {
                     {"build_seconds", build_seconds},
                     {"model_bytes", model_bytes},
                     {"model_bytes_per_tet", per(static_cast<double>(model_bytes), static_cast<double>(tets_in))},
-                    {"quality", quality_json(input_quality)}};
+                    {"quality", job.metrics ? quality_json(input_quality) : Json(nullptr)},
+                    {"quality_seconds", times.input_quality},
+                    {"topology_seconds", times.input_topology}};
       j["options"] = {{"engine", is_parallel ? "parallel" : "sequential"},
                       {"threads", threads},
                       {"target_vertex_ratio", job.levels.empty() ? Json(job.options.target_vertex_ratio) : Json(nullptr)},
@@ -378,20 +448,24 @@ int run_simplify_job(SimplifyJob& job) {
                       {"round_fraction", job.options.round_fraction},
                       {"tolerance", job.options.tolerance},
                       {"tolerance_rel", job.options.tolerance_rel},
-                      {"verify", job.verify}};
+                      {"verify", verify},
+                      {"metrics", job.metrics}};
       j["peak_rss_bytes"] = peak_bytes;
       j["peak_rss_bytes_per_input_tet"] = per(static_cast<double>(peak_bytes), static_cast<double>(tets_in));
-      j["measure_seconds"] = measure_seconds;
-      j["verify_seconds"] = verify_seconds;
-      j["topology_mode"] = !job.verify ? "skipped" : (fast ? "fast" : "full");
-      j["topology"] = !job.verify ? (all_ok ? "skipped" : "fail") : (all_ok ? "pass" : "fail");
-      j["input_topology"] = job.verify ? parse_topology(input_topology) : Json(nullptr);
+      j["measure_seconds"] = times.input_quality + times.quality + times.field_error + times.distance;
+      j["verify_seconds"] = times.input_topology + times.topology;
+      j["metrics_seconds"] = times.total();
+      j["metrics_share_of_simplify"] = per(times.total(), cumulative);
+      j["topology_mode"] = !verify ? "skipped" : (fast ? "fast" : "full");
+      j["topology"] = !verify ? (all_ok ? "skipped" : "fail") : (all_ok ? "pass" : "fail");
+      j["input_topology"] = verify ? parse_topology(input_topology) : Json(nullptr);
       j["levels"] = Json::array();
       for (const LevelResult& l : results) j["levels"].push_back(level_json(l));
       write_json_atomically(job.report_path, j);
     }
-    return all_ok ? kExitOk : kExitCheckFailed;
+    exit_code = all_ok ? kExitOk : kExitCheckFailed;
   });
+  return exit_code;
 }
 
 namespace {
@@ -410,6 +484,7 @@ struct SimplifyArgs {
   double round_fraction = SimplifyOptions{}.round_fraction;
   std::string report;
   bool no_verify = false;
+  bool no_metrics = false;
   std::vector<double> levels;
   bool quiet = false;
   bool binary = false;
@@ -433,6 +508,7 @@ int run_simplify(const SimplifyArgs& args) {
   job.binary = args.binary;
   job.report_path = args.report;
   job.verify = !args.no_verify;
+  job.metrics = !args.no_metrics;
   job.quiet = args.quiet;
   return run_simplify_job(job);
 }
@@ -473,7 +549,10 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   cmd->add_option("--report", args->report, "Write the report as JSON to this file");
-  cmd->add_flag("--no-verify", args->no_verify, "Skip the topology checker (for huge meshes)");
+  cmd->add_flag("--no-verify", args->no_verify, "Skip the topology checker (quality, field error and distance are still measured)");
+  cmd->add_flag("--no-metrics", args->no_metrics,
+                "Skip every measurement (quality, field error, Hausdorff distance, topology): report only counts, "
+                "times and memory");
   auto* levels = cmd->add_option("--levels", args->levels,
                                  "Simplify successively to each vertex ratio, writing OUT with the ratio before the "
                                  "extension (out_0.3.mesh), one table row per level")

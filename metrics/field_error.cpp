@@ -1,11 +1,10 @@
 // compare_fields: locate each mesh's vertices in the other mesh, interpolate, accumulate errors.
 //
-// Point location is a uniform grid of cubic cells; every tet is listed in each cell its bounding
-// box overlaps (CSR arrays, cell lists sorted by tet id so that the grid, and every answer, is the
-// same whatever the thread interleaving while building it). A query tests the tets of its cell:
-// the one with the largest minimum barycentric coordinate wins (ties to the smaller tet id), and
-// it contains the point if that coordinate is >= -kInsideTolerance. Otherwise the point is outside
-// the mesh and a ring search over the cells around it finds the closest tet exactly.
+// Point location is an Embree hierarchy of the tets' boxes (TetLocator below): among the tets
+// whose box holds the point, the one with the largest minimum barycentric coordinate wins (ties
+// to the smaller tet id), and it contains the point if that coordinate is >= -kInsideTolerance.
+// Otherwise the point is outside the mesh and a closest-point query over the same hierarchy finds
+// the closest tet exactly.
 //
 // Determinism: queries are independent; sums over samples run in fixed-size blocks whose partial
 // sums are combined in block order, so results do not depend on the thread count.
@@ -13,17 +12,23 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <embree3/rtcore.h>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include "parallel/for_range.h"
+#include "parallel/scratch.h"
 #include "topotet/error.h"
 
 namespace topotet {
@@ -150,227 +155,147 @@ double closest_in_tet(const std::array<glm::dvec3, 4>& p, const glm::dvec3& q, B
   return best;
 }
 
-// Uniform grid over the tets of one mesh, for point location.
-class TetGrid {
+// A bounding volume hierarchy (Embree) over the tets of one mesh, for point location. The tets
+// are a user geometry whose boxes are rounded outwards to float and widened, so that every tet
+// that may hold a point within kInsideTolerance has a box within the query radius of it; the
+// callbacks then decide in double. Unlike a uniform grid, the hierarchy adapts to graded meshes
+// (tets of very different sizes, as in LOX), where a grid's cells hold thousands of tets.
+class TetLocator {
  public:
-  // `queries` (how many points will be located) tunes the cell size: larger cells cost less to
-  // build, smaller ones less per query.
-  TetGrid(const MeshData& mesh, std::size_t queries) : mesh_(mesh) { build(queries); }
+  explicit TetLocator(const MeshData& mesh) : mesh_(mesh) {
+    double max_abs = 0.0;
+    for (const auto& p : mesh.positions) max_abs = std::max({max_abs, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    // Coordinates of about 1e38 or more have no float: no box could hold them.
+    if (!(max_abs < 1e37)) throw InputError("compare_fields: vertex coordinates beyond the float range");
+    slack_ = 8.0 * FLT_EPSILON * std::max(max_abs, 1e-30);
+    compute_boxes();
+    device_ = rtcNewDevice(nullptr);
+    if (device_ == nullptr) throw std::runtime_error("Embree: cannot create a device");
+    scene_ = rtcNewScene(device_);
+    // A Morton-code build: several times faster to build than the default SAH one, and each
+    // point's query only descends to the boxes holding it, which a lower-quality tree hardly slows.
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_LOW);
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_LOW);
+    rtcSetGeometryUserPrimitiveCount(geom, static_cast<unsigned>(mesh.tets.size()));
+    rtcSetGeometryUserData(geom, this);
+    rtcSetGeometryBoundsFunction(geom, &TetLocator::tet_bounds, nullptr);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(scene_, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(scene_);
+    if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) throw std::runtime_error("Embree: building the tet hierarchy failed");
+  }
+  ~TetLocator() {
+    rtcReleaseScene(scene_);
+    rtcReleaseDevice(device_);
+  }
+  TetLocator(const TetLocator&) = delete;
+  TetLocator& operator=(const TetLocator&) = delete;
 
+  // Among the tets whose box holds q: the largest minimum barycentric coordinate wins (ties to the
+  // smaller tet id); it holds q if that coordinate is >= -kInsideTolerance. Otherwise q is outside
+  // the mesh and the closest tet (exact point-tet distance, ties to the smaller id) is used.
   Location locate(const glm::dvec3& q) const {
-    Location loc;
-    const auto c = cell_of(q);
-    const std::size_t cell = index(c[0], c[1], c[2]);
-    double best_min = -std::numeric_limits<double>::infinity();
-    for (std::uint64_t s = start_[cell]; s < start_[cell + 1]; ++s) {
-      const TetId t = items_[s];  // increasing ids: strict > keeps the smallest on ties
-      Bary l;
-      if (!barycentric(points(t), q, l)) continue;
-      const double m = std::min({l[0], l[1], l[2], l[3]});
-      if (m > best_min) best_min = m, loc.tet = t, loc.bary = l;
-    }
-    if (loc.tet != kInvalid && best_min >= -kInsideTolerance) {
-      if (best_min < 0.0) {  // on a face up to rounding: snap onto it
+    Search inside{this, q};
+    inside.best = -std::numeric_limits<double>::infinity();
+    query(inside, static_cast<float>(slack_), &TetLocator::on_inside);
+    if (inside.loc.tet != kInvalid && inside.best >= -kInsideTolerance) {
+      if (inside.best < 0.0) {  // on a face up to rounding: snap onto it
         double sum = 0.0;
-        for (double& x : loc.bary) sum += (x = std::max(x, 0.0));
-        for (double& x : loc.bary) x /= sum;
+        for (double& x : inside.loc.bary) sum += (x = std::max(x, 0.0));
+        for (double& x : inside.loc.bary) x /= sum;
       }
-      return loc;
+      return inside.loc;
     }
-    return closest(q, c);
+    Search nearest{this, q};
+    nearest.best = std::numeric_limits<double>::infinity();  // squared distance
+    nearest.loc.outside = true;
+    query(nearest, std::numeric_limits<float>::infinity(), &TetLocator::on_nearest);
+    nearest.loc.outside_distance = std::sqrt(nearest.best);
+    return nearest.loc;
   }
 
  private:
+  struct Search {
+    const TetLocator* locator;
+    glm::dvec3 q;
+    double best = 0.0;
+    Location loc;
+  };
+
   std::array<glm::dvec3, 4> points(TetId t) const {
     const auto& tv = mesh_.tets[t];
     const auto& P = mesh_.positions;
     return {P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]};
   }
 
-  int axis_cell(double x, int axis) const {
-    const double f = (x - lo_[axis]) / h_;
-    if (!(f >= 0.0)) return 0;  // also NaN
-    return f < static_cast<double>(dims_[axis]) ? static_cast<int>(f) : dims_[axis] - 1;
-  }
-  std::array<int, 3> cell_of(const glm::dvec3& p) const {
-    return {axis_cell(p.x, 0), axis_cell(p.y, 1), axis_cell(p.z, 2)};
-  }
-  std::size_t index(int i, int j, int k) const {
-    return static_cast<std::size_t>(i) +
-           static_cast<std::size_t>(dims_[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(dims_[1]) * k);
-  }
-  // Inclusive cell ranges overlapped by tet t's bounding box.
-  std::array<std::array<int, 3>, 2> cell_range(TetId t) const {
-    const auto p = points(t);
-    glm::dvec3 lo = p[0], hi = p[0];
-    for (int i = 1; i < 4; ++i) lo = glm::min(lo, p[i]), hi = glm::max(hi, p[i]);
-    return {cell_of(lo), cell_of(hi)};
+  void query(Search& search, float radius, RTCPointQueryFunction callback) const {
+    RTCPointQuery query;
+    query.x = static_cast<float>(search.q.x);
+    query.y = static_cast<float>(search.q.y);
+    query.z = static_cast<float>(search.q.z);
+    query.time = 0.0f;
+    query.radius = radius;
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    rtcPointQuery(scene_, &query, &context, callback, &search);
   }
 
-  void build(std::size_t queries);
-  Location closest(const glm::dvec3& q, const std::array<int, 3>& c) const;
-
-  const MeshData& mesh_;
-  glm::dvec3 lo_{0.0};
-  double h_ = 1.0;
-  std::array<int, 3> dims_{1, 1, 1};
-  std::vector<std::uint64_t> start_;  // [cell count + 1]: CSR offsets into items_
-  std::vector<TetId> items_;
-};
-
-void TetGrid::build(std::size_t queries) {
-  const std::size_t nt = mesh_.tets.size();
-  const std::size_t blocks = (nt + kBlock - 1) / kBlock;
-
-  // Bounding box of the mesh and mean bounding-box size of a tet (summed per block, in order).
-  struct Extent {
-    glm::dvec3 lo{std::numeric_limits<double>::infinity()};
-    glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
-    double size_sum = 0.0;
-  };
-  std::vector<Extent> part(blocks);
-  parallel::for_range<std::size_t>(0, blocks, 1, "grid_extent", [&](std::size_t b0, std::size_t b1) {
-    for (std::size_t b = b0; b < b1; ++b) {
-      Extent e;
-      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
+  // Each tet's box, computed once (Embree's builder asks for a box several times).
+  // A point whose barycentric coordinates are >= -kInsideTolerance is within 4 kInsideTolerance
+  // times the tet's diameter of it: widen by more. The widening also exceeds slack_, which bounds
+  // the error of rounding a coordinate to float, so the float box holds the double one.
+  void compute_boxes() {
+    boxes_.resize(mesh_.tets.size());
+    parallel::for_range<std::size_t>(0, mesh_.tets.size(), 4096, "tet_boxes", [&](std::size_t b, std::size_t e) {
+      for (std::size_t t = b; t < e; ++t) {
         const auto p = points(static_cast<TetId>(t));
         glm::dvec3 lo = p[0], hi = p[0];
         for (int i = 1; i < 4; ++i) lo = glm::min(lo, p[i]), hi = glm::max(hi, p[i]);
-        e.lo = glm::min(e.lo, lo);
-        e.hi = glm::max(e.hi, hi);
-        const glm::dvec3 d = hi - lo;
-        e.size_sum += std::max({d.x, d.y, d.z});
+        const glm::dvec3 extent = hi - lo;
+        const double widen = 1e-8 * std::max({extent.x, extent.y, extent.z}) + 2.0 * slack_;
+        boxes_[t] = {static_cast<float>(lo.x - widen), static_cast<float>(lo.y - widen), static_cast<float>(lo.z - widen),
+                     static_cast<float>(hi.x + widen), static_cast<float>(hi.y + widen), static_cast<float>(hi.z + widen)};
       }
-      part[b] = e;
-    }
-  });
-  Extent all;
-  for (const Extent& e : part) {
-    all.lo = glm::min(all.lo, e.lo);
-    all.hi = glm::max(all.hi, e.hi);
-    all.size_sum += e.size_sum;
-  }
-  lo_ = all.lo;
-  const glm::dvec3 ext = all.hi - all.lo;
-  if (!std::isfinite(ext.x) || !std::isfinite(ext.y) || !std::isfinite(ext.z))
-    throw InputError("compare_fields: a tet has a non-finite vertex coordinate");
-  const double max_ext = std::max({ext.x, ext.y, ext.z});
-  const double mean_size = all.size_sum / static_cast<double>(nt);
-
-  // Cell edge = mean tet size times x. Per query we test about (1 + x)^3 cells' worth of tets, per
-  // tet we list about (1 + 1/x)^3 cells; with unit costs and ~6 tets per cell volume, the total
-  // N (1 + 1/x)^3 + 6 Q (1 + x)^3 is smallest at x = (N / 6Q)^(1/4).
-  const double x = std::clamp(std::pow(static_cast<double>(nt) / (6.0 * static_cast<double>(std::max<std::size_t>(queries, 1))), 0.25), 0.5, 4.0);
-  h_ = mean_size * x;
-  if (!(h_ > 0.0) || !std::isfinite(h_)) h_ = max_ext > 0.0 && std::isfinite(max_ext) ? max_ext : 1.0;
-
-  // Bound memory: at most ~4 cells per tet, and at most ~64 listed cells per tet (graded meshes
-  // whose few big tets would otherwise span very many small cells).
-  const double max_cells = 4.0 * static_cast<double>(nt) + 4096.0;
-  const std::uint64_t max_items = 64 * static_cast<std::uint64_t>(nt) + 4096;
-  std::uint64_t total = 0;
-  for (;;) {
-    double cells = 1.0;
-    for (int a = 0; a < 3; ++a) cells *= std::max(1.0, std::ceil(ext[a] / h_));
-    if (cells > max_cells) {
-      h_ *= 1.25;
-      continue;
-    }
-    for (int a = 0; a < 3; ++a) dims_[a] = static_cast<int>(std::max(1.0, std::ceil(ext[a] / h_)));
-    std::vector<std::uint64_t> count(blocks, 0);
-    parallel::for_range<std::size_t>(0, blocks, 1, "grid_size", [&](std::size_t b0, std::size_t b1) {
-      for (std::size_t b = b0; b < b1; ++b)
-        for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t) {
-          const auto r = cell_range(static_cast<TetId>(t));
-          count[b] += std::uint64_t(r[1][0] - r[0][0] + 1) * (r[1][1] - r[0][1] + 1) * (r[1][2] - r[0][2] + 1);
-        }
     });
-    total = 0;
-    for (const std::uint64_t c : count) total += c;
-    if (total <= max_items) break;
-    h_ *= 1.5;
   }
 
-  // Counting sort of (cell, tet) pairs: atomic counts, prefix sum, atomic fill, then each cell's
-  // list sorted, which removes the fill's dependence on thread interleaving.
-  const std::size_t ncells = static_cast<std::size_t>(dims_[0]) * dims_[1] * dims_[2];
-  start_.assign(ncells + 1, 0);
-  auto for_each_cell_of = [&](std::size_t t, auto&& fn) {
-    const auto r = cell_range(static_cast<TetId>(t));
-    for (int k = r[0][2]; k <= r[1][2]; ++k)
-      for (int j = r[0][1]; j <= r[1][1]; ++j)
-        for (int i = r[0][0]; i <= r[1][0]; ++i) fn(index(i, j, k));
-  };
-  parallel::for_range<std::size_t>(0, nt, 4096, "grid_count", [&](std::size_t t0, std::size_t t1) {
-    for (std::size_t t = t0; t < t1; ++t)
-      for_each_cell_of(t, [&](std::size_t c) { std::atomic_ref(start_[c + 1]).fetch_add(1, std::memory_order_relaxed); });
-  });
-  for (std::size_t c = 0; c < ncells; ++c) start_[c + 1] += start_[c];
-  items_.resize(total);
-  std::vector<std::uint64_t> cursor(start_.begin(), start_.end() - 1);
-  parallel::for_range<std::size_t>(0, nt, 4096, "grid_fill", [&](std::size_t t0, std::size_t t1) {
-    for (std::size_t t = t0; t < t1; ++t)
-      for_each_cell_of(t, [&](std::size_t c) {
-        items_[std::atomic_ref(cursor[c]).fetch_add(1, std::memory_order_relaxed)] = static_cast<TetId>(t);
-      });
-  });
-  parallel::for_range<std::size_t>(0, ncells, 4096, "grid_sort", [&](std::size_t c0, std::size_t c1) {
-    for (std::size_t c = c0; c < c1; ++c) std::sort(items_.begin() + start_[c], items_.begin() + start_[c + 1]);
-  });
-}
-
-// Closest tet to q by exact point-tet distance, searching rings of cells around q's (clamped)
-// cell c: ring r holds the cells at Chebyshev index distance r. A tet not seen after rings 0..r
-// has no listed cell within them, so its closest point to q (which lies in its bounding box, hence
-// in one of its listed cells) lies in the part of the grid box beyond the index cube [c-r, c+r]:
-// one of at most six boxes (one per axis and side). Their distance to q bounds every unseen tet,
-// so the search stops once the best distance found is within it; this stays quick also for points
-// far outside the grid, where the plain bound r h would need many rings.
-Location TetGrid::closest(const glm::dvec3& q, const std::array<int, 3>& c) const {
-  Location loc;
-  loc.outside = true;
-  double best = std::numeric_limits<double>::infinity();
-  auto visit = [&](int i, int j, int k) {
-    const std::size_t cell = index(i, j, k);
-    for (std::uint64_t s = start_[cell]; s < start_[cell + 1]; ++s) {
-      const TetId t = items_[s];
-      Bary l;
-      const double d2 = closest_in_tet(points(t), q, l);
-      if (d2 < best || (d2 == best && t < loc.tet)) best = d2, loc.tet = t, loc.bary = l;
-    }
-  };
-  // Squared distance from q to the grid box with axis `a` restricted to [from, to].
-  auto box_dist2 = [&](int a, double from, double to) {
-    double d2 = 0.0;
-    for (int b = 0; b < 3; ++b) {
-      const double lo = b == a ? from : lo_[b];
-      const double hi = b == a ? to : lo_[b] + dims_[b] * h_;
-      const double g = q[b] < lo ? lo - q[b] : (q[b] > hi ? q[b] - hi : 0.0);
-      d2 += g * g;
-    }
-    return d2;
-  };
-  for (int r = 0;; ++r) {
-    for (int i = std::max(0, c[0] - r); i <= std::min(dims_[0] - 1, c[0] + r); ++i)
-      for (int j = std::max(0, c[1] - r); j <= std::min(dims_[1] - 1, c[1] + r); ++j) {
-        if (std::abs(i - c[0]) == r || std::abs(j - c[1]) == r) {
-          for (int k = std::max(0, c[2] - r); k <= std::min(dims_[2] - 1, c[2] + r); ++k) visit(i, j, k);
-        } else {
-          if (c[2] - r >= 0) visit(i, j, c[2] - r);
-          if (r > 0 && c[2] + r < dims_[2]) visit(i, j, c[2] + r);
-        }
-      }
-    double bound2 = std::numeric_limits<double>::infinity();  // stays infinite once all is seen
-    for (int a = 0; a < 3; ++a) {
-      if (c[a] - r - 1 >= 0) bound2 = std::min(bound2, box_dist2(a, lo_[a], lo_[a] + (c[a] - r) * h_));
-      if (c[a] + r + 1 < dims_[a])
-        bound2 = std::min(bound2, box_dist2(a, lo_[a] + (c[a] + r + 1) * h_, lo_[a] + dims_[a] * h_));
-    }
-    if (bound2 == std::numeric_limits<double>::infinity() || (loc.tet != kInvalid && best <= bound2)) break;
+  static void tet_bounds(const RTCBoundsFunctionArguments* args) {
+    const auto& box = static_cast<const TetLocator*>(args->geometryUserPtr)->boxes_[args->primID];
+    RTCBounds* o = args->bounds_o;
+    o->lower_x = box[0], o->lower_y = box[1], o->lower_z = box[2];
+    o->upper_x = box[3], o->upper_y = box[4], o->upper_z = box[5];
   }
-  loc.outside_distance = std::sqrt(best);
-  return loc;
-}
+
+  static bool on_inside(RTCPointQueryFunctionArguments* args) {
+    auto* s = static_cast<Search*>(args->userPtr);
+    const TetId t = args->primID;
+    Bary l;
+    if (!barycentric(s->locator->points(t), s->q, l)) return false;
+    const double m = std::min({l[0], l[1], l[2], l[3]});
+    if (m > s->best || (m == s->best && t < s->loc.tet)) s->best = m, s->loc.tet = t, s->loc.bary = l;
+    return false;  // the radius stays: every tet whose box holds q is seen
+  }
+
+  static bool on_nearest(RTCPointQueryFunctionArguments* args) {
+    auto* s = static_cast<Search*>(args->userPtr);
+    const TetId t = args->primID;
+    Bary l;
+    const double d2 = closest_in_tet(s->locator->points(t), s->q, l);
+    if (!(d2 < s->best || (d2 == s->best && t < s->loc.tet))) return false;
+    s->best = d2, s->loc.tet = t, s->loc.bary = l;
+    args->query->radius = std::nextafter(static_cast<float>(std::sqrt(d2) + s->locator->slack_),
+                                         std::numeric_limits<float>::infinity());
+    return true;
+  }
+
+  const MeshData& mesh_;
+  double slack_ = 0.0;
+  std::vector<std::array<float, 6>> boxes_;  // [tet] lower x, y, z, upper x, y, z
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+};
 
 void check_tets(const MeshData& m, const char* which) {
   const std::size_t nv = m.positions.size();
@@ -379,6 +304,10 @@ void check_tets(const MeshData& m, const char* which) {
       if (v >= nv)
         throw InputError(std::string(which) + " tet " + std::to_string(t) + ": vertex index " +
                          std::to_string(v) + " out of range [0, " + std::to_string(nv) + ")");
+  for (const auto& tet : m.tets)
+    for (const VertId v : tet)
+      if (!std::isfinite(m.positions[v].x) || !std::isfinite(m.positions[v].y) || !std::isfinite(m.positions[v].z))
+        throw InputError("compare_fields: a tet has a non-finite vertex coordinate");
 }
 
 void check_field(const MeshData& m, const VertexField& f, const char* which) {
@@ -400,12 +329,121 @@ std::vector<VertId> used_vertices(const MeshData& m) {
 }
 
 // Locates `queries` (vertices of `from`) in `in`.
-std::vector<Location> locate_all(const MeshData& from, const std::vector<VertId>& queries, const MeshData& in) {
+std::vector<Location> locate_all(const MeshData& from, const std::vector<VertId>& queries, const TetLocator& locator) {
   std::vector<Location> loc(queries.size());
-  const TetGrid grid(in, queries.size());
   parallel::for_range<std::size_t>(0, queries.size(), 512, "locate", [&](std::size_t q0, std::size_t q1) {
-    for (std::size_t q = q0; q < q1; ++q) loc[q] = grid.locate(from.positions[queries[q]]);
+    for (std::size_t q = q0; q < q1; ++q) loc[q] = locator.locate(from.positions[queries[q]]);
   });
+  return loc;
+}
+
+// Below this many queries per tet, a sweep over the tets beats building a hierarchy over them.
+constexpr std::size_t kSweepTetsPerQuery = 4;
+
+// The same answers as locate_all for few points in a big mesh (simplified vertices in the
+// original): one pass over the tets, each testing the points that a uniform grid over the points
+// puts in its widened box (as TetLocator's: every tet that may hold a point within
+// kInsideTolerance is tested), so nothing is built over the big mesh. The best tet of each point
+// is kept per thread and merged with the same order-free rule (largest minimum barycentric
+// coordinate, ties to the smaller id); points inside no tet go to `fallback()`, a TetLocator.
+template <class Fallback>
+std::vector<Location> locate_by_sweep(const MeshData& from, const std::vector<VertId>& queries, const MeshData& in,
+                                      Fallback&& fallback) {
+  const std::size_t nq = queries.size();
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const VertId v : queries) lo = glm::min(lo, from.positions[v]), hi = glm::max(hi, from.positions[v]);
+  const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(0.0));
+  const double longest = std::max({extent.x, extent.y, extent.z});
+  // About one point per cell (cells of side h), at most 1024 cells per axis.
+  double volume = 1.0;
+  int flat_axes = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (extent[a] > 1e-9 * longest) {
+      volume *= extent[a];
+    } else {
+      ++flat_axes;
+    }
+  }
+  const double h = longest > 0.0 ? std::pow(volume / static_cast<double>(nq), 1.0 / (3 - std::min(flat_axes, 2))) : 1.0;
+  std::array<int, 3> dims{};
+  for (int a = 0; a < 3; ++a)
+    dims[a] = h > 0.0 ? static_cast<int>(std::clamp(std::ceil(extent[a] / h), 1.0, 1024.0)) : 1;
+  const auto cell_of = [&](double x, int a) {  // clamped before the cast: a big tet's box reaches far
+    const double f = extent[a] > 0.0 ? (x - lo[a]) / extent[a] * dims[a] : 0.0;
+    return static_cast<int>(std::clamp(f, 0.0, static_cast<double>(dims[a] - 1)));
+  };
+  const std::size_t cell_count = static_cast<std::size_t>(dims[0]) * dims[1] * dims[2];
+  const auto cell_index = [&](int i, int j, int k) {
+    return static_cast<std::size_t>(i) + static_cast<std::size_t>(dims[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(dims[1]) * k);
+  };
+  std::vector<std::uint32_t> start(cell_count + 1, 0), points(nq);
+  std::vector<std::size_t> point_cell(nq);
+  for (std::size_t q = 0; q < nq; ++q) {
+    const glm::dvec3& x = from.positions[queries[q]];
+    point_cell[q] = cell_index(cell_of(x.x, 0), cell_of(x.y, 1), cell_of(x.z, 2));
+    ++start[point_cell[q] + 1];
+  }
+  for (std::size_t c = 0; c < cell_count; ++c) start[c + 1] += start[c];
+  {
+    std::vector<std::uint32_t> cursor(start.begin(), start.end() - 1);
+    for (std::size_t q = 0; q < nq; ++q) points[cursor[point_cell[q]]++] = static_cast<std::uint32_t>(q);
+  }
+
+  struct Best {
+    double m = -std::numeric_limits<double>::infinity();
+    TetId tet = kInvalid;
+    Bary bary{};
+  };
+  parallel::PerThread<std::vector<Best>> per_thread([nq] { return std::vector<Best>(nq); });
+  const auto& P = in.positions;
+  parallel::for_range<std::size_t>(0, in.tets.size(), 4096, "locate_sweep", [&](std::size_t t0, std::size_t t1) {
+    std::vector<Best>& best = per_thread.local();
+    for (std::size_t t = t0; t < t1; ++t) {
+      const auto& tv = in.tets[t];
+      const std::array<glm::dvec3, 4> p = {P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]};
+      glm::dvec3 blo = p[0], bhi = p[0];
+      for (int i = 1; i < 4; ++i) blo = glm::min(blo, p[i]), bhi = glm::max(bhi, p[i]);
+      const glm::dvec3 size = bhi - blo;
+      const glm::dvec3 widen(1e-8 * std::max({size.x, size.y, size.z}));
+      blo -= widen;
+      bhi += widen;
+      if (blo.x > hi.x || blo.y > hi.y || blo.z > hi.z || bhi.x < lo.x || bhi.y < lo.y || bhi.z < lo.z) continue;
+      for (int k = cell_of(blo.z, 2); k <= cell_of(bhi.z, 2); ++k)
+        for (int j = cell_of(blo.y, 1); j <= cell_of(bhi.y, 1); ++j)
+          for (int i = cell_of(blo.x, 0); i <= cell_of(bhi.x, 0); ++i) {
+            const std::size_t c = cell_index(i, j, k);
+            for (std::uint32_t s = start[c]; s < start[c + 1]; ++s) {
+              const std::uint32_t q = points[s];
+              const glm::dvec3& x = from.positions[queries[q]];
+              if (x.x < blo.x || x.y < blo.y || x.z < blo.z || x.x > bhi.x || x.y > bhi.y || x.z > bhi.z) continue;
+              Bary l;
+              if (!barycentric(p, x, l)) continue;
+              const double m = std::min({l[0], l[1], l[2], l[3]});
+              Best& b = best[q];
+              if (m > b.m || (m == b.m && t < b.tet)) b = {m, static_cast<TetId>(t), l};
+            }
+          }
+    }
+  });
+
+  std::vector<Best> merged(nq);
+  for (const std::vector<Best>& best : per_thread)
+    for (std::size_t q = 0; q < nq; ++q)
+      if (best[q].m > merged[q].m || (best[q].m == merged[q].m && best[q].tet < merged[q].tet)) merged[q] = best[q];
+  std::vector<Location> loc(nq);
+  for (std::size_t q = 0; q < nq; ++q) {
+    if (merged[q].tet == kInvalid || merged[q].m < -kInsideTolerance) {
+      loc[q] = fallback().locate(from.positions[queries[q]]);  // outside the mesh: the closest tet
+      continue;
+    }
+    loc[q].tet = merged[q].tet;
+    loc[q].bary = merged[q].bary;
+    if (merged[q].m < 0.0) {  // on a face up to rounding: snap onto it, as TetLocator does
+      double sum = 0.0;
+      for (double& x : loc[q].bary) sum += (x = std::max(x, 0.0));
+      for (double& x : loc[q].bary) x /= sum;
+    }
+  }
   return loc;
 }
 
@@ -471,8 +509,30 @@ DirectionalError finish(const ErrorSums& s, std::size_t n, double scale) {
 
 }  // namespace
 
-FieldError compare_fields(const MeshData& original, const MeshData& simplified) {
-  check_tets(original, "original");
+// The original's checked tets, used vertices and (built on first need) point locator.
+struct FieldErrorReference::Prepared {
+  explicit Prepared(const MeshData& mesh) : original(mesh) {
+    check_tets(original, "original");
+    used = used_vertices(original);
+  }
+  const TetLocator& locator() const {
+    std::call_once(locator_built, [&] { locator_ = std::make_unique<TetLocator>(original); });
+    return *locator_;
+  }
+
+  const MeshData& original;
+  std::vector<VertId> used;
+
+ private:
+  mutable std::once_flag locator_built;
+  mutable std::unique_ptr<TetLocator> locator_;
+};
+
+FieldErrorReference::FieldErrorReference(const MeshData& original) : prepared_(std::make_unique<Prepared>(original)) {}
+FieldErrorReference::~FieldErrorReference() = default;
+
+FieldError FieldErrorReference::compare(const MeshData& simplified) const {
+  const MeshData& original = prepared_->original;
   check_tets(simplified, "simplified");
 
   FieldError out;
@@ -504,10 +564,13 @@ FieldError compare_fields(const MeshData& original, const MeshData& simplified) 
   }
   if (pairs.empty() || original.tets.empty() || simplified.tets.empty()) return out;
 
-  const std::vector<VertId> orig_q = used_vertices(original);
+  const std::vector<VertId>& orig_q = prepared_->used;
   const std::vector<VertId> simp_q = used_vertices(simplified);
-  const std::vector<Location> orig_loc = locate_all(original, orig_q, simplified);
-  const std::vector<Location> simp_loc = locate_all(simplified, simp_q, original);
+  const std::vector<Location> orig_loc = locate_all(original, orig_q, TetLocator(simplified));
+  const std::vector<Location> simp_loc =
+      simp_q.size() * kSweepTetsPerQuery < original.tets.size()
+          ? locate_by_sweep(simplified, simp_q, original, [&]() -> const TetLocator& { return prepared_->locator(); })
+          : locate_all(simplified, simp_q, prepared_->locator());
   out.original_in_simplified = location_stats(orig_loc);
   out.simplified_in_original = location_stats(simp_loc);
 
@@ -535,6 +598,10 @@ FieldError compare_fields(const MeshData& original, const MeshData& simplified) 
       out.components.push_back(std::move(e));
     }
   return out;
+}
+
+FieldError compare_fields(const MeshData& original, const MeshData& simplified) {
+  return FieldErrorReference(original).compare(simplified);
 }
 
 }  // namespace topotet

@@ -1,9 +1,13 @@
 // compute_quality: per-tet angle samples, reduced deterministically.
 //
 // Determinism: the tet range is cut into blocks of kBlock tets, independent of the thread count;
-// each block is summarised sequentially (Welford) by whichever thread runs it, and the block
-// summaries are merged in block order (Chan et al.'s pairwise update). The floating-point
-// operations, and so the bits of the result, are then the same for any number of threads.
+// each block is summarised sequentially by whichever thread runs it, and the block summaries are
+// merged in block order (Chan et al.'s pairwise update). The floating-point operations, and so the
+// bits of the result, are then the same for any number of threads.
+//
+// Speed: angles come from metrics/fast_angle.h (not libm's atan2), the third corner angle of a
+// face is pi minus the other two, and a block sums deviations from its first sample (no division
+// per sample, as Welford's update needs).
 #include "topotet/metrics/quality.h"
 
 #include <algorithm>
@@ -16,7 +20,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "parallel/for_range.h"
+#include "fast_angle.h"
+#include "parallel/reduce.h"
 #include "topotet/error.h"
 
 namespace topotet {
@@ -25,7 +30,26 @@ namespace {
 constexpr std::size_t kBlock = 4096;
 constexpr double kDeg = 180.0 / std::numbers::pi;
 
-// Running count, mean, sum of squared deviations, min and max of a sample.
+// Running count, sum of deviations from a shift (the first sample), their squares, min and max:
+// within a block the shift keeps the sums small, so the variance loses no precision to cancellation.
+struct ShiftedSums {
+  std::uint64_t n = 0;
+  double shift = 0.0, sum = 0.0, sum_sq = 0.0;
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+
+  void add(double x) {
+    if (n == 0) shift = x;
+    ++n;
+    const double d = x - shift;
+    sum += d;
+    sum_sq += d * d;
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+};
+
+// Count, mean, sum of squared deviations from the mean, min and max of a sample.
 struct Moments {
   std::uint64_t n = 0;
   double mean = 0.0;
@@ -33,14 +57,16 @@ struct Moments {
   double lo = std::numeric_limits<double>::infinity();
   double hi = -std::numeric_limits<double>::infinity();
 
-  // Welford's update: stable, no cancellation between large sums.
-  void add(double x) {
-    ++n;
-    const double d = x - mean;
-    mean += d / static_cast<double>(n);
-    m2 += d * (x - mean);
-    lo = std::min(lo, x);
-    hi = std::max(hi, x);
+  static Moments of(const ShiftedSums& s) {
+    Moments m;
+    if (s.n == 0) return m;
+    const double n = static_cast<double>(s.n);
+    m.n = s.n;
+    m.mean = s.shift + s.sum / n;
+    m.m2 = std::max(0.0, s.sum_sq - s.sum * (s.sum / n));
+    m.lo = s.lo;
+    m.hi = s.hi;
+    return m;
   }
 
   // Chan, Golub & LeVeque's combination of two summaries (order-dependent only in rounding,
@@ -73,10 +99,19 @@ struct Moments {
   }
 };
 
+struct BlockSums {
+  ShiftedSums dihedral, solid, face, mean_ratio;
+  std::size_t inverted = 0, zero_volume = 0;
+};
+
 struct BlockSummary {
   Moments dihedral, solid, face, mean_ratio;
   std::size_t inverted = 0, zero_volume = 0;
 
+  static BlockSummary of(const BlockSums& s) {
+    return {Moments::of(s.dihedral), Moments::of(s.solid), Moments::of(s.face), Moments::of(s.mean_ratio),
+            s.inverted, s.zero_volume};
+  }
   void merge(const BlockSummary& o) {
     dihedral.merge(o.dihedral);
     solid.merge(o.solid);
@@ -87,11 +122,6 @@ struct BlockSummary {
   }
 };
 
-// Angle between two vectors in [0, pi]. atan2 of |cross| and dot is accurate near 0 and pi (acos
-// of a normalised dot is not) and gives 0, not NaN, when a vector is zero.
-double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
-  return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
-}
 
 // Sign of det = u . (v x w), certified by Shewchuk's orient3d static bound o3derrboundA =
 // (7 + 56 eps) eps times the permanent, which also covers the rounding of the differences
@@ -107,20 +137,28 @@ int certified_sign(const glm::dvec3& u, const glm::dvec3& v, const glm::dvec3& w
   return 0;
 }
 
-void add_tet(const std::array<glm::dvec3, 4>& p, BlockSummary& s) {
+void add_tet(const std::array<glm::dvec3, 4>& p, BlockSums& s) {
   // Edge (i, j) and the other two vertices (k, l) of the tet: the 6 edges in a fixed order.
   static constexpr int kEdges[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2},
                                        {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
+  // Every angle is atan2(y, x), for an angle between vectors a and b atan2(|a x b|, a . b): accurate
+  // near 0 and pi (acos of a normalised dot is not), and 0, not NaN, when a vector is zero. The 18
+  // pairs are gathered first and converted in one loop, whose independent iterations the
+  // processor overlaps (each one alone is a chain of dependent steps).
+  // 0-5 dihedral, 6-9 half solid angles, 10-17 two corner angles of each face.
+  double y[18], x[18];
+  const auto angle_pair = [&](int i, const glm::dvec3& a, const glm::dvec3& b) {
+    y[i] = glm::length(glm::cross(a, b));
+    x[i] = glm::dot(a, b);
+  };
   // The dihedral angle at edge e = pj - pi is the angle between the normals e x (pk - pi) and
   // e x (pl - pi) of its two faces: both are perpendicular to e, and the cross product with e
   // rotates the projections of pk - pi and pl - pi (which span the dihedral) by the same 90 deg.
-  for (const auto& e : kEdges) {
+  for (int k = 0; k < 6; ++k) {
+    const auto& e = kEdges[k];
     const glm::dvec3 edge = p[e[1]] - p[e[0]];
-    const glm::dvec3 n1 = glm::cross(edge, p[e[2]] - p[e[0]]);
-    const glm::dvec3 n2 = glm::cross(edge, p[e[3]] - p[e[0]]);
-    s.dihedral.add(angle_between(n1, n2) * kDeg);
+    angle_pair(k, glm::cross(edge, p[e[2]] - p[e[0]]), glm::cross(edge, p[e[3]] - p[e[0]]));
   }
-
   // Solid angle at vertex i, vectors a, b, c to the other three (van Oosterom & Strackee 1983).
   // atan2 keeps the quadrant: a negative denominator means the solid angle exceeds pi, which only
   // happens for (nearly) flat tets.
@@ -129,18 +167,33 @@ void add_tet(const std::array<glm::dvec3, 4>& p, BlockSummary& s) {
     const glm::dvec3 b = p[(i + 2) % 4] - p[i];
     const glm::dvec3 c = p[(i + 3) % 4] - p[i];
     const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
-    const double num = std::abs(glm::dot(a, glm::cross(b, c)));
-    const double den = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
-    s.solid.add(2.0 * std::atan2(num, den));
+    y[6 + i] = std::abs(glm::dot(a, glm::cross(b, c)));
+    x[6 + i] = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
   }
-
-  // Corner angles of the 4 faces: face f is the one opposite vertex f.
+  // Corner angles of the 4 faces: face f is the one opposite vertex f; at its first two corners
+  // here, the third below.
+  bool has_zero_edge[4];
   for (int f = 0; f < 4; ++f) {
-    const int v[3] = {(f + 1) % 4, (f + 2) % 4, (f + 3) % 4};
-    for (int c = 0; c < 3; ++c) {
-      const glm::dvec3& at = p[v[c]];
-      s.face.add(angle_between(p[v[(c + 1) % 3]] - at, p[v[(c + 2) % 3]] - at) * kDeg);
-    }
+    const glm::dvec3& a = p[(f + 1) % 4];
+    const glm::dvec3& b = p[(f + 2) % 4];
+    const glm::dvec3& c = p[(f + 3) % 4];
+    const glm::dvec3 ab = b - a, ac = c - a, bc = c - b;
+    angle_pair(10 + 2 * f, ab, ac);
+    angle_pair(11 + 2 * f, -ab, bc);
+    has_zero_edge[f] = glm::dot(ab, ab) == 0.0 || glm::dot(ac, ac) == 0.0 || glm::dot(bc, bc) == 0.0;
+  }
+  double angle[18];
+  for (int i = 0; i < 18; ++i) angle[i] = metrics::detail::atan2_nonnegative(y[i], x[i]);
+
+  for (int k = 0; k < 6; ++k) s.dihedral.add(angle[k] * kDeg);
+  for (int i = 0; i < 4; ++i) s.solid.add(2.0 * angle[6 + i]);
+  // The third angle of a triangle is pi minus the other two, unless an edge has zero length (then
+  // all three are 0).
+  for (int f = 0; f < 4; ++f) {
+    const double at_a = angle[10 + 2 * f], at_b = angle[11 + 2 * f];
+    s.face.add(at_a * kDeg);
+    s.face.add(at_b * kDeg);
+    s.face.add(has_zero_edge[f] ? 0.0 : (std::numbers::pi - at_a - at_b) * kDeg);
   }
 
   const glm::dvec3 u = p[1] - p[0], v = p[2] - p[0], w = p[3] - p[0];
@@ -169,22 +222,17 @@ QualityStats compute_quality(const MeshData& mesh) {
         throw InputError("tet " + std::to_string(t) + ": vertex index " + std::to_string(v) +
                          " out of range [0, " + std::to_string(nv) + ")");
 
-  const std::size_t blocks = (nt + kBlock - 1) / kBlock;
-  std::vector<BlockSummary> partial(blocks);
-  parallel::for_range<std::size_t>(0, blocks, 1, "quality_blocks", [&](std::size_t b0, std::size_t b1) {
-    for (std::size_t b = b0; b < b1; ++b) {
-      BlockSummary s;
-      const std::size_t end = std::min(nt, (b + 1) * kBlock);
-      for (std::size_t t = b * kBlock; t < end; ++t) {
-        const auto& tv = mesh.tets[t];
-        add_tet({mesh.positions[tv[0]], mesh.positions[tv[1]], mesh.positions[tv[2]], mesh.positions[tv[3]]}, s);
-      }
-      partial[b] = s;
-    }
-  });
-
-  BlockSummary total;
-  for (const BlockSummary& s : partial) total.merge(s);
+  const BlockSummary total = parallel::block_reduce(
+      nt, kBlock, "quality_blocks", BlockSummary{},
+      [&](std::size_t begin, std::size_t end) {
+        BlockSums s;
+        for (std::size_t t = begin; t < end; ++t) {
+          const auto& tv = mesh.tets[t];
+          add_tet({mesh.positions[tv[0]], mesh.positions[tv[1]], mesh.positions[tv[2]], mesh.positions[tv[3]]}, s);
+        }
+        return BlockSummary::of(s);
+      },
+      [](BlockSummary& into, const BlockSummary& block) { into.merge(block); });
 
   QualityStats q;
   q.tet_count = nt;

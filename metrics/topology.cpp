@@ -1,14 +1,16 @@
 // compute_topology: one global simplex index, then each complex of the report as the closure of
-// its top simplices, reduced and eliminated over Z2 (z2_homology.cpp). Large meshes check their
-// complexes in parallel; the result does not depend on the thread count.
+// its top simplices. A complex certified to be a surface or a solid (manifold_betti.h) gets its
+// Betti numbers from counts; any other is reduced and eliminated over Z2 (z2_homology.cpp). Large
+// meshes check their complexes in parallel; the result does not depend on the thread count.
 #include "topotet/metrics/topology.h"
 
 #include <algorithm>
 #include <vector>
 
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
+#include "parallel/for_range.h"
+#include "parallel/reduce.h"
+#include "parallel/scratch.h"
+#include "manifold_betti.h"
 #include "robust_orient.h"
 #include "simplex_index.h"
 #include "z2_homology.h"
@@ -21,7 +23,7 @@ using detail::TopSimplices;
 
 // Below this many tets a check takes a few milliseconds at most: threads would cost more than
 // they save, and tests call the checker thousands of times, often from parallel test runners.
-constexpr std::size_t kParallelTetThreshold = 100'000;
+constexpr std::size_t kParallelTetThreshold = 20'000;
 // Largest mesh (vertices + edges + triangles) whose scratch a thread keeps between calls (~8 MB).
 constexpr std::size_t kCachedScratchSlots = 1u << 20;
 
@@ -29,9 +31,18 @@ struct Workspace {
   detail::ClosureScratch closure;
   detail::LocalComplex complex;
   detail::HomologyScratch homology;
+  detail::ManifoldScratch manifold;
 };
 
-ComplexTopology compute_complex(const SimplexIndex& index, const TopSimplices& tops, bool fast, Workspace& ws) {
+// Which manifold certificates a complex may try (manifold_betti.h).
+struct FastPaths {
+  bool surface = false;  // pure 2-complexes
+  bool solid = false;    // pure 3-complexes; only when every tet is positively oriented
+};
+
+// `certified` is set when a manifold certificate gave the Betti numbers.
+ComplexTopology compute_complex(const SimplexIndex& index, const TopSimplices& tops, bool fast, FastPaths paths,
+                                Workspace& ws, bool& certified) {
   detail::extract_closure(index, tops, ws.closure, ws.complex);
   const detail::LocalComplex& c = ws.complex;
   ComplexTopology result;
@@ -40,6 +51,11 @@ ComplexTopology compute_complex(const SimplexIndex& index, const TopSimplices& t
   const auto& n = result.simplex_count;
   result.euler_characteristic = n[0] - n[1] + n[2] - n[3];
   if (!fast) {
+    const bool is_pure_solid = !tops.tets.empty() && tops.faces.empty() && tops.edges.empty() && tops.vertices.empty();
+    const bool is_pure_surface = tops.tets.empty() && !tops.faces.empty() && tops.edges.empty() && tops.vertices.empty();
+    certified = (paths.solid && is_pure_solid && detail::solid_betti(c, ws.manifold, result.betti)) ||
+                (paths.surface && is_pure_surface && detail::surface_betti(c, ws.manifold, result.betti));
+    if (certified) return result;
     result.betti = detail::z2_betti(c, ws.homology);
     return result;
   }
@@ -54,16 +70,27 @@ ComplexTopology compute_complex(const SimplexIndex& index, const TopSimplices& t
 
 void count_tet_faults(const MeshData& mesh, TopologyReport& report) {
   const std::size_t n = mesh.positions.size();
-  for (const auto& tet : mesh.tets) {
-    if (tet[0] >= n || tet[1] >= n || tet[2] >= n || tet[3] >= n) continue;  // invalid, counted by the index
-    const bool has_repeat = tet[0] == tet[1] || tet[0] == tet[2] || tet[0] == tet[3] || tet[1] == tet[2] ||
-                            tet[1] == tet[3] || tet[2] == tet[3];
-    const int sign = has_repeat ? 0
-                                : detail::orient3d_sign(mesh.positions[tet[0]], mesh.positions[tet[1]],
-                                                        mesh.positions[tet[2]], mesh.positions[tet[3]]);
-    report.inverted_tet_count += sign < 0;
-    report.degenerate_tet_count += sign == 0;
-  }
+  using Counts = std::array<std::uint64_t, 2>;  // inverted, degenerate
+  const Counts counts = parallel::block_reduce(
+      mesh.tets.size(), 16384, "tet_orientation", Counts{},
+      [&](std::size_t begin, std::size_t end) {
+        Counts c{};
+        for (std::size_t t = begin; t < end; ++t) {
+          const auto& tet = mesh.tets[t];
+          if (tet[0] >= n || tet[1] >= n || tet[2] >= n || tet[3] >= n) continue;  // invalid, counted by the index
+          const bool has_repeat = tet[0] == tet[1] || tet[0] == tet[2] || tet[0] == tet[3] || tet[1] == tet[2] ||
+                                  tet[1] == tet[3] || tet[2] == tet[3];
+          const int sign = has_repeat ? 0
+                                      : detail::orient3d_sign(mesh.positions[tet[0]], mesh.positions[tet[1]],
+                                                              mesh.positions[tet[2]], mesh.positions[tet[3]]);
+          c[0] += sign < 0;
+          c[1] += sign == 0;
+        }
+        return c;
+      },
+      [](Counts& total, const Counts& part) { total[0] += part[0], total[1] += part[1]; });
+  report.inverted_tet_count += counts[0];
+  report.degenerate_tet_count += counts[1];
 }
 
 // The top simplices of every complex, owned here so that jobs can refer to them by span.
@@ -121,6 +148,7 @@ TopLists collect_top_lists(const MeshData& mesh, const SimplexIndex& index, std:
 struct Job {
   ComplexTopology* out = nullptr;
   TopSimplices tops;
+  bool certified = false;
   std::size_t size() const { return 8 * tops.tets.size() + 4 * tops.faces.size() + 2 * tops.edges.size() + tops.vertices.size(); }
 };
 
@@ -173,6 +201,10 @@ TopologyReport compute_topology(const MeshData& mesh, const TopologyOptions& opt
   std::sort(feature_faces.begin(), feature_faces.end());
   feature_faces.erase(std::unique(feature_faces.begin(), feature_faces.end()), feature_faces.end());
   jobs.push_back({&report.features, {.faces = feature_faces, .edges = lists.all_polyline_edges, .vertices = lists.pinned}});
+
+  FastPaths paths;
+  paths.surface = options.manifold_fast_path;
+  paths.solid = options.manifold_fast_path && report.inverted_tet_count == 0 && report.degenerate_tet_count == 0;
   if (index.kept_tets.size() < kParallelTetThreshold) {
     // Reused across calls on this thread, so the thousands of small checks a property test makes
     // allocate (and page-fault) much less; only small meshes use it, so it never holds much.
@@ -180,17 +212,19 @@ TopologyReport compute_topology(const MeshData& mesh, const TopologyOptions& opt
     Workspace uncached;
     const std::size_t slot_count = index.vertex_count + index.edge2verts.size() + index.face2edges.size();
     Workspace& ws = slot_count < kCachedScratchSlots ? cached : uncached;
-    for (const Job& job : jobs) *job.out = compute_complex(index, job.tops, options.fast, ws);
+    for (Job& job : jobs) *job.out = compute_complex(index, job.tops, options.fast, paths, ws, job.certified);
   } else {
     // Biggest first so that the long jobs do not end up last on one thread. Every job writes its
     // own ComplexTopology (map nodes are stable and all inserted above), so no synchronisation.
     std::stable_sort(jobs.begin(), jobs.end(), [](const Job& a, const Job& b) { return a.size() > b.size(); });
-    tbb::enumerable_thread_specific<Workspace> workspaces;
-    tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t i) {
-      *jobs[i].out = compute_complex(index, jobs[i].tops, options.fast, workspaces.local());
+    parallel::PerThread<Workspace> workspaces;
+    parallel::for_range<std::size_t>(0, jobs.size(), 1, "topology_complexes", [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i)
+        *jobs[i].out = compute_complex(index, jobs[i].tops, options.fast, paths, workspaces.local(), jobs[i].certified);
     });
   }
   for (const auto& [to, from] : copies) *to = *from;
+  for (const Job& job : jobs) report.certified_manifold_count += job.certified;
   return report;
 }
 

@@ -87,6 +87,27 @@ check_json check.json topology
 expect 0 check_sequential -- "$topotet" check in.mesh seq.msh
 expect 0 simplify_levels -- "$topotet" simplify in.mesh -o lv.mesh --levels 0.5,0.2 --no-verify
 [[ -s lv_0.5.mesh && -s lv_0.2.mesh ]] && pass "level files written" || fail "level files missing"
+if grep -q '^measure *quality' simplify_parallel.out; then pass "simplify prints the measurement times"; else fail "no measure line"; fi
+
+# --- --no-metrics: the same output file, only counts, times and memory in the report ---
+expect 0 simplify_no_metrics -- "$topotet" simplify in.mesh -o nm.mesh --ratio 0.3 --threads 2 --no-metrics --report nm.json
+if cmp -s out.mesh nm.mesh; then pass "--no-metrics writes the same mesh"; else fail "--no-metrics output differs"; fi
+if grep -q '^topology *not checked (--no-metrics' simplify_no_metrics.out &&
+  ! grep -q '^\(quality\|fields\|distance\|measure\)' simplify_no_metrics.out; then
+  pass "--no-metrics prints no measurement"
+else
+  fail "--no-metrics printed a measurement"
+fi
+if python3 -c '
+import json, sys
+r = json.load(open(sys.argv[1])); l = r["levels"][0]
+ok = r["topology"] == "skipped" and r["input"]["quality"] is None and l["quality"] is None
+ok = ok and l["surface_distance"] is None and l["field_error"] is None and l["vertices_after"] > 0
+sys.exit(0 if ok else 1)' nm.json; then
+  pass "--no-metrics report has counts and no measurement"
+else
+  fail "--no-metrics report is wrong"
+fi
 
 # --- bad input and usage: exit 2, one line ---
 head -c 4000 in.mesh >truncated.mesh

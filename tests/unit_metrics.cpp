@@ -6,17 +6,22 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-#include <tbb/task_arena.h>
 
+#include "../metrics/fast_angle.h"  // the private fast atan2, tested against libm
 #include "test_meshes.h"
 #include "topotet/error.h"
 #include "topotet/metrics/field_error.h"
+#include "topotet/generate.h"
 #include "topotet/metrics/quality.h"
+#include "topotet/metrics/surface_distance.h"
+#include "topotet/simplify.h"
+#include "topotet/threads.h"
 
 namespace topotet {
 namespace {
@@ -56,8 +61,9 @@ void add_field(MeshData& d, const std::string& name, int components, Fn&& fn) {
 
 template <class Fn>
 auto with_threads(int threads, Fn&& fn) {
-  tbb::task_arena arena(threads);
-  return arena.execute(fn);
+  decltype(fn()) result{};
+  run_with_thread_limit(threads, [&] { result = fn(); });
+  return result;
 }
 
 // ---------------------------------------------------------------- quality
@@ -177,6 +183,107 @@ TEST(Quality, SameBitsForAnyThreadCount) {
   EXPECT_TRUE(one == two);
   EXPECT_TRUE(one == dflt);
   EXPECT_NEAR(one.face_deg.mean, 60.0, 1e-9);
+}
+
+// The reference the fast quality code replaced: libm's atan2 at every angle (all 12 face angles
+// directly) and two-pass mean and variance over all samples.
+struct ReferenceStats {
+  std::vector<double> dihedral, solid, face;
+  static SampleStats of(const std::vector<double>& x) {
+    SampleStats s;
+    s.count = x.size();
+    double sum = 0.0;
+    for (double v : x) sum += v;
+    s.mean = sum / static_cast<double>(x.size());
+    double sq = 0.0;
+    for (double v : x) sq += (v - s.mean) * (v - s.mean);
+    s.std_dev = std::sqrt(sq / static_cast<double>(x.size()));
+    s.min = *std::min_element(x.begin(), x.end());
+    s.max = *std::max_element(x.begin(), x.end());
+    return s;
+  }
+};
+
+ReferenceStats reference_angles(const MeshData& d) {
+  const auto angle = [](const glm::dvec3& a, const glm::dvec3& b) {
+    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+  };
+  ReferenceStats r;
+  for (const auto& t : d.tets) {
+    const glm::dvec3 p[4] = {d.positions[t[0]], d.positions[t[1]], d.positions[t[2]], d.positions[t[3]]};
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        int k = 0;
+        while (k == i || k == j) ++k;
+        const int l = 6 - i - j - k;
+        const glm::dvec3 e = p[j] - p[i];
+        r.dihedral.push_back(angle(glm::cross(e, p[k] - p[i]), glm::cross(e, p[l] - p[i])) * kDeg);
+      }
+    for (int i = 0; i < 4; ++i) {
+      const glm::dvec3 a = p[(i + 1) % 4] - p[i], b = p[(i + 2) % 4] - p[i], c = p[(i + 3) % 4] - p[i];
+      const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+      const double den = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
+      r.solid.push_back(2.0 * std::atan2(std::abs(glm::dot(a, glm::cross(b, c))), den));
+    }
+    for (int f = 0; f < 4; ++f) {
+      const int v[3] = {(f + 1) % 4, (f + 2) % 4, (f + 3) % 4};
+      for (int c = 0; c < 3; ++c)
+        r.face.push_back(angle(p[v[(c + 1) % 3]] - p[v[c]], p[v[(c + 2) % 3]] - p[v[c]]) * kDeg);
+    }
+  }
+  return r;
+}
+
+void expect_close(const SampleStats& got, const SampleStats& want, double tolerance, const char* what) {
+  SCOPED_TRACE(what);
+  EXPECT_EQ(got.count, want.count);
+  EXPECT_NEAR(got.mean, want.mean, tolerance * std::max(1.0, std::abs(want.mean)));
+  EXPECT_NEAR(got.std_dev, want.std_dev, tolerance * std::max(1.0, want.std_dev));
+  EXPECT_NEAR(got.min, want.min, tolerance * std::max(1.0, std::abs(want.min)));
+  EXPECT_NEAR(got.max, want.max, tolerance * std::max(1.0, std::abs(want.max)));
+}
+
+TEST(Quality, MatchesTheLibmReferenceOnJitteredAndDegenerateTets) {
+  MeshData d = box_grid(10, 1.0, 0.35, 3);  // strongly jittered: slivers, obtuse faces
+  // Flat, needle and collapsed tets: angles of 0 and 180 degrees.
+  const auto n = static_cast<VertId>(d.positions.size());
+  d.positions.push_back({0, 0, 0});
+  d.positions.push_back({1, 0, 0});
+  d.positions.push_back({2, 0, 0});
+  d.positions.push_back({0, 1, 0});
+  d.tets.push_back({n, n + 1, n + 2, n + 3});  // three collinear vertices, all four coplanar
+  d.tets.push_back({n, n + 1, n + 3, n + 3});  // a repeated vertex
+  const QualityStats q = compute_quality(d);
+  const ReferenceStats r = reference_angles(d);
+  expect_close(q.dihedral_deg, ReferenceStats::of(r.dihedral), 1e-11, "dihedral");
+  expect_close(q.solid_sr, ReferenceStats::of(r.solid), 1e-11, "solid");
+  expect_close(q.face_deg, ReferenceStats::of(r.face), 1e-11, "face");
+}
+
+TEST(Quality, OwnAtan2AgreesWithLibm) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  double worst = 0.0;
+  const auto check = [&](double y, double x) {
+    const double got = metrics::detail::atan2_nonnegative(y, x);
+    const double want = (y == 0.0 && x == 0.0) ? 0.0 : std::atan2(y, x);
+    worst = std::max(worst, std::abs(got - want));
+  };
+  for (int i = 0; i < 1000000; ++i) {
+    const double scale = std::pow(10.0, 12.0 * unit(rng));
+    check(std::abs(unit(rng)) * scale, unit(rng) * scale);
+  }
+  for (double y : {0.0, 1e-300, 1e-12, 0.5, 1.0, 1e12})
+    for (double x : {-1e12, -1.0, -1e-12, -0.0, 0.0, 1e-300, 1e-12, 1.0, 1e12}) check(y, x);
+  // Switch points of the reduction, and both sides of them.
+  for (double t : {0.09849140335716425, 0.3033466836073424, 0.5345111359507916, 0.8206787908286602, 1.0})
+    for (double s : {1.0 - 1e-15, 1.0, 1.0 + 1e-15}) {
+      check(t * s, 1.0);
+      check(1.0, t * s);
+      check(t * s, -1.0);
+    }
+  EXPECT_LT(worst, 1e-15);
+  std::printf("[ atan2 ] largest difference from std::atan2: %.2e rad\n", worst);
 }
 
 // ---------------------------------------------------------------- field error
@@ -401,6 +508,117 @@ TEST(FieldError, SameBitsForAnyThreadCount) {
 
 // ---------------------------------------------------------------- timing
 
+// Few simplified vertices in a big original are located by a sweep over the original's tets, the
+// other direction by the Embree hierarchy. Swapping the meshes swaps the methods for the same
+// points, so both must give the same errors to the last bit, including the points outside (the
+// coarse box is larger: its boundary vertices take the closest tet).
+TEST(FieldError, SweepAndHierarchyLocateAlike) {
+  MeshData fine = box_grid(14, 1.0, 0.25, 4), coarse = box_grid(4, 1.03, 0.2, 8);
+  for (auto& p : coarse.positions) p -= glm::dvec3(0.015);
+  const auto f = [](const glm::dvec3& p, int c) { return std::cos(4.0 * p.y) * p.x + c * p.z; };
+  add_field(fine, "f", 2, f);
+  add_field(coarse, "f", 2, f);
+  ASSERT_LT(coarse.positions.size() * 4, fine.tets.size());  // compare_fields(fine, coarse) sweeps
+  const FieldError swept = compare_fields(fine, coarse), hierarchy = compare_fields(coarse, fine);
+  ASSERT_EQ(swept.components.size(), 2u);
+  for (std::size_t c = 0; c < 2; ++c) {
+    EXPECT_EQ(swept.components[c].simplified_to_original.rms, hierarchy.components[c].original_to_simplified.rms);
+    EXPECT_EQ(swept.components[c].simplified_to_original.max_abs, hierarchy.components[c].original_to_simplified.max_abs);
+  }
+  EXPECT_TRUE(swept.simplified_in_original == hierarchy.original_in_simplified);
+  EXPECT_GT(swept.simplified_in_original.outside, 0u);
+}
+
+TEST(FieldError, PreparedReferenceGivesCompareFieldsForEveryMesh) {
+  MeshData fine = box_grid(10, 1.0, 0.2, 3), coarse = box_grid(4, 1.0, 0.1, 5), other = box_grid(6, 1.0, 0.15, 9);
+  const auto f = [](const glm::dvec3& p, int c) { return std::sin(3.0 * p.x) * p.y + c * p.z * p.z; };
+  for (MeshData* m : {&fine, &coarse, &other}) add_field(*m, "f", 2, f);
+  const FieldErrorReference reference(fine);
+  for (int round = 0; round < 2; ++round) {  // the locator built for the first comparison serves the next
+    EXPECT_TRUE(reference.compare(coarse) == compare_fields(fine, coarse));
+    EXPECT_TRUE(reference.compare(other) == compare_fields(fine, other));
+  }
+  EXPECT_GT(reference.compare(coarse).worst_rms_rel, 0.0);
+}
+
+// ---------------------------------------------------------------- surface distance, report mode
+
+// A generated cube-sphere whose tets are relabelled by the cell of a coarse grid around their
+// centroid (a few dozen materials: many interfaces, as in polycrystals), simplified to 30%.
+std::pair<MeshData, MeshData> many_material_pair() {
+  GenerateOptions g;
+  g.target_tets = 6000;
+  MeshData in = generate_mesh(g);
+  glm::dvec3 lo(1e300), hi(-1e300);
+  for (const auto& p : in.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  for (std::size_t t = 0; t < in.tets.size(); ++t) {
+    glm::dvec3 c(0.0);
+    for (VertId v : in.tets[t]) c += in.positions[v] / 4.0;
+    const glm::dvec3 cell = glm::min(glm::dvec3(2.999), 3.0 * (c - lo) / (hi - lo));
+    in.tet_material[t] = 1 + static_cast<std::int32_t>(cell.x) + 3 * static_cast<std::int32_t>(cell.y) +
+                         9 * static_cast<std::int32_t>(cell.z);
+  }
+  TetMesh mesh = build_tet_mesh(in);
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.3;
+  const Status status = simplify(mesh, options).status;  // many materials may stop it early
+  EXPECT_TRUE(status == Status::kOk || status == Status::kStoppedEarly);
+  return {std::move(in), mesh.to_mesh_data()};
+}
+
+TEST(SurfaceDistanceReport, OverallValuesAgreeWithTheAccurateModeWithinTheSamplingErrors) {
+  const auto [in, out] = many_material_pair();
+  const SurfaceDistance accurate = surface_distance(in, out);  // every label within 1e-3 diag / sqrt 3
+  const SurfaceDistance report = surface_distance(in, out, report_surface_distance_options());
+  ASSERT_GT(accurate.labels.size(), 20u);
+  ASSERT_EQ(report.labels.size(), accurate.labels.size());
+  const double slack = accurate.sampling_error + report.sampling_error;
+  EXPECT_NEAR(report.original_to_simplified, accurate.original_to_simplified, slack);
+  EXPECT_NEAR(report.simplified_to_original, accurate.simplified_to_original, slack);
+  EXPECT_NEAR(report.hausdorff, accurate.hausdorff, slack);
+  EXPECT_GT(report.hausdorff, 0.0);
+  // Neither mode overestimates: a label's report value is below its truth, which is within the
+  // accurate mode's sampling error of the accurate value.
+  for (std::size_t g = 0; g < report.labels.size(); ++g) {
+    SCOPED_TRACE(report.labels[g].name());
+    EXPECT_LE(report.labels[g].original_to_simplified, accurate.labels[g].original_to_simplified + accurate.sampling_error);
+    EXPECT_LE(report.labels[g].simplified_to_original, accurate.labels[g].simplified_to_original + accurate.sampling_error);
+    EXPECT_EQ(report.labels[g].original_primitives, accurate.labels[g].original_primitives);
+    EXPECT_EQ(report.labels[g].simplified_primitives, accurate.labels[g].simplified_primitives);
+  }
+  EXPECT_LT(report.samples, accurate.samples);
+  // The spacing follows the input's resolution (16 pieces per triangle) when that is coarser.
+  EXPECT_GE(report.sample_spacing, 1e-3 * report.diagonal);
+  EXPECT_DOUBLE_EQ(report.sampling_error, report.sample_spacing / std::sqrt(3.0));
+}
+
+TEST(SurfaceDistanceReport, SameResultForAnyThreadCount) {
+  const auto [in, out] = many_material_pair();
+  for (const SurfaceDistanceOptions& options : {report_surface_distance_options(), SurfaceDistanceOptions{}}) {
+    const SurfaceDistance one = with_threads(1, [&] { return surface_distance(in, out, options); });
+    const SurfaceDistance two = with_threads(2, [&] { return surface_distance(in, out, options); });
+    EXPECT_EQ(one.hausdorff, two.hausdorff);
+    EXPECT_EQ(one.samples, two.samples);
+    ASSERT_EQ(one.labels.size(), two.labels.size());
+    for (std::size_t g = 0; g < one.labels.size(); ++g) {
+      EXPECT_EQ(one.labels[g].original_to_simplified, two.labels[g].original_to_simplified);
+      EXPECT_EQ(one.labels[g].simplified_to_original, two.labels[g].simplified_to_original);
+      EXPECT_EQ(one.labels[g].original_samples, two.labels[g].original_samples);
+    }
+  }
+}
+
+TEST(SurfaceDistanceReport, IdenticalMeshesAreAtDistanceZeroWithFewSamples) {
+  const auto [in, out] = many_material_pair();
+  const SurfaceDistance d = surface_distance(in, in, report_surface_distance_options());
+  EXPECT_LE(d.hausdorff, 1e-12 * d.diagonal);  // midpoints are exact up to rounding
+  EXPECT_EQ(d.unmatched_labels, 0u);
+  std::size_t primitives = 0;
+  for (const LabelDistance& l : d.labels) primitives += l.original_primitives;
+  // Exact matches refine every piece down to the spacing: the resolution bound keeps that linear.
+  EXPECT_LT(d.samples, 40 * primitives);
+}
+
 TEST(MetricsTiming, MillionTets) {
   using Clock = std::chrono::steady_clock;
   auto seconds = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
@@ -418,7 +636,7 @@ TEST(MetricsTiming, MillionTets) {
   const double t_fields = seconds(t0);
   std::printf("[ timing ] compute_quality %zu tets: %.3f s; compare_fields %zu vs %zu tets: %.3f s (%d threads)\n",
               fine.tets.size(), t_quality, fine.tets.size(), coarse.tets.size(), t_fields,
-              tbb::this_task_arena::max_concurrency());
+              current_thread_limit());
   std::printf("[ timing ] dihedral %.2f+-%.2f deg, rms_both_rel %.2e, outside %zu/%zu\n", q.dihedral_deg.mean,
               q.dihedral_deg.std_dev, e.worst_rms_rel, e.original_in_simplified.outside,
               e.original_in_simplified.points);

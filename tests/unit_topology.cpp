@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "test_meshes.h"
 #include "topotet/metrics/topology.h"
 
 namespace topotet::metrics {
@@ -814,6 +815,95 @@ TEST(TopologyCrossCheck, RandomSubcomplexesMatchDenseElimination) {
   EXPECT_GT(nontrivial_b2, 20);
   std::cout << "[ cross-check ] " << complexes_checked << " complexes, " << nontrivial_b1 << " with b1 > 0, "
             << nontrivial_b2 << " with b2 > 0\n";
+}
+
+// ---------------------------------------------------------------------------------------------
+// The manifold fast path (metrics/manifold_betti.h) against the reference reduction.
+
+// Everything but the informative certified-complex count.
+void expect_same_reports(TopologyReport fast, const TopologyReport& reference, const std::string& what) {
+  fast.certified_manifold_count = reference.certified_manifold_count;
+  EXPECT_TRUE(fast == reference) << what << ": " << diff_of(reference, fast);
+}
+
+TEST(TopologyManifoldFastPath, PlantedMeshesMatchTheReduction) {
+  std::uint64_t certified = 0;
+  for (const testing::PlantedMesh& planted : testing::planted_meshes()) {
+    const MeshData m = planted.make().data;
+    const TopologyReport fast = compute_topology(m);
+    const TopologyReport reference = compute_topology(m, {.manifold_fast_path = false});
+    EXPECT_EQ(reference.certified_manifold_count, 0u);
+    certified += fast.certified_manifold_count;
+    expect_same_reports(fast, reference, planted.name);
+  }
+  // The planted meshes are manifolds almost everywhere: the fast path must carry most complexes.
+  EXPECT_GT(certified, 4 * testing::planted_meshes().size());
+}
+
+// Random solids and surfaces: jittered grids with random holes (whole cubes: tunnels, cavities,
+// several components, and pinched edges and vertices where holes meet diagonally), materials split
+// at random planes (interfaces with boundaries and corners), and listed patches of a grid plane
+// with random tets' faces (surfaces with holes, non-manifold fans). Every certified complex must
+// give the reduction's Betti numbers, and both certificates must be accepted and refused often.
+TEST(TopologyManifoldFastPath, RandomSubsetsMatchTheReduction) {
+  std::uint64_t certified = 0, refused = 0, with_loops = 0, with_cavities = 0;
+  constexpr int kN = 5;
+  for (std::uint32_t seed = 1; seed <= 80; ++seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> unit(0, 1);
+    const double hole = 0.35 * unit(rng);
+    const int cut_i = static_cast<int>(rng() % kN), cut_j = static_cast<int>(rng() % kN);
+    std::vector<int> cube_material(kN * kN * kN);
+    for (int& c : cube_material) c = unit(rng) < hole ? -1 : 0;
+    testing::Grid grid = testing::make_grid(
+        kN, kN, kN,
+        [&](int i, int j, int k) {
+          return cube_material[static_cast<std::size_t>(i + kN * (j + kN * k))] < 0 ? -1
+                                                                                   : 1 + (i >= cut_i) + 2 * (j >= cut_j);
+        },
+        0.12, seed);
+    MeshData& m = grid.data;
+    const int plane = 1 + static_cast<int>(rng() % (kN - 1));
+    const auto level = [&](VertId v) { return static_cast<int>(v / ((kN + 1) * (kN + 1))); };
+    for (const auto& t : m.tets)
+      for (int f = 0; f < 4; ++f) {
+        const VertId a = t[(f + 1) % 4], b = t[(f + 2) % 4], c = t[(f + 3) % 4];
+        const bool on_plane = level(a) == plane && level(b) == plane && level(c) == plane;
+        if ((on_plane && unit(rng) < 0.85) || unit(rng) < 0.002)
+          m.triangles.push_back({{a, b, c}, on_plane ? 7 : 8});
+      }
+    const TopologyReport fast = compute_topology(m);
+    const TopologyReport reference = compute_topology(m, {.manifold_fast_path = false});
+    const std::size_t complexes = 6 + reference.materials.size() + reference.surfaces.size() +
+                                  reference.interfaces.size() + reference.polylines.size();
+    certified += fast.certified_manifold_count;
+    refused += complexes - fast.certified_manifold_count;
+    expect_same_reports(fast, reference, "seed " + std::to_string(seed));
+    for (const ComplexTopology* t : {&reference.mesh, &reference.boundary}) {
+      with_loops += t->betti[1] > 0;
+      with_cavities += t->betti[2] > 0;
+    }
+  }
+  EXPECT_GT(certified, 300u);
+  EXPECT_GT(refused, 100u);
+  EXPECT_GT(with_loops, 40u);    // tunnels through the solid, handles on its boundary
+  EXPECT_GT(with_cavities, 40u);  // cavities, several boundary components
+  std::cout << "[ fast path ] " << certified << " complexes certified, " << refused << " by the reduction; "
+            << with_loops << " with b1 > 0, " << with_cavities << " with b2 > 0\n";
+}
+
+// A solid whose coordinates put tets on top of each other is no embedding: the solid certificate
+// is not tried when a tet is inverted, and the answers stay the reduction's.
+TEST(TopologyManifoldFastPath, InvertedTetsKeepSolidsOnTheReduction) {
+  MeshData m = full_grid(3, 3, 2);
+  std::swap(m.tets[5][0], m.tets[5][1]);  // inverted, still the same combinatorial ball
+  const TopologyReport fast = compute_topology(m);
+  const TopologyReport reference = compute_topology(m, {.manifold_fast_path = false});
+  expect_same_reports(fast, reference, "inverted tet");
+  EXPECT_EQ(fast.inverted_tet_count, 1u);
+  // Only surfaces (boundary, all surfaces, features...) may be certified, never the mesh.
+  MeshData valid = full_grid(3, 3, 2);
+  EXPECT_GT(compute_topology(valid).certified_manifold_count, fast.certified_manifold_count);
 }
 
 // ---------------------------------------------------------------------------------------------

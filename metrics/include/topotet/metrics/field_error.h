@@ -20,13 +20,14 @@
 //    coordinates are then within [0, 1]). LocationStats count them and the largest distance.
 //  - Relative errors divide by the component's range (max - min over the used original vertices),
 //    so numbers compare across datasets; a constant component (range 0) divides by 1 instead.
-//  - Point location uses a uniform grid over the tets' bounding boxes, built and queried in
+//  - Point location uses a bounding volume hierarchy (Embree) over the tets' boxes, queried in
 //    parallel; the result is bit-identical for any thread count.
 //  - If either mesh has no tets, or no field matches, nothing is located and `components` is
 //    empty.
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -75,8 +76,26 @@ struct FieldError {
 };
 
 // Compares every field present in both meshes (see above). Uses positions, tets and fields.
-// Throws InputError (topotet/error.h) if a tet has a vertex index out of range or a field's
-// value count is not vertex_count * components.
+// Throws InputError (topotet/error.h) if a tet has a vertex index out of range or a non-finite
+// vertex, or a field's value count is not vertex_count * components.
 FieldError compare_fields(const MeshData& original, const MeshData& simplified);
+
+// The original prepared once (its checked tets, its used vertices, and its point locator, built
+// on the first comparison that needs it), for comparing several simplified meshes with it, as
+// `simplify --levels` does: compare() gives what compare_fields gives. `original` must outlive
+// it. compare() may run concurrently.
+class FieldErrorReference {
+ public:
+  explicit FieldErrorReference(const MeshData& original);  // throws InputError like compare_fields
+  ~FieldErrorReference();
+  FieldErrorReference(const FieldErrorReference&) = delete;
+  FieldErrorReference& operator=(const FieldErrorReference&) = delete;
+
+  FieldError compare(const MeshData& simplified) const;
+
+ private:
+  struct Prepared;
+  std::unique_ptr<Prepared> prepared_;
+};
 
 }  // namespace topotet

@@ -17,6 +17,15 @@
 //   embedded      all surfaces, all polylines and the pinned vertices (corners, required vertices)
 //   features      the boundary together with the embedded structure: catches a substructure that
 //                 comes to touch the boundary (or the boundary pinching onto a substructure)
+// Betti numbers: a complex certified to be a surface (every edge in at most 2 triangles, the
+// triangles around every vertex one fan) or a solid (every triangle in at most 2 tets, the tets
+// around every edge one fan, every vertex link a sphere or a disk) gets them from counts: Euler
+// characteristic, components, closed components (surfaces), boundary components (solids, whose
+// b2 = boundary components - components follows from Alexander duality in R^3: this path runs
+// only when every tet is positively oriented, and it takes the mesh's coordinates as an
+// embedding, which tets overlapping elsewhere would break). Every other complex is reduced and
+// eliminated over Z2. metrics/manifold_betti.h has the details.
+//
 // Elements with a vertex index out of range or a repeated vertex are counted as invalid and left
 // out of every complex; a tet with the same vertex set as an earlier one is counted as a duplicate
 // and left out. Material ids, refs and vertex refs are otherwise taken as they are; `ridges` only
@@ -67,6 +76,8 @@ struct TopologyReport {
                                                 // an index out of range or a repeated vertex
   std::uint64_t detached_triangle_count = 0;    // listed triangles that are not a face of any tet
   std::uint64_t detached_segment_count = 0;     // listed segments that are not an edge of any tet
+  std::uint64_t certified_manifold_count = 0;   // complexes computed by the manifold fast path
+                                                // (informative; same_topology ignores it)
   friend bool operator==(const TopologyReport&, const TopologyReport&) = default;
 };
 
@@ -76,12 +87,16 @@ struct TopologyOptions {
   // dimension, and b1 = b0 - chi for graphs (polylines, and the embedded structure when it has
   // no triangles).
   bool fast = false;
+  // Exact Betti numbers without elimination for the complexes certified to be manifolds (see
+  // below); false runs the reference reduction and elimination on every complex (the tests
+  // compare both).
+  bool manifold_fast_path = true;
 };
 
 // Computes every complex of the report. Never throws on bad input (faults are counted instead);
 // throws std::bad_alloc when out of memory and std::length_error beyond 32-bit ids (meshes of
 // more than about 300M tets). Thread-safe (scratch is per thread); runs the complexes in parallel
-// for meshes of 100k tets or more, with the same result as sequentially.
+// for meshes of 20k tets or more, with the same result as sequentially.
 TopologyReport compute_topology(const MeshData& mesh, const TopologyOptions& options = {});
 
 // True iff `after` has the topology of `before`: same complexes (same material ids, refs,
