@@ -198,7 +198,9 @@ class Rounds {
         mesh_.vertex_capacity(), candidates_,
         [&](std::size_t a) {
           const VertId x = static_cast<VertId>(a);
-          return proposals_.rank_cost(x) <= threshold_.cost && proposals_.ranked(x) < threshold_;
+          // (An infinite threshold lets every proposal compete, but never a vertex without one.)
+          return std::isfinite(proposals_.rank_cost(x)) && proposals_.rank_cost(x) <= threshold_.cost &&
+                 proposals_.ranked(x) < threshold_;
         },
         [](std::size_t a) { return static_cast<VertId>(a); });
   }

@@ -124,6 +124,27 @@ TEST(Simplify, OutputDoesNotDependOnTheInputNumbering) {
   EXPECT_TRUE(outputs[0] == outputs[1]);
 }
 
+// The end game: with very few proposals left the round threshold becomes infinite (everything
+// competes); vertices without a proposal must still stay out. Many small materials stop the run
+// early with few proposals left (a crash here once).
+TEST(Simplify, EndGameWithFewProposalsLeft) {
+  testing::Grid g = testing::make_grid(9, 9, 9, [](int i, int j, int k) { return 1 + i / 3 + 3 * (j / 3) + 9 * (k / 3); });
+  testing::add_linear_field(g);
+  for (Engine engine : {Engine::kSequential, Engine::kParallel}) {
+    TetMesh mesh = build_tet_mesh(g.data);
+    const auto before = metrics::compute_topology(mesh.to_mesh_data());
+    SimplifyOptions options;
+    options.engine = engine;
+    options.target_vertices = 4;  // unreachable: the run goes until no legal collapse is left
+    const Report report = simplify(mesh, options);
+    EXPECT_EQ(report.status, Status::kStoppedEarly) << report.message;
+    std::string differences;
+    EXPECT_TRUE(metrics::same_topology(before, metrics::compute_topology(mesh.to_mesh_data()), &differences))
+        << differences;
+    EXPECT_LT(report.vertices_after, report.vertices_before / 2);
+  }
+}
+
 TEST(Simplify, InvalidOptionsAreReportedNotThrown) {
   testing::Grid g = testing::make_grid(3, 3, 3, [](int, int, int) { return 1; });
   TetMesh mesh = build_tet_mesh(g.data);
