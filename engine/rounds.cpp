@@ -311,7 +311,7 @@ class Rounds {
       }
       return s.stencil;
     };
-    parallel::for_range<std::size_t>(0, n, 256, "gather_stencils", [&](std::size_t b, std::size_t e) {
+    parallel::for_range<std::size_t>(0, n, 64, "gather_stencils", [&](std::size_t b, std::size_t e) {
       ThreadScratch& s = scratch_.local();
       for (std::size_t i = b; i < e; ++i) {
         const std::vector<VertId>& stencil = stencil_into(i, s);
@@ -324,7 +324,7 @@ class Rounds {
     for (std::size_t i = 0; i < n; ++i) stencil_offsets_[i + 1] += stencil_offsets_[i];
     stencils_.resize(stencil_offsets_[n]);
     stats.serial_seconds += since(serial_start);
-    parallel::for_range<std::size_t>(0, n, 1024, "flatten_stencils", [&](std::size_t b, std::size_t e) {
+    parallel::for_range<std::size_t>(0, n, 256, "flatten_stencils", [&](std::size_t b, std::size_t e) {
       ThreadScratch& s = scratch_.local();
       for (std::size_t i = b; i < e; ++i) {
         if (sizes_[i] <= kSlot) {

@@ -35,7 +35,9 @@ class Reservations {
     for (std::size_t r = 0; r < resource_count; ++r) owner_[r].store(kFree, std::memory_order_relaxed);
   }
 
-  // `winners` receives the winning items in ascending order.
+  // `winners` receives the winning items in ascending order. The grains are small: a round has a
+  // few hundred items, each touching a few dozen resources, and every loop must spread over the
+  // threads (otherwise the selection is the round's serial part).
   void select(const std::vector<std::uint32_t>& offsets, const std::vector<std::uint32_t>& stencils, int passes,
               std::vector<std::uint32_t>& winners) {
     const std::size_t n = offsets.empty() ? 0 : offsets.size() - 1;
@@ -44,7 +46,7 @@ class Reservations {
       return std::pair(stencils.data() + offsets[i], stencils.data() + offsets[i + 1]);
     };
     for (int pass = 0; pass < passes; ++pass) {
-      for_range<std::size_t>(0, n, 256, "reserve", [&](std::size_t b, std::size_t e) {
+      for_range<std::size_t>(0, n, 64, "reserve", [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
           if (state_[i] != kUndecided) continue;
           const auto [first, last] = resources(i);
@@ -66,7 +68,7 @@ class Reservations {
         }
       });
       std::atomic<std::uint64_t> new_winners{0};
-      for_range<std::size_t>(0, n, 1024, "check_reservations", [&](std::size_t b, std::size_t e) {
+      for_range<std::size_t>(0, n, 128, "check_reservations", [&](std::size_t b, std::size_t e) {
         std::uint64_t won = 0;
         for (std::size_t i = b; i < e; ++i) {
           if (state_[i] != kUndecided) continue;
@@ -81,7 +83,7 @@ class Reservations {
         new_winners.fetch_add(won, std::memory_order_relaxed);  // a count, read after the join
       });
       // Winners claim their resources (disjoint: plain writes); every reservation is released.
-      for_range<std::size_t>(0, n, 1024, "claim_and_release", [&](std::size_t b, std::size_t e) {
+      for_range<std::size_t>(0, n, 128, "claim_and_release", [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
           if (state_[i] == kBlocked) continue;
           const auto [first, last] = resources(i);
