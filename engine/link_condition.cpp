@@ -274,20 +274,36 @@ VertexOrders classify_vertex(const TetMesh& mesh, VertId a, VertexData& d, LinkS
   d.neighbours.clear();
   d.non_manifold = false;
 
+  // One walk over St(a) (in chain order: ascending tet ids) collects a's neighbours, the faces
+  // through a (grouped below by their two other vertices) and the polyline edges at a.
   auto& nbv = scratch.tmp_vertices;
-  mesh.neighbours(a, nbv);
-  for (VertId x : nbv) d.neighbours.push_back(Neighbour{x, {0, 0}, {0, 0}, false, false, 0, {}});
-
-  // The faces through a, in chain order (ascending tet ids), grouped by their two other vertices.
+  nbv.clear();
+  scratch.vertex_slots.resize(probe_slots_for(3 * static_cast<std::size_t>(mesh.v2t_count[a])));
+  ProbeSet<VertId> seen(scratch.vertex_slots);
+  auto& polylines = scratch.polyline_ends;  // (other end, ref), in chain order
+  polylines.clear();
+  prefetch_star(mesh, a);
   mesh.for_each_tet_of(a, [&](TetId t) {
     const auto& v = mesh.tets[t];
     const int la = local_of(v, a);
+    for (int k = 0; k < 4; ++k)
+      if (k != la && seen.insert(v[k]).second) nbv.push_back(v[k]);
     for (int f = 0; f < 4; ++f) {
       if (f == la) continue;
       const auto& o = kFaceOthers[la][f];
       d.recs.push_back({pack(v[o[0]], v[o[1]]), t, static_cast<std::uint8_t>(f)});
     }
+    const TetFlags fl = mesh.flags[t];
+    if (!(fl & tet_flag::kPolylineEdges)) return;
+    for (int e = 0; e < 6; ++e) {
+      if (!is_polyline_edge(fl, e) || (kTetEdges[e][0] != la && kTetEdges[e][1] != la)) continue;
+      polylines.push_back({v[kTetEdges[e][0] == la ? kTetEdges[e][1] : kTetEdges[e][0]],
+                           mesh.refs_table[mesh.tet_refs_slot[t]].edge[e]});
+    }
   });
+  std::sort(nbv.begin(), nbv.end());
+  for (VertId x : nbv) d.neighbours.push_back(Neighbour{x, {0, 0}, {0, 0}, false, false, 0, {}});
+
   scratch.face_slots.resize(probe_slots_for(d.recs.size()));
   scratch.slot_group.resize(scratch.face_slots.size());
   ProbeSet<std::uint64_t> faces(scratch.face_slots);
@@ -333,18 +349,11 @@ VertexOrders classify_vertex(const TetMesh& mesh, VertId a, VertexData& d, LinkS
     }
   }
 
-  mesh.for_each_tet_of(a, [&](TetId t) {
-    const TetFlags fl = mesh.flags[t];
-    if (!(fl & tet_flag::kPolylineEdges)) return;
-    const auto& v = mesh.tets[t];
-    const int la = local_of(v, a);
-    for (int e = 0; e < 6; ++e) {
-      if (!is_polyline_edge(fl, e) || (kTetEdges[e][0] != la && kTetEdges[e][1] != la)) continue;
-      Neighbour* nb = find_neighbour(d, v[kTetEdges[e][0] == la ? kTetEdges[e][1] : kTetEdges[e][0]]);
-      nb->polyline = true;
-      nb->polyline_ref = mesh.refs_table[mesh.tet_refs_slot[t]].edge[e];
-    }
-  });
+  for (const auto& [x, ref] : polylines) {  // the last tet in chain order gives the ref
+    Neighbour* nb = find_neighbour(d, x);
+    nb->polyline = true;
+    nb->polyline_ref = ref;
+  }
 
   for (Neighbour& nb : d.neighbours) {
     const std::uint8_t ck = nb.count[kFiltrationK], ckt = nb.count[kFiltrationKtilde];

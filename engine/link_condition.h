@@ -99,6 +99,8 @@ struct LinkScratch {
   };
   std::vector<FaceGroup> face_groups;
   std::vector<std::uint64_t> face_slots;   // probe set storage for the face grouping
+  std::vector<VertId> vertex_slots;        // probe set storage for the neighbours
+  std::vector<std::pair<VertId, std::int32_t>> polyline_ends;  // polyline edges at the vertex
   std::vector<std::uint32_t> slot_group;   // face slot -> index into face_groups
   std::vector<VertId> common;  // common neighbours of a and b (other than a, b)
   std::vector<std::uint64_t> pairs_a, pairs_b, pairs_ab;
