@@ -67,31 +67,28 @@ class Reservations {
           }
         }
       });
+      // Decide: an item that owns every one of its resources wins and claims them. Each item
+      // then frees the reservations it holds (exactly one item holds each reserved resource, so
+      // all are free again after the loop). Freeing early cannot change another item's verdict:
+      // an item only ever compares the owner with its own rank, and nobody else writes it.
       std::atomic<std::uint64_t> new_winners{0};
-      for_range<std::size_t>(0, n, 128, "check_reservations", [&](std::size_t b, std::size_t e) {
+      for_range<std::size_t>(0, n, 128, "decide", [&](std::size_t b, std::size_t e) {
         std::uint64_t won = 0;
         for (std::size_t i = b; i < e; ++i) {
           if (state_[i] != kUndecided) continue;
           const auto [first, last] = resources(i);
           bool ok = true;
           for (const std::uint32_t* r = first; r != last && ok; ++r) ok = owner_[*r].load(std::memory_order_relaxed) == i;
+          for (const std::uint32_t* r = first; r != last; ++r) {
+            if (owner_[*r].load(std::memory_order_relaxed) == i) owner_[*r].store(kFree, std::memory_order_relaxed);
+            if (ok) claimed_[*r] = 1;  // disjoint from every other winner's: plain writes
+          }
           if (ok) {
             state_[i] = kWon;
             ++won;
           }
         }
         new_winners.fetch_add(won, std::memory_order_relaxed);  // a count, read after the join
-      });
-      // Winners claim their resources (disjoint: plain writes); every reservation is released.
-      for_range<std::size_t>(0, n, 128, "claim_and_release", [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
-          if (state_[i] == kBlocked) continue;
-          const auto [first, last] = resources(i);
-          for (const std::uint32_t* r = first; r != last; ++r) {
-            owner_[*r].store(kFree, std::memory_order_relaxed);
-            if (state_[i] == kWon) claimed_[*r] = 1;
-          }
-        }
       });
       if (new_winners.load() == 0) break;
     }
