@@ -103,7 +103,9 @@ struct Placement {
 bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& scratch);
 
 // May v be merged into u, with u moved to p? Pure: reads the mesh only. Checks, cheapest first:
-// pinned, inversion, link conditions of K and K~, quality, then the tolerance (options.surfaces).
+// pinned, inversion and quality (one pass over the tets that move), the link conditions of K and
+// K~, then the tolerance (options.surfaces). When both inversion and a link condition fail, the
+// reason is inversion.
 // On success scratch.star_u/star_v/star_uv hold the stars for collapse().
 CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
                             const CollapseOptions& options, CollapseScratch& scratch);
