@@ -107,7 +107,7 @@ void throw_input_error(const std::string& file, const std::string& message) {
   throw InputError(prefix_file(file, message));
 }
 
-MeshData read_input(const std::string& path, double* seconds) {
+MeshData read_input(const std::string& path, double* seconds, const ReadOptions& options) {
   const Stopwatch clock;
   // The readers name the file in their errors; a missing file is checked here so that the message
   // is the usual one whatever the reader does.
@@ -115,7 +115,22 @@ MeshData read_input(const std::string& path, double* seconds) {
   if (!std::filesystem::exists(path, ec)) throw_input_error(path, "no such file");
   MeshData data;
   try {
-    data = read_mesh(path);
+    ReadNotes notes;
+    data = read_mesh(path, options, &notes);
+    if (notes.volume_cells() != 0) {
+      std::string what;
+      const auto add = [&](std::uint64_t n, const char* kind) {
+        if (n == 0) return;
+        what += (what.empty() ? "" : ", ") + std::to_string(n) + " " + kind;
+      };
+      add(notes.hexahedra, "hexahedra");
+      add(notes.prisms, "prisms");
+      add(notes.pyramids, "pyramids");
+      print_warning(path, "--tets-only: left out " + what + "; the output mesh covers the tets only");
+    }
+    if (notes.quadrilaterals != 0)
+      print_warning(path, "left out " + std::to_string(notes.quadrilaterals) +
+                              " quadrilaterals (a quadrilateral is never a face of a tet)");
   } catch (const InputError& e) {
     throw_input_error(path, e.what());
   }
@@ -123,10 +138,49 @@ MeshData read_input(const std::string& path, double* seconds) {
   return data;
 }
 
-TetMesh build_input(const std::string& label, const MeshData& data, double* seconds) {
+void print_warning(const std::string& file, const std::string& message) {
+  std::string line = prefix_file(file, message);
+  for (char& c : line)
+    if (c == '\n' || c == '\r') c = ' ';
+  std::fprintf(stderr, "topotet: warning: %s\n", line.c_str());
+}
+
+namespace {
+
+void warn_about(const std::string& label, const BuildNotes& notes) {
+  const auto count = [](std::size_t n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+  };
+  if (!notes.repeated_triangles.empty())
+    print_warning(label, count(notes.repeated_triangles.size(), "triangle is", "triangles are") +
+                             " listed again with the same vertices and ref (first: triangle " +
+                             std::to_string(notes.repeated_triangles.front()) + "); each is kept once");
+  if (!notes.repeated_segments.empty())
+    print_warning(label, count(notes.repeated_segments.size(), "edge is", "edges are") +
+                             " listed again with the same vertices and ref (first: edge " +
+                             std::to_string(notes.repeated_segments.front()) + "); each is kept once");
+  if (!notes.detached_triangles.empty())
+    print_warning(label, count(notes.detached_triangles.size(), "listed triangle is", "listed triangles are") +
+                             " not a face of any tet (first: triangle " +
+                             std::to_string(notes.detached_triangles.front()) +
+                             "); left out: they lie outside the tetrahedral mesh");
+  if (!notes.detached_segments.empty())
+    print_warning(label, count(notes.detached_segments.size(), "listed edge is", "listed edges are") +
+                             " not an edge of any tet (first: edge " + std::to_string(notes.detached_segments.front()) +
+                             "); left out: they lie outside the tetrahedral mesh");
+}
+
+}  // namespace
+
+TetMesh build_input(const std::string& label, const MeshData& data, double* seconds, BuildNotes* notes) {
   const Stopwatch clock;
   try {
-    TetMesh mesh = build_tet_mesh(data);
+    BuildOptions options;
+    options.skip_detached_substructures = true;
+    BuildNotes local_notes;
+    TetMesh mesh = build_tet_mesh(data, options, &local_notes);
+    warn_about(label, local_notes);
+    if (notes) *notes = std::move(local_notes);
     if (seconds) *seconds = clock.seconds();
     return mesh;
   } catch (const InputError& e) {

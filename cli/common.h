@@ -22,6 +22,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "topotet/io.h"
 #include "topotet/mesh_data.h"
 #include "topotet/simplify.h"
 #include "topotet/tet_mesh.h"
@@ -52,6 +53,7 @@ struct SimplifyJob {
   std::vector<double> levels;  // descending vertex ratios; empty = one run with `options`
   std::string output_path;     // empty = write nothing
   bool binary = false;         // WriteOptions::binary
+  bool msh22 = false;          // WriteOptions::msh22
   std::string report_path;     // empty = no JSON report
   bool verify = true;        // run the topology checker (--no-verify skips only it)
   bool metrics = true;       // measure quality, field error, distance and topology (--no-metrics: none)
@@ -86,9 +88,17 @@ int hardware_threads();
 [[noreturn]] void throw_input_error(const std::string& file, const std::string& message);
 std::string prefix_file(const std::string& file, const std::string& message);
 
-// read_mesh / build_tet_mesh with the file named in every error.
-MeshData read_input(const std::string& path, double* seconds = nullptr);
-TetMesh build_input(const std::string& label, const MeshData& data, double* seconds = nullptr);
+// One line on stderr: "topotet: warning: <file>: <message>".
+void print_warning(const std::string& file, const std::string& message);
+
+// read_mesh / build_tet_mesh with the file named in every error. build_input leaves out listed
+// triangles and segments that are not on any tet, and keeps a repeated one (same element, same
+// ref) once, with one warning line each (BuildOptions::skip_detached_substructures says why);
+// `notes` receives what was left out, for drop_noted_substructures.
+// read_input warns about the cells it left out (ReadNotes; mixed meshes need tets_only).
+MeshData read_input(const std::string& path, double* seconds = nullptr, const ReadOptions& options = {});
+TetMesh build_input(const std::string& label, const MeshData& data, double* seconds = nullptr,
+                    BuildNotes* notes = nullptr);
 
 // The values of --levels (CLI11 splits "0.5,0.3,0.1" at the commas): checks each is in (0, 1],
 // sorts them descending and drops repeats. Throws InputError on a bad value.

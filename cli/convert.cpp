@@ -14,17 +14,22 @@ struct ConvertArgs {
   std::string output;
   bool binary = false;
   bool validate = false;
+  bool tets_only = false;
+  bool msh22 = false;
 };
 
 int run_convert(const ConvertArgs& args) {
   format_from_path(args.output);  // an unknown output extension fails before reading
   check_output_folder(args.output);
   double read_seconds = 0.0, build_seconds = 0.0;
-  const MeshData mesh = read_input(args.input, &read_seconds);
+  ReadOptions read_options;
+  read_options.tets_only = args.tets_only;
+  const MeshData mesh = read_input(args.input, &read_seconds, read_options);
   if (args.validate) build_input(args.input, mesh, &build_seconds);
   const Stopwatch write_clock;
   WriteOptions options;
   options.binary = args.binary;
+  options.msh22 = args.msh22;
   write_mesh(args.output, mesh, options);
   const double write_seconds = write_clock.seconds();
   std::printf("%s -> %s: %s vertices, %s tets, %s triangles, %s edges, %zu field%s\n", args.input.c_str(),
@@ -47,6 +52,9 @@ void add_convert_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("OUT", args->output, "Output mesh")->required();
   cmd->add_flag("--binary", args->binary, "Binary Gmsh 4.1 / raw appended VTU data");
   cmd->add_flag("--validate", args->validate, "Build the model first: refuse invalid meshes (exit 2)");
+  cmd->add_flag("--msh22", args->msh22, "Write .msh as Gmsh 2.2 ASCII (for tools that read only the old format)")
+      ->excludes("--binary");
+  cmd->add_flag("--tets-only", args->tets_only, "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) instead of refusing it");
   cmd->callback([args, &run] { run = [args] { return run_convert(*args); }; });
 }
 

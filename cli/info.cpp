@@ -18,6 +18,7 @@ namespace {
 struct InfoArgs {
   std::string input;
   std::string json_path;
+  bool tets_only = false;
 };
 
 template <class Element>
@@ -50,7 +51,9 @@ Json counts_json(const std::map<std::int32_t, std::uint64_t>& counts) {
 int run_info(const InfoArgs& args) {
   check_output_folder(args.json_path);
   double read_seconds = 0.0;
-  const MeshData data = read_input(args.input, &read_seconds);
+  ReadOptions read_options;
+  read_options.tets_only = args.tets_only;
+  const MeshData data = read_input(args.input, &read_seconds, read_options);
 
   const auto materials = [&] {
     std::map<std::int32_t, std::uint64_t> out;
@@ -182,6 +185,7 @@ void add_info_command(CLI::App& app, CommandRunner& run) {
                                              "memory per tet; validates by building the model (exit 2 if invalid).");
   cmd->add_option("FILE", args->input, "Mesh file (.mesh, .msh, optionally .gz)")->required();
   cmd->add_option("--json", args->json_path, "Also write the numbers as JSON to this file");
+  cmd->add_flag("--tets-only", args->tets_only, "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) instead of refusing it");
   cmd->callback([args, &run] { run = [args] { return run_info(*args); }; });
 }
 

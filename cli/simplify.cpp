@@ -262,7 +262,10 @@ int run_simplify_job(SimplifyJob& job) {
   int exit_code = kExitOk;
   run_with_thread_limit(job.options.num_threads, [&] {
     double build_seconds = 0.0;
-    TetMesh mesh = build_input(job.input_label, job.input, &build_seconds);
+    BuildNotes notes;
+    TetMesh mesh = build_input(job.input_label, job.input, &build_seconds, &notes);
+    // The checker must compare the output with what the model holds, not with left-out elements.
+    drop_noted_substructures(job.input, notes);
     const std::size_t model_bytes = mesh.memory_bytes();
     const std::uint64_t vertices_in = job.input.vertex_count(), tets_in = job.input.tet_count();
 
@@ -297,6 +300,7 @@ int run_simplify_job(SimplifyJob& job) {
         const Stopwatch write_clock;
         WriteOptions write_options;
         write_options.binary = job.binary;
+        write_options.msh22 = job.msh22;
         write_mesh(result.output_path, result.output, write_options);
         result.write_seconds = write_clock.seconds();
       }
@@ -488,13 +492,17 @@ struct SimplifyArgs {
   std::vector<double> levels;
   bool quiet = false;
   bool binary = false;
+  bool tets_only = false;
+  bool msh22 = false;
 };
 
 int run_simplify(const SimplifyArgs& args) {
   SimplifyJob job;
   job.levels = normalize_levels(args.levels);
   job.input_label = args.input;
-  job.input = read_input(args.input, &job.read_seconds);
+  ReadOptions read_options;
+  read_options.tets_only = args.tets_only;
+  job.input = read_input(args.input, &job.read_seconds, read_options);
   job.options.target_vertex_ratio = args.ratio;
   job.options.target_vertices = args.target_vertices;
   job.options.max_cost = args.max_cost;
@@ -506,6 +514,7 @@ int run_simplify(const SimplifyArgs& args) {
   job.options.round_fraction = args.round_fraction;
   job.output_path = args.output;
   job.binary = args.binary;
+  job.msh22 = args.msh22;
   job.report_path = args.report;
   job.verify = !args.no_verify;
   job.metrics = !args.no_metrics;
@@ -561,6 +570,9 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
   ratio->excludes(target);
   cmd->add_flag("--quiet", args->quiet, "No report and no progress bar (errors and a topology FAIL still print)");
   cmd->add_flag("--binary", args->binary, "Binary Gmsh 4.1 / raw appended VTU data");
+  cmd->add_flag("--msh22", args->msh22, "Write .msh as Gmsh 2.2 ASCII (for tools that read only the old format)")
+      ->excludes("--binary");
+  cmd->add_flag("--tets-only", args->tets_only, "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) instead of refusing it");
   cmd->callback([args, &run] { run = [args] { return run_simplify(*args); }; });
 }
 

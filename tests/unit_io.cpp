@@ -89,7 +89,8 @@ std::set<std::int32_t> ref_set(const std::vector<T>& items) {
 }
 
 // Exact comparison, member by member for readable failures; positions and field values bit for bit.
-void expect_same_mesh(const MeshData& a, const MeshData& b, const std::string& what) {
+// MEDIT has no group names: `with_names` = false compares everything else.
+void expect_same_mesh(const MeshData& a, const MeshData& b, const std::string& what, bool with_names = true) {
   SCOPED_TRACE(what);
   ASSERT_EQ(a.positions.size(), b.positions.size());
   const auto same_bytes = [](const auto& x, const auto& y) {
@@ -111,7 +112,15 @@ void expect_same_mesh(const MeshData& a, const MeshData& b, const std::string& w
     ASSERT_EQ(a.fields[i].values.size(), b.fields[i].values.size());
     EXPECT_TRUE(same_bytes(a.fields[i].values, b.fields[i].values)) << "field " << a.fields[i].name << " values differ";
   }
-  EXPECT_TRUE(a == b);
+  if (with_names) {
+    EXPECT_TRUE(a.group_names == b.group_names) << "group names differ";
+    EXPECT_TRUE(a == b);
+  } else {
+    MeshData a2 = a, b2 = b;
+    a2.group_names.clear();
+    b2.group_names.clear();
+    EXPECT_TRUE(a2 == b2);
+  }
 }
 
 // A small mesh with every kind of data MeshData holds.
@@ -188,14 +197,16 @@ TEST_P(SharedData, RoundTripsAreExact) {
   const MeshData original = read_mesh(shared(c.file));
   TempDir dir;
   write_mesh(dir.file("a.mesh"), original);
-  expect_same_mesh(original, read_mesh(dir.file("a.mesh")), "via .mesh");
+  expect_same_mesh(original, read_mesh(dir.file("a.mesh")), "via .mesh", false);
   write_mesh(dir.file("a.msh"), original);
   const MeshData via_msh = read_mesh(dir.file("a.msh"));
   expect_same_mesh(original, via_msh, "via .msh");
   write_mesh(dir.file("b.msh"), original, WriteOptions{.binary = true});
   expect_same_mesh(original, read_mesh(dir.file("b.msh")), "via binary .msh");
   write_mesh(dir.file("c.mesh"), via_msh);
-  expect_same_mesh(original, read_mesh(dir.file("c.mesh")), "via .msh then .mesh");
+  expect_same_mesh(original, read_mesh(dir.file("c.mesh")), "via .msh then .mesh", false);
+  write_mesh(dir.file("d.msh"), original, WriteOptions{.msh22 = true});
+  expect_same_mesh(original, read_mesh(dir.file("d.msh")), "via .msh 2.2");
 }
 
 std::string shared_case_name(const ::testing::TestParamInfo<SharedCase>& param) {
@@ -569,7 +580,14 @@ const char* kGmsh41 =
 TEST(Gmsh, Msh41SparseTagsEntitiesUnknownSectionsAndIgnoredElements) {
   TempDir dir;
   write_text(dir.file("a.msh"), kGmsh41);
-  const MeshData m = read_mesh(dir.file("a.msh"));
+  // The hexahedron makes it a mixed mesh: refused, naming the line of its block...
+  expect_input_error(dir.file("a.msh"), ":41:", "1 hexahedra: topotet simplifies tetrahedral meshes only");
+  // ...or left out and counted.
+  ReadNotes notes;
+  const MeshData m = read_mesh(dir.file("a.msh"), ReadOptions{.tets_only = true}, &notes);
+  EXPECT_EQ(notes.hexahedra, 1u);
+  EXPECT_EQ(notes.volume_cells(), 1u);
+  EXPECT_EQ(m.group_names, (std::vector<GroupName>{{3, 5, "solid part"}}));
   ASSERT_EQ(m.vertex_count(), 5u);
   EXPECT_EQ(m.positions[4], glm::dvec3(1, 1, 1));
   EXPECT_EQ(m.tets, (std::vector<std::array<VertId, 4>>{{0, 1, 2, 3}, {1, 2, 3, 4}}));
@@ -579,6 +597,113 @@ TEST(Gmsh, Msh41SparseTagsEntitiesUnknownSectionsAndIgnoredElements) {
   ASSERT_EQ(m.fields.size(), 1u);
   EXPECT_EQ(m.fields[0].name, "temperature");
   EXPECT_EQ(m.fields[0].values, (std::vector<double>{1.5, 0, 0, 0, 2.5}));
+}
+
+// A surface in two physical groups: each triangle comes out once per group.
+TEST(Gmsh, SurfaceInTwoPhysicalGroupsListsItsTrianglesForEach) {
+  TempDir dir;
+  write_text(dir.file("a.msh"),
+             "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+             "$PhysicalNames\n2\n2 10 \"walls\"\n2 20 \"cut\"\n$EndPhysicalNames\n"
+             "$Entities\n0 0 1 1\n"
+             "7 0 0 0 1 1 0 2 10 20 0\n"
+             "3 0 0 0 1 1 1 1 5 0\n"
+             "$EndEntities\n"
+             "$Nodes\n1 4 1 4\n3 3 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n"
+             "$Elements\n2 2 1 2\n3 3 4 1\n1 1 2 3 4\n2 7 2 1\n2 1 2 3\n$EndElements\n");
+  const MeshData m = read_mesh(dir.file("a.msh"));
+  EXPECT_EQ(m.triangles, (std::vector<Triangle>{{{0, 1, 2}, 10}, {{0, 1, 2}, 20}}));
+  EXPECT_EQ(m.group_names, (std::vector<GroupName>{{2, 10, "walls"}, {2, 20, "cut"}}));
+  // Both refs survive .msh and MSH 2.2 out and in (2.2 repeats the element per group).
+  for (const bool msh22 : {false, true}) {
+    write_mesh(dir.file("b.msh"), m, WriteOptions{.msh22 = msh22});
+    expect_same_mesh(m, read_mesh(dir.file("b.msh")), msh22 ? "2.2" : "4.1");
+  }
+  const std::string text = read_text(dir.file("b.msh"));
+  EXPECT_NE(text.find("2 10 \"walls\""), std::string::npos) << text;
+}
+
+// The same element listed twice with one group in MSH 2.2 is a repeat, not a second surface;
+// a copy for a flag-only group (our ridges) just marks the first copy.
+TEST(Gmsh, Msh22CopiesPerGroup) {
+  TempDir dir;
+  write_text(dir.file("a.msh"),
+             "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+             "$PhysicalNames\n1\n1 9 \"topotet:ridges\"\n$EndPhysicalNames\n"
+             "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n"
+             "$Elements\n7\n"
+             "1 4 2 1 1 1 2 3 4\n"
+             "2 2 2 10 7 1 2 3\n3 2 2 20 7 1 2 3\n4 2 2 20 7 1 2 3\n"
+             "5 1 2 3 4 1 2\n6 1 2 9 4 1 2\n7 1 2 3 4 2 3\n"
+             "$EndElements\n");
+  const MeshData m = read_mesh(dir.file("a.msh"));
+  EXPECT_EQ(m.triangles, (std::vector<Triangle>{{{0, 1, 2}, 10}, {{0, 1, 2}, 20}}));
+  EXPECT_EQ(m.segments, (std::vector<Segment>{{{0, 1}, 3}, {{1, 2}, 3}}));
+  EXPECT_EQ(m.ridges, (std::vector<std::uint32_t>{0}));
+}
+
+// One element block per entity, however the elements are interleaved.
+TEST(Gmsh, OneElementBlockPerEntity) {
+  TempDir dir;
+  MeshData m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+  m.tets = {{0, 1, 2, 3}, {1, 2, 3, 4}, {0, 1, 2, 3}, {1, 2, 3, 4}};  // not a valid mesh: the writer does not care
+  m.tet_material = {1, 2, 1, 2};
+  m.triangles = {{{0, 1, 2}, 3}, {{1, 2, 3}, 4}, {{0, 1, 3}, 3}, {{1, 3, 4}, 4}};
+  write_mesh(dir.file("a.msh"), m);
+  const std::string text = read_text(dir.file("a.msh"));
+  const std::size_t at = text.find("$Elements\n");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_EQ(text.substr(at + 10, text.find('\n', at + 10) - at - 10), "4 8 1 8");  // 4 blocks
+  const MeshData back = read_mesh(dir.file("a.msh"));
+  EXPECT_EQ(back.tet_material, (std::vector<std::int32_t>{1, 1, 2, 2}));
+  EXPECT_EQ(back.triangles, (std::vector<Triangle>{{{0, 1, 2}, 3}, {{0, 1, 3}, 3}, {{1, 2, 3}, 4}, {{1, 3, 4}, 4}}));
+}
+
+// `gmsh -part 2`: the elements sit on partitioned entities; materials and refs still come from
+// the physical groups, and the partition boundaries add nothing.
+TEST(GmshFiles, PartitionedFileReadsLikeTheWholeOne) {
+  if (!have_gmsh()) GTEST_SKIP() << "no /usr/bin/gmsh";
+  TempDir dir;
+  const std::string in = test_data("gmsh_sphere_in_box.msh");
+  ASSERT_NO_FATAL_FAILURE(run_gmsh(in + " -0 -part 3 -format msh41 -o " + dir.file("p.msh")));
+  ASSERT_NE(read_text(dir.file("p.msh")).find("$PartitionedEntities"), std::string::npos);
+  const MeshData whole = read_mesh(in);
+  const MeshData parts = read_mesh(dir.file("p.msh"));
+  EXPECT_EQ(parts.tet_count(), whole.tet_count());
+  EXPECT_EQ(parts.triangles.size(), whole.triangles.size());
+  EXPECT_EQ(parts.segments.size(), whole.segments.size());
+  expect_sphere_in_box(parts, true);
+  EXPECT_EQ(parts.group_names, whole.group_names);
+}
+
+// Gmsh reads our MSH 2.2 (what --msh22 is for) and gives back the same elements and refs.
+TEST(GmshFiles, GmshReadsOurMsh22) {
+  if (!have_gmsh()) GTEST_SKIP() << "no /usr/bin/gmsh";
+  TempDir dir;
+  const MeshData m = read_mesh(test_data("gmsh_sphere_in_box.msh"));
+  write_mesh(dir.file("ours22.msh"), m, WriteOptions{.msh22 = true});
+  ASSERT_NE(read_text(dir.file("ours22.msh")).rfind("$MeshFormat\n2.2 0 8\n", 0), std::string::npos);
+  ASSERT_NO_FATAL_FAILURE(run_gmsh(dir.file("ours22.msh") + " -0 -format msh41 -o " + dir.file("gmsh.msh")));
+  const MeshData back = read_mesh(dir.file("gmsh.msh"));
+  EXPECT_EQ(back.positions, m.positions);
+  EXPECT_EQ(back.tet_count(), m.tet_count());
+  EXPECT_EQ(back.triangles.size(), m.triangles.size());
+  expect_sphere_in_box(back, true);
+  EXPECT_EQ(back.group_names, m.group_names);
+}
+
+TEST(Medit, MixedMeshIsRefusedOrLeftOut) {
+  TempDir dir;
+  write_text(dir.file("a.mesh"),
+             "MeshVersionFormatted 2\nDimension 3\nVertices\n5\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 1 0\n"
+             "Tetrahedra\n1\n1 2 3 4 1\nPyramids\n1\n1 2 3 4 5 2\nQuadrilaterals\n1\n1 2 3 4 0\nEnd\n");
+  expect_input_error(dir.file("a.mesh"), ":13:", "1 pyramids: topotet simplifies tetrahedral meshes only");
+  ReadNotes notes;
+  const MeshData m = read_mesh(dir.file("a.mesh"), ReadOptions{.tets_only = true}, &notes);
+  EXPECT_EQ(m.tet_count(), 1u);
+  EXPECT_EQ(notes.pyramids, 1u);
+  EXPECT_EQ(notes.quadrilaterals, 1u);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -720,6 +845,8 @@ TEST(Writers, HandMadeMeshesRoundTripExactly) {
     }
     write_mesh(dir.file("b.msh"), m, WriteOptions{.binary = true});
     expect_same_mesh(m, read_mesh(dir.file("b.msh")), "binary");
+    write_mesh(dir.file("c.msh"), m, WriteOptions{.msh22 = true});
+    expect_same_mesh(m, read_mesh(dir.file("c.msh")), "msh 2.2");
   }
 }
 

@@ -20,6 +20,12 @@ bool iequals(std::string_view a, std::string_view b) {
   return true;
 }
 
+std::string mixed_mesh_message(std::string_view what) {
+  return std::string(what) +
+         ": topotet simplifies tetrahedral meshes only (--tets-only / ReadOptions::tets_only leaves the "
+         "hexahedra, prisms and pyramids out)";
+}
+
 bool iends_with(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && iequals(s.substr(s.size() - suffix.size()), suffix);
 }
@@ -69,12 +75,15 @@ MeshFormat format_from_path(std::string_view path) {
   throw InputError(std::string(path) + ": unknown mesh format (expected .mesh, .msh or .vtu, optionally + .gz)");
 }
 
-MeshData read_mesh(const std::string& path) {
+MeshData read_mesh(const std::string& path, const ReadOptions& options, ReadNotes* notes) {
+  ReadNotes local;
+  ReadNotes& n = notes ? *notes : local;
+  n = {};
   switch (format_from_path(path)) {
     case MeshFormat::kMedit:
-      return io::read_medit(path);
+      return io::read_medit(path, options, n);
     case MeshFormat::kGmsh:
-      return io::read_gmsh(path);
+      return io::read_gmsh(path, options, n);
     case MeshFormat::kVtu:
       break;
   }
@@ -89,7 +98,7 @@ void write_mesh(const std::string& path, const MeshData& mesh, const WriteOption
     case MeshFormat::kMedit:
       return io::write_medit(path, mesh);
     case MeshFormat::kGmsh:
-      return io::write_gmsh(path, mesh, options.binary);
+      return io::write_gmsh(path, mesh, options.binary, options.msh22);
     case MeshFormat::kVtu:
       return io::write_vtu(path, mesh, options.binary);
   }

@@ -198,7 +198,10 @@ void read_sol_at_vertices(LineReader& r, std::optional<std::size_t> vertex_count
 
 class MeditReader {
  public:
-  explicit MeditReader(const std::string& path) : r_(path) { r_.set_comment_char('#'); }
+  MeditReader(const std::string& path, const ReadOptions& options, ReadNotes& notes)
+      : r_(path), options_(options), notes_(notes) {
+    r_.set_comment_char('#');
+  }
 
   MeshData read() {
     for (;;) {
@@ -226,6 +229,8 @@ class MeditReader {
         read_ridges();
       } else if (iequals(kw, "SolAtVertices")) {
         read_sol_at_vertices(r_, have_vertices_ ? std::optional<std::size_t>(nv_) : std::nullopt, m_.fields);
+      } else if (std::uint64_t* count = non_tet_count(kw)) {
+        skip_non_tets(kw, *count);
       } else {
         skip_section(r_, kw);
       }
@@ -237,6 +242,30 @@ class MeditReader {
   }
 
  private:
+  // Where a section of cells we leave out is counted, or nullptr.
+  std::uint64_t* non_tet_count(std::string_view kw) {
+    if (iequals(kw, "Hexahedra")) return &notes_.hexahedra;
+    if (iequals(kw, "Prisms") || iequals(kw, "Pentahedra")) return &notes_.prisms;
+    if (iequals(kw, "Pyramids")) return &notes_.pyramids;
+    if (iequals(kw, "Quadrilaterals")) return &notes_.quadrilaterals;
+    return nullptr;
+  }
+
+  // Hexahedra, prisms and pyramids are refused unless tets_only (io.h); quads are always skipped.
+  void skip_non_tets(const std::string& kw, std::uint64_t& count) {
+    const std::size_t line = r_.line();
+    const Keyword* k = find_keyword(kw);
+    const std::uint32_t n = read_count(r_, kw);
+    if (n > 0 && !iequals(kw, "Quadrilaterals") && !options_.tets_only) {
+      std::string kind = kw;
+      for (char& c : kind) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+      if (kind == "pentahedra") kind = "prisms";
+      r_.fail_at_line(line, mixed_mesh_message(std::to_string(n) + " " + kind));
+    }
+    skip_tokens(r_, std::uint64_t{n} * static_cast<std::uint64_t>(k->tokens), kw);
+    count += n;
+  }
+
   void begin_section(std::string_view name, bool& seen) {
     if (seen) r_.fail("duplicate section " + std::string(name));
     seen = true;
@@ -362,6 +391,8 @@ class MeditReader {
   }
 
   LineReader r_;
+  const ReadOptions& options_;
+  ReadNotes& notes_;
   MeshData m_;
   bool have_vertices_ = false;
   std::size_t nv_ = 0;
@@ -455,8 +486,8 @@ void put_vertex_ids(AtomicFile& out, const VertId* v, int n) {
 
 }  // namespace
 
-MeshData read_medit(const std::string& path) {
-  MeshData mesh = MeditReader(path).read();
+MeshData read_medit(const std::string& path, const ReadOptions& options, ReadNotes& notes) {
+  MeshData mesh = MeditReader(path, options, notes).read();
   bool gz = false;
   const std::string stem = mesh_stem(path, gz);
   // The .sol beside the mesh: prefer the same compression as the mesh, accept the other.

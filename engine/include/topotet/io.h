@@ -21,6 +21,7 @@
 // listed triangles and segments and their refs.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -33,10 +34,24 @@ enum class MeshFormat { kMedit, kGmsh, kVtu };
 // Throws InputError for an unknown extension.
 MeshFormat format_from_path(std::string_view path);
 
-MeshData read_mesh(const std::string& path);
+// Mixed meshes. topotet simplifies tetrahedral meshes: hexahedra, prisms and pyramids are refused
+// by default (InputError naming the file and the line of the first one), because dropping them
+// silently leaves holes in the output. With tets_only they are left out and counted in ReadNotes.
+// Quadrilaterals are never faces of a tet: they are always left out and counted.
+struct ReadOptions {
+  bool tets_only = false;
+};
+struct ReadNotes {
+  std::uint64_t hexahedra = 0, prisms = 0, pyramids = 0;  // left out (tets_only)
+  std::uint64_t quadrilaterals = 0;                        // left out
+  std::uint64_t volume_cells() const { return hexahedra + prisms + pyramids; }
+};
+
+MeshData read_mesh(const std::string& path, const ReadOptions& options = {}, ReadNotes* notes = nullptr);
 
 struct WriteOptions {
   bool binary = false;  // Gmsh: binary MSH 4.1; VTU: raw appended data instead of inline base64
+  bool msh22 = false;   // Gmsh: MSH 2.2 ASCII instead of 4.1, for tools that read only the old format
 };
 void write_mesh(const std::string& path, const MeshData& mesh, const WriteOptions& options = {});
 
