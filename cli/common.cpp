@@ -112,7 +112,7 @@ MeshData read_input(const std::string& path, double* seconds, const ReadOptions&
   // The readers name the file in their errors; a missing file is checked here so that the message
   // is the usual one whatever the reader does.
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw_input_error(path, "no such file");
+  if (path != "-" && !std::filesystem::exists(path, ec)) throw_input_error(path, "no such file");
   MeshData data;
   try {
     ReadNotes notes;
@@ -128,6 +128,9 @@ MeshData read_input(const std::string& path, double* seconds, const ReadOptions&
       add(notes.pyramids, "pyramids");
       print_warning(path, "--tets-only: left out " + what + "; the output mesh covers the tets only");
     }
+    if (notes.dropped_corners != 0)
+      print_warning(path, "left out " + std::to_string(notes.dropped_corners) +
+                              " Corners whose vertex index is out of range (TetGen -g lists its input points)");
     if (notes.quadrilaterals != 0)
       print_warning(path, "left out " + std::to_string(notes.quadrilaterals) +
                               " quadrilaterals (a quadrilateral is never a face of a tet)");
@@ -136,6 +139,33 @@ MeshData read_input(const std::string& path, double* seconds, const ReadOptions&
   }
   if (seconds) *seconds = clock.seconds();
   return data;
+}
+
+namespace {
+std::FILE* g_report_stream = nullptr;  // nullptr = stdout (stdout is not a constant expression)
+}  // namespace
+
+std::FILE* report_stream() { return g_report_stream ? g_report_stream : stdout; }
+void send_report_to_stderr() { g_report_stream = stderr; }
+
+std::optional<MeshFormat> parse_format(const std::string& name) {
+  if (name.empty()) return std::nullopt;
+  if (name == "mesh") return MeshFormat::kMedit;
+  if (name == "msh") return MeshFormat::kGmsh;
+  if (name == "vtu") return MeshFormat::kVtu;
+  throw InputError("--format: '" + name + "' is not a format (mesh, msh or vtu)");
+}
+
+std::optional<MeshFormat> format_for(const std::string& path, const std::string& format_option) {
+  if (format_option.empty()) return std::nullopt;
+  if (path != "-") {
+    try {
+      format_from_path(path);
+      return std::nullopt;
+    } catch (const InputError&) {
+    }
+  }
+  return parse_format(format_option);
 }
 
 void print_warning(const std::string& file, const std::string& message) {
@@ -220,7 +250,7 @@ std::string level_path(const std::string& path, double level) {
 }
 
 void check_output_folder(const std::string& path) {
-  if (path.empty()) return;
+  if (path.empty() || path == "-") return;
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
   std::error_code ec;
   if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
@@ -228,21 +258,10 @@ void check_output_folder(const std::string& path) {
 }
 
 void write_text_atomically(const std::string& path, const std::string& text) {
-  const std::string temp = path + ".tmp";
-  {
-    std::FILE* f = std::fopen(temp.c_str(), "wb");
-    if (!f) throw_input_error(path, std::string("cannot create ") + temp + ": " + std::strerror(errno));
-    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    const int err = errno;
-    if (std::fclose(f) != 0 || !ok) {
-      std::remove(temp.c_str());
-      throw_input_error(path, std::string("write failed: ") + std::strerror(err));
-    }
-  }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    std::remove(temp.c_str());
-    throw_input_error(path, std::string("cannot replace file: ") + std::strerror(err));
+  try {
+    write_text_file(path, text);
+  } catch (const InputError& e) {
+    throw_input_error(path, e.what());
   }
 }
 

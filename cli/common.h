@@ -15,6 +15,8 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <optional>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -54,6 +56,7 @@ struct SimplifyJob {
   std::string output_path;     // empty = write nothing
   bool binary = false;         // WriteOptions::binary
   bool msh22 = false;          // WriteOptions::msh22
+  std::optional<MeshFormat> output_format;  // format of output_path "-" (stdout)
   std::string report_path;     // empty = no JSON report
   bool verify = true;        // run the topology checker (--no-verify skips only it)
   bool metrics = true;       // measure quality, field error, distance and topology (--no-metrics: none)
@@ -88,6 +91,17 @@ int hardware_threads();
 [[noreturn]] void throw_input_error(const std::string& file, const std::string& message);
 std::string prefix_file(const std::string& file, const std::string& message);
 
+// Where the human-readable report goes: stdout, or stderr once a command sends data (a mesh or
+// the JSON report, path "-") to stdout, so that the two never mix.
+std::FILE* report_stream();
+void send_report_to_stderr();
+
+// --format: "mesh", "msh" or "vtu"; empty = none. Throws InputError.
+std::optional<MeshFormat> parse_format(const std::string& name);
+// The format --format gives `path`: it applies to "-" and to paths without a mesh extension
+// (/dev/null, a FIFO); others go by their extension (nullopt).
+std::optional<MeshFormat> format_for(const std::string& path, const std::string& format_option);
+
 // One line on stderr: "topotet: warning: <file>: <message>".
 void print_warning(const std::string& file, const std::string& message);
 
@@ -111,7 +125,8 @@ std::string level_path(const std::string& path, double level);
 // so that a typo in -o does not cost the whole run).
 void check_output_folder(const std::string& path);
 
-// Writes `text` to path.tmp and renames it over path; throws InputError naming the path.
+// Writes `text` like write_mesh (topotet/io.h: atomically, or straight through "-", FIFOs and
+// devices); throws InputError naming the path.
 void write_text_atomically(const std::string& path, const std::string& text);
 void write_json_atomically(const std::string& path, const Json& json);
 

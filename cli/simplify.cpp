@@ -181,7 +181,7 @@ std::string field_text(const FieldError& f) {
          (f.components.size() == 1 ? "" : "s") + ")";
 }
 
-void row(const char* key, const std::string& value) { std::printf("%-10s%s\n", key, value.c_str()); }
+void row(const char* key, const std::string& value) { std::fprintf(report_stream(), "%-10s%s\n", key, value.c_str()); }
 
 }  // namespace
 
@@ -246,7 +246,15 @@ std::string measure_text(const MeasureTimes& t, double simplify_seconds) {
 }  // namespace
 
 int run_simplify_job(SimplifyJob& job) {
-  if (!job.output_path.empty()) {
+  if (job.output_path == "-" && job.report_path == "-")
+    throw InputError("-o - and --report -: only one of them can go to stdout");
+  if (job.output_path == "-") {
+    if (!job.output_format) throw InputError("-o -: the output format must be given (--format mesh, msh or vtu)");
+    if (!job.levels.empty()) throw InputError("-o -: --levels writes several meshes, stdout takes one");
+  }
+  // Data on stdout: the human-readable report moves to stderr.
+  if (job.output_path == "-" || job.report_path == "-") send_report_to_stderr();
+  if (!job.output_path.empty() && !job.output_format) {
     format_from_path(job.output_path);  // unknown extensions fail before the work
     if (job.output_path.size() >= 3 && job.output_path.compare(job.output_path.size() - 3, 3, ".gz") == 0)
       throw_input_error(job.output_path, "writing compressed (.gz) files is not supported");
@@ -301,6 +309,7 @@ int run_simplify_job(SimplifyJob& job) {
         WriteOptions write_options;
         write_options.binary = job.binary;
         write_options.msh22 = job.msh22;
+        write_options.format = job.output_format;
         write_mesh(result.output_path, result.output, write_options);
         result.write_seconds = write_clock.seconds();
       }
@@ -362,16 +371,16 @@ int run_simplify_job(SimplifyJob& job) {
           return job.metrics ? format_number((q.*which).std_dev * scale) : std::string("-");
         };
         row("engine", engine_text);
-        std::printf("\n%6s %10s %9s %8s %9s %7s %7s  %s\n", "%", "#vert", "rms", "time", "dihedral", "solid", "face",
+        std::fprintf(report_stream(), "\n%6s %10s %9s %8s %9s %7s %7s  %s\n", "%", "#vert", "rms", "time", "dihedral", "solid", "face",
                     "topology");
-        std::printf("%6s %10s %9s %8s %9s %7s %7s\n", "100", format_count(vertices_in).c_str(), "0", "0",
+        std::fprintf(report_stream(), "%6s %10s %9s %8s %9s %7s %7s\n", "100", format_count(vertices_in).c_str(), "0", "0",
                     angle(input_quality, &QualityStats::dihedral_deg, kRadiansPerDegree).c_str(),
                     angle(input_quality, &QualityStats::solid_sr, 1.0).c_str(),
                     angle(input_quality, &QualityStats::face_deg, kRadiansPerDegree).c_str());
         for (const LevelResult& l : results) {
           char pct[32];
           std::snprintf(pct, sizeof pct, "%.1f", 100.0 * per(static_cast<double>(l.report.vertices_after), vertices_in));
-          std::printf("%6s %10s %9s %8s %9s %7s %7s  %s\n", pct, format_count(l.report.vertices_after).c_str(),
+          std::fprintf(report_stream(), "%6s %10s %9s %8s %9s %7s %7s  %s\n", pct, format_count(l.report.vertices_after).c_str(),
                       l.field_error ? format_number(l.field_error->worst_rms_rel).c_str() : "-",
                       format_number(l.cumulative_seconds).c_str(),
                       angle(l.quality, &QualityStats::dihedral_deg, kRadiansPerDegree).c_str(),
@@ -379,7 +388,7 @@ int run_simplify_job(SimplifyJob& job) {
                       angle(l.quality, &QualityStats::face_deg, kRadiansPerDegree).c_str(),
                       !l.verified ? (l.topology_ok ? "-" : "FAIL") : (l.topology_ok ? "PASS" : "FAIL"));
         }
-        std::printf("(rms relative to the field's range; time = cumulative simplify seconds; std dev of dihedral and "
+        std::fprintf(report_stream(), "(rms relative to the field's range; time = cumulative simplify seconds; std dev of dihedral and "
                     "face angles in rad, solid angles in sr)\n\n");
         std::string written;
         for (const LevelResult& l : results)
@@ -420,7 +429,7 @@ int run_simplify_job(SimplifyJob& job) {
       if (job.metrics) row("measure", measure_text(times, cumulative));
     }
     if (!all_ok) {
-      std::FILE* out = job.quiet ? stderr : stdout;
+      std::FILE* out = job.quiet ? stderr : report_stream();
       if (job.quiet) std::fprintf(out, "topology: FAIL\n");
       for (const LevelResult& l : results)
         for (const std::string& line : split_lines(l.differences))
@@ -494,6 +503,7 @@ struct SimplifyArgs {
   bool binary = false;
   bool tets_only = false;
   bool msh22 = false;
+  std::string format;
 };
 
 int run_simplify(const SimplifyArgs& args) {
@@ -502,6 +512,9 @@ int run_simplify(const SimplifyArgs& args) {
   job.input_label = args.input;
   ReadOptions read_options;
   read_options.tets_only = args.tets_only;
+  parse_format(args.format);  // a bad --format fails before reading
+  read_options.format = format_for(args.input, args.format);
+  job.output_format = format_for(args.output, args.format);
   job.input = read_input(args.input, &job.read_seconds, read_options);
   job.options.target_vertex_ratio = args.ratio;
   job.options.target_vertices = args.target_vertices;
@@ -529,8 +542,10 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
   CLI::App* cmd = app.add_subcommand(
       "simplify", "Simplify by topology-preserving edge collapses, write OUT, report speed, quality and the topology "
                   "verdict (exit 1 if the topology changed).");
-  cmd->add_option("IN", args->input, "Input mesh (.mesh, .msh, optionally .gz)")->required();
-  cmd->add_option("-o,--output", args->output, "Output mesh (.mesh, .msh or .vtu)")->required();
+  cmd->add_option("IN", args->input, "Input mesh (.mesh, .msh, optionally .gz; - = stdin, with --format)")->required();
+  cmd->add_option("-o,--output", args->output, "Output mesh (.mesh, .msh or .vtu; - = stdout, with --format)")->required();
+  cmd->add_option("--format", args->format,
+                  "Format of - (stdin/stdout) and of paths without a mesh extension (/dev/null, a FIFO): mesh, msh, vtu");
   auto* ratio = cmd->add_option("--ratio", args->ratio, "Keep this fraction of the vertices, in (0, 1]")
                     ->check(CLI::Range(0.0, 1.0))
                     ->capture_default_str();

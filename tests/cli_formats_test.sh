@@ -136,6 +136,79 @@ expect 0 tets_only -- "$topotet" simplify mixed.mesh -o tets_only.mesh --tets-on
 contains "tets-only: warning with the count" tets_only.err "topotet: warning: mixed.mesh: --tets-only: left out 1 hexahedra"
 [[ ! -e never.mesh ]] && pass "nothing written on error" || fail "never.mesh was written"
 
+# --- Gmsh: partitioned files, physical names, MSH 2.2 output ---
+gmsh shared41.msh -0 -part 2 -format msh41 -o part.msh >part.log 2>&1 || fail "gmsh -part"
+expect 0 partitioned -- "$topotet" info part.msh --json part.json
+expect 0 whole -- "$topotet" info shared41.msh --json whole.json
+if python3 -c 'import json, sys
+a, b = json.load(open("part.json")), json.load(open("whole.json"))
+sys.exit(0 if a["materials"] == b["materials"] == {"1": a["materials"]["1"], "2": a["materials"]["2"]}
+         and a["triangles_by_ref"] == b["triangles_by_ref"] and a["edges"] == b["edges"] else 1)'; then
+  pass "partitioned: materials and refs from the physical groups"
+else
+  fail "partitioned: materials or refs differ"; cat part.json
+fi
+printf '$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n2 10 "walls"\n3 1 "bottom half"\n$EndPhysicalNames\n' >names.msh
+sed -n '/^\$Entities/,$p' shared41.msh >>names.msh
+expect 0 names_in_out -- "$topotet" simplify names.msh -o names_out.msh --ratio 0.5
+contains "physical names kept" names_out.msh '"bottom half"'
+expect 0 msh22_out -- "$topotet" convert shared41.msh shared_22.msh --msh22
+contains "msh22 header" shared_22.msh '^2.2 0 8'
+gmsh shared_22.msh -0 -format msh41 -o regmsh.msh >regmsh.log 2>&1 && pass "gmsh reads our 2.2" || fail "gmsh cannot read our 2.2"
+expect 0 msh22_back -- "$topotet" convert shared_22.msh back22.mesh
+expect 0 msh22_check -- "$topotet" check shared41_in.mesh back22.mesh
+blocks=$(awk '/^\$Elements/{getline; print $1; exit}' shared41_out.msh)
+entities=$(awk '/^\$Entities/{getline; print $1 + $2 + $3 + $4; exit}' shared41_out.msh)
+[[ $blocks == "$entities" ]] && pass "one element block per entity ($blocks)" || fail "$blocks blocks for $entities entities"
+
+# --- special files: FIFOs and devices written straight through, symlinks followed ---
+mkfifo report.fifo
+cat report.fifo >fifo_copy.json &
+expect 0 fifo_report -- "$topotet" info shared41_in.mesh --json report.fifo
+wait
+[[ -p report.fifo ]] && pass "the FIFO is still a FIFO" || fail "the FIFO was replaced"
+python3 -c 'import json; json.load(open("fifo_copy.json"))' && pass "JSON came through the FIFO" || fail "no JSON through the FIFO"
+expect 0 dev_stdout -- "$topotet" info shared41_in.mesh --json /dev/stdout
+contains "JSON on /dev/stdout" dev_stdout.out '"tets"'
+[[ -e /dev/stdout && ! -f /dev/stdout ]] && pass "/dev/stdout not replaced" || fail "/dev/stdout replaced"
+expect 0 dev_null -- "$topotet" simplify shared41_in.mesh -o /dev/null --format mesh --ratio 0.5 --report /dev/null
+[[ -c /dev/null ]] && pass "/dev/null still a device" || fail "/dev/null replaced"
+cp shared41_in.mesh target.mesh
+ln -s target.mesh link.mesh
+expect 0 symlink_out -- "$topotet" simplify shared41_in.mesh -o link.mesh --ratio 0.5
+[[ -L link.mesh ]] && pass "the symlink stays a symlink" || fail "the symlink was replaced"
+if ! cmp -s target.mesh shared41_in.mesh; then pass "its target was rewritten"; else fail "its target is unchanged"; fi
+
+# --- "-": stdin and stdout ---
+expect 0 stdin_info -- bash -c "\"$topotet\" info - --format mesh <shared41_in.mesh"
+contains "stdin read" stdin_info.out "tets"
+expect 0 stdin_stdout -- bash -c "\"$topotet\" simplify - -o - --format msh --ratio 0.5 <shared41.msh >piped.msh"
+contains "mesh on stdout" piped.msh '^\$MeshFormat'
+contains "report on stderr when the mesh is on stdout" stdin_stdout.err "topology  *PASS"
+expect 0 piped_check -- "$topotet" info piped.msh
+expect 0 report_stdout -- bash -c "\"$topotet\" simplify shared41.msh -o r.mesh --ratio 0.5 --report - >r.json"
+python3 -c 'import json; json.load(open("r.json"))' && pass "--report - is JSON on stdout" || fail "--report - is not JSON"
+expect_error stdin_no_format "the input format must be given" -- bash -c "\"$topotet\" info - <shared41_in.mesh"
+expect_error stdout_no_format "the output format must be given" -- "$topotet" simplify shared41_in.mesh -o -
+
+# --- SIGINT / SIGTERM: temporary files removed, exit 130 / 143 ---
+"$topotet" generate cube-sphere --tets 60000 -o big.mesh >/dev/null
+for sig in INT TERM; do
+  for delay in 0.3 0.8; do
+    "$topotet" simplify big.mesh -o sig_out.msh --levels 0.9,0.8,0.7,0.6,0.5 --no-metrics >sig.out 2>sig.err &
+    pid=$!
+    sleep "$delay"
+    kill -s "$sig" "$pid" 2>/dev/null || true
+    code=0
+    wait "$pid" || code=$?
+    want=$([[ $sig == INT ]] && echo 130 || echo 143)
+    if [[ $code == "$want" || $code == 0 ]]; then pass "SIG$sig after ${delay}s: exit $code"; else fail "SIG$sig: exit $code, expected $want"; fi
+    if [[ $code == "$want" ]] && ! grep -q "^topotet: error: " sig.err; then fail "SIG$sig: no error line"; fi
+    left=$(find . -name 'sig_out*.tmp-*')
+    [[ -z $left ]] && pass "SIG$sig after ${delay}s: no temporary file" || fail "SIG$sig left $left"
+  done
+done
+
 leftovers=$(find . -name '*.tmp*' | sort)
 if [[ -z $leftovers ]]; then pass "no temporary files"; else fail "temporary files left: $leftovers"; fi
 

@@ -1,6 +1,7 @@
 // File formats (engine/io): the real meshes of /work/shared/data with their exact counts, exact
 // round trips through every writer, Gmsh-produced files, malformed input, atomic writes.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <zlib.h>
 
 #include <charconv>
@@ -13,12 +14,14 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "io/atomic_file.h"
 #include "io/line_reader.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
+#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -693,6 +696,76 @@ TEST(GmshFiles, GmshReadsOurMsh22) {
   EXPECT_EQ(back.group_names, m.group_names);
 }
 
+// TetGen -g lists Corners by input point; those beyond the mesh's vertices are left out and counted.
+TEST(Medit, OutOfRangeCornersAreLeftOut) {
+  TempDir dir;
+  for (const bool corners_first : {false, true}) {
+    const std::string corners = "Corners\n3\n2\n9\n0\n";
+    write_text(dir.file("a.mesh"), "MeshVersionFormatted 1\nDimension 3\n" + (corners_first ? corners : "") +
+                                       "Vertices\n4\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\nTetrahedra\n1\n1 2 3 4 1\n" +
+                                       (corners_first ? "" : corners) + "End\n");
+    ReadNotes notes;
+    const MeshData m = read_mesh(dir.file("a.mesh"), {}, &notes);
+    EXPECT_EQ(m.corners, (std::vector<VertId>{1}));
+    EXPECT_EQ(notes.dropped_corners, 2u);
+  }
+}
+
+// TetGen's own files: region attributes are materials, face and edge markers are refs.
+const char* kTwoRegionCubePoly =
+    "# a unit cube split at z = 0.5 into two regions; facet markers 1 (bottom, sides), 2 (middle), 3 (top half)\n"
+    "12 3 0 0\n"
+    "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0 0 0.5\n6 1 0 0.5\n7 1 1 0.5\n8 0 1 0.5\n"
+    "9 0 0 1\n10 1 0 1\n11 1 1 1\n12 0 1 1\n"
+    "11 1\n"
+    "1 0 1\n4 1 2 3 4\n1 0 2\n4 5 6 7 8\n1 0 3\n4 9 10 11 12\n"
+    "1 0 1\n4 1 2 6 5\n1 0 1\n4 2 3 7 6\n1 0 1\n4 3 4 8 7\n1 0 1\n4 4 1 5 8\n"
+    "1 0 3\n4 5 6 10 9\n1 0 3\n4 6 7 11 10\n1 0 3\n4 7 8 12 11\n1 0 3\n4 8 5 9 12\n"
+    "0\n"
+    "2\n1 0.5 0.5 0.25 10 0\n2 0.5 0.5 0.75 20 0\n";
+
+TEST(TetgenFiles, RegionsAndMarkersFromDebianTetgen) {
+  if (!fs::exists("/usr/bin/tetgen")) GTEST_SKIP() << "no /usr/bin/tetgen";
+  TempDir dir;
+  write_text(dir.file("cube.poly"), kTwoRegionCubePoly);
+  const std::string cmd = "cd " + dir.file("") + " && /usr/bin/tetgen -pqAeg -a0.02 cube.poly > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  for (const char* name : {"cube.1.ele", "cube.1.node"}) {
+    SCOPED_TRACE(name);
+    const MeshData m = read_mesh(dir.file(name));
+    EXPECT_GT(m.tet_count(), 20u);
+    EXPECT_EQ(std::set<std::int32_t>(m.tet_material.begin(), m.tet_material.end()), (std::set<std::int32_t>{10, 20}));
+    EXPECT_EQ(ref_set(m.triangles), (std::set<std::int32_t>{1, 2, 3}));
+    EXPECT_FALSE(m.segments.empty());
+    const TetMesh model = build_tet_mesh(m);  // a valid mesh: every face and edge is on a tet
+    EXPECT_EQ(model.live_tet_count(), m.tet_count());
+  }
+  // The -g MEDIT file of the same run reads too (its Corners are input points), with the same tets.
+  ReadNotes notes;
+  const MeshData g = read_mesh(dir.file("cube.1.mesh"), {}, &notes);
+  EXPECT_EQ(g.tet_count(), read_mesh(dir.file("cube.1.ele")).tet_count());
+}
+
+TEST(TetgenFiles, ZeroBasedExtraColumnsAndErrors) {
+  TempDir dir;
+  write_text(dir.file("a.node"), "# zero-based\n5 3 1 1\n0 0 0 0 7.5 1\n1 1 0 0 0 1\n2 0 1 0 0 0\n3 0 0 1 0 1\n4 1 1 1 0 0\n");
+  write_text(dir.file("a.ele"), "2 4 1\n0 0 1 2 3 4\n1 1 2 3 4 5\n");
+  write_text(dir.file("a.face"), "3 1\n0 0 1 2 6 0 -1\n1 1 2 3 0 0 1\n2 1 2 4 9 1 -1\n");
+  write_text(dir.file("a.edge"), "1 0\n0 0 1\n");
+  const MeshData m = read_mesh(dir.file("a.face"));
+  EXPECT_EQ(m.tets, (std::vector<std::array<VertId, 4>>{{0, 1, 2, 3}, {1, 2, 3, 4}}));
+  EXPECT_EQ(m.tet_material, (std::vector<std::int32_t>{4, 5}));
+  EXPECT_EQ(m.triangles, (std::vector<Triangle>{{{0, 1, 2}, 6}, {{1, 2, 4}, 9}}));  // marker 0: not listed
+  EXPECT_TRUE(m.segments.empty());                                                 // no markers: not listed
+  EXPECT_EQ(m.vertex_refs, (std::vector<std::int32_t>{1, 1, 0, 1, 0}));
+  write_text(dir.file("a.ele"), "1 4 1\n0 0 1 2 9 4\n");
+  expect_input_error(dir.file("a.ele"), "a.ele:2:", ".ele: node index 9 out of range [0, 4]");
+  write_text(dir.file("a.ele"), "1 4 1\n0 0 1 2 3 4.5\n");
+  expect_input_error(dir.file("a.ele"), "a.ele:2:", "is not an integer");
+  write_text(dir.file("a.ele"), "1 10 0\n");
+  expect_input_error(dir.file("a.ele"), "a.ele:1:", "second-order");
+}
+
 TEST(Medit, MixedMeshIsRefusedOrLeftOut) {
   TempDir dir;
   write_text(dir.file("a.mesh"),
@@ -729,7 +802,7 @@ const Malformed kMalformed[] = {
     {"lying_count", ".mesh", "Dimension 3\nVertices\n4000000000\n0 0 0 0\n", ":5:", "unexpected end of file"},
     {"index_out_of_range", ".mesh", "Dimension 3\nVertices\n4\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n\nTetrahedra\n1\n1 2 3 5 0\n",
      ":11:", "Tetrahedra: vertex index 5 out of range [1, 4]"},
-    {"index_zero", ".mesh", "Dimension 3\nVertices\n1\n0 0 0 0\nCorners\n1\n0\n", ":7:", "vertex index 0 out of range"},
+    {"index_zero", ".mesh", "Dimension 3\nVertices\n1\n0 0 0 0\nRequiredVertices\n1\n0\n", ":7:", "vertex index 0 out of range"},
     {"ridge_out_of_range", ".mesh", "Dimension 3\nVertices\n2\n0 0 0 0\n1 0 0 0\nEdges\n1\n1 2 0\nRidges\n1\n2\n",
      ":11:", "Ridges: edge index 2 out of range [1, 1]"},
     {"nan_coordinate", ".mesh", "Dimension 3\nVertices\n2\n0 0 0 0\n1 nan 0 0\n", ":5:", "non-finite value"},
@@ -848,6 +921,49 @@ TEST(Writers, HandMadeMeshesRoundTripExactly) {
     write_mesh(dir.file("c.msh"), m, WriteOptions{.msh22 = true});
     expect_same_mesh(m, read_mesh(dir.file("c.msh")), "msh 2.2");
   }
+}
+
+// Special files (issue #13): only regular files are replaced by a rename.
+TEST(Writers, SymlinkIsFollowedAndStaysALink) {
+  TempDir dir;
+  write_text(dir.file("real.txt"), "old");
+  fs::create_symlink("real.txt", dir.file("link.txt"));
+  write_text_file(dir.file("link.txt"), "new");
+  EXPECT_TRUE(fs::is_symlink(dir.file("link.txt")));
+  EXPECT_EQ(read_text(dir.file("real.txt")), "new");
+  // A dangling link: its target is created.
+  fs::create_symlink("sub_target.txt", dir.file("dangling.txt"));
+  write_text_file(dir.file("dangling.txt"), "made");
+  EXPECT_TRUE(fs::is_symlink(dir.file("dangling.txt")));
+  EXPECT_EQ(read_text(dir.file("sub_target.txt")), "made");
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"dangling.txt", "link.txt", "real.txt", "sub_target.txt"}));
+}
+
+TEST(Writers, FifoAndDevicesAreWrittenStraightThrough) {
+  TempDir dir;
+  const std::string fifo = dir.file("pipe");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string got;
+  std::thread reader([&] { got = read_text(fifo); });
+  write_text_file(fifo, "through the pipe");
+  reader.join();
+  EXPECT_EQ(got, "through the pipe");
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_TRUE(io::is_direct_output(fifo));
+  write_text_file("/dev/null", "discarded");
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"pipe"}));
+}
+
+TEST(Writers, SignalCleanupRemovesTemporariesInProgress) {
+  TempDir dir;
+  io::AtomicFile f(dir.file("a.mesh"));
+  f.put("partial");
+  const std::string temp = f.temp_path();
+  ASSERT_TRUE(fs::exists(temp));
+  remove_temporary_files();  // what the CLI's SIGINT/SIGTERM handler calls
+  EXPECT_FALSE(fs::exists(temp));
+  EXPECT_FALSE(fs::exists(dir.file("a.mesh")));
 }
 
 TEST(Writers, MissingDirectoryThrowsAndLeavesNothing) {

@@ -18,6 +18,10 @@ void write_medit(const std::string& path, const MeshData& mesh);
 MeshData read_gmsh(const std::string& path, const ReadOptions& options, ReadNotes& notes);
 void write_gmsh(const std::string& path, const MeshData& mesh, bool binary, bool msh22);
 
+// TetGen .node/.ele (+ .face/.edge); read only. `path` names any of them.
+MeshData read_tetgen(const std::string& path);
+bool is_tetgen_path(std::string_view path);
+
 // VTK XML .vtu (+ <stem>_substructures.vtp); write only.
 void write_vtu(const std::string& path, const MeshData& mesh, bool binary);
 

@@ -1,5 +1,7 @@
 #include "io/line_reader.h"
 
+#include <fcntl.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -42,17 +44,22 @@ std::string printable(std::string_view tok) {
 
 }  // namespace
 
-LineReader::LineReader(const std::string& path) : path_(path) {
+LineReader::LineReader(const std::string& path) : path_(path == "-" ? "<stdin>" : path) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": cannot open: is a directory");
-  const std::uint64_t size = std::filesystem::file_size(path, ec);
-  const bool size_known = !ec;
+  const bool is_stdin = path == "-";
+  if (!is_stdin && std::filesystem::is_directory(path, ec)) throw InputError(path + ": cannot open: is a directory");
+  const std::uint64_t size = is_stdin ? 0 : std::filesystem::file_size(path, ec);
+  const bool size_known = !is_stdin && !ec;
   // Small files get small buffers: tests and fuzzing open thousands of tiny files.
   buf_.resize(kMinBufferSize);
   errno = 0;
-  gzFile gz = gzopen(path.c_str(), "rb");
+  // stdin: a duplicate descriptor, so that gzclose leaves the process's stdin open.
+  const int stdin_fd = is_stdin ? ::fcntl(0, F_DUPFD_CLOEXEC, 3) : -1;
+  if (is_stdin && stdin_fd < 0) throw InputError(path_ + ": cannot open: " + std::strerror(errno));
+  gzFile gz = is_stdin ? gzdopen(stdin_fd, "rb") : gzopen(path.c_str(), "rb");
   if (gz == nullptr) {
-    throw InputError(path + ": cannot open: " + (errno != 0 ? std::strerror(errno) : "out of memory"));
+    if (stdin_fd >= 0) ::close(stdin_fd);
+    throw InputError(path_ + ": cannot open: " + (errno != 0 ? std::strerror(errno) : "out of memory"));
   }
   gz_ = gz;
   // zlib's own input buffer; its default 8 KiB costs many read() calls on large files.
@@ -248,6 +255,18 @@ void LineReader::skip_line(bool anything) {
     // Callers skip lines to reach data that must follow: running out is an error (and keeps a
     // loop over a lying line count from spinning at end of file).
     if (!refill()) fail_eof("the end of a line");
+  }
+}
+
+void LineReader::skip_rest_of_line() {
+  for (;;) {
+    while (pos_ < end_) {
+      if (buf_[pos_++] == '\n') {
+        ++line_;
+        return;
+      }
+    }
+    if (!refill()) return;
   }
 }
 

@@ -336,11 +336,25 @@ class MeditReader {
     }
   }
 
+  // TetGen's -g .mesh lists Corners by input point index, some beyond the mesh's vertices: an
+  // out-of-range corner pins nothing, so it is left out and counted (ReadNotes), not refused.
   void read_vertex_list(std::vector<VertId>& out, std::string_view name) {
-    begin_section(name, name == "Corners" ? seen_corners_ : seen_required_);
+    const bool corners = name == "Corners";
+    begin_section(name, corners ? seen_corners_ : seen_required_);
     const std::uint32_t n = read_count(r_, name);
     out.reserve(r_.reserve_hint(n, 2));
-    for (std::uint32_t i = 0; i < n; ++i) out.push_back(read_vertex(name));
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (corners) {
+        const std::int64_t v = r_.read_int(name);
+        if (v < 1 || v > (have_vertices_ ? static_cast<std::int64_t>(nv_) : std::int64_t{kInvalid} - 1)) {
+          ++notes_.dropped_corners;
+          continue;
+        }
+        out.push_back(static_cast<VertId>(v - 1));
+      } else {
+        out.push_back(read_vertex(name));
+      }
+    }
   }
 
   void read_ridges() {
@@ -381,7 +395,9 @@ class MeditReader {
         for (std::size_t i = 0; i < m_.segments.size(); ++i)
           for (VertId v : m_.segments[i].v) check(v, i);
       } else if (section == "Corners") {
-        for (std::size_t i = 0; i < m_.corners.size(); ++i) check(m_.corners[i], i);
+        const auto out = std::remove_if(m_.corners.begin(), m_.corners.end(), [&](VertId v) { return v >= nv_; });
+        notes_.dropped_corners += static_cast<std::uint64_t>(m_.corners.end() - out);
+        m_.corners.erase(out, m_.corners.end());
       } else if (section == "RequiredVertices") {
         for (std::size_t i = 0; i < m_.required_vertices.size(); ++i) check(m_.required_vertices[i], i);
       }
@@ -488,6 +504,7 @@ void put_vertex_ids(AtomicFile& out, const VertId* v, int n) {
 
 MeshData read_medit(const std::string& path, const ReadOptions& options, ReadNotes& notes) {
   MeshData mesh = MeditReader(path, options, notes).read();
+  if (path == "-") return mesh;  // stdin has no folder with a .sol beside it
   bool gz = false;
   const std::string stem = mesh_stem(path, gz);
   // The .sol beside the mesh: prefer the same compression as the mesh, accept the other.
@@ -512,6 +529,11 @@ MeshData read_medit(const std::string& path, const ReadOptions& options, ReadNot
 }
 
 void write_medit(const std::string& path, const MeshData& m) {
+  // A stream or device has no folder for the companion .sol: fields cannot go with it.
+  const bool direct = is_direct_output(path);
+  if (direct && !m.fields.empty())
+    throw InputError(path + ": cannot write the fields' .sol beside a stream or device (write .msh, which keeps "
+                     "fields inline, or a regular file)");
   AtomicFile out(path);
   out.put("MeshVersionFormatted 2\n\nDimension 3\n\nVertices\n");
   out.put_int(m.positions.size());
@@ -585,7 +607,7 @@ void write_medit(const std::string& path, const MeshData& m) {
   };
   if (m.fields.empty()) {
     out.commit();
-    remove_stale({sol_path, stem + ".sol.gz", names_path});
+    if (!direct) remove_stale({sol_path, stem + ".sol.gz", names_path});
     return;
   }
   AtomicFile sol(sol_path);
