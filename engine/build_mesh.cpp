@@ -503,6 +503,16 @@ void drop_noted_substructures(MeshData& d, const BuildNotes& notes) {
     list.resize(kept);
   };
   drop(d.triangles, notes.repeated_triangles, notes.detached_triangles);
+  // Pinned vertices on no tet are not pinned in the model (they are not in it at all).
+  if (!notes.detached_triangles.empty() || !notes.detached_segments.empty()) {
+    std::vector<char> on_tet(d.positions.size(), 0);
+    for (const auto& t : d.tets)
+      for (VertId v : t)
+        if (v < on_tet.size()) on_tet[v] = 1;
+    for (auto* list : {&d.corners, &d.required_vertices})
+      list->erase(std::remove_if(list->begin(), list->end(), [&](VertId v) { return v >= on_tet.size() || !on_tet[v]; }),
+                  list->end());
+  }
   if (notes.repeated_segments.empty() && notes.detached_segments.empty()) return;
   // The builder makes an edge a ridge when any of its listings is one, and the model writes every
   // listing of a ridge edge as a ridge: the ridges are re-derived by edge the same way.

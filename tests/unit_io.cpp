@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <set>
 #include <sstream>
@@ -126,6 +127,37 @@ void expect_same_mesh(const MeshData& a, const MeshData& b, const std::string& w
   }
 }
 
+// The element order write_gmsh gives (one block per entity): the elements of each dimension
+// grouped by entity (tets by material, triangles by ref, segments by ref and ridge), entities in
+// order of first use, elements in their order within an entity.
+MeshData grouped_by_entity(const MeshData& m) {
+  const auto order = [](std::size_t n, auto key) {
+    std::map<decltype(key(0)), std::size_t> rank;
+    for (std::size_t i = 0; i < n; ++i) rank.try_emplace(key(i), rank.size());
+    std::vector<std::size_t> idx(n);
+    for (std::size_t i = 0; i < n; ++i) idx[i] = i;
+    std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return rank[key(a)] < rank[key(b)]; });
+    return idx;
+  };
+  MeshData g = m;
+  const auto tets = order(m.tets.size(), [&](std::size_t i) { return m.tet_material[i]; });
+  for (std::size_t i = 0; i < tets.size(); ++i) {
+    g.tets[i] = m.tets[tets[i]];
+    g.tet_material[i] = m.tet_material[tets[i]];
+  }
+  const auto tris = order(m.triangles.size(), [&](std::size_t i) { return m.triangles[i].ref; });
+  for (std::size_t i = 0; i < tris.size(); ++i) g.triangles[i] = m.triangles[tris[i]];
+  std::vector<char> ridge(m.segments.size(), 0);
+  for (std::uint32_t r : m.ridges) ridge[r] = 1;
+  const auto segs = order(m.segments.size(), [&](std::size_t i) { return std::make_pair(m.segments[i].ref, ridge[i]); });
+  g.ridges.clear();
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    g.segments[i] = m.segments[segs[i]];
+    if (ridge[segs[i]]) g.ridges.push_back(static_cast<std::uint32_t>(i));
+  }
+  return g;
+}
+
 // A small mesh with every kind of data MeshData holds.
 MeshData two_tets() {
   MeshData m;
@@ -201,15 +233,18 @@ TEST_P(SharedData, RoundTripsAreExact) {
   TempDir dir;
   write_mesh(dir.file("a.mesh"), original);
   expect_same_mesh(original, read_mesh(dir.file("a.mesh")), "via .mesh", false);
+  // .msh groups the elements by entity: a file read from .msh already is (a fixed point).
+  const MeshData grouped = grouped_by_entity(original);
   write_mesh(dir.file("a.msh"), original);
   const MeshData via_msh = read_mesh(dir.file("a.msh"));
-  expect_same_mesh(original, via_msh, "via .msh");
+  expect_same_mesh(grouped, via_msh, "via .msh");
   write_mesh(dir.file("b.msh"), original, WriteOptions{.binary = true});
-  expect_same_mesh(original, read_mesh(dir.file("b.msh")), "via binary .msh");
+  expect_same_mesh(grouped, read_mesh(dir.file("b.msh")), "via binary .msh");
   write_mesh(dir.file("c.mesh"), via_msh);
-  expect_same_mesh(original, read_mesh(dir.file("c.mesh")), "via .msh then .mesh", false);
+  expect_same_mesh(grouped, read_mesh(dir.file("c.mesh")), "via .msh then .mesh", false);
   write_mesh(dir.file("d.msh"), original, WriteOptions{.msh22 = true});
-  expect_same_mesh(original, read_mesh(dir.file("d.msh")), "via .msh 2.2");
+  expect_same_mesh(grouped, read_mesh(dir.file("d.msh")), "via .msh 2.2");
+  if (c.file == std::string_view("mfem/nested_cubes.msh")) expect_same_mesh(original, grouped, "a Gmsh file is grouped");
 }
 
 std::string shared_case_name(const ::testing::TestParamInfo<SharedCase>& param) {
@@ -688,10 +723,11 @@ TEST(GmshFiles, GmshReadsOurMsh22) {
   write_mesh(dir.file("ours22.msh"), m, WriteOptions{.msh22 = true});
   ASSERT_NE(read_text(dir.file("ours22.msh")).rfind("$MeshFormat\n2.2 0 8\n", 0), std::string::npos);
   ASSERT_NO_FATAL_FAILURE(run_gmsh(dir.file("ours22.msh") + " -0 -format msh41 -o " + dir.file("gmsh.msh")));
-  const MeshData back = read_mesh(dir.file("gmsh.msh"));
-  EXPECT_EQ(back.positions, m.positions);
+  const MeshData back = read_mesh(dir.file("gmsh.msh"));  // Gmsh renumbers the nodes of a 2.2 file
+  EXPECT_EQ(back.vertex_count(), m.vertex_count());
   EXPECT_EQ(back.tet_count(), m.tet_count());
   EXPECT_EQ(back.triangles.size(), m.triangles.size());
+  EXPECT_EQ(back.segments.size(), m.segments.size());
   expect_sphere_in_box(back, true);
   EXPECT_EQ(back.group_names, m.group_names);
 }
