@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <thread>
 
 #include "topotet/error.h"
@@ -166,6 +168,34 @@ std::optional<MeshFormat> format_for(const std::string& path, const std::string&
     }
   }
   return parse_format(format_option);
+}
+
+CLI::Validator number_in(double lo, double hi, bool lo_open) {
+  const std::string range = std::string(lo_open ? "(" : "[") + format_number(lo, 6) + ", " +
+                            (std::isinf(hi) ? std::string("inf)") : format_number(hi, 6) + "]");
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double x = 0.0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, x);
+        if (ec != std::errc() || ptr != end || !std::isfinite(x)) return "'" + text + "' is not a number";
+        if (x < lo || (lo_open && x == lo) || x > hi) return text + " is not in " + range;
+        return {};
+      },
+      "NUMBER in " + range);
+}
+
+CLI::Validator whole_number_at_least(long long lo) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        long long x = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, x);
+        if (ec != std::errc() || ptr != end || x < lo)
+          return "'" + text + "' is not a whole number >= " + std::to_string(lo);
+        return {};
+      },
+      "INTEGER >= " + std::to_string(lo));
 }
 
 void print_warning(const std::string& file, const std::string& message) {

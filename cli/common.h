@@ -102,6 +102,13 @@ std::optional<MeshFormat> parse_format(const std::string& name);
 // (/dev/null, a FIFO); others go by their extension (nullopt).
 std::optional<MeshFormat> format_for(const std::string& path, const std::string& format_option);
 
+// Option checks with plain messages, run while parsing (before any file is read): CLI11's own
+// print "not in range 0.000000 to 1797693...(309 digits)" for any bad value, even "abc".
+//   number_in(lo, hi, lo_open): "'abc' is not a number", "0 is not in (0, 1]"
+//   whole_number_at_least(lo): "-3 is not a whole number >= 0"
+CLI::Validator number_in(double lo, double hi, bool lo_open);
+CLI::Validator whole_number_at_least(long long lo);
+
 // One line on stderr: "topotet: warning: <file>: <message>".
 void print_warning(const std::string& file, const std::string& message);
 

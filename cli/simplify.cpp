@@ -9,6 +9,7 @@
 // the report shows what the measurements cost next to the simplification.
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -538,6 +539,7 @@ int run_simplify(const SimplifyArgs& args) {
 }  // namespace
 
 void add_simplify_command(CLI::App& app, CommandRunner& run) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
   auto args = std::make_shared<SimplifyArgs>();
   CLI::App* cmd = app.add_subcommand(
       "simplify", "Simplify by topology-preserving edge collapses, write OUT, report speed, quality and the topology "
@@ -547,30 +549,30 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("--format", args->format,
                   "Format of - (stdin/stdout) and of paths without a mesh extension (/dev/null, a FIFO): mesh, msh, vtu");
   auto* ratio = cmd->add_option("--ratio", args->ratio, "Keep this fraction of the vertices, in (0, 1]")
-                    ->check(CLI::Range(0.0, 1.0))
+                    ->check(number_in(0.0, 1.0, true))
                     ->capture_default_str();
   auto* target = cmd->add_option("--target-vertices", args->target_vertices, "Stop at this many vertices");
   cmd->add_option("--max-cost,--max-error", args->max_cost,
                   "Stop when the cheapest collapse costs more (quadric error / bbox diagonal^2; 0 = no limit)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(number_in(0.0, kInfinity, false))
       ->capture_default_str();
   cmd->add_option("--min-quality", args->min_quality, "Reject collapses creating tets below this mean ratio")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(number_in(0.0, 1.0, false))
       ->capture_default_str();
   auto* tolerance = cmd->add_option("--tolerance", args->tolerance,
                                     "Keep boundary, interfaces, surfaces and polylines within this distance of the "
                                     "original ones (mesh units; 0 = unchecked)")
-                       ->check(CLI::NonNegativeNumber);
+                       ->check(number_in(0.0, kInfinity, false));
   cmd->add_option("--tolerance-rel", args->tolerance_rel, "The same, relative to the bounding box diagonal")
-      ->check(CLI::NonNegativeNumber)
+      ->check(number_in(0.0, kInfinity, false))
       ->excludes(tolerance);
   cmd->add_flag("--sequential", args->sequential, "Use the sequential reference engine (lazy priority queue)");
   cmd->add_option("--threads", args->threads, "Threads (0 = all cores; the output is the same for every value)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(whole_number_at_least(0))
       ->capture_default_str();
   cmd->add_option("--round-fraction", args->round_fraction,
                   "Parallel engine: the cheapest fraction of the proposals that compete in one round")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(number_in(0.0, 1.0, true))
       ->capture_default_str();
   cmd->add_option("--report", args->report, "Write the report as JSON to this file");
   cmd->add_flag("--no-verify", args->no_verify, "Skip the topology checker (quality, field error and distance are still measured)");

@@ -226,6 +226,12 @@ for sig in INT TERM; do
   [[ $interrupted -gt 0 ]] && pass "SIG$sig interrupted $interrupted run(s) with exit $want" || fail "SIG$sig interrupted no run"
 done
 
+# --- option messages: plain, and before any file is read (no_such.mesh is never opened) ---
+expect_error threads_negative "--threads: '-3' is not a whole number >= 0" -- "$topotet" simplify no_such.mesh -o x.mesh --threads -3
+expect_error ratio_text "--ratio: 'abc' is not a number" -- "$topotet" simplify no_such.mesh -o x.mesh --ratio abc
+expect_error ratio_zero "--ratio: 0 is not in (0, 1\\]" -- "$topotet" simplify no_such.mesh -o x.mesh --ratio 0
+expect_error bad_format "--format: 'xyz' is not a format" -- "$topotet" simplify no_such.mesh -o - --format xyz
+
 leftovers=$(find . -name '*.tmp*' | sort)
 if [[ -z $leftovers ]]; then pass "no temporary files"; else fail "temporary files left: $leftovers"; fi
 
