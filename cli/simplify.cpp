@@ -262,7 +262,12 @@ int run_simplify_job(SimplifyJob& job) {
   }
   check_output_folder(job.output_path);
   check_output_folder(job.report_path);
-  const int threads = job.options.num_threads > 0 ? job.options.num_threads : hardware_threads();
+  // The threads that really run: the default arena follows the process's CPU affinity (taskset),
+  // which hardware_concurrency() does not. Asking for more only oversubscribes the cores (and
+  // makes TBB print a warning on stderr); the output is the same for every count, so cap it.
+  const int available = current_thread_limit();
+  if (job.options.num_threads > available) job.options.num_threads = available;
+  const int threads = job.options.num_threads > 0 ? job.options.num_threads : available;
   const bool is_parallel = job.options.engine == Engine::kParallel;
   const bool verify = job.verify && job.metrics;
 

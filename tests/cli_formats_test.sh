@@ -232,6 +232,15 @@ expect_error ratio_text "--ratio: 'abc' is not a number" -- "$topotet" simplify 
 expect_error ratio_zero "--ratio: 0 is not in (0, 1\\]" -- "$topotet" simplify no_such.mesh -o x.mesh --ratio 0
 expect_error bad_format "--format: 'xyz' is not a format" -- "$topotet" simplify no_such.mesh -o - --format xyz
 
+# --- the thread count reported is what runs (taskset, --threads beyond the cores) ---
+if command -v taskset >/dev/null 2>&1; then
+  expect 0 taskset_one -- taskset -c 0 "$topotet" simplify shared41_in.mesh -o t1.mesh --ratio 0.5 --report t1.json
+  python3 -c 'import json, sys; sys.exit(0 if json.load(open("t1.json"))["options"]["threads"] == 1 else 1)' &&
+    pass "taskset -c 0: 1 thread reported" || fail "taskset -c 0: not 1 thread"
+fi
+expect 0 many_threads -- "$topotet" simplify shared41_in.mesh -o t8.mesh --ratio 0.5 --threads 64
+[[ ! -s many_threads.err ]] && pass "--threads 64: nothing on stderr" || fail "--threads 64 printed: $(head -c 200 many_threads.err)"
+
 leftovers=$(find . -name '*.tmp*' | sort)
 if [[ -z $leftovers ]]; then pass "no temporary files"; else fail "temporary files left: $leftovers"; fi
 
