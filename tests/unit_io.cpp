@@ -593,6 +593,18 @@ TEST(Medit, GzipMeshFindsGzipSol) {
   const std::string bytes = read_text(dir.file("a.mesh.gz"));
   write_text(dir.file("cut.mesh.gz"), bytes.substr(0, bytes.size() / 2));
   EXPECT_THROW(read_mesh(dir.file("cut.mesh.gz")), InputError);
+  // A corrupt one names the file once, and a position in the compressed file.
+  std::string corrupt = bytes;
+  for (std::size_t i = 20; i < 40 && i < corrupt.size(); ++i) corrupt[i] = static_cast<char>(corrupt[i] ^ 0x5a);
+  write_text(dir.file("bad.mesh.gz"), corrupt);
+  try {
+    read_mesh(dir.file("bad.mesh.gz"));
+    ADD_FAILURE() << "corrupt gzip accepted";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.find(dir.file("bad.mesh.gz")), 0u) << msg;
+    EXPECT_EQ(msg.find(dir.file("bad.mesh.gz"), 1), std::string::npos) << "the file is named twice: " << msg;
+  }
 }
 
 const char* kGmsh41 =

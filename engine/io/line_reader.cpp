@@ -94,8 +94,16 @@ bool LineReader::refill() {
   const char* msg = gzerror(static_cast<gzFile>(gz_), &errnum);
   if (got < 0 || (errnum != Z_OK && errnum != Z_STREAM_END)) {
     // Z_BUF_ERROR here means the gzip stream stopped in the middle: a truncated download.
-    const std::string reason = errnum == Z_BUF_ERROR ? "truncated gzip data" : std::string(msg ? msg : "read error");
-    throw InputError(path_ + ": byte " + std::to_string(consumed_ + end_) + ": " + reason);
+    std::string reason = errnum == Z_BUF_ERROR ? "truncated gzip data" : std::string(msg ? msg : "read error");
+    // zlib puts the path in front of its message: the error names the file once, here.
+    if (reason.rfind(path_ + ": ", 0) == 0) reason.erase(0, path_.size() + 2);
+    // The position that means something in a corrupt .gz is in the compressed file (what a hex
+    // dump shows); zlib knows it to within its input buffer.
+    const long compressed = gzoffset(static_cast<gzFile>(gz_));
+    const std::string where = gzdirect(static_cast<gzFile>(gz_)) || compressed < 0
+                                  ? "byte " + std::to_string(consumed_ + end_)
+                                  : "gzip data before compressed byte " + std::to_string(compressed);
+    throw InputError(path_ + ": " + where + ": " + reason);
   }
   if (got == 0) {
     eof_ = true;
