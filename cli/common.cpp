@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <thread>
 
 #include "topotet/error.h"
@@ -107,15 +109,33 @@ void throw_input_error(const std::string& file, const std::string& message) {
   throw InputError(prefix_file(file, message));
 }
 
-MeshData read_input(const std::string& path, double* seconds) {
+MeshData read_input(const std::string& path, double* seconds, const ReadOptions& options) {
   const Stopwatch clock;
   // The readers name the file in their errors; a missing file is checked here so that the message
   // is the usual one whatever the reader does.
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw_input_error(path, "no such file");
+  if (path != "-" && !std::filesystem::exists(path, ec)) throw_input_error(path, "no such file");
   MeshData data;
   try {
-    data = read_mesh(path);
+    ReadNotes notes;
+    data = read_mesh(path, options, &notes);
+    if (notes.volume_cells() != 0) {
+      std::string what;
+      const auto add = [&](std::uint64_t n, const char* kind) {
+        if (n == 0) return;
+        what += (what.empty() ? "" : ", ") + std::to_string(n) + " " + kind;
+      };
+      add(notes.hexahedra, "hexahedra");
+      add(notes.prisms, "prisms");
+      add(notes.pyramids, "pyramids");
+      print_warning(path, "--tets-only: left out " + what + "; the output mesh covers the tets only");
+    }
+    if (notes.dropped_corners != 0)
+      print_warning(path, "left out " + std::to_string(notes.dropped_corners) +
+                              " Corners whose vertex index is out of range (TetGen -g lists its input points)");
+    if (notes.quadrilaterals != 0)
+      print_warning(path, "left out " + std::to_string(notes.quadrilaterals) +
+                              " quadrilaterals (a quadrilateral is never a face of a tet)");
   } catch (const InputError& e) {
     throw_input_error(path, e.what());
   }
@@ -123,10 +143,104 @@ MeshData read_input(const std::string& path, double* seconds) {
   return data;
 }
 
-TetMesh build_input(const std::string& label, const MeshData& data, double* seconds) {
+namespace {
+std::FILE* g_report_stream = nullptr;  // nullptr = stdout (stdout is not a constant expression)
+}  // namespace
+
+std::FILE* report_stream() { return g_report_stream ? g_report_stream : stdout; }
+void send_report_to_stderr() { g_report_stream = stderr; }
+
+std::optional<MeshFormat> parse_format(const std::string& name) {
+  if (name.empty()) return std::nullopt;
+  if (name == "mesh") return MeshFormat::kMedit;
+  if (name == "msh") return MeshFormat::kGmsh;
+  if (name == "vtu") return MeshFormat::kVtu;
+  throw InputError("--format: '" + name + "' is not a format (mesh, msh or vtu)");
+}
+
+std::optional<MeshFormat> format_for(const std::string& path, const std::string& format_option) {
+  if (format_option.empty()) return std::nullopt;
+  if (path != "-") {
+    try {
+      format_from_path(path);
+      return std::nullopt;
+    } catch (const InputError&) {
+    }
+  }
+  return parse_format(format_option);
+}
+
+CLI::Validator number_in(double lo, double hi, bool lo_open) {
+  const std::string range = std::string(lo_open ? "(" : "[") + format_number(lo, 6) + ", " +
+                            (std::isinf(hi) ? std::string("inf)") : format_number(hi, 6) + "]");
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double x = 0.0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, x);
+        if (ec != std::errc() || ptr != end || !std::isfinite(x)) return "'" + text + "' is not a number";
+        if (x < lo || (lo_open && x == lo) || x > hi) return text + " is not in " + range;
+        return {};
+      },
+      "NUMBER in " + range);
+}
+
+CLI::Validator whole_number_at_least(long long lo) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        long long x = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, x);
+        if (ec != std::errc() || ptr != end || x < lo)
+          return "'" + text + "' is not a whole number >= " + std::to_string(lo);
+        return {};
+      },
+      "INTEGER >= " + std::to_string(lo));
+}
+
+void print_warning(const std::string& file, const std::string& message) {
+  std::string line = prefix_file(file, message);
+  for (char& c : line)
+    if (c == '\n' || c == '\r') c = ' ';
+  std::fprintf(stderr, "topotet: warning: %s\n", line.c_str());
+}
+
+namespace {
+
+void warn_about(const std::string& label, const BuildNotes& notes) {
+  const auto count = [](std::size_t n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+  };
+  if (!notes.repeated_triangles.empty())
+    print_warning(label, count(notes.repeated_triangles.size(), "triangle is", "triangles are") +
+                             " listed again with the same vertices and ref (first: triangle " +
+                             std::to_string(notes.repeated_triangles.front()) + "); each is kept once");
+  if (!notes.repeated_segments.empty())
+    print_warning(label, count(notes.repeated_segments.size(), "edge is", "edges are") +
+                             " listed again with the same vertices and ref (first: edge " +
+                             std::to_string(notes.repeated_segments.front()) + "); each is kept once");
+  if (!notes.detached_triangles.empty())
+    print_warning(label, count(notes.detached_triangles.size(), "listed triangle is", "listed triangles are") +
+                             " not a face of any tet (first: triangle " +
+                             std::to_string(notes.detached_triangles.front()) +
+                             "); left out: they lie outside the tetrahedral mesh");
+  if (!notes.detached_segments.empty())
+    print_warning(label, count(notes.detached_segments.size(), "listed edge is", "listed edges are") +
+                             " not an edge of any tet (first: edge " + std::to_string(notes.detached_segments.front()) +
+                             "); left out: they lie outside the tetrahedral mesh");
+}
+
+}  // namespace
+
+TetMesh build_input(const std::string& label, const MeshData& data, double* seconds, BuildNotes* notes) {
   const Stopwatch clock;
   try {
-    TetMesh mesh = build_tet_mesh(data);
+    BuildOptions options;
+    options.skip_detached_substructures = true;
+    BuildNotes local_notes;
+    TetMesh mesh = build_tet_mesh(data, options, &local_notes);
+    warn_about(label, local_notes);
+    if (notes) *notes = std::move(local_notes);
     if (seconds) *seconds = clock.seconds();
     return mesh;
   } catch (const InputError& e) {
@@ -166,7 +280,7 @@ std::string level_path(const std::string& path, double level) {
 }
 
 void check_output_folder(const std::string& path) {
-  if (path.empty()) return;
+  if (path.empty() || path == "-") return;
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
   std::error_code ec;
   if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
@@ -174,21 +288,10 @@ void check_output_folder(const std::string& path) {
 }
 
 void write_text_atomically(const std::string& path, const std::string& text) {
-  const std::string temp = path + ".tmp";
-  {
-    std::FILE* f = std::fopen(temp.c_str(), "wb");
-    if (!f) throw_input_error(path, std::string("cannot create ") + temp + ": " + std::strerror(errno));
-    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    const int err = errno;
-    if (std::fclose(f) != 0 || !ok) {
-      std::remove(temp.c_str());
-      throw_input_error(path, std::string("write failed: ") + std::strerror(err));
-    }
-  }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    std::remove(temp.c_str());
-    throw_input_error(path, std::string("cannot replace file: ") + std::strerror(err));
+  try {
+    write_text_file(path, text);
+  } catch (const InputError& e) {
+    throw_input_error(path, e.what());
   }
 }
 

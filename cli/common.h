@@ -15,6 +15,8 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <optional>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -22,6 +24,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "topotet/io.h"
 #include "topotet/mesh_data.h"
 #include "topotet/simplify.h"
 #include "topotet/tet_mesh.h"
@@ -52,6 +55,8 @@ struct SimplifyJob {
   std::vector<double> levels;  // descending vertex ratios; empty = one run with `options`
   std::string output_path;     // empty = write nothing
   bool binary = false;         // WriteOptions::binary
+  bool msh22 = false;          // WriteOptions::msh22
+  std::optional<MeshFormat> output_format;  // format of output_path "-" (stdout)
   std::string report_path;     // empty = no JSON report
   bool verify = true;        // run the topology checker (--no-verify skips only it)
   bool metrics = true;       // measure quality, field error, distance and topology (--no-metrics: none)
@@ -86,9 +91,35 @@ int hardware_threads();
 [[noreturn]] void throw_input_error(const std::string& file, const std::string& message);
 std::string prefix_file(const std::string& file, const std::string& message);
 
-// read_mesh / build_tet_mesh with the file named in every error.
-MeshData read_input(const std::string& path, double* seconds = nullptr);
-TetMesh build_input(const std::string& label, const MeshData& data, double* seconds = nullptr);
+// Where the human-readable report goes: stdout, or stderr once a command sends data (a mesh or
+// the JSON report, path "-") to stdout, so that the two never mix.
+std::FILE* report_stream();
+void send_report_to_stderr();
+
+// --format: "mesh", "msh" or "vtu"; empty = none. Throws InputError.
+std::optional<MeshFormat> parse_format(const std::string& name);
+// The format --format gives `path`: it applies to "-" and to paths without a mesh extension
+// (/dev/null, a FIFO); others go by their extension (nullopt).
+std::optional<MeshFormat> format_for(const std::string& path, const std::string& format_option);
+
+// Option checks with plain messages, run while parsing (before any file is read): CLI11's own
+// print "not in range 0.000000 to 1797693...(309 digits)" for any bad value, even "abc".
+//   number_in(lo, hi, lo_open): "'abc' is not a number", "0 is not in (0, 1]"
+//   whole_number_at_least(lo): "-3 is not a whole number >= 0"
+CLI::Validator number_in(double lo, double hi, bool lo_open);
+CLI::Validator whole_number_at_least(long long lo);
+
+// One line on stderr: "topotet: warning: <file>: <message>".
+void print_warning(const std::string& file, const std::string& message);
+
+// read_mesh / build_tet_mesh with the file named in every error. build_input leaves out listed
+// triangles and segments that are not on any tet, and keeps a repeated one (same element, same
+// ref) once, with one warning line each (BuildOptions::skip_detached_substructures says why);
+// `notes` receives what was left out, for drop_noted_substructures.
+// read_input warns about the cells it left out (ReadNotes; mixed meshes need tets_only).
+MeshData read_input(const std::string& path, double* seconds = nullptr, const ReadOptions& options = {});
+TetMesh build_input(const std::string& label, const MeshData& data, double* seconds = nullptr,
+                    BuildNotes* notes = nullptr);
 
 // The values of --levels (CLI11 splits "0.5,0.3,0.1" at the commas): checks each is in (0, 1],
 // sorts them descending and drops repeats. Throws InputError on a bad value.
@@ -101,7 +132,8 @@ std::string level_path(const std::string& path, double level);
 // so that a typo in -o does not cost the whole run).
 void check_output_folder(const std::string& path);
 
-// Writes `text` to path.tmp and renames it over path; throws InputError naming the path.
+// Writes `text` like write_mesh (topotet/io.h: atomically, or straight through "-", FIFOs and
+// devices); throws InputError naming the path.
 void write_text_atomically(const std::string& path, const std::string& text);
 void write_json_atomically(const std::string& path, const Json& json);
 

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "common.h"
+#include "topotet/error.h"
 #include "topotet/io.h"
 
 namespace topotet::cli {
@@ -14,24 +15,39 @@ struct ConvertArgs {
   std::string output;
   bool binary = false;
   bool validate = false;
+  bool tets_only = false;
+  bool msh22 = false;
+  std::string format;
 };
 
 int run_convert(const ConvertArgs& args) {
-  format_from_path(args.output);  // an unknown output extension fails before reading
+  parse_format(args.format);  // a bad --format fails before reading
+  const std::optional<MeshFormat> output_format = format_for(args.output, args.format);
+  if (args.output == "-") {
+    send_report_to_stderr();
+    if (!output_format) throw InputError("-: the output format must be given (--format mesh, msh or vtu)");
+  } else if (!output_format) {
+    format_from_path(args.output);  // an unknown output extension fails before reading
+  }
   check_output_folder(args.output);
   double read_seconds = 0.0, build_seconds = 0.0;
-  const MeshData mesh = read_input(args.input, &read_seconds);
+  ReadOptions read_options;
+  read_options.tets_only = args.tets_only;
+  read_options.format = format_for(args.input, args.format);
+  const MeshData mesh = read_input(args.input, &read_seconds, read_options);
   if (args.validate) build_input(args.input, mesh, &build_seconds);
   const Stopwatch write_clock;
   WriteOptions options;
   options.binary = args.binary;
+  options.msh22 = args.msh22;
+  options.format = output_format;
   write_mesh(args.output, mesh, options);
   const double write_seconds = write_clock.seconds();
-  std::printf("%s -> %s: %s vertices, %s tets, %s triangles, %s edges, %zu field%s\n", args.input.c_str(),
+  std::fprintf(report_stream(), "%s -> %s: %s vertices, %s tets, %s triangles, %s edges, %zu field%s\n", args.input.c_str(),
               args.output.c_str(), format_count(mesh.vertex_count()).c_str(), format_count(mesh.tet_count()).c_str(),
               format_count(mesh.triangles.size()).c_str(), format_count(mesh.segments.size()).c_str(),
               mesh.fields.size(), mesh.fields.size() == 1 ? "" : "s");
-  std::printf("read %s, %swrite %s\n", format_seconds(read_seconds).c_str(),
+  std::fprintf(report_stream(), "read %s, %swrite %s\n", format_seconds(read_seconds).c_str(),
               args.validate ? ("validated " + format_seconds(build_seconds) + ", ").c_str() : "",
               format_seconds(write_seconds).c_str());
   return kExitOk;
@@ -47,6 +63,10 @@ void add_convert_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("OUT", args->output, "Output mesh")->required();
   cmd->add_flag("--binary", args->binary, "Binary Gmsh 4.1 / raw appended VTU data");
   cmd->add_flag("--validate", args->validate, "Build the model first: refuse invalid meshes (exit 2)");
+  cmd->add_option("--format", args->format, "Format of the - paths (stdin, stdout): mesh, msh or vtu");
+  cmd->add_flag("--msh22", args->msh22, "Write .msh as Gmsh 2.2 ASCII (for tools that read only the old format)")
+      ->excludes("--binary");
+  cmd->add_flag("--tets-only", args->tets_only, "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) instead of refusing it");
   cmd->callback([args, &run] { run = [args] { return run_convert(*args); }; });
 }
 

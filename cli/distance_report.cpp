@@ -20,14 +20,14 @@ void print_surface_distance(const SurfaceDistance& d, double seconds, bool per_l
   const LabelDistance* worst = nullptr;
   for (const LabelDistance& l : d.labels)
     if (worst == nullptr || l.hausdorff > worst->hausdorff) worst = &l;
-  std::printf("%-10sHausdorff %s: in->out %s, out->in %s%s; sampling error <= %s (%s samples, %s)\n", "distance",
+  std::fprintf(report_stream(), "%-10sHausdorff %s: in->out %s, out->in %s%s; sampling error <= %s (%s samples, %s)\n", "distance",
               length_text(d.hausdorff, d.diagonal).c_str(), format_number(d.original_to_simplified).c_str(),
               format_number(d.simplified_to_original).c_str(),
               worst != nullptr ? (", worst " + worst->name()).c_str() : "", format_number(d.sampling_error).c_str(),
               format_count(d.samples).c_str(), format_seconds(seconds).c_str());
   if (!per_label) return;
   for (const LabelDistance& l : d.labels)
-    std::printf("%-10s  %-36s %s (in->out %s, out->in %s)\n", "", l.name().c_str(),
+    std::fprintf(report_stream(), "%-10s  %-36s %s (in->out %s, out->in %s)\n", "", l.name().c_str(),
                 length_text(l.hausdorff, d.diagonal).c_str(), format_number(l.original_to_simplified).c_str(),
                 format_number(l.simplified_to_original).c_str());
 }

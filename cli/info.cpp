@@ -18,6 +18,8 @@ namespace {
 struct InfoArgs {
   std::string input;
   std::string json_path;
+  bool tets_only = false;
+  std::string format;
 };
 
 template <class Element>
@@ -50,7 +52,11 @@ Json counts_json(const std::map<std::int32_t, std::uint64_t>& counts) {
 int run_info(const InfoArgs& args) {
   check_output_folder(args.json_path);
   double read_seconds = 0.0;
-  const MeshData data = read_input(args.input, &read_seconds);
+  ReadOptions read_options;
+  read_options.tets_only = args.tets_only;
+  read_options.format = format_for(args.input, args.format);
+  if (args.json_path == "-") send_report_to_stderr();
+  const MeshData data = read_input(args.input, &read_seconds, read_options);
 
   const auto materials = [&] {
     std::map<std::int32_t, std::uint64_t> out;
@@ -89,7 +95,7 @@ int run_info(const InfoArgs& args) {
     build_error = e.what();
   }
 
-  const auto row = [](const char* key, const std::string& value) { std::printf("%-14s %s\n", key, value.c_str()); };
+  const auto row = [](const char* key, const std::string& value) { std::fprintf(report_stream(), "%-14s %s\n", key, value.c_str()); };
   row("file", args.input + " (read " + format_seconds(read_seconds) + ")");
   row("vertices", format_count(data.vertex_count()));
   row("tets", format_count(data.tet_count()));
@@ -182,6 +188,8 @@ void add_info_command(CLI::App& app, CommandRunner& run) {
                                              "memory per tet; validates by building the model (exit 2 if invalid).");
   cmd->add_option("FILE", args->input, "Mesh file (.mesh, .msh, optionally .gz)")->required();
   cmd->add_option("--json", args->json_path, "Also write the numbers as JSON to this file");
+  cmd->add_option("--format", args->format, "Format of FILE when it is - (stdin): mesh or msh");
+  cmd->add_flag("--tets-only", args->tets_only, "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) instead of refusing it");
   cmd->callback([args, &run] { run = [args] { return run_info(*args); }; });
 }
 

@@ -9,6 +9,7 @@
 // the report shows what the measurements cost next to the simplification.
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -181,7 +182,7 @@ std::string field_text(const FieldError& f) {
          (f.components.size() == 1 ? "" : "s") + ")";
 }
 
-void row(const char* key, const std::string& value) { std::printf("%-10s%s\n", key, value.c_str()); }
+void row(const char* key, const std::string& value) { std::fprintf(report_stream(), "%-10s%s\n", key, value.c_str()); }
 
 }  // namespace
 
@@ -246,14 +247,27 @@ std::string measure_text(const MeasureTimes& t, double simplify_seconds) {
 }  // namespace
 
 int run_simplify_job(SimplifyJob& job) {
-  if (!job.output_path.empty()) {
+  if (job.output_path == "-" && job.report_path == "-")
+    throw InputError("-o - and --report -: only one of them can go to stdout");
+  if (job.output_path == "-") {
+    if (!job.output_format) throw InputError("-o -: the output format must be given (--format mesh, msh or vtu)");
+    if (!job.levels.empty()) throw InputError("-o -: --levels writes several meshes, stdout takes one");
+  }
+  // Data on stdout: the human-readable report moves to stderr.
+  if (job.output_path == "-" || job.report_path == "-") send_report_to_stderr();
+  if (!job.output_path.empty() && !job.output_format) {
     format_from_path(job.output_path);  // unknown extensions fail before the work
     if (job.output_path.size() >= 3 && job.output_path.compare(job.output_path.size() - 3, 3, ".gz") == 0)
       throw_input_error(job.output_path, "writing compressed (.gz) files is not supported");
   }
   check_output_folder(job.output_path);
   check_output_folder(job.report_path);
-  const int threads = job.options.num_threads > 0 ? job.options.num_threads : hardware_threads();
+  // The threads that really run: the default arena follows the process's CPU affinity (taskset),
+  // which hardware_concurrency() does not. Asking for more only oversubscribes the cores (and
+  // makes TBB print a warning on stderr); the output is the same for every count, so cap it.
+  const int available = current_thread_limit();
+  if (job.options.num_threads > available) job.options.num_threads = available;
+  const int threads = job.options.num_threads > 0 ? job.options.num_threads : available;
   const bool is_parallel = job.options.engine == Engine::kParallel;
   const bool verify = job.verify && job.metrics;
 
@@ -262,7 +276,10 @@ int run_simplify_job(SimplifyJob& job) {
   int exit_code = kExitOk;
   run_with_thread_limit(job.options.num_threads, [&] {
     double build_seconds = 0.0;
-    TetMesh mesh = build_input(job.input_label, job.input, &build_seconds);
+    BuildNotes notes;
+    TetMesh mesh = build_input(job.input_label, job.input, &build_seconds, &notes);
+    // The checker must compare the output with what the model holds, not with left-out elements.
+    drop_noted_substructures(job.input, notes);
     const std::size_t model_bytes = mesh.memory_bytes();
     const std::uint64_t vertices_in = job.input.vertex_count(), tets_in = job.input.tet_count();
 
@@ -297,6 +314,8 @@ int run_simplify_job(SimplifyJob& job) {
         const Stopwatch write_clock;
         WriteOptions write_options;
         write_options.binary = job.binary;
+        write_options.msh22 = job.msh22;
+        write_options.format = job.output_format;
         write_mesh(result.output_path, result.output, write_options);
         result.write_seconds = write_clock.seconds();
       }
@@ -358,16 +377,16 @@ int run_simplify_job(SimplifyJob& job) {
           return job.metrics ? format_number((q.*which).std_dev * scale) : std::string("-");
         };
         row("engine", engine_text);
-        std::printf("\n%6s %10s %9s %8s %9s %7s %7s  %s\n", "%", "#vert", "rms", "time", "dihedral", "solid", "face",
+        std::fprintf(report_stream(), "\n%6s %10s %9s %8s %9s %7s %7s  %s\n", "%", "#vert", "rms", "time", "dihedral", "solid", "face",
                     "topology");
-        std::printf("%6s %10s %9s %8s %9s %7s %7s\n", "100", format_count(vertices_in).c_str(), "0", "0",
+        std::fprintf(report_stream(), "%6s %10s %9s %8s %9s %7s %7s\n", "100", format_count(vertices_in).c_str(), "0", "0",
                     angle(input_quality, &QualityStats::dihedral_deg, kRadiansPerDegree).c_str(),
                     angle(input_quality, &QualityStats::solid_sr, 1.0).c_str(),
                     angle(input_quality, &QualityStats::face_deg, kRadiansPerDegree).c_str());
         for (const LevelResult& l : results) {
           char pct[32];
           std::snprintf(pct, sizeof pct, "%.1f", 100.0 * per(static_cast<double>(l.report.vertices_after), vertices_in));
-          std::printf("%6s %10s %9s %8s %9s %7s %7s  %s\n", pct, format_count(l.report.vertices_after).c_str(),
+          std::fprintf(report_stream(), "%6s %10s %9s %8s %9s %7s %7s  %s\n", pct, format_count(l.report.vertices_after).c_str(),
                       l.field_error ? format_number(l.field_error->worst_rms_rel).c_str() : "-",
                       format_number(l.cumulative_seconds).c_str(),
                       angle(l.quality, &QualityStats::dihedral_deg, kRadiansPerDegree).c_str(),
@@ -375,7 +394,7 @@ int run_simplify_job(SimplifyJob& job) {
                       angle(l.quality, &QualityStats::face_deg, kRadiansPerDegree).c_str(),
                       !l.verified ? (l.topology_ok ? "-" : "FAIL") : (l.topology_ok ? "PASS" : "FAIL"));
         }
-        std::printf("(rms relative to the field's range; time = cumulative simplify seconds; std dev of dihedral and "
+        std::fprintf(report_stream(), "(rms relative to the field's range; time = cumulative simplify seconds; std dev of dihedral and "
                     "face angles in rad, solid angles in sr)\n\n");
         std::string written;
         for (const LevelResult& l : results)
@@ -416,7 +435,7 @@ int run_simplify_job(SimplifyJob& job) {
       if (job.metrics) row("measure", measure_text(times, cumulative));
     }
     if (!all_ok) {
-      std::FILE* out = job.quiet ? stderr : stdout;
+      std::FILE* out = job.quiet ? stderr : report_stream();
       if (job.quiet) std::fprintf(out, "topology: FAIL\n");
       for (const LevelResult& l : results)
         for (const std::string& line : split_lines(l.differences))
@@ -488,13 +507,21 @@ struct SimplifyArgs {
   std::vector<double> levels;
   bool quiet = false;
   bool binary = false;
+  bool tets_only = false;
+  bool msh22 = false;
+  std::string format;
 };
 
 int run_simplify(const SimplifyArgs& args) {
   SimplifyJob job;
   job.levels = normalize_levels(args.levels);
   job.input_label = args.input;
-  job.input = read_input(args.input, &job.read_seconds);
+  ReadOptions read_options;
+  read_options.tets_only = args.tets_only;
+  parse_format(args.format);  // a bad --format fails before reading
+  read_options.format = format_for(args.input, args.format);
+  job.output_format = format_for(args.output, args.format);
+  job.input = read_input(args.input, &job.read_seconds, read_options);
   job.options.target_vertex_ratio = args.ratio;
   job.options.target_vertices = args.target_vertices;
   job.options.max_cost = args.max_cost;
@@ -506,6 +533,7 @@ int run_simplify(const SimplifyArgs& args) {
   job.options.round_fraction = args.round_fraction;
   job.output_path = args.output;
   job.binary = args.binary;
+  job.msh22 = args.msh22;
   job.report_path = args.report;
   job.verify = !args.no_verify;
   job.metrics = !args.no_metrics;
@@ -516,37 +544,40 @@ int run_simplify(const SimplifyArgs& args) {
 }  // namespace
 
 void add_simplify_command(CLI::App& app, CommandRunner& run) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
   auto args = std::make_shared<SimplifyArgs>();
   CLI::App* cmd = app.add_subcommand(
       "simplify", "Simplify by topology-preserving edge collapses, write OUT, report speed, quality and the topology "
                   "verdict (exit 1 if the topology changed).");
-  cmd->add_option("IN", args->input, "Input mesh (.mesh, .msh, optionally .gz)")->required();
-  cmd->add_option("-o,--output", args->output, "Output mesh (.mesh, .msh or .vtu)")->required();
+  cmd->add_option("IN", args->input, "Input mesh (.mesh, .msh, optionally .gz; - = stdin, with --format)")->required();
+  cmd->add_option("-o,--output", args->output, "Output mesh (.mesh, .msh or .vtu; - = stdout, with --format)")->required();
+  cmd->add_option("--format", args->format,
+                  "Format of - (stdin/stdout) and of paths without a mesh extension (/dev/null, a FIFO): mesh, msh, vtu");
   auto* ratio = cmd->add_option("--ratio", args->ratio, "Keep this fraction of the vertices, in (0, 1]")
-                    ->check(CLI::Range(0.0, 1.0))
+                    ->check(number_in(0.0, 1.0, true))
                     ->capture_default_str();
   auto* target = cmd->add_option("--target-vertices", args->target_vertices, "Stop at this many vertices");
   cmd->add_option("--max-cost,--max-error", args->max_cost,
                   "Stop when the cheapest collapse costs more (quadric error / bbox diagonal^2; 0 = no limit)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(number_in(0.0, kInfinity, false))
       ->capture_default_str();
   cmd->add_option("--min-quality", args->min_quality, "Reject collapses creating tets below this mean ratio")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(number_in(0.0, 1.0, false))
       ->capture_default_str();
   auto* tolerance = cmd->add_option("--tolerance", args->tolerance,
                                     "Keep boundary, interfaces, surfaces and polylines within this distance of the "
                                     "original ones (mesh units; 0 = unchecked)")
-                       ->check(CLI::NonNegativeNumber);
+                       ->check(number_in(0.0, kInfinity, false));
   cmd->add_option("--tolerance-rel", args->tolerance_rel, "The same, relative to the bounding box diagonal")
-      ->check(CLI::NonNegativeNumber)
+      ->check(number_in(0.0, kInfinity, false))
       ->excludes(tolerance);
   cmd->add_flag("--sequential", args->sequential, "Use the sequential reference engine (lazy priority queue)");
   cmd->add_option("--threads", args->threads, "Threads (0 = all cores; the output is the same for every value)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(whole_number_at_least(0))
       ->capture_default_str();
   cmd->add_option("--round-fraction", args->round_fraction,
                   "Parallel engine: the cheapest fraction of the proposals that compete in one round")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(number_in(0.0, 1.0, true))
       ->capture_default_str();
   cmd->add_option("--report", args->report, "Write the report as JSON to this file");
   cmd->add_flag("--no-verify", args->no_verify, "Skip the topology checker (quality, field error and distance are still measured)");
@@ -561,6 +592,9 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
   ratio->excludes(target);
   cmd->add_flag("--quiet", args->quiet, "No report and no progress bar (errors and a topology FAIL still print)");
   cmd->add_flag("--binary", args->binary, "Binary Gmsh 4.1 / raw appended VTU data");
+  cmd->add_flag("--msh22", args->msh22, "Write .msh as Gmsh 2.2 ASCII (for tools that read only the old format)")
+      ->excludes("--binary");
+  cmd->add_flag("--tets-only", args->tets_only, "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) instead of refusing it");
   cmd->callback([args, &run] { run = [args] { return run_simplify(*args); }; });
 }
 

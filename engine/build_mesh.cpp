@@ -8,6 +8,8 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -235,9 +237,95 @@ void for_each_tet_with(const TetMesh& m, const VertId* v, int n, F&& f) {
   });
 }
 
-std::vector<PlacedRef> place_triangles(const MeshData& d, const TetMesh& m) {
+// One listed triangle (N = 3) or segment (N = 2): sorted vertices, ref, index in its list.
+template <std::size_t N>
+struct ListedKey {
+  std::array<VertId, N> v;
+  std::int32_t ref;
+  std::uint32_t index;
+  auto operator<=>(const ListedKey&) const = default;  // vertices, then ref, then index
+};
+
+// The listed elements on one face (edge) of the mesh: their refs, merged.
+struct ListedGroup {
+  std::uint32_t begin, end;    // range of the sorted keys
+  std::uint32_t lowest_index;  // the element named in messages
+  std::int32_t ref;            // the ref, or a stand-in once assign_stand_ins has run
+  std::int32_t shared = -1;    // index into the shared sets when the group has several refs
+  bool ridge = false;
+};
+
+// Sorts the keys and groups them by vertex set. Repeats (same vertices, same ref) are noted and
+// count once; a group with several refs gets an entry in `shared_sets` (deduplicated).
+template <std::size_t N>
+std::vector<ListedGroup> group_listed(std::vector<ListedKey<N>>& keys, std::vector<std::uint32_t>* repeated,
+                                      std::map<std::vector<std::int32_t>, std::int32_t>& shared_sets) {
+  std::sort(keys.begin(), keys.end());
+  std::vector<ListedGroup> groups;
+  std::vector<std::int32_t> refs;
+  for (std::size_t i = 0; i < keys.size();) {
+    std::size_t j = i + 1;
+    while (j < keys.size() && keys[j].v == keys[i].v) ++j;
+    ListedGroup g{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), keys[i].index, keys[i].ref};
+    refs.clear();
+    for (std::size_t k = i; k < j; ++k) {
+      g.lowest_index = std::min(g.lowest_index, keys[k].index);
+      if (k > i && keys[k].ref == keys[k - 1].ref) {
+        if (repeated) repeated->push_back(keys[k].index);
+      } else {
+        refs.push_back(keys[k].ref);
+      }
+    }
+    if (refs.size() > 1)
+      g.shared = shared_sets.emplace(refs, static_cast<std::int32_t>(shared_sets.size())).first->second;
+    groups.push_back(g);
+    i = j;
+  }
+  if (repeated) std::sort(repeated->begin(), repeated->end());
+  return groups;
+}
+
+// Gives every shared set its stand-in ref: the smallest values from kFirstStandInRef up that no
+// listed element uses, in the sets' sorted order (so the same input always gets the same ones).
+template <std::size_t N>
+std::vector<SharedRefs> assign_stand_ins(const std::vector<ListedKey<N>>& keys,
+                                         const std::map<std::vector<std::int32_t>, std::int32_t>& shared_sets,
+                                         std::vector<ListedGroup>& groups) {
+  if (shared_sets.empty()) return {};
+  std::vector<std::int32_t> used;
+  used.reserve(keys.size());
+  for (const auto& k : keys) used.push_back(k.ref);
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::vector<SharedRefs> out;
+  std::vector<std::int32_t> stand_in_of(shared_sets.size());
+  std::int32_t next = kFirstStandInRef;
+  auto u = used.begin();
+  for (const auto& [refs, id] : shared_sets) {
+    while (u != used.end() && *u < next) ++u;
+    while (u != used.end() && *u == next) ++next, ++u;
+    stand_in_of[id] = next;
+    out.push_back({next, refs});
+    ++next;
+  }
+  for (ListedGroup& g : groups)
+    if (g.shared >= 0) g.ref = stand_in_of[g.shared];
+  return out;
+}
+
+// Fails on, or notes, the detached groups (their lowest index named), in index order.
+void handle_detached(std::vector<std::uint32_t>& detached, bool skip, std::vector<std::uint32_t>* noted,
+                     const std::function<std::string(std::uint32_t)>& describe) {
+  if (detached.empty()) return;
+  std::sort(detached.begin(), detached.end());
+  if (!skip) fail(describe(detached.front()));
+  if (noted) *noted = std::move(detached);
+}
+
+std::vector<PlacedRef> place_triangles(const MeshData& d, const TetMesh& m, const BuildOptions& options,
+                                       BuildNotes* notes, std::vector<SharedRefs>& shared) {
   const std::size_t nv = d.positions.size();
-  std::vector<std::array<VertId, 4>> keys(d.triangles.size());  // sorted verts + index
+  std::vector<ListedKey<3>> keys(d.triangles.size());
   for (std::size_t i = 0; i < d.triangles.size(); ++i) {
     const Triangle& tri = d.triangles[i];
     for (VertId x : tri.v)
@@ -246,31 +334,34 @@ std::vector<PlacedRef> place_triangles(const MeshData& d, const TetMesh& m) {
              std::to_string(nv) + ")");
     if (tri.v[0] == tri.v[1] || tri.v[1] == tri.v[2] || tri.v[0] == tri.v[2])
       fail("triangle " + std::to_string(i) + ": repeated vertex (" + verts_str(tri.v.data(), 3) + ")");
-    std::array<VertId, 3> s = tri.v;
-    std::sort(s.begin(), s.end());
-    keys[i] = {s[0], s[1], s[2], static_cast<VertId>(i)};
+    keys[i] = {tri.v, tri.ref, static_cast<std::uint32_t>(i)};
+    std::sort(keys[i].v.begin(), keys[i].v.end());
   }
-  std::sort(keys.begin(), keys.end());
-  for (std::size_t i = 1; i < keys.size(); ++i)
-    if (keys[i][0] == keys[i - 1][0] && keys[i][1] == keys[i - 1][1] && keys[i][2] == keys[i - 1][2])
-      fail("triangle " + std::to_string(std::max(keys[i][3], keys[i - 1][3])) + " duplicates triangle " +
-           std::to_string(std::min(keys[i][3], keys[i - 1][3])) + " (vertices " + verts_str(keys[i].data(), 3) + ")");
+  std::map<std::vector<std::int32_t>, std::int32_t> shared_sets;
+  std::vector<ListedGroup> groups = group_listed(keys, notes ? &notes->repeated_triangles : nullptr, shared_sets);
+  shared = assign_stand_ins(keys, shared_sets, groups);
   std::vector<PlacedRef> placed;
-  for (std::size_t i = 0; i < d.triangles.size(); ++i) {
-    const Triangle& tri = d.triangles[i];
+  std::vector<std::uint32_t> detached;
+  for (const ListedGroup& g : groups) {
     bool found = false;
-    for_each_tet_with(m, tri.v.data(), 3, [&](TetId t, const int* loc) {
-      placed.push_back({t, static_cast<std::uint8_t>(6 - loc[0] - loc[1] - loc[2]), tri.ref, false});
+    for_each_tet_with(m, keys[g.begin].v.data(), 3, [&](TetId t, const int* loc) {
+      placed.push_back({t, static_cast<std::uint8_t>(6 - loc[0] - loc[1] - loc[2]), g.ref, false});
       found = true;
     });
     if (!found)
-      fail("triangle " + std::to_string(i) + " (vertices " + verts_str(tri.v.data(), 3) + ", ref " +
-           std::to_string(tri.ref) + ") is not a face of any tet");
+      for (std::uint32_t k = g.begin; k < g.end; ++k) detached.push_back(keys[k].index);
   }
+  handle_detached(detached, options.skip_detached_substructures, notes ? &notes->detached_triangles : nullptr,
+                  [&](std::uint32_t i) {
+                    const Triangle& tri = d.triangles[i];
+                    return "triangle " + std::to_string(i) + " (vertices " + verts_str(tri.v.data(), 3) + ", ref " +
+                           std::to_string(tri.ref) + ") is not a face of any tet";
+                  });
   return placed;
 }
 
-std::vector<PlacedRef> place_segments(const MeshData& d, const TetMesh& m) {
+std::vector<PlacedRef> place_segments(const MeshData& d, const TetMesh& m, const BuildOptions& options,
+                                      BuildNotes* notes, std::vector<SharedRefs>& shared) {
   const std::size_t nv = d.positions.size();
   std::vector<char> is_ridge(d.segments.size(), 0);
   for (std::size_t i = 0; i < d.ridges.size(); ++i) {
@@ -279,7 +370,7 @@ std::vector<PlacedRef> place_segments(const MeshData& d, const TetMesh& m) {
            std::to_string(d.segments.size()) + ")");
     is_ridge[d.ridges[i]] = 1;
   }
-  std::vector<std::array<VertId, 3>> keys(d.segments.size());
+  std::vector<ListedKey<2>> keys(d.segments.size());
   for (std::size_t i = 0; i < d.segments.size(); ++i) {
     const Segment& s = d.segments[i];
     for (VertId x : s.v)
@@ -287,25 +378,30 @@ std::vector<PlacedRef> place_segments(const MeshData& d, const TetMesh& m) {
         fail("edge " + std::to_string(i) + ": vertex index " + std::to_string(x) + " out of range [0, " +
              std::to_string(nv) + ")");
     if (s.v[0] == s.v[1]) fail("edge " + std::to_string(i) + ": repeated vertex " + std::to_string(s.v[0]));
-    keys[i] = {std::min(s.v[0], s.v[1]), std::max(s.v[0], s.v[1]), static_cast<VertId>(i)};
+    keys[i] = {{std::min(s.v[0], s.v[1]), std::max(s.v[0], s.v[1])}, s.ref, static_cast<std::uint32_t>(i)};
   }
-  std::sort(keys.begin(), keys.end());
-  for (std::size_t i = 1; i < keys.size(); ++i)
-    if (keys[i][0] == keys[i - 1][0] && keys[i][1] == keys[i - 1][1])
-      fail("edge " + std::to_string(std::max(keys[i][2], keys[i - 1][2])) + " duplicates edge " +
-           std::to_string(std::min(keys[i][2], keys[i - 1][2])) + " (vertices " + verts_str(keys[i].data(), 2) + ")");
+  std::map<std::vector<std::int32_t>, std::int32_t> shared_sets;
+  std::vector<ListedGroup> groups = group_listed(keys, notes ? &notes->repeated_segments : nullptr, shared_sets);
+  shared = assign_stand_ins(keys, shared_sets, groups);
   std::vector<PlacedRef> placed;
-  for (std::size_t i = 0; i < d.segments.size(); ++i) {
-    const Segment& s = d.segments[i];
+  std::vector<std::uint32_t> detached;
+  for (ListedGroup& g : groups) {
+    // A ridge is a property of the edge: one listing as a ridge makes it one.
+    for (std::uint32_t k = g.begin; k < g.end; ++k) g.ridge = g.ridge || is_ridge[keys[k].index];
     bool found = false;
-    for_each_tet_with(m, s.v.data(), 2, [&](TetId t, const int* loc) {
-      placed.push_back({t, static_cast<std::uint8_t>(local_edge_index(loc[0], loc[1])), s.ref, is_ridge[i] != 0});
+    for_each_tet_with(m, keys[g.begin].v.data(), 2, [&](TetId t, const int* loc) {
+      placed.push_back({t, static_cast<std::uint8_t>(local_edge_index(loc[0], loc[1])), g.ref, g.ridge});
       found = true;
     });
     if (!found)
-      fail("edge " + std::to_string(i) + " (vertices " + verts_str(s.v.data(), 2) + ", ref " + std::to_string(s.ref) +
-           ") is not an edge of any tet");
+      for (std::uint32_t k = g.begin; k < g.end; ++k) detached.push_back(keys[k].index);
   }
+  handle_detached(detached, options.skip_detached_substructures, notes ? &notes->detached_segments : nullptr,
+                  [&](std::uint32_t i) {
+                    const Segment& s = d.segments[i];
+                    return "edge " + std::to_string(i) + " (vertices " + verts_str(s.v.data(), 2) + ", ref " +
+                           std::to_string(s.ref) + ") is not an edge of any tet";
+                  });
   return placed;
 }
 
@@ -342,7 +438,8 @@ void mark_pinned(const MeshData& d, TetMesh& m) {
 
 }  // namespace
 
-TetMesh build_tet_mesh(const MeshData& d, const BuildOptions& options) {
+TetMesh build_tet_mesh(const MeshData& d, const BuildOptions& options, BuildNotes* notes) {
+  if (notes) *notes = {};
   check_sizes(d);
   check_vertices_and_tets(d);
 
@@ -351,6 +448,7 @@ TetMesh build_tet_mesh(const MeshData& d, const BuildOptions& options) {
   m.vertex_refs = d.vertex_refs.empty() ? std::vector<std::int32_t>(d.positions.size(), 0) : d.vertex_refs;
   m.vertex_states.assign(d.positions.size(), 0);
   copy_fields(d, m);
+  m.group_names = d.group_names;
   orient_tets(d, options, m);
   m.flags.assign(m.tets.size(), 0);
   m.tet_refs_slot.assign(m.tets.size(), kInvalid);
@@ -360,8 +458,8 @@ TetMesh build_tet_mesh(const MeshData& d, const BuildOptions& options) {
     if (m.v2t_count[v] == 0) m.vertex_states[v] |= vertex_state::kDead;  // referenced by no tet
 
   const std::vector<std::uint8_t> face_kind = classify_faces(m);
-  const std::vector<PlacedRef> faces = place_triangles(d, m);
-  const std::vector<PlacedRef> edges = place_segments(d, m);
+  const std::vector<PlacedRef> faces = place_triangles(d, m, options, notes, m.shared_face_refs);
+  const std::vector<PlacedRef> edges = place_segments(d, m, options, notes, m.shared_edge_refs);
 
   for (std::size_t t = 0; t < m.tets.size(); ++t)
     for (int f = 0; f < 4; ++f)
@@ -386,6 +484,50 @@ TetMesh build_tet_mesh(const MeshData& d, const BuildOptions& options) {
   for (VertId v = 0; v < m.positions.size(); ++v)
     if (m.is_dead_vertex(v)) m.vertex_states[v] &= ~(vertex_state::kCorner | vertex_state::kRequired | vertex_state::kPinned);
   return m;
+}
+
+}  // namespace topotet
+
+namespace topotet {
+
+void drop_noted_substructures(MeshData& d, const BuildNotes& notes) {
+  auto drop = [](auto& list, const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
+    std::vector<char> gone(list.size(), 0);
+    for (std::uint32_t i : a) gone[i] = 1;
+    for (std::uint32_t i : b) gone[i] = 1;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (gone[i]) continue;
+      list[kept++] = list[i];
+    }
+    list.resize(kept);
+  };
+  drop(d.triangles, notes.repeated_triangles, notes.detached_triangles);
+  // Pinned vertices on no tet are not pinned in the model (they are not in it at all).
+  if (!notes.detached_triangles.empty() || !notes.detached_segments.empty()) {
+    std::vector<char> on_tet(d.positions.size(), 0);
+    for (const auto& t : d.tets)
+      for (VertId v : t)
+        if (v < on_tet.size()) on_tet[v] = 1;
+    for (auto* list : {&d.corners, &d.required_vertices})
+      list->erase(std::remove_if(list->begin(), list->end(), [&](VertId v) { return v >= on_tet.size() || !on_tet[v]; }),
+                  list->end());
+  }
+  if (notes.repeated_segments.empty() && notes.detached_segments.empty()) return;
+  // The builder makes an edge a ridge when any of its listings is one, and the model writes every
+  // listing of a ridge edge as a ridge: the ridges are re-derived by edge the same way.
+  std::vector<std::array<VertId, 2>> ridge_edges;
+  for (std::uint32_t r : d.ridges)
+    if (r < d.segments.size())
+      ridge_edges.push_back({std::min(d.segments[r].v[0], d.segments[r].v[1]), std::max(d.segments[r].v[0], d.segments[r].v[1])});
+  drop(d.segments, notes.repeated_segments, notes.detached_segments);
+  std::sort(ridge_edges.begin(), ridge_edges.end());
+  d.ridges.clear();
+  for (std::size_t i = 0; i < d.segments.size(); ++i) {
+    const std::array<VertId, 2> e{std::min(d.segments[i].v[0], d.segments[i].v[1]),
+                                  std::max(d.segments[i].v[0], d.segments[i].v[1])};
+    if (std::binary_search(ridge_edges.begin(), ridge_edges.end(), e)) d.ridges.push_back(static_cast<std::uint32_t>(i));
+  }
 }
 
 }  // namespace topotet

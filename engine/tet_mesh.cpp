@@ -170,14 +170,25 @@ MeshData TetMesh::to_mesh_data() const {
   // stable_sort keeps the first tet's orientation first among equal keys: deterministic output.
   std::stable_sort(faces.begin(), faces.end());
   std::stable_sort(edges.begin(), edges.end());
+  // A stand-in ref is written back as one element per ref of its set.
+  auto for_each_ref = [](const std::vector<SharedRefs>& shared, std::int32_t ref, auto&& f) {
+    const auto it = std::lower_bound(shared.begin(), shared.end(), ref,
+                                     [](const SharedRefs& s, std::int32_t r) { return s.stand_in < r; });
+    if (it == shared.end() || it->stand_in != ref) return f(ref);
+    for (std::int32_t r : it->refs) f(r);
+  };
   for (std::size_t i = 0; i < faces.size(); ++i)
-    if (i == 0 || faces[i].key != faces[i - 1].key) d.triangles.push_back({faces[i].oriented, faces[i].ref});
+    if (i == 0 || faces[i].key != faces[i - 1].key)
+      for_each_ref(shared_face_refs, faces[i].ref, [&](std::int32_t r) { d.triangles.push_back({faces[i].oriented, r}); });
   for (std::size_t i = 0; i < edges.size(); ++i) {
     if (i != 0 && edges[i].key == edges[i - 1].key) continue;
-    if (edges[i].ridge) d.ridges.push_back(static_cast<std::uint32_t>(d.segments.size()));
-    d.segments.push_back({edges[i].oriented, edges[i].ref});
+    for_each_ref(shared_edge_refs, edges[i].ref, [&](std::int32_t r) {
+      if (edges[i].ridge) d.ridges.push_back(static_cast<std::uint32_t>(d.segments.size()));
+      d.segments.push_back({edges[i].oriented, r});
+    });
   }
 
+  d.group_names = group_names;
   const int stride = field_stride();
   int offset = 0;
   for (const FieldInfo& fi : fields) {

@@ -11,6 +11,7 @@ packages=(
   libtbb-dev libembree-dev libglm-dev zlib1g-dev
   libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
   gmsh tetgen
+  clang libclang-rt-14-dev
 )
 
 missing=()

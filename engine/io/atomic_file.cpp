@@ -1,6 +1,8 @@
 #include "io/atomic_file.h"
 
 #include <fcntl.h>
+#include <limits.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +14,7 @@
 #include <random>
 
 #include "topotet/error.h"
+#include "topotet/io.h"
 
 namespace topotet::io {
 namespace {
@@ -30,13 +33,97 @@ std::string random_suffix() {
   return s;
 }
 
+// Temporary files in progress, for remove_temporary_files() in a signal handler. Fixed storage
+// (a handler may not allocate, and must never read freed memory): a slot's path is written, then
+// published with `ready` (release); the handler reads only published slots (acquire).
+constexpr int kRegistrySlots = 64;
+struct TempRegistry {
+  std::atomic<bool> taken[kRegistrySlots];
+  std::atomic<bool> ready[kRegistrySlots];
+  char paths[kRegistrySlots][PATH_MAX];
+};
+TempRegistry g_registry;  // zero-initialised (static storage): every slot free
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs lock-free flags");
+
+int register_temp(const std::string& path) {
+  if (path.size() >= PATH_MAX) return -1;  // not registered: only the signal cleanup misses it
+  for (int i = 0; i < kRegistrySlots; ++i) {
+    bool expected = false;
+    if (!g_registry.taken[i].compare_exchange_strong(expected, true, std::memory_order_acquire)) continue;
+    std::memcpy(g_registry.paths[i], path.c_str(), path.size() + 1);
+    g_registry.ready[i].store(true, std::memory_order_release);
+    return i;
+  }
+  return -1;
+}
+
+void unregister_temp(int slot) {
+  if (slot < 0) return;
+  g_registry.ready[slot].store(false, std::memory_order_release);
+  g_registry.taken[slot].store(false, std::memory_order_release);
+}
+
+bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+
+// The final target of a chain of symlinks (at most 40, like the kernel), or `path` itself.
+// The last link may dangle: the target is then created.
+std::string follow_symlinks(std::string path) {
+  for (int hop = 0; hop < 40; ++hop) {
+    struct stat st;
+    if (::lstat(path.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return path;
+    std::error_code ec;
+    const std::filesystem::path link = std::filesystem::read_symlink(path, ec);
+    if (ec) return path;
+    path = (link.is_absolute() ? link : std::filesystem::path(path).parent_path() / link).string();
+  }
+  throw InputError(path + ": too many levels of symbolic links");
+}
+
+// The descriptor to write straight through to, or -1 when `path` is an ordinary file target.
+int open_direct(const std::string& path, const std::string& target) {
+  if (path == "-" || path == "/dev/stdout" || path == "/dev/stderr") {
+    const int fd = ::fcntl(path == "/dev/stderr" ? 2 : 1, F_DUPFD_CLOEXEC, 3);
+    if (fd < 0) throw InputError(path + ": cannot write: " + std::strerror(errno));
+    return fd;
+  }
+  struct stat st;
+  const bool exists = ::stat(target.c_str(), &st) == 0;
+  if (exists && S_ISDIR(st.st_mode)) throw InputError(path + ": cannot write: is a directory");
+  const bool special = (exists && !S_ISREG(st.st_mode)) || starts_with(path, "/dev/") || starts_with(path, "/proc/") ||
+                       starts_with(target, "/dev/") || starts_with(target, "/proc/");
+  if (!special) return -1;
+  // A FIFO blocks here until a reader opens it, as a shell redirection does.
+  const int flags = O_WRONLY | O_CLOEXEC | (exists && S_ISREG(st.st_mode) ? O_TRUNC : 0);
+  int fd;
+  do {
+    fd = ::open(path.c_str(), flags | (exists ? 0 : O_CREAT), 0666);
+  } while (fd < 0 && errno == EINTR);
+  if (fd < 0) throw InputError(path + ": cannot open: " + std::strerror(errno));
+  return fd;
+}
+
 }  // namespace
 
+bool is_direct_output(const std::string& path) {
+  if (path == "-" || starts_with(path, "/dev/") || starts_with(path, "/proc/")) return true;
+  const std::string target = follow_symlinks(path);
+  struct stat st;
+  return starts_with(target, "/dev/") || starts_with(target, "/proc/") ||
+         (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode));
+}
+
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
+  target_ = path_ == "-" ? path_ : follow_symlinks(path_);
+  fd_ = open_direct(path_, target_);
+  if (fd_ >= 0) {
+    direct_ = true;
+    buf_.resize(kBufferSize);
+    return;
+  }
   // O_EXCL on a fresh random name instead of mkstemp: mkstemp creates mode 0600, while a plain
   // open() with 0666 lets the umask decide, as for any ordinary file.
   for (int attempt = 0; attempt < 100; ++attempt) {
-    temp_path_ = path_ + ".tmp-" + random_suffix();
+    temp_path_ = target_ + ".tmp-" + random_suffix();
     fd_ = ::open(temp_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd_ >= 0) break;
     if (errno != EEXIST) {
@@ -46,19 +133,27 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     }
   }
   if (fd_ < 0) throw InputError(path_ + ": cannot create a unique temporary file");
+  registry_slot_ = register_temp(temp_path_);
   buf_.resize(kBufferSize);
 }
 
 AtomicFile::~AtomicFile() {
   if (fd_ >= 0) ::close(fd_);
-  if (!committed_ && !temp_path_.empty()) ::unlink(temp_path_.c_str());
+  if (!committed_) remove_temp();
+  unregister_temp(registry_slot_);
+}
+
+void AtomicFile::remove_temp() noexcept {
+  if (!temp_path_.empty()) ::unlink(temp_path_.c_str());
+  temp_path_.clear();
+  unregister_temp(registry_slot_);
+  registry_slot_ = -1;
 }
 
 void AtomicFile::fail(const std::string& what, int err) {
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
-  ::unlink(temp_path_.c_str());
-  temp_path_.clear();
+  remove_temp();
   throw InputError(path_ + ": " + what + ": " + std::strerror(err));
 }
 
@@ -95,23 +190,29 @@ void AtomicFile::close() {
   // close() reports deferred write errors (e.g. on network file systems): check it.
   if (::close(fd) != 0) {
     const int err = errno;
-    ::unlink(temp_path_.c_str());
-    temp_path_.clear();
+    remove_temp();
     throw InputError(path_ + ": close failed: " + std::strerror(err));
   }
 }
 
 void AtomicFile::commit() {
   if (committed_) return;
+  if (direct_) {
+    close();
+    committed_ = true;
+    return;
+  }
   if (temp_path_.empty()) throw InputError(path_ + ": commit after a failed write");
   close();
   std::error_code ec;
-  std::filesystem::rename(temp_path_, path_, ec);
+  std::filesystem::rename(temp_path_, target_, ec);
   if (ec) {
-    ::unlink(temp_path_.c_str());
-    temp_path_.clear();
+    remove_temp();
     throw InputError(path_ + ": cannot replace file: " + ec.message());
   }
+  temp_path_.clear();
+  unregister_temp(registry_slot_);
+  registry_slot_ = -1;
   committed_ = true;
 }
 
@@ -127,3 +228,18 @@ void commit_all(std::initializer_list<AtomicFile*> files) {
 }
 
 }  // namespace topotet::io
+
+namespace topotet {
+
+void remove_temporary_files() noexcept {
+  for (int i = 0; i < io::kRegistrySlots; ++i)
+    if (io::g_registry.ready[i].load(std::memory_order_acquire)) ::unlink(io::g_registry.paths[i]);
+}
+
+void write_text_file(const std::string& path, std::string_view text) {
+  io::AtomicFile f(path);
+  f.put(text);
+  f.commit();
+}
+
+}  // namespace topotet

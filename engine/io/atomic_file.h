@@ -1,10 +1,20 @@
 // AtomicFile: a buffered output file that appears at its final path only when complete.
 //
-// Data goes to "<path>.tmp-XXXXXXXX" (unique, same folder, so the final rename stays on one file
+// Data goes to "<target>.tmp-XXXXXXXX" (unique, same folder, so the final rename stays on one file
 // system and is atomic). commit() flushes, closes, checks every error and renames the temporary
-// over `path`. If anything fails, or the object is destroyed before commit(), the temporary file
-// is removed, so a failed or interrupted write never leaves a partial file or litter. Errors are
-// InputError naming the path. (No fsync: this protects against failed runs, not power loss.)
+// over the target. If anything fails, or the object is destroyed before commit(), the temporary
+// file is removed, so a failed or interrupted write never leaves a partial file or litter. Errors
+// are InputError naming the path. (No fsync: this protects against failed runs, not power loss.)
+//
+// The target is `path`, except:
+//  - a symlink is followed to its final target (which may not exist yet): the target is replaced
+//    atomically and the link stays a link;
+//  - "-", /dev/stdout and /dev/stderr write straight to the process's stdout / stderr, and an
+//    existing FIFO, character device or socket (or any path under /dev or /proc) is opened and
+//    written straight through: renaming over such a path would replace it with a regular file.
+//    is_direct() is then true and there is no temporary file (a failure mid-write cannot be undone).
+// Temporary files in progress are registered so that remove_temporary_files() (topotet/io.h), from
+// a signal handler, can delete them before the process exits.
 //
 // Numbers are formatted with std::to_chars: doubles in their shortest round-trip form, so a
 // write -> read cycle reproduces every coordinate bit for bit.
@@ -28,7 +38,8 @@ class AtomicFile {
   AtomicFile& operator=(const AtomicFile&) = delete;
 
   const std::string& path() const { return path_; }
-  const std::string& temp_path() const { return temp_path_; }
+  const std::string& temp_path() const { return temp_path_; }  // empty when is_direct()
+  bool is_direct() const { return direct_; }
 
   void put(std::string_view s) {
     if (s.size() > buf_.size() - len_) return put_slow(s.data(), s.size());
@@ -70,9 +81,14 @@ class AtomicFile {
   void flush();
   [[noreturn]] void fail(const std::string& what, int err);
 
+  void remove_temp() noexcept;
+
   std::string path_;
+  std::string target_;  // path_ with symlinks followed: what the rename replaces
   std::string temp_path_;
   int fd_ = -1;
+  int registry_slot_ = -1;
+  bool direct_ = false;
   bool committed_ = false;
   std::vector<char> buf_;
   std::size_t len_ = 0;
@@ -80,5 +96,9 @@ class AtomicFile {
 
 // Commits several files: closes all of them first (any error leaves none renamed), then renames.
 void commit_all(std::initializer_list<AtomicFile*> files);
+
+// True when AtomicFile(path) would write straight through (see above): such a path has no
+// folder of its own to put companion files in.
+bool is_direct_output(const std::string& path);
 
 }  // namespace topotet::io

@@ -4,11 +4,14 @@
 // tag (2.x), else the entity (elementary) tag; triangles and lines get their ref the same way;
 // point elements (type 15) become corners. Nodes are renumbered 0..n-1 in file order (tags may
 // be sparse). $NodeData with 1..9 components become VertexFields (last time step wins when a
-// view repeats). Higher-order elements are refused; other linear elements (quads, hexes,
-// prisms, pyramids) are ignored, as are unknown sections.
+// view repeats). Higher-order elements are refused; hexahedra, prisms and pyramids are refused
+// unless ReadOptions::tets_only (then left out and counted); quads are left out and counted;
+// unknown sections are skipped.
 //
-// MSH 2.x writes an element once per physical group of its entity: such duplicates (same
-// nodes, same elementary entity) are read once, with the first physical tag.
+// An entity in several physical groups: a volume's material is its first group; a line or
+// triangle is listed once per group (each ref comes back out on it; see SharedRefs in
+// tet_mesh.h). MSH 2.x writes an element once per physical group of its entity: such copies
+// (same nodes, same elementary entity) are read as that, once per distinct group.
 //
 // Round trip conventions of write_gmsh (MeshData has more than plain Gmsh can say). All are
 // physical-group names, so other tools just see ordinary named groups:
@@ -20,14 +23,19 @@
 //  - $NodeData "topotet:vertex_ref": MEDIT vertex refs (written only when some are nonzero);
 //  - a symmetric-tensor field (6 components) is written as a full 3x3 tensor (9, as Gmsh
 //    wants) and a 9-component field that is exactly symmetric everywhere reads back as 6.
-// Element order is preserved (one element block per run of equal entity), so write -> read
-// gives back identical MeshData.
+// $PhysicalNames: user names of groups (MeshData::group_names) are read and written back.
+// Elements are written one block per entity (entities numbered in order of first use; within an
+// entity, element order kept): a MeshData whose elements of each dimension are grouped that way,
+// as every reader's output is, reads back identical; others come back with their elements
+// regrouped by ref. write_gmsh can also write MSH 2.2 ASCII (WriteOptions::msh22) with the same
+// groups: one element line per physical group of its entity, as Gmsh writes it.
 #include <algorithm>
 #include <array>
 #include <charconv>
 #include <limits>
 #include <map>
 #include <set>
+#include <tuple>
 #include <unordered_map>
 
 #include <glm/common.hpp>
@@ -154,8 +162,16 @@ struct Run {
   std::size_t begin, end;
 };
 
+// A partitioned entity ($PartitionedEntities): the piece of model entity parent_tag.
+struct Piece {
+  int parent_dim = 0, parent_tag = 0;
+  std::vector<int> physicals;
+};
+
 struct Resolved {
   std::int32_t ref = 0;
+  std::vector<std::int32_t> more_refs;  // further physical groups (lines, triangles: one copy each)
+  bool has_ref = false;                 // false: only flag groups (ridges, required vertices) or none
   bool ridge = false, corner = false, required = false;
 };
 
@@ -166,7 +182,8 @@ std::string unquote(std::string_view s) {
 
 class GmshReader {
  public:
-  explicit GmshReader(const std::string& path) : r_(path) {}
+  GmshReader(const std::string& path, const ReadOptions& options, ReadNotes& notes)
+      : r_(path), options_(options), notes_(notes) {}
 
   MeshData read() {
     read_format();
@@ -179,6 +196,8 @@ class GmshReader {
         read_physical_names();
       } else if (name == "Entities" && v41_) {
         read_entities();
+      } else if (name == "PartitionedEntities" && v41_) {
+        read_partitioned_entities();
       } else if (name == "Nodes") {
         if (seen_nodes_) r_.fail("duplicate $Nodes section");
         v41_ ? read_nodes41() : read_nodes22();
@@ -298,6 +317,49 @@ class GmshReader {
     expect_end("Entities");
   }
 
+  // `gmsh -part N` puts the elements on partitioned entities, each a piece of a model entity (its
+  // parent). Refs come from the model: the piece's physical tags (Gmsh copies the parent's), else
+  // the parent's, else the parent's tag, never the piece's own tag. Pieces whose parent has a
+  // higher dimension (the partition boundaries Gmsh creates inside volumes and on surfaces) are
+  // not part of the model: their elements are skipped.
+  void read_partitioned_entities() {
+    begin_binary();
+    size("$PartitionedEntities number of partitions");
+    const std::uint64_t ghosts = size("$PartitionedEntities number of ghost entities");
+    for (std::uint64_t i = 0; i < ghosts; ++i) {
+      int32("$PartitionedEntities ghost entity tag");
+      int32("$PartitionedEntities ghost partition");
+    }
+    std::array<std::uint64_t, 4> counts{};
+    for (auto& c : counts) c = size("$PartitionedEntities count");
+    for (int dim = 0; dim < 4; ++dim) {
+      for (std::uint64_t i = 0; i < counts[static_cast<std::size_t>(dim)]; ++i) {
+        const std::int32_t tag = int32("$PartitionedEntities tag");
+        Piece piece;
+        piece.parent_dim = int32("$PartitionedEntities parent dimension");
+        piece.parent_tag = int32("$PartitionedEntities parent tag");
+        const std::uint64_t parts = size("$PartitionedEntities number of partitions");
+        for (std::uint64_t k = 0; k < parts; ++k) int32("$PartitionedEntities partition tag");
+        for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) bbox_real("$PartitionedEntities bounding box");
+        const std::uint64_t nphys = size("$PartitionedEntities number of physical tags");
+        for (std::uint64_t k = 0; k < nphys; ++k) piece.physicals.push_back(int32("$PartitionedEntities physical tag"));
+        if (dim > 0) {
+          const std::uint64_t nbound = size("$PartitionedEntities number of bounding entities");
+          for (std::uint64_t k = 0; k < nbound; ++k) int32("$PartitionedEntities bounding entity");
+        }
+        pieces_[static_cast<std::size_t>(dim)][tag] = std::move(piece);
+      }
+    }
+    expect_end("PartitionedEntities");
+  }
+
+  // The piece of a partitioned file that `entity` is, or nullptr (a model entity).
+  const Piece* piece_of(int dim, int entity) const {
+    const auto& table = pieces_[static_cast<std::size_t>(dim)];
+    const auto it = table.find(entity);
+    return it == table.end() ? nullptr : &it->second;
+  }
+
   void add_node(std::uint64_t tag, const glm::dvec3& p) {
     if (m_.positions.size() >= kInvalid - 1) r_.fail("$Nodes: too many nodes");
     if (!nodes_.insert(tag, static_cast<VertId>(m_.positions.size()))) r_.fail("$Nodes: duplicate node tag " + std::to_string(tag));
@@ -406,6 +468,21 @@ class GmshReader {
     runs_.push_back({dim, entity, physical, begin, end});
   }
 
+  // Hexahedra, prisms and pyramids are refused unless tets_only; quads are always left out (io.h).
+  // `what` names them in the error: "12 hexahedra" or "element 7 (8-node hexahedron)".
+  void note_non_tet(std::int64_t type, std::uint64_t n, const std::string& what) {
+    std::uint64_t* count = nullptr;
+    switch (type) {
+      case 3: count = &notes_.quadrilaterals; break;
+      case 5: count = &notes_.hexahedra; break;
+      case 6: count = &notes_.prisms; break;
+      case 7: count = &notes_.pyramids; break;
+      default: return;
+    }
+    if (type != 3 && n > 0 && !options_.tets_only) r_.fail(mixed_mesh_message(what));
+    *count += n;
+  }
+
   ElementType checked_type(std::int64_t type) {
     const ElementType t = element_type(type);
     if (t.order > 1) {
@@ -438,12 +515,16 @@ class GmshReader {
         for (std::uint64_t i = 0; i < n; ++i) r_.skip_line(true);
         continue;
       }
+      static constexpr const char* kPlural[8] = {"", "", "", "quadrilaterals", "", "hexahedra", "prisms", "pyramids"};
+      if (type >= 0 && type < 8) note_non_tet(type, n, std::to_string(n) + " " + kPlural[type]);
       const int dim = element_dim(type);
       const std::size_t begin = count_of_dim(dim);
+      const Piece* piece = piece_of(entity_dim, entity);
+      const bool partition_boundary = piece != nullptr && piece->parent_dim != entity_dim;
       for (std::uint64_t i = 0; i < n; ++i) {
         size("$Elements element tag");
         for (int k = 0; k < et.nodes; ++k) tags[static_cast<std::size_t>(k)] = node_tag("$Elements node tag");
-        add_element(type, tags.data());
+        if (!partition_boundary) add_element(type, tags.data());
       }
       add_to_run(dim, entity, 0, begin);
     }
@@ -470,14 +551,16 @@ class GmshReader {
         if (ntags < 0 || ntags > 1000) r_.fail("$Elements: bad number of tags " + std::to_string(ntags));
       }
       for (std::int64_t i = 0; i < count; ++i) {
+        std::int64_t element_tag = 0;
         if (binary_) {
-          r_.read_i32("$Elements element tag");
+          element_tag = r_.read_i32("$Elements element tag");
         } else {
-          r_.read_int("$Elements element tag");
+          element_tag = r_.read_int("$Elements element tag");
           type = r_.read_int("$Elements element type");
           ntags = r_.read_int("$Elements number of tags", 0, 1000);
         }
         const ElementType et = checked_type(type);
+        note_non_tet(type, 1, "element " + std::to_string(element_tag) + " (" + et.name + ")");
         if (binary_ && et.nodes == 0) r_.fail("$Elements: unknown element type " + std::to_string(type));
         std::int32_t physical = 0, elementary = 0;
         for (std::int64_t k = 0; k < ntags; ++k) {
@@ -565,37 +648,54 @@ class GmshReader {
         continue;
       }
       other_point_group = true;
-      if (have_ref) continue;
-      have_ref = true;
-      out.ref = p;
+      std::int32_t ref = p;
       if (name.substr(0, kRefPrefix.size()) == kRefPrefix) {
         const std::string_view num = name.substr(kRefPrefix.size());
         std::int32_t v = 0;
         const auto [ptr, ec] = std::from_chars(num.data(), num.data() + num.size(), v);
-        if (ec == std::errc() && ptr == num.data() + num.size()) out.ref = v;
+        if (ec == std::errc() && ptr == num.data() + num.size()) ref = v;
       }
+      if (have_ref) {
+        if (ref != out.ref && std::find(out.more_refs.begin(), out.more_refs.end(), ref) == out.more_refs.end())
+          out.more_refs.push_back(ref);
+        continue;
+      }
+      have_ref = true;
+      out.ref = ref;
     }
+    out.has_ref = have_ref;
     if (!have_ref) out.ref = fallback;
     out.corner = physicals.empty() || other_point_group;
     return out;
   }
 
   void resolve() {
-    std::vector<std::int32_t> seg_ref(m_.segments.size()), tri_ref(m_.triangles.size());
-    std::vector<std::uint8_t> point_kind(points_.size());  // bit 0 corner, bit 1 required
-    std::vector<std::uint8_t> seg_ridge(m_.segments.size());
-    m_.tet_material.assign(m_.tets.size(), 0);
+    std::vector<Resolved> resolved;
+    resolved.reserve(runs_.size());
     std::vector<int> phys;
     for (const Run& run : runs_) {
+      int entity = run.entity;
       if (v41_) {
+        const Piece* piece = piece_of(run.dim, run.entity);
+        if (piece != nullptr) entity = piece->parent_tag;
         const auto& table = entity_phys_[static_cast<std::size_t>(run.dim)];
-        const auto it = table.find(run.entity);
-        phys = it == table.end() ? std::vector<int>() : it->second;
+        const auto it = table.find(entity);
+        phys = piece != nullptr && !piece->physicals.empty() ? piece->physicals
+               : it == table.end()                           ? std::vector<int>()
+                                                             : it->second;
       } else {
         phys.clear();
         if (run.physical != 0) phys.push_back(run.physical);
       }
-      const Resolved res = resolve_refs(run.dim, phys, run.entity);
+      resolved.push_back(resolve_refs(run.dim, phys, entity));
+    }
+    std::vector<std::int32_t> seg_ref(m_.segments.size()), tri_ref(m_.triangles.size());
+    std::vector<std::uint8_t> point_kind(points_.size());  // bit 0 corner, bit 1 required
+    std::vector<std::uint8_t> seg_ridge(m_.segments.size());
+    m_.tet_material.assign(m_.tets.size(), 0);
+    for (std::size_t r = 0; r < runs_.size(); ++r) {
+      const Run& run = runs_[r];
+      const Resolved& res = resolved[r];
       for (std::size_t i = run.begin; i < run.end; ++i) {
         switch (run.dim) {
           case 0: point_kind[i] = static_cast<std::uint8_t>((res.corner ? 1 : 0) | (res.required ? 2 : 0)); break;
@@ -605,7 +705,25 @@ class GmshReader {
         }
       }
     }
-    if (!v41_) drop_msh2_duplicates(point_kind, seg_ref, seg_ridge, tri_ref);
+    if (!v41_) drop_msh2_duplicates(resolved, point_kind, seg_ref, seg_ridge, tri_ref);
+    // A line or triangle whose entity is in several physical groups belongs to each of them: one
+    // copy per further group, after all others (the builder merges them into one face with every
+    // ref, tet_mesh.h SharedRefs). A volume has one material: its first group.
+    for (std::size_t r = 0; r < runs_.size(); ++r) {
+      const Run& run = runs_[r];
+      for (std::int32_t ref : resolved[r].more_refs) {
+        for (std::size_t i = run.begin; i < run.end; ++i) {
+          if (run.dim == 1) {
+            m_.segments.push_back(m_.segments[i]);
+            seg_ref.push_back(ref);
+            seg_ridge.push_back(seg_ridge[i]);
+          } else if (run.dim == 2) {
+            m_.triangles.push_back(m_.triangles[i]);
+            tri_ref.push_back(ref);
+          }
+        }
+      }
+    }
     for (std::size_t i = 0; i < m_.segments.size(); ++i) {
       m_.segments[i].ref = seg_ref[i];
       if (seg_ridge[i]) m_.ridges.push_back(static_cast<std::uint32_t>(i));
@@ -615,23 +733,37 @@ class GmshReader {
       if (point_kind[i] & 1) m_.corners.push_back(points_[i]);
       if (point_kind[i] & 2) m_.required_vertices.push_back(points_[i]);
     }
+    // User names of curve, surface and volume groups (ours, "topotet:...", are conventions).
+    for (const auto& [key, name] : names_)
+      if (key.first >= 1 && name.rfind("topotet:", 0) != 0) m_.group_names.push_back({key.first, key.second, name});
     finish_fields();
   }
 
-  // MSH 2.x repeats the elements of an entity that is in several physical groups. Keep the first
-  // copy of each (same sorted nodes, same elementary entity) with the first group's ref, and merge
-  // the flags the other groups carry (ridge, corner, required vertex). Only entities seen with
-  // more than one physical tag are examined, so ordinary files pay nothing.
-  void drop_msh2_duplicates(std::vector<std::uint8_t>& point_kind, std::vector<std::int32_t>& seg_ref,
-                            std::vector<std::uint8_t>& seg_ridge, std::vector<std::int32_t>& tri_ref) {
+  // MSH 2.x repeats the elements of an entity that is in several physical groups, once per group.
+  // A copy whose group gives a ref is a real listing: lines and triangles keep one copy per
+  // distinct ref (the face is on several surfaces); a volume keeps its first copy (one material).
+  // A copy whose group only carries a flag (ridge, corner, required vertex) is merged into the
+  // element's first copy. Only entities seen with more than one physical tag are examined, so
+  // ordinary files pay nothing. Runs are in file order, so this does not depend on anything else.
+  void drop_msh2_duplicates(const std::vector<Resolved>& resolved, std::vector<std::uint8_t>& point_kind,
+                            std::vector<std::int32_t>& seg_ref, std::vector<std::uint8_t>& seg_ridge,
+                            std::vector<std::int32_t>& tri_ref) {
     std::map<std::pair<int, int>, std::set<int>> physicals;  // (dim, elementary) -> physical tags
     for (const Run& run : runs_) physicals[{run.dim, run.entity}].insert(run.physical);
     std::array<std::vector<std::uint8_t>, 4> keep;
-    std::array<std::map<std::pair<int, std::array<VertId, 4>>, std::size_t>, 4> first;  // -> kept index
-    for (const Run& run : runs_) {
+    struct First {
+      std::size_t index;  // the copy kept first
+      bool has_ref;       // whether its ref came from a group (else it is the entity tag)
+    };
+    std::array<std::map<std::pair<int, std::array<VertId, 4>>, First>, 4> first;
+    std::set<std::tuple<int, std::array<VertId, 4>, std::int32_t>> listed;  // lines, triangles: (entity, nodes, ref)
+    for (std::size_t r = 0; r < runs_.size(); ++r) {
+      const Run& run = runs_[r];
       if (physicals[{run.dim, run.entity}].size() < 2) continue;
+      const Resolved& res = resolved[r];
       const auto d = static_cast<std::size_t>(run.dim);
       if (keep[d].empty()) keep[d].assign(count_of_dim(run.dim), 1);
+      std::vector<std::int32_t>& refs = run.dim == 1 ? seg_ref : tri_ref;
       for (std::size_t i = run.begin; i < run.end; ++i) {
         std::array<VertId, 4> key{kInvalid, kInvalid, kInvalid, kInvalid};
         switch (run.dim) {
@@ -641,11 +773,25 @@ class GmshReader {
           default: key = m_.tets[i]; break;
         }
         std::sort(key.begin(), key.end());
-        const auto [it, fresh] = first[d].try_emplace({run.entity, key}, i);
+        const auto [it, fresh] = first[d].try_emplace({run.entity, key}, First{i, res.has_ref});
+        const bool listing = (run.dim == 1 || run.dim == 2) && res.has_ref;
+        if (listing) {
+          if (!listed.insert({run.entity, key, res.ref}).second) {
+            keep[d][i] = 0;  // the same group twice
+            continue;
+          }
+          if (!fresh && !it->second.has_ref) {
+            // The first copy only carried a flag: it takes this ref, and this copy goes.
+            refs[it->second.index] = res.ref;
+            it->second.has_ref = true;
+            keep[d][i] = 0;
+          }
+          continue;  // another group: a copy of its own
+        }
         if (fresh) continue;
         keep[d][i] = 0;
-        if (run.dim == 0) point_kind[it->second] |= point_kind[i];
-        if (run.dim == 1) seg_ridge[it->second] |= seg_ridge[i];
+        if (run.dim == 0) point_kind[it->second.index] |= point_kind[i];
+        if (run.dim == 1) seg_ridge[it->second.index] |= seg_ridge[i];
       }
     }
     const auto compact = [](auto& v, const std::vector<std::uint8_t>& k) {
@@ -655,6 +801,7 @@ class GmshReader {
         if (k[i]) v[j++] = v[i];
       v.resize(j);
     };
+    // Runs are not used after this: 2.x runs have one group each, so they make no further copies.
     compact(points_, keep[0]);
     compact(point_kind, keep[0]);
     compact(m_.segments, keep[1]);
@@ -707,12 +854,15 @@ class GmshReader {
   }
 
   LineReader r_;
+  const ReadOptions& options_;
+  ReadNotes& notes_;
   MeshData m_;
   bool v41_ = false, binary_ = false;
   bool seen_nodes_ = false, seen_elements_ = false;
   NodeMap nodes_;
   std::map<std::pair<int, int>, std::string> names_;                // (dim, physical tag) -> name
   std::array<std::unordered_map<int, std::vector<int>>, 4> entity_phys_;  // [dim] entity -> physicals
+  std::array<std::unordered_map<int, Piece>, 4> pieces_;                // [dim] partitioned entity -> piece
   std::vector<VertId> points_;                                      // point elements, in order
   std::vector<Run> runs_;
   static constexpr std::size_t kNoRun = ~std::size_t{0};
@@ -770,12 +920,19 @@ struct Entity {
   Box box;
 };
 
-// Physical groups of one dimension: positive refs are their own tags; others get free tags
-// named "topotet:ref=<r>".
+// Physical groups of one dimension: positive refs are their own tags, named by the mesh's group
+// names (every name of the dimension is written, used or not, so names survive a round trip);
+// other refs get free tags named "topotet:ref=<r>".
 class PhysicalTags {
  public:
-  explicit PhysicalTags(const std::set<std::int32_t>& refs) {
+  PhysicalTags() = default;
+  PhysicalTags(const std::set<std::int32_t>& refs, const std::vector<GroupName>& names, int dim) {
     for (std::int32_t r : refs) next_ = std::max<std::int64_t>(next_, std::int64_t{r} + 1);
+    for (const GroupName& g : names) {
+      if (g.dim != dim || g.ref <= 0) continue;
+      next_ = std::max<std::int64_t>(next_, std::int64_t{g.ref} + 1);
+      names_.emplace_back(g.ref, g.name);
+    }
     for (std::int32_t r : refs) tags_[r] = r > 0 ? r : allocate(std::string(kRefPrefix) + std::to_string(r));
   }
   int tag(std::int32_t ref) const { return tags_.at(ref); }
@@ -798,18 +955,19 @@ std::string quoted(std::string s) {
   return "\"" + s + "\"";
 }
 
-// Element blocks: runs of consecutive elements with the same entity (keeps element order).
+// Element blocks: one per entity. Entity tags are numbered in order of first use, so grouping
+// by tag keeps that order, and within an entity the elements keep theirs.
 struct Block {
   int dim, entity, type;
-  std::size_t begin, end;
+  std::vector<std::size_t> elements;
 };
 
 void add_blocks(std::vector<Block>& blocks, int dim, int type, const std::vector<int>& entity_of) {
-  for (std::size_t i = 0; i < entity_of.size();) {
-    std::size_t j = i + 1;
-    while (j < entity_of.size() && entity_of[j] == entity_of[i]) ++j;
-    blocks.push_back({dim, entity_of[i], type, i, j});
-    i = j;
+  const std::size_t first = blocks.size();
+  for (std::size_t i = 0; i < entity_of.size(); ++i) {
+    const std::size_t b = first + static_cast<std::size_t>(entity_of[i] - 1);
+    while (blocks.size() <= b) blocks.push_back({dim, static_cast<int>(blocks.size() - first) + 1, type, {}});
+    blocks[b].elements.push_back(i);
   }
 }
 
@@ -860,7 +1018,9 @@ GmshPlan plan_gmsh(const MeshData& m) {
   for (const Triangle& x : m.triangles) refs[2].insert(x.ref);
   for (std::size_t i = 0; i < m.tets.size(); ++i) refs[3].insert(material(i));
 
-  GmshPlan plan{{PhysicalTags(refs[0]), PhysicalTags(refs[1]), PhysicalTags(refs[2]), PhysicalTags(refs[3])}, {}, {}, {}, {}, {}};
+  GmshPlan plan;
+  for (int dim = 0; dim < 4; ++dim)
+    plan.phys[static_cast<std::size_t>(dim)] = PhysicalTags(refs[static_cast<std::size_t>(dim)], m.group_names, dim);
   const int ridge_group = m.ridges.empty() ? 0 : plan.phys[1].allocate(std::string(kRidgesName));
   const int corner_group = m.corners.empty() ? 0 : plan.phys[0].allocate(std::string(kCornersName));
   const int required_group = m.required_vertices.empty() ? 0 : plan.phys[0].allocate(std::string(kRequiredName));
@@ -957,12 +1117,31 @@ void write_nodes(AtomicFile& f, MshOut& out, const GmshPlan& plan, const MeshDat
   out.end_section("$EndNodes");
 }
 
-void write_elements(AtomicFile& f, MshOut& out, const GmshPlan& plan, const MeshData& m) {
+std::vector<Block> element_blocks(const GmshPlan& plan) {
   std::vector<Block> blocks;
-  for (std::size_t i = 0; i < plan.point_vertex.size(); ++i) blocks.push_back({0, plan.entities[0][i].tag, kPoint, i, i + 1});
+  for (std::size_t i = 0; i < plan.point_vertex.size(); ++i) blocks.push_back({0, plan.entities[0][i].tag, kPoint, {i}});
   add_blocks(blocks, 1, kLine, plan.seg_entity);
   add_blocks(blocks, 2, kTriangle, plan.tri_entity);
   add_blocks(blocks, 3, kTet, plan.tet_entity);
+  return blocks;
+}
+
+// The 1-based node tags of element i of a block.
+template <class F>
+void element_nodes(const Block& b, std::size_t i, const GmshPlan& plan, const MeshData& m, F&& f) {
+  const VertId* v = nullptr;
+  int k = 0;
+  switch (b.type) {
+    case kPoint: v = &plan.point_vertex[i]; k = 1; break;
+    case kLine: v = m.segments[i].v.data(); k = 2; break;
+    case kTriangle: v = m.triangles[i].v.data(); k = 3; break;
+    default: v = m.tets[i].data(); k = 4; break;
+  }
+  for (int j = 0; j < k; ++j) f(std::uint64_t{v[j]} + 1, j + 1 == k);
+}
+
+void write_elements(AtomicFile& f, MshOut& out, const GmshPlan& plan, const MeshData& m) {
+  const std::vector<Block> blocks = element_blocks(plan);
   const std::size_t ne = plan.point_vertex.size() + m.segments.size() + m.triangles.size() + m.tets.size();
   f.put("$Elements\n");
   out.size(blocks.size());
@@ -974,21 +1153,61 @@ void write_elements(AtomicFile& f, MshOut& out, const GmshPlan& plan, const Mesh
     out.i32(b.dim);
     out.i32(b.entity);
     out.i32(b.type);
-    out.size(b.end - b.begin, '\n');
-    for (std::size_t i = b.begin; i < b.end; ++i) {
+    out.size(b.elements.size(), '\n');
+    for (std::size_t i : b.elements) {
       out.size(++tag);
-      const VertId* v = nullptr;
-      int k = 0;
-      switch (b.type) {
-        case kPoint: v = &plan.point_vertex[i]; k = 1; break;
-        case kLine: v = m.segments[i].v.data(); k = 2; break;
-        case kTriangle: v = m.triangles[i].v.data(); k = 3; break;
-        default: v = m.tets[i].data(); k = 4; break;
-      }
-      for (int j = 0; j < k; ++j) out.size(std::uint64_t{v[j]} + 1, j + 1 == k ? '\n' : ' ');
+      element_nodes(b, i, plan, m, [&](std::uint64_t node, bool last) { out.size(node, last ? '\n' : ' '); });
     }
   }
   out.end_section("$EndElements");
+}
+
+// MSH 2.2 ASCII: "tag type 2 physical elementary nodes...", one line per physical group of the
+// element's entity (what Gmsh itself writes; our reader merges the copies back).
+void write_elements22(AtomicFile& f, const GmshPlan& plan, const MeshData& m) {
+  const std::vector<Block> blocks = element_blocks(plan);
+  std::uint64_t count = 0;
+  for (const Block& b : blocks)
+    count += b.elements.size() * plan.entities[static_cast<std::size_t>(b.dim)][static_cast<std::size_t>(b.entity - 1)].physicals.size();
+  f.put("$Elements\n");
+  f.put_int(count);
+  f.put('\n');
+  std::uint64_t tag = 0;
+  for (const Block& b : blocks) {
+    const Entity& e = plan.entities[static_cast<std::size_t>(b.dim)][static_cast<std::size_t>(b.entity - 1)];
+    for (int physical : e.physicals) {
+      for (std::size_t i : b.elements) {
+        f.put_int(++tag);
+        f.put(' ');
+        f.put_int(b.type);
+        f.put(" 2 ");
+        f.put_int(physical);
+        f.put(' ');
+        f.put_int(b.entity);
+        f.put(' ');
+        element_nodes(b, i, plan, m, [&](std::uint64_t node, bool last) {
+          f.put_int(node);
+          f.put(last ? '\n' : ' ');
+        });
+      }
+    }
+  }
+  f.put("$EndElements\n");
+}
+
+void write_nodes22(AtomicFile& f, const MeshData& m) {
+  f.put("$Nodes\n");
+  f.put_int(m.positions.size());
+  f.put('\n');
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    f.put_int(i + 1);
+    for (double x : {m.positions[i].x, m.positions[i].y, m.positions[i].z}) {
+      f.put(' ');
+      f.put_double(x);
+    }
+    f.put('\n');
+  }
+  f.put("$EndNodes\n");
 }
 
 void write_fields(AtomicFile& f, MshOut& out, const MeshData& m) {
@@ -1013,9 +1232,12 @@ void write_fields(AtomicFile& f, MshOut& out, const MeshData& m) {
 
 }  // namespace
 
-MeshData read_gmsh(const std::string& path) { return GmshReader(path).read(); }
+MeshData read_gmsh(const std::string& path, const ReadOptions& options, ReadNotes& notes) {
+  return GmshReader(path, options, notes).read();
+}
 
-void write_gmsh(const std::string& path, const MeshData& m, bool binary) {
+void write_gmsh(const std::string& path, const MeshData& m, bool binary, bool msh22) {
+  if (msh22 && binary) throw InputError(path + ": Gmsh 2.2 output is ASCII only (drop --binary)");
   for (const VertexField& fd : m.fields) {
     if (fd.components > 9) {
       throw InputError(path + ": cannot write field '" + fd.name + "' with " + std::to_string(fd.components) +
@@ -1025,6 +1247,15 @@ void write_gmsh(const std::string& path, const MeshData& m, bool binary) {
   const GmshPlan plan = plan_gmsh(m);
   AtomicFile f(path);
   MshOut out(f, binary);
+  if (msh22) {
+    f.put("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
+    write_physical_names(f, plan);
+    write_nodes22(f, m);
+    write_elements22(f, plan, m);
+    write_fields(f, out, m);
+    f.commit();
+    return;
+  }
   f.put(binary ? "$MeshFormat\n4.1 1 8\n" : "$MeshFormat\n4.1 0 8\n");
   if (binary) {
     f.put_raw(std::int32_t{1});

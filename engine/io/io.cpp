@@ -20,6 +20,12 @@ bool iequals(std::string_view a, std::string_view b) {
   return true;
 }
 
+std::string mixed_mesh_message(std::string_view what) {
+  return std::string(what) +
+         ": topotet simplifies tetrahedral meshes only (--tets-only / ReadOptions::tets_only leaves the "
+         "hexahedra, prisms and pyramids out)";
+}
+
 bool iends_with(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && iequals(s.substr(s.size() - suffix.size()), suffix);
 }
@@ -61,20 +67,28 @@ MeshFormat format_from_path(std::string_view path) {
   if (io::iends_with(p, ".mesh")) return MeshFormat::kMedit;
   if (io::iends_with(p, ".msh")) return MeshFormat::kGmsh;
   if (io::iends_with(p, ".vtu")) return MeshFormat::kVtu;
+  if (io::is_tetgen_path(p)) return MeshFormat::kTetgen;
   if (io::iends_with(p, ".meshb")) {
     throw InputError(std::string(path) +
                      ": binary MEDIT (.meshb) is not supported; convert it to ASCII .mesh first (e.g. "
                      "'transmesh in.meshb out.mesh' from libMeshb)");
   }
-  throw InputError(std::string(path) + ": unknown mesh format (expected .mesh, .msh or .vtu, optionally + .gz)");
+  throw InputError(std::string(path) + ": unknown mesh format (expected .mesh, .msh, .vtu or TetGen .node/.ele, optionally + .gz)");
 }
 
-MeshData read_mesh(const std::string& path) {
-  switch (format_from_path(path)) {
+MeshData read_mesh(const std::string& path, const ReadOptions& options, ReadNotes* notes) {
+  ReadNotes local;
+  ReadNotes& n = notes ? *notes : local;
+  n = {};
+  if (path == "-" && !options.format) throw InputError("<stdin>: the input format must be given (--format mesh or msh)");
+  switch (options.format ? *options.format : format_from_path(path)) {
     case MeshFormat::kMedit:
-      return io::read_medit(path);
+      return io::read_medit(path, options, n);
     case MeshFormat::kGmsh:
-      return io::read_gmsh(path);
+      return io::read_gmsh(path, options, n);
+    case MeshFormat::kTetgen:
+      if (path == "-") throw InputError("<stdin>: TetGen meshes are several files and cannot come from stdin");
+      return io::read_tetgen(path);
     case MeshFormat::kVtu:
       break;
   }
@@ -82,17 +96,21 @@ MeshData read_mesh(const std::string& path) {
 }
 
 void write_mesh(const std::string& path, const MeshData& mesh, const WriteOptions& options) {
-  const MeshFormat format = format_from_path(path);
+  if (path == "-" && !options.format) throw InputError("<stdout>: the output format must be given (--format mesh, msh or vtu)");
+  const MeshFormat format = options.format ? *options.format : format_from_path(path);
   if (io::iends_with(path, ".gz")) throw InputError(path + ": writing compressed (.gz) files is not supported");
   io::check_writable(path, mesh);
   switch (format) {
     case MeshFormat::kMedit:
       return io::write_medit(path, mesh);
     case MeshFormat::kGmsh:
-      return io::write_gmsh(path, mesh, options.binary);
+      return io::write_gmsh(path, mesh, options.binary, options.msh22);
     case MeshFormat::kVtu:
       return io::write_vtu(path, mesh, options.binary);
+    case MeshFormat::kTetgen:
+      break;
   }
+  throw InputError(path + ": writing TetGen files is not supported (write .mesh, .msh or .vtu)");
 }
 
 }  // namespace topotet

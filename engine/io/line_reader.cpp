@@ -1,5 +1,7 @@
 #include "io/line_reader.h"
 
+#include <fcntl.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -42,17 +44,22 @@ std::string printable(std::string_view tok) {
 
 }  // namespace
 
-LineReader::LineReader(const std::string& path) : path_(path) {
+LineReader::LineReader(const std::string& path) : path_(path == "-" ? "<stdin>" : path) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": cannot open: is a directory");
-  const std::uint64_t size = std::filesystem::file_size(path, ec);
-  const bool size_known = !ec;
+  const bool is_stdin = path == "-";
+  if (!is_stdin && std::filesystem::is_directory(path, ec)) throw InputError(path + ": cannot open: is a directory");
+  const std::uint64_t size = is_stdin ? 0 : std::filesystem::file_size(path, ec);
+  const bool size_known = !is_stdin && !ec;
   // Small files get small buffers: tests and fuzzing open thousands of tiny files.
   buf_.resize(kMinBufferSize);
   errno = 0;
-  gzFile gz = gzopen(path.c_str(), "rb");
+  // stdin: a duplicate descriptor, so that gzclose leaves the process's stdin open.
+  const int stdin_fd = is_stdin ? ::fcntl(0, F_DUPFD_CLOEXEC, 3) : -1;
+  if (is_stdin && stdin_fd < 0) throw InputError(path_ + ": cannot open: " + std::strerror(errno));
+  gzFile gz = is_stdin ? gzdopen(stdin_fd, "rb") : gzopen(path.c_str(), "rb");
   if (gz == nullptr) {
-    throw InputError(path + ": cannot open: " + (errno != 0 ? std::strerror(errno) : "out of memory"));
+    if (stdin_fd >= 0) ::close(stdin_fd);
+    throw InputError(path_ + ": cannot open: " + (errno != 0 ? std::strerror(errno) : "out of memory"));
   }
   gz_ = gz;
   // zlib's own input buffer; its default 8 KiB costs many read() calls on large files.
@@ -87,8 +94,16 @@ bool LineReader::refill() {
   const char* msg = gzerror(static_cast<gzFile>(gz_), &errnum);
   if (got < 0 || (errnum != Z_OK && errnum != Z_STREAM_END)) {
     // Z_BUF_ERROR here means the gzip stream stopped in the middle: a truncated download.
-    const std::string reason = errnum == Z_BUF_ERROR ? "truncated gzip data" : std::string(msg ? msg : "read error");
-    throw InputError(path_ + ": byte " + std::to_string(consumed_ + end_) + ": " + reason);
+    std::string reason = errnum == Z_BUF_ERROR ? "truncated gzip data" : std::string(msg ? msg : "read error");
+    // zlib puts the path in front of its message: the error names the file once, here.
+    if (reason.rfind(path_ + ": ", 0) == 0) reason.erase(0, path_.size() + 2);
+    // The position that means something in a corrupt .gz is in the compressed file (what a hex
+    // dump shows); zlib knows it to within its input buffer.
+    const long compressed = gzoffset(static_cast<gzFile>(gz_));
+    const std::string where = gzdirect(static_cast<gzFile>(gz_)) || compressed < 0
+                                  ? "byte " + std::to_string(consumed_ + end_)
+                                  : "gzip data before compressed byte " + std::to_string(compressed);
+    throw InputError(path_ + ": " + where + ": " + reason);
   }
   if (got == 0) {
     eof_ = true;
@@ -248,6 +263,18 @@ void LineReader::skip_line(bool anything) {
     // Callers skip lines to reach data that must follow: running out is an error (and keeps a
     // loop over a lying line count from spinning at end of file).
     if (!refill()) fail_eof("the end of a line");
+  }
+}
+
+void LineReader::skip_rest_of_line() {
+  for (;;) {
+    while (pos_ < end_) {
+      if (buf_[pos_++] == '\n') {
+        ++line_;
+        return;
+      }
+    }
+    if (!refill()) return;
   }
 }
 

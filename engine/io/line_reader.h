@@ -54,6 +54,9 @@ class LineReader {
   // Skips the rest of the current line including its newline (only whitespace allowed unless
   // `anything` is true); fails at end of file. Gmsh binary data starts right after such a newline.
   void skip_line(bool anything = false);
+  // Skips whatever is left of the current line, if anything (TetGen rows may carry extra columns);
+  // end of file is fine.
+  void skip_rest_of_line();
 
   // Raw bytes (Gmsh binary); fails at end of file.
   void read_bytes(void* dst, std::size_t n, std::string_view what);

@@ -198,7 +198,10 @@ void read_sol_at_vertices(LineReader& r, std::optional<std::size_t> vertex_count
 
 class MeditReader {
  public:
-  explicit MeditReader(const std::string& path) : r_(path) { r_.set_comment_char('#'); }
+  MeditReader(const std::string& path, const ReadOptions& options, ReadNotes& notes)
+      : r_(path), options_(options), notes_(notes) {
+    r_.set_comment_char('#');
+  }
 
   MeshData read() {
     for (;;) {
@@ -226,6 +229,8 @@ class MeditReader {
         read_ridges();
       } else if (iequals(kw, "SolAtVertices")) {
         read_sol_at_vertices(r_, have_vertices_ ? std::optional<std::size_t>(nv_) : std::nullopt, m_.fields);
+      } else if (std::uint64_t* count = non_tet_count(kw)) {
+        skip_non_tets(kw, *count);
       } else {
         skip_section(r_, kw);
       }
@@ -237,6 +242,30 @@ class MeditReader {
   }
 
  private:
+  // Where a section of cells we leave out is counted, or nullptr.
+  std::uint64_t* non_tet_count(std::string_view kw) {
+    if (iequals(kw, "Hexahedra")) return &notes_.hexahedra;
+    if (iequals(kw, "Prisms") || iequals(kw, "Pentahedra")) return &notes_.prisms;
+    if (iequals(kw, "Pyramids")) return &notes_.pyramids;
+    if (iequals(kw, "Quadrilaterals")) return &notes_.quadrilaterals;
+    return nullptr;
+  }
+
+  // Hexahedra, prisms and pyramids are refused unless tets_only (io.h); quads are always skipped.
+  void skip_non_tets(const std::string& kw, std::uint64_t& count) {
+    const std::size_t line = r_.line();
+    const Keyword* k = find_keyword(kw);
+    const std::uint32_t n = read_count(r_, kw);
+    if (n > 0 && !iequals(kw, "Quadrilaterals") && !options_.tets_only) {
+      std::string kind = kw;
+      for (char& c : kind) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+      if (kind == "pentahedra") kind = "prisms";
+      r_.fail_at_line(line, mixed_mesh_message(std::to_string(n) + " " + kind));
+    }
+    skip_tokens(r_, std::uint64_t{n} * static_cast<std::uint64_t>(k->tokens), kw);
+    count += n;
+  }
+
   void begin_section(std::string_view name, bool& seen) {
     if (seen) r_.fail("duplicate section " + std::string(name));
     seen = true;
@@ -307,11 +336,25 @@ class MeditReader {
     }
   }
 
+  // TetGen's -g .mesh lists Corners by input point index, some beyond the mesh's vertices: an
+  // out-of-range corner pins nothing, so it is left out and counted (ReadNotes), not refused.
   void read_vertex_list(std::vector<VertId>& out, std::string_view name) {
-    begin_section(name, name == "Corners" ? seen_corners_ : seen_required_);
+    const bool corners = name == "Corners";
+    begin_section(name, corners ? seen_corners_ : seen_required_);
     const std::uint32_t n = read_count(r_, name);
     out.reserve(r_.reserve_hint(n, 2));
-    for (std::uint32_t i = 0; i < n; ++i) out.push_back(read_vertex(name));
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (corners) {
+        const std::int64_t v = r_.read_int(name);
+        if (v < 1 || v > (have_vertices_ ? static_cast<std::int64_t>(nv_) : std::int64_t{kInvalid} - 1)) {
+          ++notes_.dropped_corners;
+          continue;
+        }
+        out.push_back(static_cast<VertId>(v - 1));
+      } else {
+        out.push_back(read_vertex(name));
+      }
+    }
   }
 
   void read_ridges() {
@@ -352,7 +395,9 @@ class MeditReader {
         for (std::size_t i = 0; i < m_.segments.size(); ++i)
           for (VertId v : m_.segments[i].v) check(v, i);
       } else if (section == "Corners") {
-        for (std::size_t i = 0; i < m_.corners.size(); ++i) check(m_.corners[i], i);
+        const auto out = std::remove_if(m_.corners.begin(), m_.corners.end(), [&](VertId v) { return v >= nv_; });
+        notes_.dropped_corners += static_cast<std::uint64_t>(m_.corners.end() - out);
+        m_.corners.erase(out, m_.corners.end());
       } else if (section == "RequiredVertices") {
         for (std::size_t i = 0; i < m_.required_vertices.size(); ++i) check(m_.required_vertices[i], i);
       }
@@ -362,6 +407,8 @@ class MeditReader {
   }
 
   LineReader r_;
+  const ReadOptions& options_;
+  ReadNotes& notes_;
   MeshData m_;
   bool have_vertices_ = false;
   std::size_t nv_ = 0;
@@ -455,8 +502,9 @@ void put_vertex_ids(AtomicFile& out, const VertId* v, int n) {
 
 }  // namespace
 
-MeshData read_medit(const std::string& path) {
-  MeshData mesh = MeditReader(path).read();
+MeshData read_medit(const std::string& path, const ReadOptions& options, ReadNotes& notes) {
+  MeshData mesh = MeditReader(path, options, notes).read();
+  if (path == "-") return mesh;  // stdin has no folder with a .sol beside it
   bool gz = false;
   const std::string stem = mesh_stem(path, gz);
   // The .sol beside the mesh: prefer the same compression as the mesh, accept the other.
@@ -481,6 +529,11 @@ MeshData read_medit(const std::string& path) {
 }
 
 void write_medit(const std::string& path, const MeshData& m) {
+  // A stream or device has no folder for the companion .sol: fields cannot go with it.
+  const bool direct = is_direct_output(path);
+  if (direct && !m.fields.empty())
+    throw InputError(path + ": cannot write the fields' .sol beside a stream or device (write .msh, which keeps "
+                     "fields inline, or a regular file)");
   AtomicFile out(path);
   out.put("MeshVersionFormatted 2\n\nDimension 3\n\nVertices\n");
   out.put_int(m.positions.size());
@@ -554,7 +607,7 @@ void write_medit(const std::string& path, const MeshData& m) {
   };
   if (m.fields.empty()) {
     out.commit();
-    remove_stale({sol_path, stem + ".sol.gz", names_path});
+    if (!direct) remove_stale({sol_path, stem + ".sol.gz", names_path});
     return;
   }
   AtomicFile sol(sol_path);

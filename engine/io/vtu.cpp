@@ -264,7 +264,8 @@ void write_vtu(const std::string& path, const MeshData& m, bool binary) {
   f.put("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n");
   w.finish();
 
-  if (m.triangles.empty() && m.segments.empty()) {
+  // A stream or device has no folder for the companion .vtp: the substructures stay out of it.
+  if ((m.triangles.empty() && m.segments.empty()) || f.is_direct()) {
     f.commit();
     return;
   }

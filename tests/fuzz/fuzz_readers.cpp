@@ -1,7 +1,9 @@
-// libFuzzer target for the mesh readers: the input bytes are written to a temporary file and
-// read as .mesh, as .msh, and as the .sol beside a fixed valid .mesh. Every outcome but a parsed
-// mesh or an InputError (a crash, a sanitizer report, another exception, a huge allocation) is
-// a bug. Build with clang and -DTOPOTET_FUZZ=ON (see tests/CMakeLists.txt), then e.g.
+// libFuzzer target for the mesh readers and writers: the input bytes are written to a temporary
+// file and read as .mesh, as .msh, as the .sol beside a fixed valid .mesh, and as each TetGen file
+// (.node, .ele, .face) beside fixed valid others. Every mesh that parses is written as .mesh,
+// .msh 4.1 and .msh 2.2 and read back: the .mesh must give the same MeshData, and every file
+// must read. It is also built into the model (which may refuse it). Every outcome but these or an
+// InputError (a crash, a sanitizer report, another exception, a huge allocation) is a bug. Build with clang and -DTOPOTET_FUZZ=ON (see tests/CMakeLists.txt), then e.g.
 //   ./fuzz_readers -max_total_time=60 -rss_limit_mb=2048 corpus/
 #include <unistd.h>
 
@@ -13,6 +15,7 @@
 
 #include "topotet/error.h"
 #include "topotet/io.h"
+#include "topotet/tet_mesh.h"
 
 namespace {
 
@@ -27,9 +30,40 @@ const std::string& work_dir() {
     if (made == nullptr) std::abort();
     std::ofstream(std::string(made) + "/sol.mesh") << "Dimension 3\nVertices\n4\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n"
                                                       "Tetrahedra\n1\n1 2 3 4 1\nEnd\n";
+    // Valid TetGen files, each replaced in turn by the input.
+    for (const char* stem : {"/n", "/e", "/f"}) {
+      std::ofstream(std::string(made) + stem + ".node") << "5 3 0 1\n1 0 0 0 1\n2 1 0 0 1\n3 0 1 0 0\n4 0 0 1 1\n5 1 1 1 0\n";
+      std::ofstream(std::string(made) + stem + ".ele") << "2 4 1\n1 1 2 3 4 7\n2 2 3 4 5 8\n";
+      std::ofstream(std::string(made) + stem + ".face") << "1 1\n1 2 3 4 3\n";
+      std::ofstream(std::string(made) + stem + ".edge") << "1 1\n1 1 2 5\n";
+    }
     return std::string(made);
   }();
   return dir;
+}
+
+// Every writer's output reads back; the .mesh one exactly (MEDIT has no group names).
+void write_and_read_back(const topotet::MeshData& mesh) {
+  const std::string& dir = work_dir();
+  try {
+    topotet::write_mesh(dir + "/out.mesh", mesh);
+    topotet::MeshData back = topotet::read_mesh(dir + "/out.mesh");
+    back.group_names = mesh.group_names;
+    if (!(back == mesh)) std::abort();
+  } catch (const topotet::InputError&) {
+    // A field that .sol cannot hold (2, 4, 5... components) is refused: fine.
+  }
+  for (const bool msh22 : {false, true}) {
+    topotet::WriteOptions options;
+    options.msh22 = msh22;
+    try {
+      topotet::write_mesh(dir + "/out.msh", mesh, options);
+    } catch (const topotet::InputError&) {
+      continue;  // a field of more than 9 components
+    }
+    const topotet::MeshData back = topotet::read_mesh(dir + "/out.msh");  // must not throw
+    if (back.tet_count() != mesh.tet_count()) std::abort();
+  }
 }
 
 void read_as(const std::string& path, const std::string& read_path, const std::uint8_t* data, std::size_t size) {
@@ -38,11 +72,21 @@ void read_as(const std::string& path, const std::string& read_path, const std::u
     std::ofstream out(path, std::ios::binary);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   }
+  topotet::MeshData mesh;
   try {
-    const topotet::MeshData mesh = topotet::read_mesh(read_path);
-    (void)mesh;
+    topotet::ReadOptions options;
+    options.tets_only = size % 2 == 0;  // both mixed-mesh policies
+    mesh = topotet::read_mesh(read_path, options);
   } catch (const topotet::InputError&) {
-    // Rejected with a message: the expected outcome for most inputs.
+    return;  // rejected with a message: the expected outcome for most inputs
+  }
+  write_and_read_back(mesh);
+  try {
+    topotet::BuildOptions options;
+    options.skip_detached_substructures = true;
+    const topotet::TetMesh model = topotet::build_tet_mesh(mesh, options);
+    if (model.to_mesh_data().tet_count() != mesh.tet_count()) std::abort();
+  } catch (const topotet::InputError&) {
   }
 }
 
@@ -53,5 +97,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   read_as(dir + "/input.mesh", dir + "/input.mesh", data, size);
   read_as(dir + "/input.msh", dir + "/input.msh", data, size);
   read_as(dir + "/sol.sol", dir + "/sol.mesh", data, size);
+  read_as(dir + "/n.node", dir + "/n.node", data, size);
+  read_as(dir + "/e.ele", dir + "/e.ele", data, size);
+  read_as(dir + "/f.face", dir + "/f.face", data, size);
   return 0;
 }

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <array>
+#include <compare>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -49,6 +50,16 @@ struct VertexField {
   friend bool operator==(const VertexField&, const VertexField&) = default;
 };
 
+// The name of a group of refs (Gmsh $PhysicalNames): dim 1 segment refs, 2 triangle refs,
+// 3 materials. Kept so that names survive .msh in -> out; MEDIT has no names.
+struct GroupName {
+  int dim = 0;
+  std::int32_t ref = 0;
+  std::string name;
+  friend bool operator==(const GroupName&, const GroupName&) = default;
+  friend auto operator<=>(const GroupName&, const GroupName&) = default;
+};
+
 struct MeshData {
   std::vector<glm::dvec3> positions;           // [vert]
   std::vector<std::int32_t> vertex_refs;       // [vert] MEDIT vertex ref; empty = all 0
@@ -60,6 +71,7 @@ struct MeshData {
   std::vector<VertId> corners;                 // MEDIT `Corners`, Gmsh point entities: pinned
   std::vector<VertId> required_vertices;       // MEDIT `RequiredVertices`: pinned
   std::vector<VertexField> fields;             // per-vertex fields (.sol SolAtVertices, $NodeData)
+  std::vector<GroupName> group_names;          // sorted by (dim, ref); at most one per (dim, ref)
 
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t tet_count() const { return tets.size(); }

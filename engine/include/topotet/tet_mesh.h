@@ -63,6 +63,21 @@ constexpr int local_edge_index(int a, int b) {  // a != b in 0..3
 // substructure faces for the kernel but are not written back as triangles.
 inline constexpr std::int32_t kImplicitInterfaceRef = INT32_MIN;
 
+// A face listed several times with different refs (Gmsh writes one triangle per surface, and a face
+// may lie on several model surfaces), or an edge on several polylines, carries ONE stand-in ref
+// that stands for the whole set. For the kernel the stand-in is just another label: where a
+// shared patch meets a patch of one of its surfaces, the labels differ, so the seam is a feature
+// curve (link_condition.h). Every labelled patch, and every seam, then keeps its topology, and so
+// does each listed surface, which is a union of such patches along such seams. to_mesh_data()
+// writes the face back once per ref of its set. Stand-ins are the smallest values from
+// kFirstStandInRef up that no listed triangle (segment) uses, so they never collide with a ref.
+inline constexpr std::int32_t kFirstStandInRef = INT32_MIN + 16;  // below: internal labels (kImplicitInterfaceRef, ...)
+struct SharedRefs {
+  std::int32_t stand_in = 0;
+  std::vector<std::int32_t> refs;  // sorted, distinct, at least two
+  friend bool operator==(const SharedRefs&, const SharedRefs&) = default;
+};
+
 // Refs of the flagged faces and edges of one tet (entries of unflagged ones are meaningless).
 struct SubstructureRefs {
   std::array<std::int32_t, 4> face{};
@@ -86,6 +101,25 @@ struct BuildOptions {
   // Input whose tets are ALL negatively oriented (a common convention mismatch) is flipped.
   // Mixed orientations are always an error.
   bool reorient_inverted = true;
+  // Listed triangles that are not faces of any tet, and listed segments that are not edges of any
+  // tet, are an error by default. With this set they are left out of the model and listed in
+  // BuildNotes instead. Gmsh's -save_all writes such elements for model surfaces and curves that
+  // bound no meshed volume; they describe nothing inside the tetrahedral domain, so the simplified
+  // mesh could not carry them anyway. The CLI sets this and prints a warning with the count.
+  bool skip_detached_substructures = false;
+};
+
+// What build_tet_mesh accepted but did not take as given (the library never prints: callers
+// decide whether to warn). Indices into MeshData::triangles / segments, increasing.
+struct BuildNotes {
+  std::vector<std::uint32_t> repeated_triangles;  // same face and same ref as an earlier one: kept once
+  std::vector<std::uint32_t> repeated_segments;   // same edge and same ref as an earlier one: kept once
+  std::vector<std::uint32_t> detached_triangles;  // no tet has this face: left out (skip_detached_substructures)
+  std::vector<std::uint32_t> detached_segments;   // no tet has this edge: left out
+  bool empty() const {
+    return repeated_triangles.empty() && repeated_segments.empty() && detached_triangles.empty() &&
+           detached_segments.empty();
+  }
 };
 
 class TetMesh {
@@ -94,6 +128,7 @@ class TetMesh {
   std::vector<glm::dvec3> positions;      // [vert]
   std::vector<double> field_values;       // [vert * field_stride() + k]
   std::vector<FieldInfo> fields;          // layout of field_values
+  std::vector<GroupName> group_names;     // carried from MeshData to to_mesh_data() unchanged
   std::vector<std::int32_t> vertex_refs;  // [vert]
   std::vector<std::uint8_t> vertex_states;  // [vert] vertex_state bits
 
@@ -103,6 +138,8 @@ class TetMesh {
   std::vector<TetFlags> flags;              // [tet]
   std::vector<std::uint32_t> tet_refs_slot;  // [tet] index into refs_table, kInvalid if none
   std::vector<SubstructureRefs> refs_table;  // side table (mmg's xTetra)
+  std::vector<SharedRefs> shared_face_refs;  // stand-in refs of faces on several surfaces, by stand_in
+  std::vector<SharedRefs> shared_edge_refs;  // the same for edges on several polylines
 
   // --- incidence: chained CSR (see the file comment) ---
   std::vector<std::uint32_t> v2t_offsets;  // [vert + 1] chunk c = [v2t_offsets[c], v2t_offsets[c+1])
@@ -139,18 +176,26 @@ class TetMesh {
   std::size_t memory_bytes() const;
 
   // The interchange form of the live part: vertices and tets renumbered densely in their current
-  // order, listed triangles/segments recovered from the flags (each once, sorted), implicit
-  // interfaces omitted, corners/required vertices and fields kept.
+  // order, listed triangles/segments recovered from the flags (each once per ref, sorted; a face
+  // with a stand-in ref once per ref of its set), implicit interfaces omitted, corners/required
+  // vertices and fields kept.
   MeshData to_mesh_data() const;
 };
 
 // Validates raw input and builds the model. Throws InputError naming the element at fault:
 // non-finite coordinates, out-of-range indices, repeated vertices in a tet, zero-volume or
 // inverted tets (unless all are inverted and options.reorient_inverted), faces shared by more
-// than two tets, duplicate tets, triangles that are not faces of a tet, segments that are not
-// edges of a tet, duplicate triangles or segments, field arrays of the wrong size.
-// Runs in the caller's task arena (parallel over tets and vertices).
-TetMesh build_tet_mesh(const MeshData& data, const BuildOptions& options = {});
+// than two tets, duplicate tets, triangles that are not faces of a tet and segments that are not
+// edges of a tet (unless options.skip_detached_substructures), field arrays of the wrong size.
+// A face (edge) listed again with the same ref is kept once and noted; listed again with another
+// ref it belongs to each listed substructure (SharedRefs). `notes`, when given, receives what was
+// left out. Runs in the caller's task arena (parallel over tets and vertices).
+TetMesh build_tet_mesh(const MeshData& data, const BuildOptions& options = {}, BuildNotes* notes = nullptr);
+
+// Removes from `data` the triangles and segments that `notes` says the model left out or kept
+// once (ridges renumbered), so that `data` lists exactly what the model holds: the topology
+// checker then compares the simplified mesh with the same substructures.
+void drop_noted_substructures(MeshData& data, const BuildNotes& notes);
 
 // Rebuilds the incidence of the live tets (used after compaction).
 void rebuild_incidence(TetMesh& mesh);
