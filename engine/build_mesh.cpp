@@ -43,11 +43,15 @@ std::uint64_t first_where(std::uint64_t n, Pred bad) {
 
 [[noreturn]] void fail(const std::string& message) { throw InputError(message); }
 
+// Element and vertex numbers in messages are 1-based, as in every file format the readers take
+// (the readers' own messages count the same way), whatever the 0-based arrays say.
+std::string one_based(std::uint64_t i) { return std::to_string(i + 1); }
+
 std::string verts_str(const VertId* v, int n) {
   std::string s;
   for (int i = 0; i < n; ++i) {
     if (i) s.push_back(' ');
-    s.append(std::to_string(v[i]));
+    s.append(one_based(v[i]));
   }
   return s;
 }
@@ -76,11 +80,11 @@ void check_vertices_and_tets(const MeshData& d) {
     const glm::dvec3& p = d.positions[v];
     return !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
   });
-  if (i != kNone) fail("vertex " + std::to_string(i) + ": coordinate is not finite (NaN or infinity)");
+  if (i != kNone) fail("vertex " + one_based(i) + ": coordinate is not finite (NaN or infinity)");
   for (const VertexField& f : d.fields) {
     i = first_where(f.values.size(), [&](std::uint64_t k) { return !std::isfinite(f.values[k]); });
     if (i != kNone)
-      fail("field '" + f.name + "', vertex " + std::to_string(i / f.components) + ": value is not finite");
+      fail("field '" + f.name + "', vertex " + one_based(i / f.components) + ": value is not finite");
   }
   i = first_where(d.tets.size(), [&](std::uint64_t t) {
     const auto& v = d.tets[t];
@@ -95,9 +99,8 @@ void check_vertices_and_tets(const MeshData& d) {
     const auto& v = d.tets[i];
     for (int k = 0; k < 4; ++k)
       if (v[k] >= nv)
-        fail("tet " + std::to_string(i) + ": vertex index " + std::to_string(v[k]) + " out of range [0, " +
-             std::to_string(nv) + ")");
-    fail("tet " + std::to_string(i) + ": repeated vertex (" + verts_str(v.data(), 4) + ")");
+        fail("tet " + one_based(i) + ": vertex index " + one_based(v[k]) + " out of range [1, " + std::to_string(nv) + "]");
+    fail("tet " + one_based(i) + ": repeated vertex (" + verts_str(v.data(), 4) + ")");
   }
 }
 
@@ -114,14 +117,14 @@ void orient_tets(const MeshData& d, const BuildOptions& options, TetMesh& m) {
   });
   std::uint64_t i = first_where(nt, [&](std::uint64_t t) { return sign[t] == 0; });
   if (i != kNone)
-    fail("tet " + std::to_string(i) + ": zero or near-zero volume (vertices " + verts_str(d.tets[i].data(), 4) +
+    fail("tet " + one_based(i) + ": zero or near-zero volume (vertices " + verts_str(d.tets[i].data(), 4) +
          " are coplanar)");
   const bool flip = sign[0] < 0 && options.reorient_inverted &&
                     first_where(nt, [&](std::uint64_t t) { return sign[t] > 0; }) == kNone;
   if (!flip) {
     i = first_where(nt, [&](std::uint64_t t) { return sign[t] < 0; });
     if (i != kNone)
-      fail("tet " + std::to_string(i) + ": inverted (negative volume; vertices " + verts_str(d.tets[i].data(), 4) +
+      fail("tet " + one_based(i) + ": inverted (negative volume; vertices " + verts_str(d.tets[i].data(), 4) +
            ")" + (sign[0] < 0 ? ", and not all tets are inverted, so the mesh cannot be reoriented" : ""));
   }
   m.tets = d.tets;
@@ -206,12 +209,12 @@ std::vector<std::uint8_t> classify_faces(const TetMesh& m) {
     });
     std::sort(sharing.begin(), sharing.end());
     if (sharing.size() == 2)
-      fail("tet " + std::to_string(sharing[1]) + " duplicates tet " + std::to_string(sharing[0]) + " (vertices " +
+      fail("tet " + one_based(sharing[1]) + " duplicates tet " + one_based(sharing[0]) + " (vertices " +
            verts_str(m.tets[sharing[0]].data(), 4) + ")");
     std::string list;
     for (TetId s : sharing) {
       if (!list.empty()) list.append(", ");
-      list.append(std::to_string(s));
+      list.append(one_based(s));
     }
     fail("non-manifold input: face (" + verts_str(fv, 3) + ") is shared by " + std::to_string(sharing.size()) +
          " tets (" + list + "); at most two tets may share a face");
@@ -330,10 +333,9 @@ std::vector<PlacedRef> place_triangles(const MeshData& d, const TetMesh& m, cons
     const Triangle& tri = d.triangles[i];
     for (VertId x : tri.v)
       if (x >= nv)
-        fail("triangle " + std::to_string(i) + ": vertex index " + std::to_string(x) + " out of range [0, " +
-             std::to_string(nv) + ")");
+        fail("triangle " + one_based(i) + ": vertex index " + one_based(x) + " out of range [1, " + std::to_string(nv) + "]");
     if (tri.v[0] == tri.v[1] || tri.v[1] == tri.v[2] || tri.v[0] == tri.v[2])
-      fail("triangle " + std::to_string(i) + ": repeated vertex (" + verts_str(tri.v.data(), 3) + ")");
+      fail("triangle " + one_based(i) + ": repeated vertex (" + verts_str(tri.v.data(), 3) + ")");
     keys[i] = {tri.v, tri.ref, static_cast<std::uint32_t>(i)};
     std::sort(keys[i].v.begin(), keys[i].v.end());
   }
@@ -354,7 +356,7 @@ std::vector<PlacedRef> place_triangles(const MeshData& d, const TetMesh& m, cons
   handle_detached(detached, options.skip_detached_substructures, notes ? &notes->detached_triangles : nullptr,
                   [&](std::uint32_t i) {
                     const Triangle& tri = d.triangles[i];
-                    return "triangle " + std::to_string(i) + " (vertices " + verts_str(tri.v.data(), 3) + ", ref " +
+                    return "triangle " + one_based(i) + " (vertices " + verts_str(tri.v.data(), 3) + ", ref " +
                            std::to_string(tri.ref) + ") is not a face of any tet";
                   });
   return placed;
@@ -366,8 +368,8 @@ std::vector<PlacedRef> place_segments(const MeshData& d, const TetMesh& m, const
   std::vector<char> is_ridge(d.segments.size(), 0);
   for (std::size_t i = 0; i < d.ridges.size(); ++i) {
     if (d.ridges[i] >= d.segments.size())
-      fail("ridge " + std::to_string(i) + ": edge index " + std::to_string(d.ridges[i]) + " out of range [0, " +
-           std::to_string(d.segments.size()) + ")");
+      fail("ridge " + one_based(i) + ": edge index " + one_based(d.ridges[i]) + " out of range [1, " +
+           std::to_string(d.segments.size()) + "]");
     is_ridge[d.ridges[i]] = 1;
   }
   std::vector<ListedKey<2>> keys(d.segments.size());
@@ -375,9 +377,8 @@ std::vector<PlacedRef> place_segments(const MeshData& d, const TetMesh& m, const
     const Segment& s = d.segments[i];
     for (VertId x : s.v)
       if (x >= nv)
-        fail("edge " + std::to_string(i) + ": vertex index " + std::to_string(x) + " out of range [0, " +
-             std::to_string(nv) + ")");
-    if (s.v[0] == s.v[1]) fail("edge " + std::to_string(i) + ": repeated vertex " + std::to_string(s.v[0]));
+        fail("edge " + one_based(i) + ": vertex index " + one_based(x) + " out of range [1, " + std::to_string(nv) + "]");
+    if (s.v[0] == s.v[1]) fail("edge " + one_based(i) + ": repeated vertex " + one_based(s.v[0]));
     keys[i] = {{std::min(s.v[0], s.v[1]), std::max(s.v[0], s.v[1])}, s.ref, static_cast<std::uint32_t>(i)};
   }
   std::map<std::vector<std::int32_t>, std::int32_t> shared_sets;
@@ -399,7 +400,7 @@ std::vector<PlacedRef> place_segments(const MeshData& d, const TetMesh& m, const
   handle_detached(detached, options.skip_detached_substructures, notes ? &notes->detached_segments : nullptr,
                   [&](std::uint32_t i) {
                     const Segment& s = d.segments[i];
-                    return "edge " + std::to_string(i) + " (vertices " + verts_str(s.v.data(), 2) + ", ref " +
+                    return "edge " + one_based(i) + " (vertices " + verts_str(s.v.data(), 2) + ", ref " +
                            std::to_string(s.ref) + ") is not an edge of any tet";
                   });
   return placed;
@@ -427,8 +428,8 @@ void mark_pinned(const MeshData& d, TetMesh& m) {
   auto mark = [&](const std::vector<VertId>& list, const char* what, std::uint8_t bit) {
     for (std::size_t i = 0; i < list.size(); ++i) {
       if (list[i] >= nv)
-        fail(std::string(what) + " " + std::to_string(i) + ": vertex index " + std::to_string(list[i]) +
-             " out of range [0, " + std::to_string(nv) + ")");
+        fail(std::string(what) + " " + one_based(i) + ": vertex index " + one_based(list[i]) +
+             " out of range [1, " + std::to_string(nv) + "]");
       m.vertex_states[list[i]] |= bit | vertex_state::kPinned;
     }
   };

@@ -117,13 +117,13 @@ TEST(TetMesh, ReorientsConsistentlyInvertedInput) {
 TEST(TetMeshShouldFail, NaNCoordinate) {
   MeshData d = one_tet();
   d.positions[2].y = std::nan("");
-  EXPECT_NE(build_error(d).find("vertex 2"), std::string::npos);
+  EXPECT_NE(build_error(d).find("vertex 3: coordinate is not finite"), std::string::npos);
 }
 
 TEST(TetMeshShouldFail, IndexOutOfRange) {
   MeshData d = one_tet();
   d.tets[0][3] = 9;
-  EXPECT_NE(build_error(d).find("tet 0: vertex index 9 out of range"), std::string::npos);
+  EXPECT_NE(build_error(d).find("tet 1: vertex index 10 out of range [1, 4]"), std::string::npos);
 }
 
 TEST(TetMeshShouldFail, RepeatedVertex) {
@@ -141,7 +141,7 @@ TEST(TetMeshShouldFail, ZeroVolume) {
 TEST(TetMeshShouldFail, MixedOrientation) {
   Grid g = make_grid(2, 1, 1, [](int, int, int) { return 1; });
   std::swap(g.data.tets[3][0], g.data.tets[3][1]);
-  EXPECT_NE(build_error(g.data).find("tet 3: inverted"), std::string::npos);
+  EXPECT_NE(build_error(g.data).find("tet 4: inverted"), std::string::npos);
 }
 
 TEST(TetMeshShouldFail, FaceSharedByThreeTets) {
@@ -158,13 +158,13 @@ TEST(TetMeshShouldFail, DuplicateTet) {
   MeshData d = one_tet();
   d.tets.push_back(d.tets[0]);
   d.tet_material.push_back(1);
-  EXPECT_NE(build_error(d).find("duplicates tet 0"), std::string::npos) << build_error(d);
+  EXPECT_NE(build_error(d).find("tet 2 duplicates tet 1"), std::string::npos) << build_error(d);
 }
 
 TEST(TetMeshShouldFail, TriangleThatIsNotAFace) {
   Grid g = make_grid(2, 2, 2, [](int, int, int) { return 1; });
   g.data.triangles.push_back({{g.vid(0, 0, 0), g.vid(2, 0, 0), g.vid(0, 2, 0)}, 4});
-  EXPECT_NE(build_error(g.data).find("triangle 0 (vertices"), std::string::npos);
+  EXPECT_NE(build_error(g.data).find("triangle 1 (vertices"), std::string::npos);
   EXPECT_NE(build_error(g.data).find("is not a face of any tet"), std::string::npos);
 }
 

@@ -189,7 +189,8 @@ class TetMesh {
 // edges of a tet (unless options.skip_detached_substructures), field arrays of the wrong size.
 // A face (edge) listed again with the same ref is kept once and noted; listed again with another
 // ref it belongs to each listed substructure (SharedRefs). `notes`, when given, receives what was
-// left out. Runs in the caller's task arena (parallel over tets and vertices).
+// left out. Runs in the caller's task arena (parallel over tets and vertices). The messages count
+// elements and vertices from 1, as the files do ("tet 4" is data.tets[3]).
 TetMesh build_tet_mesh(const MeshData& data, const BuildOptions& options = {}, BuildNotes* notes = nullptr);
 
 // Removes from `data` the triangles and segments that `notes` says the model left out or kept
