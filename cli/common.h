@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -51,6 +52,7 @@ struct SimplifyJob {
   SimplifyOptions options;     // target and engine settings (targets overridden by `levels`)
   std::vector<double> levels;  // descending vertex ratios; empty = one run with `options`
   std::string output_path;     // empty = write nothing
+  std::optional<std::int32_t> feature_ref;  // also write detected features, with this ref
   bool binary = false;         // WriteOptions::binary
   std::string report_path;     // empty = no JSON report
   bool verify = true;        // run the topology checker (--no-verify skips only it)

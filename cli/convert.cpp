@@ -2,9 +2,12 @@
 // Converting does not need the working model; --validate builds it first and refuses bad input.
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "common.h"
+#include "topotet/features.h"
 #include "topotet/io.h"
+#include "topotet/simplify.h"
 
 namespace topotet::cli {
 namespace {
@@ -14,14 +17,30 @@ struct ConvertArgs {
   std::string output;
   bool binary = false;
   bool validate = false;
+  std::optional<std::int32_t> feature_ref;
+  double feature_angle = SimplifyOptions{}.feature_angle;
 };
 
 int run_convert(const ConvertArgs& args) {
   format_from_path(args.output);  // an unknown output extension fails before reading
   check_output_folder(args.output);
   double read_seconds = 0.0, build_seconds = 0.0;
-  const MeshData mesh = read_input(args.input, &read_seconds);
-  if (args.validate) build_input(args.input, mesh, &build_seconds);
+  MeshData mesh = read_input(args.input, &read_seconds);
+  std::string features_text;
+  if (args.feature_ref) {
+    // The model renumbers nothing but drops unreferenced vertices: the features come with its
+    // own export of the whole mesh.
+    TetMesh model = build_input(args.input, mesh, &build_seconds);
+    const FeatureStats found = detect_features(model, args.feature_angle);
+    MeshExportOptions export_options;
+    export_options.feature_edges = true;
+    export_options.feature_ref = *args.feature_ref;
+    mesh = model.to_mesh_data(export_options);
+    features_text = ", features: " + format_count(found.edges) + " sharp edges (ref " +
+                    std::to_string(*args.feature_ref) + "), " + format_count(found.corners) + " corners";
+  } else if (args.validate) {
+    build_input(args.input, mesh, &build_seconds);
+  }
   const Stopwatch write_clock;
   WriteOptions options;
   options.binary = args.binary;
@@ -31,9 +50,9 @@ int run_convert(const ConvertArgs& args) {
               args.output.c_str(), format_count(mesh.vertex_count()).c_str(), format_count(mesh.tet_count()).c_str(),
               format_count(mesh.triangles.size()).c_str(), format_count(mesh.segments.size()).c_str(),
               mesh.fields.size(), mesh.fields.size() == 1 ? "" : "s");
-  std::printf("read %s, %swrite %s\n", format_seconds(read_seconds).c_str(),
-              args.validate ? ("validated " + format_seconds(build_seconds) + ", ").c_str() : "",
-              format_seconds(write_seconds).c_str());
+  std::printf("read %s, %swrite %s%s\n", format_seconds(read_seconds).c_str(),
+              args.validate || args.feature_ref ? ("validated " + format_seconds(build_seconds) + ", ").c_str() : "",
+              format_seconds(write_seconds).c_str(), features_text.c_str());
   return kExitOk;
 }
 
@@ -47,6 +66,12 @@ void add_convert_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("OUT", args->output, "Output mesh")->required();
   cmd->add_flag("--binary", args->binary, "Binary Gmsh 4.1 / raw appended VTU data");
   cmd->add_flag("--validate", args->validate, "Build the model first: refuse invalid meshes (exit 2)");
+  cmd->add_option("--features", args->feature_ref,
+                  "Validate, detect the sharp edges and corners simplify keeps, and write them as edges (MEDIT "
+                  "ridges) with this ref and as corners");
+  cmd->add_option("--feature-angle", args->feature_angle, "With --features: the angle in degrees (180 = off)")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
   cmd->callback([args, &run] { run = [args] { return run_convert(*args); }; });
 }
 

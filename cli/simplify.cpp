@@ -148,6 +148,9 @@ Json level_json(const LevelResult& l) {
   j["field_error_seconds"] = l.field_error_seconds;
   j["tolerance"] = r.tolerance;
   j["tolerance_setup_seconds"] = r.tolerance_setup_seconds;
+  j["feature_edges"] = r.feature_edges;
+  j["feature_corners"] = r.feature_corners;
+  j["feature_seconds"] = r.feature_seconds;
   j["surface_distance"] = l.measured ? surface_distance_json(l.distance) : Json(nullptr);
   j["surface_distance_seconds"] = l.distance_seconds;
   j["topology_seconds"] = l.topology_seconds;
@@ -297,7 +300,15 @@ int run_simplify_job(SimplifyJob& job) {
         const Stopwatch write_clock;
         WriteOptions write_options;
         write_options.binary = job.binary;
-        write_mesh(result.output_path, result.output, write_options);
+        if (job.feature_ref) {
+          // The features go to the file only: the checks compare the substructures of the input.
+          MeshExportOptions export_options;
+          export_options.feature_edges = true;
+          export_options.feature_ref = *job.feature_ref;
+          write_mesh(result.output_path, mesh.to_mesh_data(export_options), write_options);
+        } else {
+          write_mesh(result.output_path, result.output, write_options);
+        }
         result.write_seconds = write_clock.seconds();
       }
     }
@@ -399,6 +410,17 @@ int run_simplify_job(SimplifyJob& job) {
         if (last.field_error)
           row("fields", field_text(*last.field_error) + " (" + format_seconds(last.field_error_seconds) + ")");
       }
+      if (job.options.feature_angle < 180.0) {
+        std::uint64_t edges = 0, corners = 0;
+        for (const LevelResult& l : results) {
+          edges += l.report.feature_edges;
+          corners += l.report.feature_corners;
+        }
+        row("features", format_count(edges) + " sharp edges (> " + format_number(job.options.feature_angle) +
+                            " degrees), " + format_count(corners) + " corners pinned (found in " +
+                            format_seconds(results.front().report.feature_seconds) + ")" +
+                            (job.feature_ref ? "; written as edges with ref " + std::to_string(*job.feature_ref) : ""));
+      }
       if (job.levels.empty() && r.tolerance > 0)
         row("tolerance", format_number(r.tolerance) + " (Embree scene of the input's surfaces built in " +
                              format_seconds(r.tolerance_setup_seconds) + ")");
@@ -448,6 +470,7 @@ int run_simplify_job(SimplifyJob& job) {
                       {"round_fraction", job.options.round_fraction},
                       {"tolerance", job.options.tolerance},
                       {"tolerance_rel", job.options.tolerance_rel},
+                      {"feature_angle", job.options.feature_angle},
                       {"verify", verify},
                       {"metrics", job.metrics}};
       j["peak_rss_bytes"] = peak_bytes;
@@ -479,6 +502,8 @@ struct SimplifyArgs {
   double min_quality = SimplifyOptions{}.min_quality;
   double tolerance = 0.0;
   double tolerance_rel = 0.0;
+  double feature_angle = SimplifyOptions{}.feature_angle;
+  std::optional<std::int32_t> feature_ref;
   bool sequential = false;
   int threads = 0;
   double round_fraction = SimplifyOptions{}.round_fraction;
@@ -501,6 +526,8 @@ int run_simplify(const SimplifyArgs& args) {
   job.options.min_quality = args.min_quality;
   job.options.tolerance = args.tolerance;
   job.options.tolerance_rel = args.tolerance_rel;
+  job.options.feature_angle = args.feature_angle;
+  job.feature_ref = args.feature_ref;
   job.options.engine = args.sequential ? Engine::kSequential : Engine::kParallel;
   job.options.num_threads = args.threads;
   job.options.round_fraction = args.round_fraction;
@@ -540,6 +567,14 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("--tolerance-rel", args->tolerance_rel, "The same, relative to the bounding box diagonal")
       ->check(CLI::NonNegativeNumber)
       ->excludes(tolerance);
+  cmd->add_option("--feature-angle", args->feature_angle,
+                  "Keep as feature curves (like polylines) the surface edges whose faces turn by more than this "
+                  "angle in degrees, and pin their corners; 180 = off")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
+  cmd->add_option("--feature-ref", args->feature_ref,
+                  "Also write the detected feature curves as edges (MEDIT ridges) with this ref, their corners as "
+                  "corners (to inspect them)");
   cmd->add_flag("--sequential", args->sequential, "Use the sequential reference engine (lazy priority queue)");
   cmd->add_option("--threads", args->threads, "Threads (0 = all cores; the output is the same for every value)")
       ->check(CLI::NonNegativeNumber)

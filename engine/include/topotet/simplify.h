@@ -72,6 +72,11 @@ struct SimplifyOptions {
   // Called now and then with the fraction done (0..1). Return false to cancel. May run on any
   // thread, never concurrently with itself.
   std::function<bool(double done_fraction)> on_progress;
+  // Sharp features (topotet/features.h): before the first collapse, every surface edge whose two
+  // faces turn by more than this angle (degrees, between the face normals) becomes a feature
+  // curve kept like a listed polyline, and the corners it makes are pinned. 180 = off. Like
+  // Mmg's -ar (45 by default there too).
+  double feature_angle = 45.0;
 };
 
 // Work of one parallel round, for the scaling benchmark's work/span projection.
@@ -108,6 +113,9 @@ struct Report {
   // renumbering of the live vertices and tets), seconds.
   std::array<double, 4> phase_seconds{};
   std::vector<RoundStats> round_stats;
+  std::uint64_t feature_edges = 0;    // edges detect_features flagged (SimplifyOptions::feature_angle)
+  std::uint64_t feature_corners = 0;  // vertices it pinned
+  double feature_seconds = 0.0;
 };
 
 // Simplifies in place. The mesh is valid on return for every status.
