@@ -148,6 +148,7 @@ Json level_json(const LevelResult& l) {
   j["field_error_seconds"] = l.field_error_seconds;
   j["tolerance"] = r.tolerance;
   j["tolerance_setup_seconds"] = r.tolerance_setup_seconds;
+  j["stopped_by_tolerance"] = r.stopped_by_tolerance;
   j["feature_edges"] = r.feature_edges;
   j["feature_corners"] = r.feature_corners;
   j["feature_seconds"] = r.feature_seconds;
@@ -422,7 +423,9 @@ int run_simplify_job(SimplifyJob& job) {
                             (job.feature_ref ? "; written as edges with ref " + std::to_string(*job.feature_ref) : ""));
       }
       if (job.levels.empty() && r.tolerance > 0)
-        row("tolerance", format_number(r.tolerance) + " (Embree scene of the input's surfaces built in " +
+        row("tolerance", format_number(r.tolerance) + (job.options.tolerance > 0 ? "" : " (" + format_number(100.0 * job.options.tolerance_rel) + "% of the diagonal)") +
+                             (r.stopped_by_tolerance ? ", STOPPED THE RUN before the target" : "") +
+                             " (Embree scene of the input's surfaces built in " +
                              format_seconds(r.tolerance_setup_seconds) + ")");
       if (job.levels.empty() && job.metrics) print_surface_distance(last.distance, last.distance_seconds, /*per_label=*/false);
       if (!job.metrics) {
@@ -500,8 +503,8 @@ struct SimplifyArgs {
   std::uint64_t target_vertices = 0;
   double max_cost = 0.0;
   double min_quality = SimplifyOptions{}.min_quality;
-  double tolerance = 0.0;
-  double tolerance_rel = 0.0;
+  double tolerance = -1.0;  // < 0: not given (the relative default applies)
+  double tolerance_rel = SimplifyOptions{}.tolerance_rel;
   double feature_angle = SimplifyOptions{}.feature_angle;
   std::optional<std::int32_t> feature_ref;
   bool sequential = false;
@@ -524,8 +527,12 @@ int run_simplify(const SimplifyArgs& args) {
   job.options.target_vertices = args.target_vertices;
   job.options.max_cost = args.max_cost;
   job.options.min_quality = args.min_quality;
-  job.options.tolerance = args.tolerance;
-  job.options.tolerance_rel = args.tolerance_rel;
+  if (args.tolerance >= 0.0) {
+    job.options.tolerance = args.tolerance;
+    job.options.tolerance_rel = 0.0;  // --tolerance 0 turns the check off
+  } else {
+    job.options.tolerance_rel = args.tolerance_rel;
+  }
   job.options.feature_angle = args.feature_angle;
   job.feature_ref = args.feature_ref;
   job.options.engine = args.sequential ? Engine::kSequential : Engine::kParallel;
@@ -562,11 +569,13 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
       ->capture_default_str();
   auto* tolerance = cmd->add_option("--tolerance", args->tolerance,
                                     "Keep boundary, interfaces, surfaces and polylines within this distance of the "
-                                    "original ones (mesh units; 0 = unchecked)")
+                                    "original ones (mesh units; 0 = unchecked; default: --tolerance-rel)")
                        ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--tolerance-rel", args->tolerance_rel, "The same, relative to the bounding box diagonal")
+  cmd->add_option("--tolerance-rel", args->tolerance_rel,
+                  "The same, relative to the bounding box diagonal (0 = unchecked)")
       ->check(CLI::NonNegativeNumber)
-      ->excludes(tolerance);
+      ->excludes(tolerance)
+      ->capture_default_str();
   cmd->add_option("--feature-angle", args->feature_angle,
                   "Keep as feature curves (like polylines) the surface edges whose faces turn by more than this "
                   "angle in degrees, and pin their corners; 180 = off")

@@ -101,6 +101,14 @@ Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept {
         detail::simplify_parallel(mesh, options, kernel, target, report);
       // Once, at the end: renumbering mid-run would have to remap every per-vertex array of the
       // engines (proposals, quadrics, orders) for a locality gain the runs here did not need.
+      if (report.status == Status::kStoppedEarly && report.tolerance > 0.0 &&
+          report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)] > 0 &&
+          report.message == "no legal collapse left") {
+        report.stopped_by_tolerance = true;
+        report.message = "no legal collapse left within the tolerance (H = " + std::to_string(report.tolerance) +
+                         "; " + std::to_string(report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)]) +
+                         " collapses refused for it): the tolerance stopped the run before the target";
+      }
       const auto compact_start = std::chrono::steady_clock::now();
       compact(mesh);
       report.phase_seconds[3] = std::chrono::duration<double>(std::chrono::steady_clock::now() - compact_start).count();

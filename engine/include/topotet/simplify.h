@@ -37,6 +37,9 @@ enum class Engine : std::uint8_t {
   kSequential,  // the reference: one lazy priority queue (engine/sequential.cpp)
 };
 
+// The default geometric tolerance, relative to the bounding box diagonal (SimplifyOptions).
+inline constexpr double kDefaultToleranceRel = 0.005;
+
 struct SimplifyOptions {
   // Stop when the live vertex count reaches target_vertex_ratio * input vertices, or
   // target_vertices if non-zero (it wins over the ratio).
@@ -57,9 +60,10 @@ struct SimplifyOptions {
   // units) if > 0, else tolerance_rel * bounding box diagonal; both 0 = unchecked. Checked at the
   // new vertex, the centroid and edge midpoints of every new surface triangle, and at the removed
   // vertex (engine/surface_tolerance.h says what is guaranteed); measure the result with
-  // metrics/surface_distance.h. The reference is the mesh as passed to this call.
+  // metrics/surface_distance.h. The reference is the mesh as passed to this call. On by default
+  // (kDefaultToleranceRel, chosen in README.md "Default runs"); tolerance_rel = 0 turns it off.
   double tolerance = 0.0;
-  double tolerance_rel = 0.0;
+  double tolerance_rel = kDefaultToleranceRel;
   Engine engine = Engine::kParallel;
   int num_threads = 0;  // 0 = the caller's current task arena; the output is identical for every value
   // Parallel rounds: about this fraction of the cheapest proposals is verified and competes in
@@ -116,6 +120,9 @@ struct Report {
   std::uint64_t feature_edges = 0;    // edges detect_features flagged (SimplifyOptions::feature_angle)
   std::uint64_t feature_corners = 0;  // vertices it pinned
   double feature_seconds = 0.0;
+  // The run stopped before its target (kStoppedEarly) with collapses refused for the tolerance:
+  // the tolerance, not the target, ended it (the message says so).
+  bool stopped_by_tolerance = false;
 };
 
 // Simplifies in place. The mesh is valid on return for every status.
