@@ -148,7 +148,7 @@ Json level_json(const LevelResult& l) {
   j["field_error_seconds"] = l.field_error_seconds;
   j["tolerance"] = r.tolerance;
   j["tolerance_setup_seconds"] = r.tolerance_setup_seconds;
-  j["stopped_by_tolerance"] = r.stopped_by_tolerance;
+  j["tolerance_limited"] = r.tolerance_limited;
   j["feature_edges"] = r.feature_edges;
   j["feature_corners"] = r.feature_corners;
   j["feature_seconds"] = r.feature_seconds;
@@ -424,7 +424,9 @@ int run_simplify_job(SimplifyJob& job) {
       }
       if (job.levels.empty() && r.tolerance > 0)
         row("tolerance", format_number(r.tolerance) + (job.options.tolerance > 0 ? "" : " (" + format_number(100.0 * job.options.tolerance_rel) + "% of the diagonal)") +
-                             (r.stopped_by_tolerance ? ", STOPPED THE RUN before the target" : "") +
+                             (r.tolerance_limited ? ", may have stopped the run before the target (it refused " +
+                                                        format_count(r.rejected[6]) + " collapses)"
+                                                  : "") +
                              " (Embree scene of the input's surfaces built in " +
                              format_seconds(r.tolerance_setup_seconds) + ")");
       if (job.levels.empty() && job.metrics) print_surface_distance(last.distance, last.distance_seconds, /*per_label=*/false);

@@ -104,10 +104,11 @@ Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept {
       if (report.status == Status::kStoppedEarly && report.tolerance > 0.0 &&
           report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)] > 0 &&
           report.message == "no legal collapse left") {
-        report.stopped_by_tolerance = true;
-        report.message = "no legal collapse left within the tolerance (H = " + std::to_string(report.tolerance) +
-                         "; " + std::to_string(report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)]) +
-                         " collapses refused for it): the tolerance stopped the run before the target";
+        report.tolerance_limited = true;
+        report.message = "no legal collapse left; the tolerance (H = " + std::to_string(report.tolerance) +
+                         ") refused " +
+                         std::to_string(report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)]) +
+                         " collapses, so it may be what stopped the run before the target (compare with tolerance 0)";
       }
       const auto compact_start = std::chrono::steady_clock::now();
       compact(mesh);

@@ -38,7 +38,7 @@ enum class Engine : std::uint8_t {
 };
 
 // The default geometric tolerance, relative to the bounding box diagonal (SimplifyOptions).
-inline constexpr double kDefaultToleranceRel = 0.005;
+inline constexpr double kDefaultToleranceRel = 0.004;
 
 struct SimplifyOptions {
   // Stop when the live vertex count reaches target_vertex_ratio * input vertices, or
@@ -120,9 +120,11 @@ struct Report {
   std::uint64_t feature_edges = 0;    // edges detect_features flagged (SimplifyOptions::feature_angle)
   std::uint64_t feature_corners = 0;  // vertices it pinned
   double feature_seconds = 0.0;
-  // The run stopped before its target (kStoppedEarly) with collapses refused for the tolerance:
-  // the tolerance, not the target, ended it (the message says so).
-  bool stopped_by_tolerance = false;
+  // The run stopped before its target (kStoppedEarly: no legal collapse left) and the tolerance
+  // had refused collapses: the tolerance may be what stopped it (the message says so). Whether it
+  // was, and not the topology or the features, only a run without it tells (measured on the
+  // cube-sphere at 2%: features alone stop at 5.1%, the same as with the tolerance).
+  bool tolerance_limited = false;
 };
 
 // Simplifies in place. The mesh is valid on return for every status.
