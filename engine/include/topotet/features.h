@@ -29,7 +29,9 @@ struct FeatureStats {
 // alone. Then every vertex of a new feature curve that is not an inner point of one curve (a
 // curve end, a junction of three or more curves, a point where a feature meets a listed polyline
 // or a seam) is pinned (vertex_state::kPinned | kFeatureCorner): it keeps its exact position.
-// angle_degrees >= 180 finds nothing. Deterministic; runs in the caller's task arena.
+// angle_degrees >= 180 finds nothing. Deterministic; runs in the caller's task arena. The flags
+// and pins stay on the mesh: a later simplify() of the same TetMesh keeps these features too
+// (and detects again on the simplified surfaces), and to_mesh_data omits them unless asked.
 FeatureStats detect_features(TetMesh& mesh, double angle_degrees);
 
 }  // namespace topotet
