@@ -16,6 +16,7 @@
 
 #include "test_meshes.h"
 #include "topotet/features.h"
+#include "topotet/generate.h"
 #include "topotet/simplify.h"
 #include "topotet/tet_mesh.h"
 
@@ -277,6 +278,40 @@ TEST(Features, ParallelOutputIsIdenticalForEveryThreadCount) {
       first = d;
     else
       EXPECT_TRUE(d == first) << threads << " threads";
+  }
+}
+
+// The default tolerance (issue #12): on without any option, 0 turns it off, and a run it stops
+// before the target says so.
+TEST(Defaults, ToleranceIsOnAndARunItStopsSaysSo) {
+  const MeshData input = generate_mesh({"cube-sphere", 8000, 1});
+  {
+    TetMesh mesh = build_tet_mesh(input);
+    SimplifyOptions options;
+    EXPECT_EQ(options.tolerance_rel, kDefaultToleranceRel);
+    EXPECT_GT(kDefaultToleranceRel, 0.0);
+    EXPECT_LE(kDefaultToleranceRel, 0.005);  // the issue's bound: at most 0.5% of the diagonal
+    const Report report = simplify(mesh, options);
+    EXPECT_GT(report.tolerance, 0.0);
+  }
+  {
+    TetMesh mesh = build_tet_mesh(input);
+    SimplifyOptions options;
+    options.tolerance_rel = 1e-5;  // far below the surfaces' own jitter: hardly anything on them moves
+    options.target_vertex_ratio = 0.02;
+    const Report report = simplify(mesh, options);
+    EXPECT_EQ(report.status, Status::kStoppedEarly);
+    EXPECT_TRUE(report.tolerance_limited);
+    EXPECT_NE(report.message.find("tolerance"), std::string::npos) << report.message;
+  }
+  {
+    TetMesh mesh = build_tet_mesh(input);
+    SimplifyOptions options;
+    options.tolerance_rel = 0.0;
+    options.target_vertex_ratio = 0.02;
+    const Report report = simplify(mesh, options);
+    EXPECT_EQ(report.tolerance, 0.0);
+    EXPECT_FALSE(report.tolerance_limited);
   }
 }
 
