@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <optional>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -54,6 +55,7 @@ struct SimplifyJob {
   SimplifyOptions options;     // target and engine settings (targets overridden by `levels`)
   std::vector<double> levels;  // descending vertex ratios; empty = one run with `options`
   std::string output_path;     // empty = write nothing
+  std::optional<std::int32_t> feature_ref;  // also write detected features, with this ref
   bool binary = false;         // WriteOptions::binary
   bool msh22 = false;          // WriteOptions::msh22
   std::optional<MeshFormat> output_format;  // format of output_path "-" (stdout)

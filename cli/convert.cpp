@@ -2,10 +2,13 @@
 // Converting does not need the working model; --validate builds it first and refuses bad input.
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "common.h"
 #include "topotet/error.h"
+#include "topotet/features.h"
 #include "topotet/io.h"
+#include "topotet/simplify.h"
 
 namespace topotet::cli {
 namespace {
@@ -18,6 +21,8 @@ struct ConvertArgs {
   bool tets_only = false;
   bool msh22 = false;
   std::string format;
+  std::optional<std::int32_t> feature_ref;
+  double feature_angle = SimplifyOptions{}.feature_angle;
 };
 
 int run_convert(const ConvertArgs& args) {
@@ -34,8 +39,22 @@ int run_convert(const ConvertArgs& args) {
   ReadOptions read_options;
   read_options.tets_only = args.tets_only;
   read_options.format = format_for(args.input, args.format);
-  const MeshData mesh = read_input(args.input, &read_seconds, read_options);
-  if (args.validate) build_input(args.input, mesh, &build_seconds);
+  MeshData mesh = read_input(args.input, &read_seconds, read_options);
+  std::string features_text;
+  if (args.feature_ref) {
+    // The model renumbers nothing but drops unreferenced vertices: the features come with its
+    // own export of the whole mesh.
+    TetMesh model = build_input(args.input, mesh, &build_seconds);
+    const FeatureStats found = detect_features(model, args.feature_angle);
+    MeshExportOptions export_options;
+    export_options.feature_edges = true;
+    export_options.feature_ref = *args.feature_ref;
+    mesh = model.to_mesh_data(export_options);
+    features_text = ", features: " + format_count(found.edges) + " sharp edges (ref " +
+                    std::to_string(*args.feature_ref) + "), " + format_count(found.corners) + " corners";
+  } else if (args.validate) {
+    build_input(args.input, mesh, &build_seconds);
+  }
   const Stopwatch write_clock;
   WriteOptions options;
   options.binary = args.binary;
@@ -47,9 +66,9 @@ int run_convert(const ConvertArgs& args) {
               args.output.c_str(), format_count(mesh.vertex_count()).c_str(), format_count(mesh.tet_count()).c_str(),
               format_count(mesh.triangles.size()).c_str(), format_count(mesh.segments.size()).c_str(),
               mesh.fields.size(), mesh.fields.size() == 1 ? "" : "s");
-  std::fprintf(report_stream(), "read %s, %swrite %s\n", format_seconds(read_seconds).c_str(),
-              args.validate ? ("validated " + format_seconds(build_seconds) + ", ").c_str() : "",
-              format_seconds(write_seconds).c_str());
+  std::fprintf(report_stream(), "read %s, %swrite %s%s\n", format_seconds(read_seconds).c_str(),
+               args.validate || args.feature_ref ? ("validated " + format_seconds(build_seconds) + ", ").c_str() : "",
+               format_seconds(write_seconds).c_str(), features_text.c_str());
   return kExitOk;
 }
 
@@ -67,6 +86,12 @@ void add_convert_command(CLI::App& app, CommandRunner& run) {
   cmd->add_flag("--msh22", args->msh22, "Write .msh as Gmsh 2.2 ASCII (for tools that read only the old format)")
       ->excludes("--binary");
   cmd->add_flag("--tets-only", args->tets_only, "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) instead of refusing it");
+  cmd->add_option("--features", args->feature_ref,
+                  "Validate, detect the sharp edges and corners simplify keeps, and write them as edges (MEDIT "
+                  "ridges) with this ref and as corners");
+  cmd->add_option("--feature-angle", args->feature_angle, "With --features: the angle in degrees (180 = off)")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
   cmd->callback([args, &run] { run = [args] { return run_convert(*args); }; });
 }
 

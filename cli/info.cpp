@@ -10,6 +10,8 @@
 
 #include "common.h"
 #include "topotet/error.h"
+#include "topotet/features.h"
+#include "topotet/simplify.h"
 #include "topotet/metrics/topology.h"
 
 namespace topotet::cli {
@@ -20,6 +22,7 @@ struct InfoArgs {
   std::string json_path;
   bool tets_only = false;
   std::string format;
+  double feature_angle = SimplifyOptions{}.feature_angle;
 };
 
 template <class Element>
@@ -88,9 +91,14 @@ int run_info(const InfoArgs& args) {
   std::string build_error;
   double build_seconds = 0.0;
   std::size_t model_bytes = 0;
+  FeatureStats features;
+  double feature_seconds = 0.0;
   try {
-    const TetMesh mesh = build_input(args.input, data, &build_seconds);
+    TetMesh mesh = build_input(args.input, data, &build_seconds);
     model_bytes = mesh.memory_bytes();
+    const Stopwatch feature_clock;
+    features = detect_features(mesh, args.feature_angle);
+    feature_seconds = feature_clock.seconds();
   } catch (const InputError& e) {
     build_error = e.what();
   }
@@ -135,6 +143,10 @@ int run_info(const InfoArgs& args) {
   if (build_error.empty()) {
     row("model", format_count(data.tet_count() ? model_bytes / data.tet_count() : 0) + " bytes/tet, " +
                      format_bytes(model_bytes) + " (build " + format_seconds(build_seconds) + ")");
+    if (args.feature_angle < 180.0)
+      row("features", format_count(features.edges) + " sharp edges (> " + format_number(args.feature_angle) +
+                          " degrees), " + format_count(features.corners) + " corners (" +
+                          format_seconds(feature_seconds) + ")");
     row("valid", "yes");
   } else {
     row("valid", "no (see the error)");
@@ -168,6 +180,9 @@ int run_info(const InfoArgs& args) {
     if (build_error.empty()) {
       j["model_bytes"] = model_bytes;
       j["bytes_per_tet"] = data.tet_count() ? static_cast<double>(model_bytes) / data.tet_count() : 0.0;
+      j["feature_angle"] = args.feature_angle;
+      j["feature_edges"] = features.edges;
+      j["feature_corners"] = features.corners;
     } else {
       j["error"] = build_error;
     }
@@ -190,6 +205,11 @@ void add_info_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("--json", args->json_path, "Also write the numbers as JSON to this file");
   cmd->add_option("--format", args->format, "Format of FILE when it is - (stdin): mesh or msh");
   cmd->add_flag("--tets-only", args->tets_only, "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) instead of refusing it");
+  cmd->add_option("--feature-angle", args->feature_angle,
+                  "Count the sharp edges (faces turning by more than this many degrees) and corners simplify keeps; "
+                  "180 = off")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
   cmd->callback([args, &run] { run = [args] { return run_info(*args); }; });
 }
 

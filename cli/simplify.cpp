@@ -149,6 +149,10 @@ Json level_json(const LevelResult& l) {
   j["field_error_seconds"] = l.field_error_seconds;
   j["tolerance"] = r.tolerance;
   j["tolerance_setup_seconds"] = r.tolerance_setup_seconds;
+  j["tolerance_limited"] = r.tolerance_limited;
+  j["feature_edges"] = r.feature_edges;
+  j["feature_corners"] = r.feature_corners;
+  j["feature_seconds"] = r.feature_seconds;
   j["surface_distance"] = l.measured ? surface_distance_json(l.distance) : Json(nullptr);
   j["surface_distance_seconds"] = l.distance_seconds;
   j["topology_seconds"] = l.topology_seconds;
@@ -316,7 +320,15 @@ int run_simplify_job(SimplifyJob& job) {
         write_options.binary = job.binary;
         write_options.msh22 = job.msh22;
         write_options.format = job.output_format;
-        write_mesh(result.output_path, result.output, write_options);
+        if (job.feature_ref) {
+          // The features go to the file only: the checks compare the substructures of the input.
+          MeshExportOptions export_options;
+          export_options.feature_edges = true;
+          export_options.feature_ref = *job.feature_ref;
+          write_mesh(result.output_path, mesh.to_mesh_data(export_options), write_options);
+        } else {
+          write_mesh(result.output_path, result.output, write_options);
+        }
         result.write_seconds = write_clock.seconds();
       }
     }
@@ -418,8 +430,23 @@ int run_simplify_job(SimplifyJob& job) {
         if (last.field_error)
           row("fields", field_text(*last.field_error) + " (" + format_seconds(last.field_error_seconds) + ")");
       }
+      if (job.options.feature_angle < 180.0) {
+        std::uint64_t edges = 0, corners = 0;
+        for (const LevelResult& l : results) {
+          edges += l.report.feature_edges;
+          corners += l.report.feature_corners;
+        }
+        row("features", format_count(edges) + " sharp edges (> " + format_number(job.options.feature_angle) +
+                            " degrees), " + format_count(corners) + " corners pinned (found in " +
+                            format_seconds(results.front().report.feature_seconds) + ")" +
+                            (job.feature_ref ? "; written as edges with ref " + std::to_string(*job.feature_ref) : ""));
+      }
       if (job.levels.empty() && r.tolerance > 0)
-        row("tolerance", format_number(r.tolerance) + " (Embree scene of the input's surfaces built in " +
+        row("tolerance", format_number(r.tolerance) + (job.options.tolerance > 0 ? "" : " (" + format_number(100.0 * job.options.tolerance_rel) + "% of the diagonal)") +
+                             (r.tolerance_limited ? ", may have stopped the run before the target (it refused " +
+                                                        format_count(r.rejected[6]) + " collapses)"
+                                                  : "") +
+                             " (Embree scene of the input's surfaces built in " +
                              format_seconds(r.tolerance_setup_seconds) + ")");
       if (job.levels.empty() && job.metrics) print_surface_distance(last.distance, last.distance_seconds, /*per_label=*/false);
       if (!job.metrics) {
@@ -467,6 +494,7 @@ int run_simplify_job(SimplifyJob& job) {
                       {"round_fraction", job.options.round_fraction},
                       {"tolerance", job.options.tolerance},
                       {"tolerance_rel", job.options.tolerance_rel},
+                      {"feature_angle", job.options.feature_angle},
                       {"verify", verify},
                       {"metrics", job.metrics}};
       j["peak_rss_bytes"] = peak_bytes;
@@ -496,8 +524,10 @@ struct SimplifyArgs {
   std::uint64_t target_vertices = 0;
   double max_cost = 0.0;
   double min_quality = SimplifyOptions{}.min_quality;
-  double tolerance = 0.0;
-  double tolerance_rel = 0.0;
+  double tolerance = -1.0;  // < 0: not given (the relative default applies)
+  double tolerance_rel = SimplifyOptions{}.tolerance_rel;
+  double feature_angle = SimplifyOptions{}.feature_angle;
+  std::optional<std::int32_t> feature_ref;
   bool sequential = false;
   int threads = 0;
   double round_fraction = SimplifyOptions{}.round_fraction;
@@ -526,8 +556,14 @@ int run_simplify(const SimplifyArgs& args) {
   job.options.target_vertices = args.target_vertices;
   job.options.max_cost = args.max_cost;
   job.options.min_quality = args.min_quality;
-  job.options.tolerance = args.tolerance;
-  job.options.tolerance_rel = args.tolerance_rel;
+  if (args.tolerance >= 0.0) {
+    job.options.tolerance = args.tolerance;
+    job.options.tolerance_rel = 0.0;  // --tolerance 0 turns the check off
+  } else {
+    job.options.tolerance_rel = args.tolerance_rel;
+  }
+  job.options.feature_angle = args.feature_angle;
+  job.feature_ref = args.feature_ref;
   job.options.engine = args.sequential ? Engine::kSequential : Engine::kParallel;
   job.options.num_threads = args.threads;
   job.options.round_fraction = args.round_fraction;
@@ -566,11 +602,21 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
       ->capture_default_str();
   auto* tolerance = cmd->add_option("--tolerance", args->tolerance,
                                     "Keep boundary, interfaces, surfaces and polylines within this distance of the "
-                                    "original ones (mesh units; 0 = unchecked)")
+                                    "original ones (mesh units; 0 = unchecked; default: --tolerance-rel)")
                        ->check(number_in(0.0, kInfinity, false));
-  cmd->add_option("--tolerance-rel", args->tolerance_rel, "The same, relative to the bounding box diagonal")
+  cmd->add_option("--tolerance-rel", args->tolerance_rel,
+                  "The same, relative to the bounding box diagonal (0 = unchecked)")
       ->check(number_in(0.0, kInfinity, false))
-      ->excludes(tolerance);
+      ->excludes(tolerance)
+      ->capture_default_str();
+  cmd->add_option("--feature-angle", args->feature_angle,
+                  "Keep as feature curves (like polylines) the surface edges whose faces turn by more than this "
+                  "angle in degrees, and pin their corners; 180 = off")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
+  cmd->add_option("--feature-ref", args->feature_ref,
+                  "Also write the detected feature curves as edges (MEDIT ridges) with this ref, their corners as "
+                  "corners (to inspect them)");
   cmd->add_flag("--sequential", args->sequential, "Use the sequential reference engine (lazy priority queue)");
   cmd->add_option("--threads", args->threads, "Threads (0 = all cores; the output is the same for every value)")
       ->check(whole_number_at_least(0))

@@ -12,6 +12,7 @@
 #include "parallel/for_range.h"
 #include "reorder.h"
 #include "surface_tolerance.h"
+#include "topotet/features.h"
 #include "topotet/simplify.h"
 
 namespace topotet {
@@ -39,6 +40,7 @@ std::string check_options(const SimplifyOptions& o) {
   if (!(o.tolerance_rel >= 0.0) || !std::isfinite(o.tolerance_rel)) return "tolerance_rel must be finite and >= 0";
   if (o.num_threads < 0) return "num_threads must be >= 0";
   if (!(o.round_fraction > 0.0 && o.round_fraction <= 1.0)) return "round_fraction must be in (0, 1]";
+  if (!(o.feature_angle >= 0.0 && o.feature_angle <= 180.0)) return "feature_angle must be in [0, 180] degrees";
   return {};
 }
 
@@ -73,6 +75,13 @@ Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept {
     parallel::run_with_threads(options.num_threads, [&] {
       // Neighbours in space become neighbours in memory: every phase walks stars (reorder.h).
       reorder_for_locality(mesh);
+      // Before the cost model and the tolerance reference are built: both see the features as
+      // polylines (line quadrics; a curve label the tolerance checks).
+      const auto feature_start = std::chrono::steady_clock::now();
+      const FeatureStats features = detect_features(mesh, options.feature_angle);
+      report.feature_edges = features.edges;
+      report.feature_corners = features.corners;
+      report.feature_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - feature_start).count();
       CollapseOptions kernel;
       kernel.quality_floor = options.min_quality;
       // The original surfaces, built before the first collapse and shared read-only by all threads.
@@ -92,6 +101,15 @@ Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept {
         detail::simplify_parallel(mesh, options, kernel, target, report);
       // Once, at the end: renumbering mid-run would have to remap every per-vertex array of the
       // engines (proposals, quadrics, orders) for a locality gain the runs here did not need.
+      if (report.status == Status::kStoppedEarly && report.tolerance > 0.0 &&
+          report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)] > 0 &&
+          report.message == "no legal collapse left") {
+        report.tolerance_limited = true;
+        report.message = "no legal collapse left; the tolerance (H = " + std::to_string(report.tolerance) +
+                         ") refused " +
+                         std::to_string(report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)]) +
+                         " collapses, so it may be what stopped the run before the target (compare with tolerance 0)";
+      }
       const auto compact_start = std::chrono::steady_clock::now();
       compact(mesh);
       report.phase_seconds[3] = std::chrono::duration<double>(std::chrono::steady_clock::now() - compact_start).count();

@@ -127,7 +127,7 @@ struct KeyedItem {
 
 }  // namespace
 
-MeshData TetMesh::to_mesh_data() const {
+MeshData TetMesh::to_mesh_data(const MeshExportOptions& options) const {
   MeshData d;
   const std::size_t nv = positions.size(), nt = tets.size();
   std::vector<VertId> vmap(nv, kInvalid);
@@ -136,7 +136,9 @@ MeshData TetMesh::to_mesh_data() const {
     vmap[v] = static_cast<VertId>(d.positions.size());
     d.positions.push_back(positions[v]);
     d.vertex_refs.push_back(vertex_refs[v]);
-    if (vertex_states[v] & vertex_state::kCorner) d.corners.push_back(vmap[v]);
+    if ((vertex_states[v] & vertex_state::kCorner) ||
+        (options.feature_edges && (vertex_states[v] & vertex_state::kFeatureCorner)))
+      d.corners.push_back(vmap[v]);
     if (vertex_states[v] & vertex_state::kRequired) d.required_vertices.push_back(vmap[v]);
   }
   if (std::all_of(d.vertex_refs.begin(), d.vertex_refs.end(), [](std::int32_t r) { return r == 0; }))
@@ -162,7 +164,10 @@ MeshData TetMesh::to_mesh_data() const {
     }
     for (int e = 0; e < 6; ++e) {
       if (!is_polyline_edge(f, e)) continue;
-      KeyedItem<2> item{{}, {v[kTetEdges[e][0]], v[kTetEdges[e][1]]}, r.edge[e], ((r.ridge_mask >> e) & 1u) != 0};
+      const bool feature = r.edge[e] == kFeatureCurveRef;
+      if (feature && !options.feature_edges) continue;
+      KeyedItem<2> item{{}, {v[kTetEdges[e][0]], v[kTetEdges[e][1]]}, feature ? options.feature_ref : r.edge[e],
+                        feature || ((r.ridge_mask >> e) & 1u) != 0};
       item.key = {std::min(item.oriented[0], item.oriented[1]), std::max(item.oriented[0], item.oriented[1])};
       edges.push_back(item);
     }

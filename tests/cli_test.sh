@@ -109,6 +109,27 @@ else
   fail "--no-metrics report is wrong"
 fi
 
+# --- the defaults of issue #12: sharp features and a tolerance; both can be turned off ---
+if grep -q '^features .* sharp edges' info.out; then pass "info prints the sharp features"; else fail "info prints no features"; fi
+if grep -q '^features .* sharp edges' simplify_parallel.out && grep -q '^tolerance .*% of the diagonal' simplify_parallel.out; then
+  pass "simplify reports features and the default tolerance"
+else
+  fail "simplify does not report features and the default tolerance"
+fi
+expect 0 simplify_plain -- "$topotet" simplify in.mesh -o plain.mesh --ratio 0.3 --tolerance 0 --feature-angle 180 --report plain.json
+if python3 -c '
+import json, sys
+l = json.load(open(sys.argv[1]))["levels"][0]
+sys.exit(0 if l["tolerance"] == 0 and l["feature_edges"] == 0 else 1)' plain.json; then
+  pass "--tolerance 0 --feature-angle 180 turn both off"
+else
+  fail "--tolerance 0 --feature-angle 180 did not turn both off"
+fi
+expect 0 simplify_feature_ref -- "$topotet" simplify in.mesh -o fr.mesh --ratio 0.3 --feature-ref 99
+expect 0 convert_features -- "$topotet" convert in.mesh feat.mesh --features 99
+if grep -q ' 99$' feat.mesh && grep -q ' 99$' fr.mesh; then pass "feature edges written with their ref"; else fail "no feature edges with ref 99"; fi
+expect_error bad_feature_angle -- "$topotet" simplify in.mesh -o never.mesh --feature-angle 200
+
 # --- bad input and usage: exit 2, one line ---
 head -c 4000 in.mesh >truncated.mesh
 expect_error truncated_info -- "$topotet" info truncated.mesh

@@ -169,6 +169,11 @@ TEST(Simplify, PolycrystalKeepsEveryCellAndJunction) {
     SimplifyOptions options;
     options.engine = engine;
     options.target_vertex_ratio = 0.2;
+    // The cells are unions of grid tets: their faces are staircases whose every step is a sharp
+    // edge at the default feature angle, and whose steps are larger than the default tolerance.
+    // This test is about the topology of cells and junctions under heavy simplification.
+    options.feature_angle = 180.0;
+    options.tolerance_rel = 0.0;
     const Report report = simplify(mesh, options);
     ASSERT_TRUE(report.status == Status::kOk || report.status == Status::kStoppedEarly) << report.message;
     const MeshData output = mesh.to_mesh_data();

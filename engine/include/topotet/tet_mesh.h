@@ -62,6 +62,9 @@ constexpr int local_edge_index(int a, int b) {  // a != b in 0..3
 // Ref of a flagged face that is a material interface the input did not list. Such faces are
 // substructure faces for the kernel but are not written back as triangles.
 inline constexpr std::int32_t kImplicitInterfaceRef = INT32_MIN;
+// Ref of a flagged edge that is a sharp feature found by detect_features (topotet/features.h):
+// a polyline edge for the kernel, written back only when asked (MeshExportOptions).
+inline constexpr std::int32_t kFeatureCurveRef = INT32_MIN + 2;
 
 // A face listed several times with different refs (Gmsh writes one triangle per surface, and a face
 // may lie on several model surfaces), or an edge on several polylines, carries ONE stand-in ref
@@ -89,12 +92,21 @@ namespace vertex_state {
 inline constexpr std::uint8_t kPinned = 1u << 0;    // never moves, never removed
 inline constexpr std::uint8_t kCorner = 1u << 1;    // listed as MEDIT Corner / Gmsh point
 inline constexpr std::uint8_t kRequired = 1u << 2;  // listed as MEDIT RequiredVertex
+inline constexpr std::uint8_t kFeatureCorner = 1u << 3;  // pinned by detect_features (a corner)
 inline constexpr std::uint8_t kDead = 1u << 7;      // removed by a collapse
 }  // namespace vertex_state
 
 struct FieldInfo {
   std::string name;
   int components = 1;
+};
+
+// What to_mesh_data writes besides the input's own substructures.
+struct MeshExportOptions {
+  // Detected feature curves (ref kFeatureCurveRef) as segments with ref feature_ref, marked as
+  // MEDIT ridges, and detected corners as corners: for inspecting the detection (ParaView).
+  bool feature_edges = false;
+  std::int32_t feature_ref = 0;
 };
 
 struct BuildOptions {
@@ -177,9 +189,9 @@ class TetMesh {
 
   // The interchange form of the live part: vertices and tets renumbered densely in their current
   // order, listed triangles/segments recovered from the flags (each once per ref, sorted; a face
-  // with a stand-in ref once per ref of its set), implicit interfaces omitted, corners/required
-  // vertices and fields kept.
-  MeshData to_mesh_data() const;
+  // with a stand-in ref once per ref of its set), implicit interfaces and detected features
+  // omitted (unless `options` asks for the features), corners/required vertices and fields kept.
+  MeshData to_mesh_data(const MeshExportOptions& options = {}) const;
 };
 
 // Validates raw input and builds the model. Throws InputError naming the element at fault:
