@@ -11,6 +11,7 @@ packages=(
   libtbb-dev libembree-dev libglm-dev zlib1g-dev
   libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
   gmsh tetgen
+  gfortran pkg-config pybind11-dev python3-dev python3-numpy python3-pybind11
 )
 
 missing=()
