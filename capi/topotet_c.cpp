@@ -106,6 +106,7 @@ std::int32_t ref_value(const topotet_view& v, std::int64_t row, const char* what
 
 template <std::size_t N>
 std::vector<std::array<VertId, N>> read_cells(const topotet_view& v, std::int64_t count, int base, const char* what) {
+  if (count == 0) return {};
   check_view(v, true, what);
   std::vector<std::array<VertId, N>> out(static_cast<std::size_t>(count));
   for (std::int64_t r = 0; r < count; ++r)
@@ -115,7 +116,7 @@ std::vector<std::array<VertId, N>> read_cells(const topotet_view& v, std::int64_
 
 std::vector<std::int32_t> read_refs(const topotet_view& v, std::int64_t count, const char* what) {
   std::vector<std::int32_t> out;
-  if (v.data == nullptr) return out;
+  if (v.data == nullptr || count == 0) return out;
   check_view(v, true, what);
   out.resize(static_cast<std::size_t>(count));
   for (std::int64_t r = 0; r < count; ++r) out[r] = ref_value(v, r, what);

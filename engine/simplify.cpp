@@ -71,20 +71,29 @@ double bounding_box_diagonal(const TetMesh& mesh) {
 void resolve_vertex_map(const TetMesh& mesh, std::size_t input_count, const std::vector<VertId>& new2old,
                         bool compacted, std::vector<VertId>& vertex_map) {
   const std::size_t nv = mesh.vertex_capacity();
-  std::vector<VertId> output_id(nv, kInvalid);
+  // root[v]: the output id of the live vertex at the end of v's merge chain. Chains are walked
+  // once each (every vertex on a walked chain is resolved on the way back): O(vertices) in all.
+  std::vector<VertId> root(nv, kInvalid);
   VertId next = 0;
   for (VertId v = 0; v < nv; ++v)
-    if (!mesh.is_dead_vertex(v)) output_id[v] = compacted ? next++ : v;
-  auto root = [&](VertId v) {
-    if (mesh.merged_into.size() == nv)
-      while (v != kInvalid && mesh.is_dead_vertex(v)) v = mesh.merged_into[v];
-    return v == kInvalid ? kInvalid : output_id[v];
-  };
+    if (!mesh.is_dead_vertex(v)) root[v] = compacted ? next++ : v;
+  if (mesh.merged_into.size() == nv) {
+    std::vector<VertId> chain;
+    for (VertId v = 0; v < nv; ++v) {
+      VertId x = v;
+      while (root[x] == kInvalid && mesh.merged_into[x] != kInvalid) {
+        chain.push_back(x);
+        x = mesh.merged_into[x];
+      }
+      for (VertId y : chain) root[y] = root[x];
+      chain.clear();
+    }
+  }
   vertex_map.assign(input_count, kInvalid);
   if (new2old.empty()) {
-    for (VertId v = 0; v < std::min(nv, input_count); ++v) vertex_map[v] = root(v);
+    for (VertId v = 0; v < std::min(nv, input_count); ++v) vertex_map[v] = root[v];
   } else {
-    for (VertId v = 0; v < new2old.size(); ++v) vertex_map[new2old[v]] = root(v);
+    for (VertId v = 0; v < new2old.size(); ++v) vertex_map[new2old[v]] = root[v];
   }
 }
 

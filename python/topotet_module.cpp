@@ -145,7 +145,9 @@ py::dict to_dict(const topotet::MeshData& d) {
   for (const auto& f : d.fields) {
     py::array_t<double> a({static_cast<py::ssize_t>(d.positions.size()), static_cast<py::ssize_t>(f.components)});
     std::copy(f.values.begin(), f.values.end(), a.mutable_data());
-    fields[py::str(f.name)] = f.components == 1 ? a.reshape({static_cast<py::ssize_t>(d.positions.size())}) : a;
+    py::object value = a;
+    if (f.components == 1) value = a.reshape({static_cast<py::ssize_t>(d.positions.size())});  // a scalar: (n,)
+    fields[py::str(f.name)] = value;
   }
   out["fields"] = fields;
   return out;
