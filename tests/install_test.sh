@@ -41,9 +41,11 @@ fi
 
 echo "--- pkg-config"
 export PKG_CONFIG_PATH=$(dirname "$pc")
-c++ -std=c++20 -O1 "$src/examples/cpp/simplify.cpp" -o "$work/pc_cpp" $(pkg-config --cflags --libs --static topotet)
+# (-rpath: a shared topotet in a prefix the loader does not search.)
+rpath=-Wl,-rpath,$(pkg-config --variable=libdir topotet)
+c++ -std=c++20 -O1 "$src/examples/cpp/simplify.cpp" -o "$work/pc_cpp" $(pkg-config --cflags --libs --static topotet) "$rpath"
 "$work/pc_cpp"
-cc -O1 "$src/examples/c/simplify.c" -o "$work/pc_c" $(pkg-config --cflags --libs --static topotet) -lm
+cc -O1 "$src/examples/c/simplify.c" -o "$work/pc_c" $(pkg-config --cflags --libs --static topotet) -lm "$rpath"
 "$work/pc_c"
 
 if [[ -n $python ]]; then
