@@ -10,6 +10,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "topotet/nothrow.h"
@@ -19,6 +20,18 @@
 struct topotet_mesh {
   topotet::TetMesh mesh;
   std::vector<topotet::VertId> vertex_map;  // of the last simplify
+  // The listed triangles and segments, recovered from the tet flags on first use after a change.
+  mutable std::vector<topotet::Triangle> triangles;
+  mutable std::vector<topotet::Segment> segments;
+  mutable bool has_substructures = false;
+
+  void recover_substructures() const {
+    if (has_substructures) return;
+    topotet::MeshData d = mesh.to_mesh_data();
+    triangles = std::move(d.triangles);
+    segments = std::move(d.segments);
+    has_substructures = true;
+  }
 };
 
 namespace {
@@ -217,6 +230,21 @@ topotet_status check_out(const topotet_mesh* mesh, const topotet_out_view& v, bo
   return TOPOTET_OK;
 }
 
+template <class Item>
+topotet_status copy_items(const topotet_mesh* mesh, const std::vector<Item>& items, topotet_out_view out,
+                          topotet_out_view refs_out, int index_base, const char* what) {
+  if (const topotet_status s = check_out(mesh, out, true, what); s != TOPOTET_OK) return s;
+  if (refs_out.data != nullptr && !is_integer(refs_out.type))
+    return fail(TOPOTET_INVALID_INPUT, std::string(what) + ": refs output must be INT32 or INT64");
+  if (index_base != 0 && index_base != 1) return fail(TOPOTET_INVALID_INPUT, "index_base must be 0 or 1");
+  constexpr int n = static_cast<int>(std::tuple_size_v<decltype(Item::v)>);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    for (int c = 0; c < n; ++c) write_int(out, static_cast<std::int64_t>(i), c, n, std::int64_t{items[i].v[c]} + index_base);
+    if (refs_out.data != nullptr) write_int(refs_out, static_cast<std::int64_t>(i), 0, 1, items[i].ref);
+  }
+  return TOPOTET_OK;
+}
+
 }  // namespace
 
 extern "C" {
@@ -310,6 +338,7 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
     o.engine = static_cast<topotet::Engine>(c.engine);
     o.num_threads = c.num_threads;
     o.round_fraction = c.round_fraction;
+    mesh->has_substructures = false;
     const topotet::Report r = topotet::simplify(mesh->mesh, o, mesh->vertex_map);
     if (report != nullptr) {
       *report = topotet_report{};
@@ -423,6 +452,47 @@ topotet_status topotet_mesh_copy_vertex_map(const topotet_mesh* mesh, topotet_ou
   for (std::size_t i = 0; i < map.size(); ++i)
     write_int(out, static_cast<std::int64_t>(i), 0, 1, map[i] == topotet::kInvalid ? -1 : std::int64_t{map[i]} + index_base);
   return TOPOTET_OK;
+}
+
+int64_t topotet_mesh_triangle_count(const topotet_mesh* mesh) {
+  if (mesh == nullptr) return 0;
+  try {
+    mesh->recover_substructures();
+  } catch (const std::bad_alloc&) {
+    fail(TOPOTET_OUT_OF_MEMORY, "out of memory");
+    return -1;
+  }
+  return static_cast<std::int64_t>(mesh->triangles.size());
+}
+
+int64_t topotet_mesh_segment_count(const topotet_mesh* mesh) {
+  if (mesh == nullptr) return 0;
+  try {
+    mesh->recover_substructures();
+  } catch (const std::bad_alloc&) {
+    fail(TOPOTET_OUT_OF_MEMORY, "out of memory");
+    return -1;
+  }
+  return static_cast<std::int64_t>(mesh->segments.size());
+}
+
+
+topotet_status topotet_mesh_copy_triangles(const topotet_mesh* mesh, topotet_out_view out, topotet_out_view refs_out,
+                                           int index_base) {
+  return guarded([&] {
+    if (mesh == nullptr) return fail(TOPOTET_INVALID_INPUT, "triangles: mesh is NULL");
+    mesh->recover_substructures();
+    return copy_items(mesh, mesh->triangles, out, refs_out, index_base, "triangles");
+  });
+}
+
+topotet_status topotet_mesh_copy_segments(const topotet_mesh* mesh, topotet_out_view out, topotet_out_view refs_out,
+                                          int index_base) {
+  return guarded([&] {
+    if (mesh == nullptr) return fail(TOPOTET_INVALID_INPUT, "segments: mesh is NULL");
+    mesh->recover_substructures();
+    return copy_items(mesh, mesh->segments, out, refs_out, index_base, "segments");
+  });
 }
 
 }  // extern "C"

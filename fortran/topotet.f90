@@ -79,6 +79,8 @@ module topotet
             topotet_mesh_tet_count, topotet_mesh_field_count, topotet_mesh_vertex_map_size, &
             topotet_mesh_copy_positions, topotet_mesh_copy_tets, topotet_mesh_copy_materials, &
             topotet_mesh_copy_field, topotet_mesh_copy_vertex_map, topotet_error_message, topotet_status_name, &
+            topotet_mesh_triangle_count, topotet_mesh_segment_count, topotet_mesh_copy_triangles, &
+            topotet_mesh_copy_segments, &
             topotet_c_string
 
   interface
@@ -175,6 +177,32 @@ module topotet
       import :: c_int, c_ptr, topotet_out_view
       type(c_ptr), value :: mesh
       type(topotet_out_view), value :: out
+      integer(c_int), value :: index_base
+    end function
+
+    integer(c_int64_t) function topotet_mesh_triangle_count(mesh) bind(c, name="topotet_mesh_triangle_count")
+      import :: c_int64_t, c_ptr
+      type(c_ptr), value :: mesh
+    end function
+
+    integer(c_int64_t) function topotet_mesh_segment_count(mesh) bind(c, name="topotet_mesh_segment_count")
+      import :: c_int64_t, c_ptr
+      type(c_ptr), value :: mesh
+    end function
+
+    integer(c_int) function topotet_mesh_copy_triangles(mesh, out, refs_out, index_base) &
+        bind(c, name="topotet_mesh_copy_triangles")
+      import :: c_int, c_ptr, topotet_out_view
+      type(c_ptr), value :: mesh
+      type(topotet_out_view), value :: out, refs_out
+      integer(c_int), value :: index_base
+    end function
+
+    integer(c_int) function topotet_mesh_copy_segments(mesh, out, refs_out, index_base) &
+        bind(c, name="topotet_mesh_copy_segments")
+      import :: c_int, c_ptr, topotet_out_view
+      type(c_ptr), value :: mesh
+      type(topotet_out_view), value :: out, refs_out
       integer(c_int), value :: index_base
     end function
 

@@ -51,6 +51,23 @@ int main(void) {
       }
     }
 
+  /* Listed substructures: the bottom face (ref 3) and a polyline along x through the middle (ref 7). */
+  static int64_t triangles[2 * N * N][3], segments[N][2];
+  static int32_t triangle_refs[2 * N * N], segment_refs[N];
+  for (int i = 0; i < N; ++i)
+    for (int j = 0; j < N; ++j) {
+      const int c00[3] = {i, j, 0}, c10[3] = {i + 1, j, 0}, c01[3] = {i, j + 1, 0}, c11[3] = {i + 1, j + 1, 0};
+      const int64_t tri[2][3] = {{vid(c00), vid(c11), vid(c10)}, {vid(c00), vid(c01), vid(c11)}};
+      memcpy(triangles[2 * (i * N + j)], tri, sizeof tri);
+      triangle_refs[2 * (i * N + j)] = triangle_refs[2 * (i * N + j) + 1] = 3;
+    }
+  for (int i = 0; i < N; ++i) {
+    const int a[3] = {i, N / 2, N / 2}, b[3] = {i + 1, N / 2, N / 2};
+    segments[i][0] = vid(a);
+    segments[i][1] = vid(b);
+    segment_refs[i] = 7;
+  }
+
   topotet_field_view temperature = {"temperature", 1, {&vertices[0].temperature, TOPOTET_FLOAT64, sizeof(struct Vertex)}};
   topotet_mesh_arrays in;
   topotet_mesh_arrays_init(&in);
@@ -58,6 +75,12 @@ int main(void) {
   in.positions = (topotet_view){vertices[0].x, TOPOTET_FLOAT32, sizeof(struct Vertex)};
   in.tet_count = NT;
   in.tets = (topotet_view){tets, TOPOTET_INT32, 0};
+  in.triangle_count = 2 * N * N;
+  in.triangles = (topotet_view){triangles, TOPOTET_INT64, 0};
+  in.triangle_refs = (topotet_view){triangle_refs, TOPOTET_INT32, 0};
+  in.segment_count = N;
+  in.segments = (topotet_view){segments, TOPOTET_INT64, 0};
+  in.segment_refs = (topotet_view){segment_refs, TOPOTET_INT32, 0};
   in.field_count = 1;
   in.fields = &temperature;
   topotet_mesh* mesh = NULL;
@@ -105,6 +128,21 @@ int main(void) {
   CHECK(topotet_mesh_copy_positions(mesh, (topotet_out_view){out_xyz, TOPOTET_FLOAT32, 0}) == TOPOTET_OK);
   CHECK(out_xyz[nv - 1][2] == (float)topotet_mesh_positions(mesh)[3 * (nv - 1) + 2]);
 
+  /* The substructures survive, fewer, with their refs, as faces and edges of the output. */
+  const int64_t nf = topotet_mesh_triangle_count(mesh), ns = topotet_mesh_segment_count(mesh);
+  CHECK(nf > 0 && nf < 2 * N * N && ns > 0 && ns <= N);
+  static int32_t out_triangles[2 * N * N][3], out_triangle_refs[2 * N * N];
+  static int64_t out_segments[N][2];
+  CHECK(topotet_mesh_copy_triangles(mesh, (topotet_out_view){out_triangles, TOPOTET_INT32, 0},
+                                    (topotet_out_view){out_triangle_refs, TOPOTET_INT32, 0}, 1) == TOPOTET_OK);
+  for (int64_t i = 0; i < nf; ++i) {
+    CHECK(out_triangle_refs[i] == 3);
+    for (int c = 0; c < 3; ++c) CHECK(out_triangles[i][c] >= 1 && out_triangles[i][c] <= nv);
+  }
+  CHECK(topotet_mesh_copy_segments(mesh, (topotet_out_view){out_segments, TOPOTET_INT64, 0},
+                                   (topotet_out_view){NULL, TOPOTET_INT32, 0}, 0) == TOPOTET_OK);
+  for (int64_t i = 0; i < ns; ++i) CHECK(out_segments[i][0] < nv && out_segments[i][1] < nv);
+
   /* The field survives, by name; a linear field stays linear at the kept vertices. */
   const char* name = NULL;
   int components = 0;
@@ -127,7 +165,6 @@ int main(void) {
   topotet_mesh* bad = (topotet_mesh*)&in; /* must be reset to NULL on failure */
   CHECK(topotet_mesh_build(&in, 0, &bad) == TOPOTET_INVALID_INPUT && bad == NULL);
   CHECK(strstr(topotet_last_error(), "out of range") != NULL);
-  fprintf(stderr, "bad index: %s\n", topotet_last_error());
   tets[5][2] = -1;
   in.index_base = 0;
   CHECK(topotet_mesh_build(&in, 0, &bad) == TOPOTET_INVALID_INPUT);

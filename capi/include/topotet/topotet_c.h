@@ -176,6 +176,16 @@ topotet_status topotet_mesh_copy_field(const topotet_mesh* mesh, int i, topotet_
 /* For every input vertex of the last simplify, the output vertex it became or merged into. */
 topotet_status topotet_mesh_copy_vertex_map(const topotet_mesh* mesh, topotet_out_view out, int index_base);
 
+/* The listed surfaces and polylines of the current mesh (input triangles and segments, merged and
+ * renamed by the collapses; implicit material interfaces are not listed), with their refs.
+ * refs_out may have data == NULL. The counts are -1 when memory runs out (see topotet_last_error). */
+int64_t topotet_mesh_triangle_count(const topotet_mesh* mesh);
+int64_t topotet_mesh_segment_count(const topotet_mesh* mesh);
+topotet_status topotet_mesh_copy_triangles(const topotet_mesh* mesh, topotet_out_view out, topotet_out_view refs_out,
+                                           int index_base);
+topotet_status topotet_mesh_copy_segments(const topotet_mesh* mesh, topotet_out_view out, topotet_out_view refs_out,
+                                          int index_base);
+
 #ifdef __cplusplus
 }
 #endif
