@@ -68,5 +68,14 @@ TEST(HostArena, OneThreadArenaIsRespectedByEveryStage) {
   EXPECT_EQ(counter.threads().count(std::this_thread::get_id()), counter.threads().size());
 }
 
+// The control: without the host arena and with num_threads = 2, the observer does see a second
+// thread, so the test above would catch a stage that escapes the arena.
+TEST(HostArena, TheObserverSeesWorkersWhenTwoThreadsAreAllowed) {
+  if (std::thread::hardware_concurrency() < 2) GTEST_SKIP() << "one core: no worker to see";
+  ThreadCounter counter;
+  every_stage(2);
+  EXPECT_GE(counter.threads().size(), 2u);
+}
+
 }  // namespace
 }  // namespace topotet
