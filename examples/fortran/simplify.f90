@@ -73,6 +73,7 @@ program simplify_f90
     size(out_tets, 2), maxval(norm2(out_xyz(:, vertex_map) - xyz, dim=1))
   if (len_trim(dir) > 0) status = topotet_mesh_write(mesh, trim(dir)//"/out.mesh")
   call topotet_mesh_free(mesh)
+  deallocate (out_tets, out_xyz)
 
 contains
 
