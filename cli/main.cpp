@@ -18,6 +18,7 @@
 #include "common.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
+#include "topotet/version.h"
 
 namespace {
 
@@ -63,7 +64,7 @@ int main(int argc, char** argv) {
                "every embedded surface, interface, polyline and pinned vertex."};
   app.name("topotet");
   app.require_subcommand(1);
-  app.set_version_flag("--version", "topotet 0.1.0");
+  app.set_version_flag("--version", "topotet " TOPOTET_VERSION_STRING);
 
   CommandRunner run;
   add_info_command(app, run);

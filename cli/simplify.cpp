@@ -22,6 +22,7 @@
 #include "topotet/metrics/quality.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/threads.h"
+#include "topotet/version.h"
 
 namespace topotet::cli {
 namespace {
@@ -473,7 +474,9 @@ int run_simplify_job(SimplifyJob& job) {
     // ---- JSON report ----
     if (!job.report_path.empty()) {
       Json j;
-      j["topotet_version"] = "0.1.0";
+      // schema_version: bumped when a key changes meaning or goes away (new keys keep it).
+      j["schema_version"] = 1;
+      j["topotet_version"] = TOPOTET_VERSION_STRING;
       j["input"] = {{"file", job.input_label},
                     {"vertices", vertices_in},
                     {"tets", tets_in},

@@ -63,7 +63,7 @@ void permute(std::vector<T>& values, const std::vector<std::pair<std::uint64_t, 
 
 }  // namespace
 
-void reorder_for_locality(TetMesh& m) {
+void reorder_for_locality(TetMesh& m, std::vector<VertId>* new2old) {
   const MortonFrame frame(m);
   using Keyed = std::pair<std::uint64_t, std::uint32_t>;  // (Morton key, old id): a total order
 
@@ -76,6 +76,10 @@ void reorder_for_locality(TetMesh& m) {
   parallel::for_range<std::size_t>(0, vertex_order.size(), 8192, "vertex_ids", [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) new_id[vertex_order[i].second] = static_cast<VertId>(i);
   });
+  if (new2old != nullptr) {
+    new2old->resize(vertex_order.size());
+    for (std::size_t i = 0; i < vertex_order.size(); ++i) (*new2old)[i] = vertex_order[i].second;
+  }
 
   std::vector<Keyed> tet_order;
   parallel::filter_map(

@@ -10,10 +10,13 @@
 // any thread count). Dead vertices and tets are dropped, as compact() would.
 #pragma once
 
+#include <vector>
+
 #include "topotet/tet_mesh.h"
 
 namespace topotet {
 
-void reorder_for_locality(TetMesh& mesh);
+// new2old, when given, receives the old id of every new vertex id.
+void reorder_for_locality(TetMesh& mesh, std::vector<VertId>* new2old = nullptr);
 
 }  // namespace topotet

@@ -24,9 +24,21 @@ const char* to_string(Status status) {
     case Status::kInvalidInput: return "invalid_input";
     case Status::kOutOfMemory: return "out_of_memory";
     case Status::kCancelled: return "cancelled";
+    case Status::kInternalError: return "internal_error";
   }
   return "?";
 }
+
+const char* to_string(RejectReason reason) { return to_string(static_cast<CollapseReason>(reason)); }
+
+// RejectReason is the public face of the kernel's CollapseReason: same values.
+static_assert(static_cast<int>(RejectReason::kLinkK) == static_cast<int>(CollapseReason::kLinkK));
+static_assert(static_cast<int>(RejectReason::kLinkKtilde) == static_cast<int>(CollapseReason::kLinkKtilde));
+static_assert(static_cast<int>(RejectReason::kPinned) == static_cast<int>(CollapseReason::kPinned));
+static_assert(static_cast<int>(RejectReason::kInversion) == static_cast<int>(CollapseReason::kInversion));
+static_assert(static_cast<int>(RejectReason::kQuality) == static_cast<int>(CollapseReason::kQuality));
+static_assert(static_cast<int>(RejectReason::kTolerance) == static_cast<int>(CollapseReason::kTolerance));
+static_assert(kCollapseReasonCount == std::tuple_size_v<decltype(Report::rejected)>);
 
 namespace {
 
@@ -54,15 +66,50 @@ double bounding_box_diagonal(const TetMesh& mesh) {
   return lo.x <= hi.x ? glm::length(hi - lo) : 0.0;
 }
 
-}  // namespace
+// Fills vertex_map[i] for every input vertex i: the live vertex it became or merged into, as an id
+// of the compacted output (`compacted`) or of the mesh as it stands. new2old is the renumbering
+// reorder_for_locality made (empty: none yet). A merge chain v -> u -> w ends at a live vertex:
+// collapse() kills only v and keeps u.
+void resolve_vertex_map(const TetMesh& mesh, std::size_t input_count, const std::vector<VertId>& new2old,
+                        bool compacted, std::vector<VertId>& vertex_map) {
+  const std::size_t nv = mesh.vertex_capacity();
+  // root[v]: the output id of the live vertex at the end of v's merge chain. Chains are walked
+  // once each (every vertex on a walked chain is resolved on the way back): O(vertices) in all.
+  std::vector<VertId> root(nv, kInvalid);
+  VertId next = 0;
+  for (VertId v = 0; v < nv; ++v)
+    if (!mesh.is_dead_vertex(v)) root[v] = compacted ? next++ : v;
+  if (mesh.merged_into.size() == nv) {
+    std::vector<VertId> chain;
+    for (VertId v = 0; v < nv; ++v) {
+      VertId x = v;
+      while (root[x] == kInvalid && mesh.merged_into[x] != kInvalid) {
+        chain.push_back(x);
+        x = mesh.merged_into[x];
+      }
+      for (VertId y : chain) root[y] = root[x];
+      chain.clear();
+    }
+  }
+  vertex_map.assign(input_count, kInvalid);
+  if (new2old.empty()) {
+    for (VertId v = 0; v < std::min(nv, input_count); ++v) vertex_map[v] = root[v];
+  } else {
+    for (VertId v = 0; v < new2old.size(); ++v) vertex_map[new2old[v]] = root[v];
+  }
+}
 
-Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept {
+Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<VertId>* vertex_map) noexcept {
   Report report;
   const auto start = std::chrono::steady_clock::now();
+  const std::size_t input_vertex_count = mesh.vertex_capacity();
+  std::vector<VertId> new2old;  // reorder_for_locality's renumbering, kept for the vertex map
+  bool map_done = false;
   try {
     report.message = check_options(options);
     if (!report.message.empty()) {
       report.status = Status::kInvalidInput;
+      if (vertex_map != nullptr) resolve_vertex_map(mesh, input_vertex_count, {}, false, *vertex_map);
       return report;
     }
     report.vertices_before = mesh.live_vertex_count();
@@ -74,7 +121,8 @@ Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept {
     target = std::max<std::uint64_t>(target, 4);
     parallel::run_with_threads(options.num_threads, [&] {
       // Neighbours in space become neighbours in memory: every phase walks stars (reorder.h).
-      reorder_for_locality(mesh);
+      reorder_for_locality(mesh, vertex_map != nullptr ? &new2old : nullptr);
+      if (vertex_map != nullptr) mesh.merged_into.assign(mesh.vertex_capacity(), kInvalid);
       // Before the cost model and the tolerance reference are built: both see the features as
       // polylines (line quadrics; a curve label the tolerance checks).
       const auto feature_start = std::chrono::steady_clock::now();
@@ -111,6 +159,11 @@ Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept {
                          " collapses, so it may be what stopped the run before the target (compare with tolerance 0)";
       }
       const auto compact_start = std::chrono::steady_clock::now();
+      if (vertex_map != nullptr) {
+        resolve_vertex_map(mesh, input_vertex_count, new2old, true, *vertex_map);
+        map_done = true;
+        std::vector<VertId>().swap(mesh.merged_into);
+      }
       compact(mesh);
       report.phase_seconds[3] = std::chrono::duration<double>(std::chrono::steady_clock::now() - compact_start).count();
     });
@@ -119,13 +172,32 @@ Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept {
     report.message = "out of memory";
   } catch (const std::exception& e) {
     // Internal errors leave the mesh valid (collapses are applied whole) but unfinished.
-    report.status = Status::kStoppedEarly;
+    report.status = Status::kInternalError;
     report.message = std::string("internal error: ") + e.what();
+  }
+  if (vertex_map != nullptr && !map_done) {
+    // Stopped by an exception: the mesh is valid but not compacted; map onto its ids as they are.
+    try {
+      resolve_vertex_map(mesh, input_vertex_count, new2old, false, *vertex_map);
+    } catch (const std::bad_alloc&) {
+      vertex_map->clear();
+      report.status = Status::kOutOfMemory;
+      report.message = "out of memory";
+    }
+    std::vector<VertId>().swap(mesh.merged_into);
   }
   report.vertices_after = mesh.live_vertex_count();
   report.tets_after = mesh.live_tet_count();
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
+}
+
+}  // namespace
+
+Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept { return simplify_impl(mesh, options, nullptr); }
+
+Report simplify(TetMesh& mesh, const SimplifyOptions& options, std::vector<VertId>& vertex_map) noexcept {
+  return simplify_impl(mesh, options, &vertex_map);
 }
 
 }  // namespace topotet

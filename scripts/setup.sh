@@ -12,6 +12,7 @@ packages=(
   libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
   gmsh tetgen
   clang libclang-rt-14-dev
+  gfortran pkg-config pybind11-dev python3-dev python3-numpy python3-pybind11
 )
 
 missing=()

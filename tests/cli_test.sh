@@ -56,6 +56,8 @@ check_json() {  # check_json FILE KEY
 
 # --- help and usage ---
 expect 0 help -- "$topotet" --help
+expect 0 version -- "$topotet" --version
+if grep -Eq '^topotet [0-9]+\.[0-9]+\.[0-9]+$' version.out; then pass "--version prints the version"; else fail "--version: $(cat version.out)"; fi
 for cmd in info generate convert simplify check demo; do
   expect 0 "help_$cmd" -- "$topotet" "$cmd" --help
 done
@@ -77,6 +79,7 @@ expect 0 check_roundtrip -- "$topotet" check in.mesh back.mesh
 # --- simplify: parallel (1 and 2 threads) and sequential, with JSON reports ---
 expect 0 simplify_parallel -- "$topotet" simplify in.mesh -o out.mesh --ratio 0.3 --threads 2 --report report.json
 check_json report.json levels
+check_json report.json schema_version
 if grep -q '^topology *PASS' simplify_parallel.out; then pass "simplify says PASS"; else fail "simplify does not say PASS"; fi
 expect 0 simplify_one_thread -- "$topotet" simplify in.mesh -o out1.mesh --ratio 0.3 --threads 1 --quiet
 if cmp -s out.mesh out1.mesh; then pass "same output for 1 and 2 threads"; else fail "output differs between 1 and 2 threads"; fi

@@ -29,6 +29,7 @@ enum class Status : std::uint8_t {
   kInvalidInput,  // mesh untouched; see Report::message
   kOutOfMemory,   // mesh valid, possibly partly simplified
   kCancelled,     // on_progress returned false; mesh valid
+  kInternalError,  // a bug or an unexpected exception: mesh valid but unfinished; see Report::message
 };
 const char* to_string(Status status);
 
@@ -39,6 +40,21 @@ enum class Engine : std::uint8_t {
 
 // The default geometric tolerance, relative to the bounding box diagonal (SimplifyOptions).
 inline constexpr double kDefaultToleranceRel = 0.004;
+
+// Why the kernel refused a collapse placement (engine/collapse.h has the checks). The values
+// index Report::rejected; read the counters with Report::rejected_by.
+enum class RejectReason : std::uint8_t {
+  kLinkK = 1,      // would change the topology of the mesh itself (its link conditions fail)
+  kLinkKtilde,     // would change the topology of a substructure (surfaces, interfaces, polylines)
+  kPinned,         // would remove a pinned vertex or move it
+  kInversion,      // a tet of the new star would be inverted or degenerate
+  kQuality,        // a tet of the new star would fall below min_quality
+  kTolerance,      // a surface or polyline would leave the geometric tolerance
+};
+inline constexpr RejectReason kRejectReasons[] = {RejectReason::kLinkK,     RejectReason::kLinkKtilde,
+                                                  RejectReason::kPinned,    RejectReason::kInversion,
+                                                  RejectReason::kQuality,   RejectReason::kTolerance};
+const char* to_string(RejectReason reason);  // "link_K", "link_Ktilde", "pinned", ...
 
 struct SimplifyOptions {
   // Stop when the live vertex count reaches target_vertex_ratio * input vertices, or
@@ -105,9 +121,9 @@ struct Report {
   std::uint64_t collapses = 0;        // accepted collapses
   std::uint64_t evaluations = 0;      // candidate cost evaluations
   std::uint64_t legality_checks = 0;  // calls of the kernel's may_collapse
-  // Rejections by reason, indexed by CollapseReason (ok, link_K, link_Ktilde, pinned, inversion,
-  // quality, tolerance).
+  // Rejections by reason: read them with rejected_by(RejectReason) (entry 0 is unused).
   std::array<std::uint64_t, 7> rejected{};
+  std::uint64_t rejected_by(RejectReason reason) const { return rejected[static_cast<std::size_t>(reason)]; }
   std::uint64_t rounds = 0;  // parallel engine: rounds run
   double seconds = 0.0;
   double max_cost = 0.0;  // largest accepted collapse cost
@@ -116,6 +132,10 @@ struct Report {
   // Wall time per phase (evaluate, select, apply: parallel engine; compact: both, the final
   // renumbering of the live vertices and tets), seconds.
   std::array<double, 4> phase_seconds{};
+  double evaluate_seconds() const { return phase_seconds[0]; }
+  double select_seconds() const { return phase_seconds[1]; }
+  double apply_seconds() const { return phase_seconds[2]; }
+  double compact_seconds() const { return phase_seconds[3]; }
   std::vector<RoundStats> round_stats;
   std::uint64_t feature_edges = 0;    // edges detect_features flagged (SimplifyOptions::feature_angle)
   std::uint64_t feature_corners = 0;  // vertices it pinned
@@ -129,5 +149,12 @@ struct Report {
 
 // Simplifies in place. The mesh is valid on return for every status.
 Report simplify(TetMesh& mesh, const SimplifyOptions& options = {}) noexcept;
+
+// The same, and fills `vertex_map` with one entry per vertex of `mesh` as passed: the output
+// vertex that input vertex i became or merged into (a solver transfers its fields back with it).
+// Every input vertex referenced by a tet maps to a live output vertex; a vertex referenced by no
+// tet (dead since build_tet_mesh) maps to kInvalid. The map is identical for every thread count.
+// On kInvalidInput the mesh is untouched and the map is the identity.
+Report simplify(TetMesh& mesh, const SimplifyOptions& options, std::vector<VertId>& vertex_map) noexcept;
 
 }  // namespace topotet

@@ -143,6 +143,9 @@ class TetMesh {
   std::vector<GroupName> group_names;     // carried from MeshData to to_mesh_data() unchanged
   std::vector<std::int32_t> vertex_refs;  // [vert]
   std::vector<std::uint8_t> vertex_states;  // [vert] vertex_state bits
+  // [vert] the vertex a dead vertex merged into (collapse u <- v sets merged_into[v] = u); kInvalid
+  // for live vertices. Empty unless simplify() was asked for a vertex map: only it fills and reads it.
+  std::vector<VertId> merged_into;
 
   // --- tets ---
   std::vector<std::array<VertId, 4>> tets;  // [tet], positively oriented

@@ -1,0 +1,193 @@
+/* topotet C API: topology-preserving simplification of tetrahedral meshes, for C, Fortran (module
+ * topotet, fortran/topotet.f90) and any language with a C FFI.
+ *
+ *   topotet_mesh_arrays in;                 // views of the caller's arrays: nothing is copied by the caller
+ *   topotet_mesh_arrays_init(&in);
+ *   in.vertex_count = nv;  in.positions = (topotet_view){xyz, TOPOTET_FLOAT64, 0};
+ *   in.tet_count = nt;     in.tets = (topotet_view){tets, TOPOTET_INT32, 0};  in.index_base = 1;
+ *   topotet_mesh* mesh = NULL;
+ *   if (topotet_mesh_build(&in, 0, &mesh) != TOPOTET_OK) { puts(topotet_last_error()); ... }
+ *   topotet_options options;  topotet_options_init(&options);  options.target_vertex_ratio = 0.2;
+ *   topotet_report report;
+ *   topotet_simplify(mesh, &options, &report);
+ *   const double* xyz_out = topotet_mesh_positions(mesh);      // library-owned, or
+ *   topotet_mesh_copy_tets(mesh, out_view, 1);                  // into the caller's arrays
+ *   topotet_mesh_copy_vertex_map(mesh, map_view, 1);           // input vertex -> output vertex
+ *   topotet_mesh_free(mesh);
+ *
+ * Conventions:
+ *  - Every function returns a topotet_status; on failure topotet_last_error() gives a one-line
+ *    message (per thread, valid until the next failing call on that thread). No function aborts
+ *    or throws on bad input.
+ *  - Arrays are passed as a topotet_view: base pointer, element type and the stride in bytes from
+ *    one row (a vertex, a tet, ...) to the next; 0 means packed rows. A row of positions is 3
+ *    values, of tets 4, of triangles 3, of segments 2, of a field `components` values; the values
+ *    inside a row are contiguous. Row-major C arrays, Fortran arrays of shape (3, n), NumPy arrays
+ *    with any row stride all fit.
+ *  - Vertex indices in tets, triangles, segments, corners and in the output tets and vertex map
+ *    are 0- or 1-based, as the caller chooses (index_base).
+ *  - A topotet_mesh is used by one thread at a time; different meshes may be used concurrently.
+ *    num_threads (build, options) bounds every parallel loop of the call; 0 = all cores, or the
+ *    limit of the caller's oneTBB task arena.
+ *  - Pointers returned by topotet_mesh_positions() and friends stay valid until the mesh is
+ *    simplified again or freed.
+ */
+#ifndef TOPOTET_TOPOTET_C_H
+#define TOPOTET_TOPOTET_C_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "topotet/version.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Same values as topotet::Status (topotet/simplify.h). */
+typedef enum topotet_status {
+  TOPOTET_OK = 0,             /* done; simplify: the target was reached */
+  TOPOTET_STOPPED_EARLY = 1,  /* simplify: mesh valid, no legal collapse was left before the target */
+  TOPOTET_INVALID_INPUT = 2,  /* bad argument, file or mesh; nothing changed; see topotet_last_error() */
+  TOPOTET_OUT_OF_MEMORY = 3,  /* mesh valid, possibly partly simplified */
+  TOPOTET_CANCELLED = 4,      /* reserved for progress callbacks; mesh valid */
+  TOPOTET_INTERNAL_ERROR = 5  /* a bug: mesh valid but unfinished; please report the message */
+} topotet_status;
+
+typedef enum topotet_type {
+  TOPOTET_FLOAT64 = 0,
+  TOPOTET_FLOAT32 = 1,
+  TOPOTET_INT32 = 2,
+  TOPOTET_INT64 = 3
+} topotet_type;
+
+/* A read-only strided array (see the conventions above). data == NULL means "not given". */
+typedef struct topotet_view {
+  const void* data;
+  topotet_type type;
+  int64_t stride; /* bytes between rows; 0 = packed */
+} topotet_view;
+
+/* A writable strided array, for results written into the caller's memory. */
+typedef struct topotet_out_view {
+  void* data;
+  topotet_type type;
+  int64_t stride; /* bytes between rows; 0 = packed */
+} topotet_out_view;
+
+/* One per-vertex field to preserve (a scalar, a vector, a tensor: every component counts). */
+typedef struct topotet_field_view {
+  const char* name;
+  int components;
+  topotet_view values; /* FLOAT64 or FLOAT32, vertex_count rows of `components` values */
+} topotet_field_view;
+
+/* The input mesh: views of the caller's arrays. Only positions and tets are required. */
+typedef struct topotet_mesh_arrays {
+  int64_t vertex_count;
+  topotet_view positions;   /* FLOAT64 or FLOAT32, rows of 3 */
+  int64_t tet_count;
+  topotet_view tets;        /* INT32 or INT64, rows of 4 vertex indices */
+  topotet_view materials;   /* INT32 or INT64, one per tet; not given = all 0 */
+  topotet_view vertex_refs; /* INT32 or INT64, one per vertex; not given = all 0 */
+  int64_t triangle_count;   /* listed surfaces: faces of tets, each with a ref */
+  topotet_view triangles;   /* INT32 or INT64, rows of 3 vertex indices */
+  topotet_view triangle_refs;
+  int64_t segment_count;    /* listed polylines: edges of tets, each with a ref */
+  topotet_view segments;    /* INT32 or INT64, rows of 2 vertex indices */
+  topotet_view segment_refs;
+  int64_t corner_count;     /* pinned vertices: never moved, never removed */
+  topotet_view corners;     /* INT32 or INT64 vertex indices */
+  int field_count;
+  const topotet_field_view* fields;
+  int index_base;           /* 0 or 1: the first vertex is numbered index_base everywhere */
+} topotet_mesh_arrays;
+
+/* Same meaning and defaults as topotet::SimplifyOptions (topotet/simplify.h). */
+typedef struct topotet_options {
+  double target_vertex_ratio; /* keep this fraction of the vertices, in (0, 1]; default 0.25 */
+  int64_t target_vertices;    /* if > 0, wins over the ratio */
+  double max_cost;            /* 0 = no limit */
+  double min_quality;         /* default 0.05 (mean ratio) */
+  double boundary_weight;     /* default 100 */
+  double polyline_weight;     /* default 100 */
+  double tolerance;           /* geometric tolerance in mesh units, 0 = use tolerance_rel */
+  double tolerance_rel;       /* relative to the bounding box diagonal, 0 = unchecked */
+  int engine;                 /* 0 = parallel rounds (default), 1 = sequential reference */
+  int num_threads;            /* 0 = all cores / the caller's arena; the result is the same for every value */
+  double round_fraction;      /* default 0.015 */
+} topotet_options;
+
+/* Same counters as topotet::Report. */
+typedef struct topotet_report {
+  topotet_status status;
+  int64_t vertices_before, vertices_after;
+  int64_t tets_before, tets_after;
+  int64_t collapses, evaluations, legality_checks, rounds;
+  /* rejected collapse placements, by reason */
+  int64_t rejected_link_k, rejected_link_ktilde, rejected_pinned, rejected_inversion, rejected_quality,
+      rejected_tolerance;
+  double seconds;
+  double max_cost;  /* largest accepted collapse cost */
+  double tolerance; /* geometric tolerance used, mesh units; 0 = none */
+} topotet_report;
+
+typedef struct topotet_mesh topotet_mesh;
+
+const char* topotet_version(void); /* TOPOTET_VERSION_STRING of the library actually linked */
+const char* topotet_last_error(void);
+const char* topotet_status_string(topotet_status status);
+
+void topotet_mesh_arrays_init(topotet_mesh_arrays* arrays); /* everything absent, index_base 0 */
+void topotet_options_init(topotet_options* options);        /* the defaults */
+
+/* Builds a validated mesh from the caller's arrays (copied: the arrays may be freed afterwards). */
+topotet_status topotet_mesh_build(const topotet_mesh_arrays* arrays, int num_threads, topotet_mesh** mesh);
+/* Reads MEDIT .mesh(+.sol), Gmsh .msh (optionally .gz); writes .mesh, .msh, .vtu. */
+topotet_status topotet_mesh_read(const char* path, int num_threads, topotet_mesh** mesh);
+topotet_status topotet_mesh_write(const topotet_mesh* mesh, const char* path);
+void topotet_mesh_free(topotet_mesh* mesh); /* NULL is allowed */
+
+/* Simplifies in place and records the vertex map. options NULL = defaults; report may be NULL. */
+topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* options, topotet_report* report);
+
+/* Sizes of the current mesh. */
+int64_t topotet_mesh_vertex_count(const topotet_mesh* mesh);
+int64_t topotet_mesh_tet_count(const topotet_mesh* mesh);
+int topotet_mesh_field_count(const topotet_mesh* mesh);
+/* Name (owned by the mesh) and component count of field i, 0 <= i < field count. */
+topotet_status topotet_mesh_field_info(const topotet_mesh* mesh, int i, const char** name, int* components);
+/* Entries of the vertex map: the vertex count before the last topotet_simplify (0 before any). */
+int64_t topotet_mesh_vertex_map_size(const topotet_mesh* mesh);
+
+/* Library-owned arrays (no copy): positions as x,y,z per vertex, tets as 4 0-based uint32 per
+ * tet, one material per tet, and the 0-based vertex map (UINT32_MAX for an input vertex that no
+ * tet used). */
+const double* topotet_mesh_positions(const topotet_mesh* mesh);
+const uint32_t* topotet_mesh_tets(const topotet_mesh* mesh);
+const int32_t* topotet_mesh_materials(const topotet_mesh* mesh);
+const uint32_t* topotet_mesh_vertex_map(const topotet_mesh* mesh);
+
+/* Copies into the caller's arrays (sized from the counts above), converting the types. */
+topotet_status topotet_mesh_copy_positions(const topotet_mesh* mesh, topotet_out_view out);
+topotet_status topotet_mesh_copy_tets(const topotet_mesh* mesh, topotet_out_view out, int index_base);
+topotet_status topotet_mesh_copy_materials(const topotet_mesh* mesh, topotet_out_view out);
+topotet_status topotet_mesh_copy_field(const topotet_mesh* mesh, int i, topotet_out_view out);
+/* For every input vertex of the last simplify, the output vertex it became or merged into. */
+topotet_status topotet_mesh_copy_vertex_map(const topotet_mesh* mesh, topotet_out_view out, int index_base);
+
+/* The listed surfaces and polylines of the current mesh (input triangles and segments, merged and
+ * renamed by the collapses; implicit material interfaces are not listed), with their refs.
+ * refs_out may have data == NULL. The counts are -1 when memory runs out (see topotet_last_error). */
+int64_t topotet_mesh_triangle_count(const topotet_mesh* mesh);
+int64_t topotet_mesh_segment_count(const topotet_mesh* mesh);
+topotet_status topotet_mesh_copy_triangles(const topotet_mesh* mesh, topotet_out_view out, topotet_out_view refs_out,
+                                           int index_base);
+topotet_status topotet_mesh_copy_segments(const topotet_mesh* mesh, topotet_out_view out, topotet_out_view refs_out,
+                                          int index_base);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

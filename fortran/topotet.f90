@@ -1,0 +1,276 @@
+! module topotet: Fortran 2003 bindings of the topotet C API (include/topotet/topotet_c.h, which
+! documents every call). The types mirror the C structs (bind(c)); arrays are passed as views
+! made with c_loc of the caller's own arrays (which need the target attribute), so Fortran arrays
+! of shape (3, nv) for positions and (4, nt) for tets fit as they are, with index_base = 1:
+!
+!   real(c_double), target :: xyz(3, nv)
+!   integer(c_int32_t), target :: tets(4, nt)
+!   type(topotet_mesh_arrays) :: in
+!   call topotet_mesh_arrays_init(in)
+!   in%vertex_count = nv; in%positions = topotet_view(c_loc(xyz), TOPOTET_FLOAT64, 0)
+!   in%tet_count = nt;    in%tets = topotet_view(c_loc(tets), TOPOTET_INT32, 0); in%index_base = 1
+!   status = topotet_mesh_build(in, 0, mesh)
+!
+! Errors: every function returns a status; topotet_error_message() gives the message.
+module topotet
+  use, intrinsic :: iso_c_binding
+  implicit none
+  private
+
+  ! topotet_status
+  integer(c_int), parameter, public :: TOPOTET_OK = 0, TOPOTET_STOPPED_EARLY = 1, TOPOTET_INVALID_INPUT = 2, &
+                                       TOPOTET_OUT_OF_MEMORY = 3, TOPOTET_CANCELLED = 4, TOPOTET_INTERNAL_ERROR = 5
+  ! topotet_type
+  integer(c_int), parameter, public :: TOPOTET_FLOAT64 = 0, TOPOTET_FLOAT32 = 1, TOPOTET_INT32 = 2, TOPOTET_INT64 = 3
+
+  type, bind(c), public :: topotet_view
+    type(c_ptr) :: data = c_null_ptr
+    integer(c_int) :: type = TOPOTET_FLOAT64
+    integer(c_int64_t) :: stride = 0
+  end type
+
+  type, bind(c), public :: topotet_out_view
+    type(c_ptr) :: data = c_null_ptr
+    integer(c_int) :: type = TOPOTET_FLOAT64
+    integer(c_int64_t) :: stride = 0
+  end type
+
+  type, bind(c), public :: topotet_field_view
+    type(c_ptr) :: name = c_null_ptr  ! c_loc of a NUL-terminated character(kind=c_char) string
+    integer(c_int) :: components = 1
+    type(topotet_view) :: values
+  end type
+
+  type, bind(c), public :: topotet_mesh_arrays
+    integer(c_int64_t) :: vertex_count = 0
+    type(topotet_view) :: positions
+    integer(c_int64_t) :: tet_count = 0
+    type(topotet_view) :: tets, materials, vertex_refs
+    integer(c_int64_t) :: triangle_count = 0
+    type(topotet_view) :: triangles, triangle_refs
+    integer(c_int64_t) :: segment_count = 0
+    type(topotet_view) :: segments, segment_refs
+    integer(c_int64_t) :: corner_count = 0
+    type(topotet_view) :: corners
+    integer(c_int) :: field_count = 0
+    type(c_ptr) :: fields = c_null_ptr  ! c_loc of a topotet_field_view array
+    integer(c_int) :: index_base = 0
+  end type
+
+  type, bind(c), public :: topotet_options
+    real(c_double) :: target_vertex_ratio
+    integer(c_int64_t) :: target_vertices
+    real(c_double) :: max_cost, min_quality, boundary_weight, polyline_weight, tolerance, tolerance_rel
+    integer(c_int) :: engine, num_threads
+    real(c_double) :: round_fraction
+  end type
+
+  type, bind(c), public :: topotet_report
+    integer(c_int) :: status
+    integer(c_int64_t) :: vertices_before, vertices_after, tets_before, tets_after
+    integer(c_int64_t) :: collapses, evaluations, legality_checks, rounds
+    integer(c_int64_t) :: rejected_link_k, rejected_link_ktilde, rejected_pinned, rejected_inversion, &
+                          rejected_quality, rejected_tolerance
+    real(c_double) :: seconds, max_cost, tolerance
+  end type
+
+  public :: topotet_mesh_arrays_init, topotet_options_init, topotet_mesh_build, topotet_mesh_read, &
+            topotet_mesh_write, topotet_mesh_free, topotet_simplify, topotet_mesh_vertex_count, &
+            topotet_mesh_tet_count, topotet_mesh_field_count, topotet_mesh_vertex_map_size, &
+            topotet_mesh_copy_positions, topotet_mesh_copy_tets, topotet_mesh_copy_materials, &
+            topotet_mesh_copy_field, topotet_mesh_copy_vertex_map, topotet_error_message, topotet_status_name, &
+            topotet_mesh_triangle_count, topotet_mesh_segment_count, topotet_mesh_copy_triangles, &
+            topotet_mesh_copy_segments, &
+            topotet_c_string
+
+  interface
+    subroutine topotet_mesh_arrays_init(arrays) bind(c, name="topotet_mesh_arrays_init")
+      import :: topotet_mesh_arrays
+      type(topotet_mesh_arrays), intent(out) :: arrays
+    end subroutine
+
+    subroutine topotet_options_init(options) bind(c, name="topotet_options_init")
+      import :: topotet_options
+      type(topotet_options), intent(out) :: options
+    end subroutine
+
+    integer(c_int) function topotet_mesh_build(arrays, num_threads, mesh) bind(c, name="topotet_mesh_build")
+      import :: c_int, c_ptr, topotet_mesh_arrays
+      type(topotet_mesh_arrays), intent(in) :: arrays
+      integer(c_int), value :: num_threads
+      type(c_ptr), intent(out) :: mesh
+    end function
+
+    integer(c_int) function c_mesh_read(path, num_threads, mesh) bind(c, name="topotet_mesh_read")
+      import :: c_int, c_ptr, c_char
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: num_threads
+      type(c_ptr), intent(out) :: mesh
+    end function
+
+    integer(c_int) function c_mesh_write(mesh, path) bind(c, name="topotet_mesh_write")
+      import :: c_int, c_ptr, c_char
+      type(c_ptr), value :: mesh
+      character(kind=c_char), intent(in) :: path(*)
+    end function
+
+    subroutine topotet_mesh_free(mesh) bind(c, name="topotet_mesh_free")
+      import :: c_ptr
+      type(c_ptr), value :: mesh
+    end subroutine
+
+    integer(c_int) function topotet_simplify(mesh, options, report) bind(c, name="topotet_simplify")
+      import :: c_int, c_ptr, topotet_options, topotet_report
+      type(c_ptr), value :: mesh
+      type(topotet_options), intent(in) :: options
+      type(topotet_report), intent(out) :: report
+    end function
+
+    integer(c_int64_t) function topotet_mesh_vertex_count(mesh) bind(c, name="topotet_mesh_vertex_count")
+      import :: c_int64_t, c_ptr
+      type(c_ptr), value :: mesh
+    end function
+
+    integer(c_int64_t) function topotet_mesh_tet_count(mesh) bind(c, name="topotet_mesh_tet_count")
+      import :: c_int64_t, c_ptr
+      type(c_ptr), value :: mesh
+    end function
+
+    integer(c_int) function topotet_mesh_field_count(mesh) bind(c, name="topotet_mesh_field_count")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mesh
+    end function
+
+    integer(c_int64_t) function topotet_mesh_vertex_map_size(mesh) bind(c, name="topotet_mesh_vertex_map_size")
+      import :: c_int64_t, c_ptr
+      type(c_ptr), value :: mesh
+    end function
+
+    integer(c_int) function topotet_mesh_copy_positions(mesh, out) bind(c, name="topotet_mesh_copy_positions")
+      import :: c_int, c_ptr, topotet_out_view
+      type(c_ptr), value :: mesh
+      type(topotet_out_view), value :: out
+    end function
+
+    integer(c_int) function topotet_mesh_copy_tets(mesh, out, index_base) bind(c, name="topotet_mesh_copy_tets")
+      import :: c_int, c_ptr, topotet_out_view
+      type(c_ptr), value :: mesh
+      type(topotet_out_view), value :: out
+      integer(c_int), value :: index_base
+    end function
+
+    integer(c_int) function topotet_mesh_copy_materials(mesh, out) bind(c, name="topotet_mesh_copy_materials")
+      import :: c_int, c_ptr, topotet_out_view
+      type(c_ptr), value :: mesh
+      type(topotet_out_view), value :: out
+    end function
+
+    integer(c_int) function topotet_mesh_copy_field(mesh, i, out) bind(c, name="topotet_mesh_copy_field")
+      import :: c_int, c_ptr, topotet_out_view
+      type(c_ptr), value :: mesh
+      integer(c_int), value :: i  ! 0-based, as in C
+      type(topotet_out_view), value :: out
+    end function
+
+    integer(c_int) function topotet_mesh_copy_vertex_map(mesh, out, index_base) &
+        bind(c, name="topotet_mesh_copy_vertex_map")
+      import :: c_int, c_ptr, topotet_out_view
+      type(c_ptr), value :: mesh
+      type(topotet_out_view), value :: out
+      integer(c_int), value :: index_base
+    end function
+
+    integer(c_int64_t) function topotet_mesh_triangle_count(mesh) bind(c, name="topotet_mesh_triangle_count")
+      import :: c_int64_t, c_ptr
+      type(c_ptr), value :: mesh
+    end function
+
+    integer(c_int64_t) function topotet_mesh_segment_count(mesh) bind(c, name="topotet_mesh_segment_count")
+      import :: c_int64_t, c_ptr
+      type(c_ptr), value :: mesh
+    end function
+
+    integer(c_int) function topotet_mesh_copy_triangles(mesh, out, refs_out, index_base) &
+        bind(c, name="topotet_mesh_copy_triangles")
+      import :: c_int, c_ptr, topotet_out_view
+      type(c_ptr), value :: mesh
+      type(topotet_out_view), value :: out, refs_out
+      integer(c_int), value :: index_base
+    end function
+
+    integer(c_int) function topotet_mesh_copy_segments(mesh, out, refs_out, index_base) &
+        bind(c, name="topotet_mesh_copy_segments")
+      import :: c_int, c_ptr, topotet_out_view
+      type(c_ptr), value :: mesh
+      type(topotet_out_view), value :: out, refs_out
+      integer(c_int), value :: index_base
+    end function
+
+    type(c_ptr) function c_last_error() bind(c, name="topotet_last_error")
+      import :: c_ptr
+    end function
+
+    type(c_ptr) function c_status_string(status) bind(c, name="topotet_status_string")
+      import :: c_ptr, c_int
+      integer(c_int), value :: status
+    end function
+
+    integer(c_size_t) function c_strlen(s) bind(c, name="strlen")
+      import :: c_size_t, c_ptr
+      type(c_ptr), value :: s
+    end function
+  end interface
+
+contains
+
+  ! Fortran string -> NUL-terminated C string (for paths and field names).
+  function topotet_c_string(s) result(c)
+    character(*), intent(in) :: s
+    character(kind=c_char), allocatable :: c(:)
+    integer :: i
+    allocate (c(len_trim(s) + 1))
+    do i = 1, len_trim(s)
+      c(i) = s(i:i)
+    end do
+    c(len_trim(s) + 1) = c_null_char
+  end function
+
+  function from_c(p) result(s)
+    type(c_ptr), intent(in) :: p
+    character(:), allocatable :: s
+    character(kind=c_char), pointer :: chars(:)
+    integer :: i, n
+    n = int(c_strlen(p))
+    call c_f_pointer(p, chars, [n])
+    allocate (character(n) :: s)
+    do i = 1, n
+      s(i:i) = chars(i)
+    end do
+  end function
+
+  integer(c_int) function topotet_mesh_read(path, num_threads, mesh)
+    character(*), intent(in) :: path
+    integer(c_int), intent(in) :: num_threads
+    type(c_ptr), intent(out) :: mesh
+    topotet_mesh_read = c_mesh_read(topotet_c_string(path), num_threads, mesh)
+  end function
+
+  integer(c_int) function topotet_mesh_write(mesh, path)
+    type(c_ptr), intent(in) :: mesh
+    character(*), intent(in) :: path
+    topotet_mesh_write = c_mesh_write(mesh, topotet_c_string(path))
+  end function
+
+  ! The message of the last failed call on this thread.
+  function topotet_error_message() result(s)
+    character(:), allocatable :: s
+    s = from_c(c_last_error())
+  end function
+
+  function topotet_status_name(status) result(s)
+    integer(c_int), intent(in) :: status
+    character(:), allocatable :: s
+    s = from_c(c_status_string(status))
+  end function
+
+end module topotet

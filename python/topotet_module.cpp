@@ -1,0 +1,276 @@
+// The Python module `topotet`: numpy arrays in and out.
+//
+//   out = topotet.simplify(points, tets, materials=None, fields=None, ratio=0.25, tolerance_rel=0.0,
+//                          threads=0, ...)
+//   out["points"], out["tets"], out["materials"], out["fields"], out["vertex_map"], out["report"]
+//   mesh = topotet.read("in.mesh");  topotet.write("out.msh", mesh)
+//
+// A mesh is a dict of arrays: points (n, 3) float64, tets (m, 4) int64 (0-based), materials (m,)
+// int32, triangles (k, 3) / triangle_refs (k,), segments (s, 2) / segment_refs (s,), corners (c,),
+// fields {name: (n,) or (n, components) float64}. Inputs may be any numeric dtype and any strides
+// (they are read in place when already float64 / integer). Bad input raises ValueError with the
+// library's one-line message; the GIL is released while the library works.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <string>
+
+#include "topotet/error.h"
+#include "topotet/io.h"
+#include "topotet/simplify.h"
+#include "topotet/threads.h"
+#include "topotet/version.h"
+
+namespace py = pybind11;
+
+namespace {
+
+using topotet::VertId;
+using Reals = py::array_t<double, py::array::forcecast>;
+using Ints = py::array_t<std::int64_t, py::array::forcecast>;
+
+void require_shape(const py::array& a, py::ssize_t width, const char* what) {
+  if (a.ndim() != 2 || a.shape(1) != width)
+    throw py::value_error(std::string(what) + " must have shape (n, " + std::to_string(width) + ")");
+}
+
+template <std::size_t N>
+std::vector<std::array<VertId, N>> cells(const py::object& obj, const char* what) {
+  std::vector<std::array<VertId, N>> out;
+  if (obj.is_none()) return out;
+  const Ints a = obj.cast<Ints>();
+  require_shape(a, N, what);
+  const auto r = a.unchecked<2>();
+  out.resize(static_cast<std::size_t>(r.shape(0)));
+  for (py::ssize_t i = 0; i < r.shape(0); ++i)
+    for (py::ssize_t c = 0; c < static_cast<py::ssize_t>(N); ++c) {
+      const std::int64_t x = r(i, c);
+      if (x < 0 || x >= static_cast<std::int64_t>(topotet::kInvalid))
+        throw py::value_error(std::string(what) + " " + std::to_string(i) + ": vertex index " + std::to_string(x) +
+                              " out of range (indices are 0-based)");
+      out[i][c] = static_cast<VertId>(x);
+    }
+  return out;
+}
+
+std::vector<std::int32_t> labels(const py::object& obj, std::size_t count, const char* what) {
+  std::vector<std::int32_t> out;
+  if (obj.is_none()) return out;
+  const Ints a = obj.cast<Ints>();
+  if (a.ndim() != 1 || static_cast<std::size_t>(a.shape(0)) != count)
+    throw py::value_error(std::string(what) + " must have shape (" + std::to_string(count) + ",)");
+  const auto r = a.unchecked<1>();
+  out.resize(count);
+  for (py::ssize_t i = 0; i < r.shape(0); ++i) {
+    if (r(i) < INT32_MIN || r(i) > INT32_MAX) throw py::value_error(std::string(what) + ": value out of int32 range");
+    out[i] = static_cast<std::int32_t>(r(i));
+  }
+  return out;
+}
+
+topotet::MeshData to_mesh_data(const py::object& points, const py::object& tets, const py::object& materials,
+                               const py::object& triangles, const py::object& triangle_refs,
+                               const py::object& segments, const py::object& segment_refs, const py::object& corners,
+                               const py::object& fields) {
+  topotet::MeshData d;
+  const Reals p = points.cast<Reals>();
+  require_shape(p, 3, "points");
+  const auto rp = p.unchecked<2>();
+  d.positions.resize(static_cast<std::size_t>(rp.shape(0)));
+  for (py::ssize_t v = 0; v < rp.shape(0); ++v) d.positions[v] = {rp(v, 0), rp(v, 1), rp(v, 2)};
+  d.tets = cells<4>(tets, "tet");
+  d.tet_material = labels(materials, d.tets.size(), "materials");
+  if (d.tet_material.empty()) d.tet_material.assign(d.tets.size(), 0);
+  const auto tri = cells<3>(triangles, "triangle");
+  const auto tri_refs = labels(triangle_refs, tri.size(), "triangle_refs");
+  for (std::size_t i = 0; i < tri.size(); ++i) d.triangles.push_back({tri[i], tri_refs.empty() ? 0 : tri_refs[i]});
+  const auto seg = cells<2>(segments, "segment");
+  const auto seg_refs = labels(segment_refs, seg.size(), "segment_refs");
+  for (std::size_t i = 0; i < seg.size(); ++i) d.segments.push_back({seg[i], seg_refs.empty() ? 0 : seg_refs[i]});
+  if (!corners.is_none()) {
+    Ints c = corners.cast<Ints>();
+    for (const auto& x : cells<1>(c.reshape({c.size(), py::ssize_t{1}}), "corner")) d.corners.push_back(x[0]);
+  }
+  if (!fields.is_none()) {
+    for (const auto& [key, value] : fields.cast<py::dict>()) {
+      const std::string name = py::str(key);
+      Reals a = value.cast<Reals>();
+      if (a.ndim() == 1) a = a.reshape({a.shape(0), py::ssize_t{1}}).cast<Reals>();
+      if (a.ndim() != 2 || static_cast<std::size_t>(a.shape(0)) != d.positions.size())
+        throw py::value_error("field " + name + " must have shape (n,) or (n, components) with n = number of points");
+      const auto r = a.unchecked<2>();
+      topotet::VertexField f{name, static_cast<int>(r.shape(1)), {}};
+      f.values.reserve(static_cast<std::size_t>(r.shape(0) * r.shape(1)));
+      for (py::ssize_t v = 0; v < r.shape(0); ++v)
+        for (py::ssize_t c = 0; c < r.shape(1); ++c) f.values.push_back(r(v, c));
+      d.fields.push_back(std::move(f));
+    }
+  }
+  return d;
+}
+
+template <class T, std::size_t N>
+py::array_t<T> rows(const std::vector<std::array<VertId, N>>& cells) {
+  py::array_t<T> out({static_cast<py::ssize_t>(cells.size()), static_cast<py::ssize_t>(N)});
+  auto w = out.template mutable_unchecked<2>();
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    for (std::size_t c = 0; c < N; ++c) w(i, c) = static_cast<T>(cells[i][c]);
+  return out;
+}
+
+py::dict to_dict(const topotet::MeshData& d) {
+  py::dict out;
+  py::array_t<double> points({static_cast<py::ssize_t>(d.positions.size()), py::ssize_t{3}});
+  auto wp = points.mutable_unchecked<2>();
+  for (std::size_t v = 0; v < d.positions.size(); ++v)
+    for (int c = 0; c < 3; ++c) wp(v, c) = d.positions[v][c];
+  out["points"] = points;
+  out["tets"] = rows<std::int64_t>(d.tets);
+  out["materials"] = py::array_t<std::int32_t>(static_cast<py::ssize_t>(d.tet_material.size()), d.tet_material.data());
+  std::vector<std::array<VertId, 3>> tri;
+  std::vector<std::int32_t> tri_refs;
+  for (const auto& t : d.triangles) tri.push_back(t.v), tri_refs.push_back(t.ref);
+  out["triangles"] = rows<std::int64_t>(tri);
+  out["triangle_refs"] = py::array_t<std::int32_t>(static_cast<py::ssize_t>(tri_refs.size()), tri_refs.data());
+  std::vector<std::array<VertId, 2>> seg;
+  std::vector<std::int32_t> seg_refs;
+  for (const auto& s : d.segments) seg.push_back(s.v), seg_refs.push_back(s.ref);
+  out["segments"] = rows<std::int64_t>(seg);
+  out["segment_refs"] = py::array_t<std::int32_t>(static_cast<py::ssize_t>(seg_refs.size()), seg_refs.data());
+  std::vector<std::int64_t> corners(d.corners.begin(), d.corners.end());
+  out["corners"] = py::array_t<std::int64_t>(static_cast<py::ssize_t>(corners.size()), corners.data());
+  py::dict fields;
+  for (const auto& f : d.fields) {
+    py::array_t<double> a({static_cast<py::ssize_t>(d.positions.size()), static_cast<py::ssize_t>(f.components)});
+    std::copy(f.values.begin(), f.values.end(), a.mutable_data());
+    py::object value = a;
+    if (f.components == 1) value = a.reshape({static_cast<py::ssize_t>(d.positions.size())});  // a scalar: (n,)
+    fields[py::str(f.name)] = value;
+  }
+  out["fields"] = fields;
+  return out;
+}
+
+py::dict report_dict(const topotet::Report& r) {
+  py::dict rejected;
+  for (topotet::RejectReason reason : topotet::kRejectReasons) rejected[topotet::to_string(reason)] = r.rejected_by(reason);
+  py::dict phases;
+  phases["evaluate"] = r.evaluate_seconds();
+  phases["select"] = r.select_seconds();
+  phases["apply"] = r.apply_seconds();
+  phases["compact"] = r.compact_seconds();
+  py::dict d;
+  d["status"] = topotet::to_string(r.status);
+  d["message"] = r.message;
+  d["vertices_before"] = r.vertices_before;
+  d["vertices_after"] = r.vertices_after;
+  d["tets_before"] = r.tets_before;
+  d["tets_after"] = r.tets_after;
+  d["collapses"] = r.collapses;
+  d["evaluations"] = r.evaluations;
+  d["legality_checks"] = r.legality_checks;
+  d["rounds"] = r.rounds;
+  d["rejected"] = rejected;
+  d["seconds"] = r.seconds;
+  d["phase_seconds"] = phases;
+  d["max_cost"] = r.max_cost;
+  d["tolerance"] = r.tolerance;
+  return d;
+}
+
+py::dict simplify(const py::object& points, const py::object& tets, const py::object& materials,
+                  const py::object& fields, double ratio, std::uint64_t target_vertices, double tolerance_rel,
+                  double tolerance, double min_quality, double max_cost, int threads, const std::string& engine,
+                  const py::object& triangles, const py::object& triangle_refs, const py::object& segments,
+                  const py::object& segment_refs, const py::object& corners) {
+  const topotet::MeshData input =
+      to_mesh_data(points, tets, materials, triangles, triangle_refs, segments, segment_refs, corners, fields);
+  topotet::SimplifyOptions options;
+  options.target_vertex_ratio = ratio;
+  options.target_vertices = target_vertices;
+  options.tolerance_rel = tolerance_rel;
+  options.tolerance = tolerance;
+  options.min_quality = min_quality;
+  options.max_cost = max_cost;
+  options.num_threads = threads;
+  if (engine == "parallel")
+    options.engine = topotet::Engine::kParallel;
+  else if (engine == "sequential")
+    options.engine = topotet::Engine::kSequential;
+  else
+    throw py::value_error("engine must be 'parallel' or 'sequential'");
+  if (threads < 0) throw py::value_error("threads must be >= 0");
+  topotet::Report report;
+  topotet::MeshData output;
+  std::vector<VertId> map;
+  {
+    py::gil_scoped_release release;
+    topotet::TetMesh mesh;
+    // The whole call, mesh build included, runs inside the thread limit.
+    topotet::run_with_thread_limit(threads, [&] {
+      mesh = topotet::build_tet_mesh(input);
+      report = topotet::simplify(mesh, options, map);
+    });
+    output = mesh.to_mesh_data();
+  }
+  if (report.status == topotet::Status::kInvalidInput) throw py::value_error(report.message);
+  if (report.status == topotet::Status::kOutOfMemory) throw std::bad_alloc();
+  py::dict out = to_dict(output);
+  py::array_t<std::int64_t> vertex_map(static_cast<py::ssize_t>(map.size()));
+  auto w = vertex_map.mutable_unchecked<1>();
+  for (std::size_t i = 0; i < map.size(); ++i) w(i) = map[i] == topotet::kInvalid ? -1 : std::int64_t{map[i]};
+  out["vertex_map"] = vertex_map;
+  out["report"] = report_dict(report);
+  return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(topotet, m) {
+  m.doc() = "Topology-preserving simplification of tetrahedral meshes (numpy arrays in and out)";
+  m.attr("__version__") = TOPOTET_VERSION_STRING;
+  // The library's InputError (bad file, bad mesh) is a ValueError in Python.
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const topotet::InputError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+  m.def("simplify", &simplify, py::arg("points"), py::arg("tets"), py::kw_only(), py::arg("materials") = py::none(),
+        py::arg("fields") = py::none(), py::arg("ratio") = 0.25, py::arg("target_vertices") = 0,
+        py::arg("tolerance_rel") = 0.0, py::arg("tolerance") = 0.0, py::arg("min_quality") = 0.05,
+        py::arg("max_cost") = 0.0, py::arg("threads") = 0, py::arg("engine") = "parallel",
+        py::arg("triangles") = py::none(), py::arg("triangle_refs") = py::none(), py::arg("segments") = py::none(),
+        py::arg("segment_refs") = py::none(), py::arg("corners") = py::none(),
+        "Simplifies the mesh, keeping its topology and that of every substructure. Returns a dict: points, "
+        "tets, materials, triangles, triangle_refs, segments, segment_refs, corners, fields, vertex_map "
+        "(for every input point, the output point it merged into) and report.");
+  m.def(
+      "read",
+      [](const std::string& path) {
+        topotet::MeshData d;
+        {
+          py::gil_scoped_release release;
+          d = topotet::read_mesh(path);
+        }
+        return to_dict(d);
+      },
+      py::arg("path"), "Reads a .mesh (+.sol) or .msh file (optionally .gz) into a dict of arrays.");
+  m.def(
+      "write",
+      [](const std::string& path, const py::dict& mesh, bool binary) {
+        auto get = [&](const char* key) { return mesh.contains(key) ? py::object(mesh[key]) : py::object(py::none()); };
+        if (!mesh.contains("points") || !mesh.contains("tets")) throw py::value_error("the mesh needs 'points' and 'tets'");
+        const topotet::MeshData d = to_mesh_data(get("points"), get("tets"), get("materials"), get("triangles"),
+                                                 get("triangle_refs"), get("segments"), get("segment_refs"),
+                                                 get("corners"), get("fields"));
+        py::gil_scoped_release release;
+        topotet::write_mesh(path, d, {binary});
+      },
+      py::arg("path"), py::arg("mesh"), py::kw_only(), py::arg("binary") = false,
+      "Writes a mesh dict (as read() or simplify() return; other keys are ignored) to a .mesh, .msh or .vtu "
+      "file, chosen by the extension.");
+}

@@ -1,0 +1,109 @@
+"""The Python module: numpy arrays in and out, the vertex map, read/write round trip, errors.
+Run by ctest with PYTHONPATH set to the built module (tests/CMakeLists.txt)."""
+import os
+import sys
+import tempfile
+
+import numpy as np
+import topotet
+
+
+def grid(n, jitter=0.1, seed=1):
+    """A jittered Freudenthal grid of n^3 cubes (boundary points stay on the box faces)."""
+    g = np.stack(np.meshgrid(*[np.arange(n + 1)] * 3, indexing="ij"), axis=-1).reshape(-1, 3).astype(float)
+    rng = np.random.default_rng(seed)
+    inner = (g > 0) & (g < n)
+    g += np.where(inner, rng.uniform(-jitter, jitter, g.shape), 0.0)
+    vid = lambda c: c[..., 0] * (n + 1) ** 2 + c[..., 1] * (n + 1) + c[..., 2]
+    cubes = np.stack(np.meshgrid(*[np.arange(n)] * 3, indexing="ij"), axis=-1).reshape(-1, 1, 3)
+    tets = []
+    for order in [(0, 1, 2), (1, 2, 0), (2, 0, 1), (0, 2, 1), (1, 0, 2), (2, 1, 0)]:
+        steps = np.cumsum(np.eye(3, dtype=int)[list(order)], axis=0)
+        t = vid(np.concatenate([cubes, cubes + steps], axis=1))
+        tets.append(t if np.linalg.det(steps) > 0 else t[:, [0, 1, 3, 2]])
+    return g, np.concatenate(tets)
+
+
+def check(cond, what):
+    if not cond:
+        print("FAIL:", what)
+        sys.exit(1)
+
+
+points, tets = grid(6)
+centres = points[tets].mean(axis=1) - 3.0
+materials = np.where((centres**2).sum(axis=1) < 3.0, 2, 1).astype(np.int32)
+field = np.stack([points[:, 0], points[:, 1] * points[:, 2], -points[:, 2]], axis=1)  # a 3-vector
+
+# Strided, non-float64 / non-int64 inputs are accepted as they are.
+points_f32 = np.asfortranarray(points.astype(np.float32))
+tets_i32 = tets.astype(np.int32)
+box_corners = [0, len(points) - 1]  # pinned: they never move
+out = topotet.simplify(points_f32, tets_i32, materials=materials, fields={"u": field}, ratio=0.3, threads=1,
+                       corners=box_corners)
+rep = out["report"]
+check(rep["status"] in ("ok", "stopped_early"), f"status {rep['status']}")
+nv = len(out["points"])
+check(nv < len(points) // 2, f"not simplified: {nv} of {len(points)}")
+check(rep["vertices_before"] == len(points) and rep["vertices_after"] == nv, "report counts")
+check(rep["collapses"] == len(points) - nv, "one collapse per removed vertex")
+check(set(rep["rejected"]) == {"link_K", "link_Ktilde", "pinned", "inversion", "quality", "tolerance"}, "rejected keys")
+check(out["tets"].shape[1] == 4 and out["tets"].min() >= 0 and out["tets"].max() < nv, "output tets")
+check(out["fields"]["u"].shape == (nv, 3), "field shape")
+check(sorted(np.unique(out["materials"])) == [1, 2], "both materials survive")
+
+# The vertex map: total, onto the live output vertices, each input vertex lands near where it was.
+vmap = out["vertex_map"]
+check(vmap.shape == (len(points),), "map size")
+check(vmap.min() >= 0 and vmap.max() < nv, "every input vertex maps to a live output vertex")
+check(len(np.unique(vmap)) == nv, "every output vertex is some input vertex")
+# Collapses only rename vertices: the output tets are the input tets renamed through the map, less
+# those whose four images are not distinct.
+renamed = np.sort(vmap[tets], axis=1)
+renamed = renamed[(np.diff(renamed, axis=1) != 0).all(axis=1)]
+output_tets = np.sort(out["tets"], axis=1)
+check(len(renamed) == len(output_tets), "as many renamed input tets as output tets")
+check(np.array_equal(renamed[np.lexsort(renamed.T[::-1])], output_tets[np.lexsort(output_tets.T[::-1])]),
+      "the output tets are the input tets renamed through the vertex map")
+# The pinned corners map onto themselves.
+for corner in box_corners:
+    check(np.allclose(out["points"][vmap[corner]], points[corner], atol=1e-6), f"corner {corner} moved")
+
+# Positive volumes: no inverted tet.
+p = out["points"][out["tets"]]
+vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
+check(vol.min() > 0, "an output tet is inverted")
+
+# Same result for every thread count.
+again = topotet.simplify(points_f32, tets_i32, materials=materials, fields={"u": field}, ratio=0.3, threads=2,
+                         corners=box_corners)
+check(np.array_equal(again["points"], out["points"]) and np.array_equal(again["vertex_map"], vmap), "threads")
+
+# read / write round trip.
+with tempfile.TemporaryDirectory() as d:
+    path = os.path.join(d, "out.mesh")
+    topotet.write(path, out)
+    back = topotet.read(path)
+    check(np.array_equal(back["tets"], out["tets"]) and np.allclose(back["points"], out["points"]), "round trip")
+    check(np.array_equal(back["materials"], out["materials"]), "materials round trip")
+    check(np.allclose(back["fields"]["u"], out["fields"]["u"]), "field round trip")
+
+# Errors are ValueErrors with the library's message.
+bad = tets.copy()
+bad[3, 1] = len(points) + 5
+mixed = tets.copy()
+mixed[::2] = mixed[::2][:, [0, 2, 1, 3]]  # half inverted: an error (all inverted would be flipped)
+for args, needle in [((points, bad), "out of range"), ((points[:, :2], tets), "shape"),
+                     ((points, mixed), "tet")]:
+    try:
+        topotet.simplify(*args)
+        check(False, f"no error for {needle}")
+    except ValueError as e:
+        check(needle in str(e), f"message {e!r} lacks {needle!r}")
+try:
+    topotet.read("/nonexistent/x.mesh")
+    check(False, "no error reading a missing file")
+except ValueError as e:
+    check("x.mesh" in str(e), f"message {e!r}")
+check(topotet.__version__.count(".") == 2, "version")
+print(f"python_test: {len(points)} -> {nv} vertices, {len(tets)} -> {len(out['tets'])} tets: pass")
