@@ -74,6 +74,9 @@ struct Args {
   int threads = 0;
   bool match_tets = false, first_field_only = false;
   std::string vtk_scale = "1";  // a number, or "auto"
+  // topotet's geometric defaults; VTK has neither (the README's table sets both off: 180, 0).
+  double feature_angle = SimplifyOptions{}.feature_angle;
+  double tolerance_rel = SimplifyOptions{}.tolerance_rel;
   std::string json_path;
 };
 
@@ -117,6 +120,8 @@ void run_topotet(const MeshData& input, Engine engine, const Args& a, EngineRuns
   options.target_vertex_ratio = a.ratio;
   options.engine = engine;
   options.num_threads = a.threads;
+  options.feature_angle = a.feature_angle;
+  options.tolerance_rel = a.tolerance_rel;
   const auto t1 = Clock::now();
   const Report report = simplify(mesh, options);
   const double simplify_seconds = since(t1);
@@ -278,7 +283,7 @@ void usage() {
   std::fprintf(stderr,
                "usage: bench_vtk_peer (--input FILE | --dataset cube-sphere|slab|linked-tori --tets N [--seed S])\n"
                "       [--ratio R] [--repeat K] [--vtk-repeat K] [--threads T] [--match vertices|tets]\n"
-               "       [--first-field-only] [--vtk-scale auto|S] [--json FILE]\n");
+               "       [--first-field-only] [--vtk-scale auto|S] [--feature-angle A] [--tolerance-rel H] [--json FILE]\n");
 }
 
 bool parse(int argc, char** argv, Args& a) {
@@ -298,6 +303,8 @@ bool parse(int argc, char** argv, Args& a) {
     else if (k == "--match") { a.match_tets = std::string(v) == "tets"; if (!take()) return false; }
     else if (k == "--first-field-only") a.first_field_only = true;
     else if (k == "--vtk-scale") { a.vtk_scale = v; if (!take()) return false; }
+    else if (k == "--feature-angle") { a.feature_angle = std::atof(v); if (!take()) return false; }
+    else if (k == "--tolerance-rel") { a.tolerance_rel = std::atof(v); if (!take()) return false; }
     else if (k == "--json") { a.json_path = v; if (!take()) return false; }
     else return false;
   }

@@ -10,7 +10,9 @@
 # Columns: collapses/s of the parallel engine on 1 thread and of the sequential one, the 2-thread
 # speed-up, kernel evaluations and checks per collapse, peak bytes per input tet (simplification
 # process), the whole CLI run (read, build, simplify, measure, write) and its share spent in the
-# report's measurements. Inputs of ../shared/data are skipped when absent.
+# report's measurements. Inputs of ../shared/data are skipped when absent. The engine is timed
+# without the geometric defaults of issue #12 (--feature-angle 180, no tolerance), as the README's
+# table was measured; bench/default_runs.sh measures what those defaults cost.
 set -euo pipefail
 build=${1:-build}
 outdir=${2:-/tmp/topotet-throughput}
@@ -44,10 +46,12 @@ for entry in "${inputs[@]}"; do
   [[ -f $mesh ]] || { echo "skipping $name: $mesh not found" >&2; continue; }
   echo "== $name" >&2
   "$bench" --dataset "$mesh" --ratio "$ratio" --threads 1,2 --repeat "$repeat" --no-quality \
+    --feature-angle 180 --tolerance-rel 0 \
     | grep '^{' | sed "s|^{|{\"name\":\"$name\",|" >> "$outdir/simplify.jsonl"
   # The whole CLI run, default report; farm-bench prints min / median / max.
   wall=$(farm-bench -n "$repeat" --warmup 0 --timeout 3600 -- \
            "$topotet" simplify "$mesh" -o "$outdir/out.mesh" --ratio "$ratio" --threads 2 --report "$outdir/report.json" \
+           --feature-angle 180 --tolerance 0 \
          | awk '/^A wall s/ {print $4}')
   # Every measurement of the report (quality, field error, distance, topology check of input and
   # output) and its share of the simplification, from the last run.
