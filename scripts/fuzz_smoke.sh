@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Fuzzing smoke run: the mesh readers and writers (tests/fuzz/fuzz_readers.cpp) under libFuzzer with
-# ASan and UBSan for a short time, seeded with the small committed meshes. Any crash, sanitizer
+# Fuzzing smoke run: the mesh readers and writers (tests/fuzz/fuzz_readers.cpp), then the simplifier
+# on fuzzed valid meshes refereed by the topology checker (tests/fuzz/fuzz_simplify.cpp), under
+# libFuzzer with ASan and UBSan for a short time each, the readers seeded with the small committed meshes. Any crash, sanitizer
 # report or leak fails the job; the corpus and any crash input are left in build-fuzz/.
 # Usage: bash scripts/fuzz_smoke.sh [SECONDS]   (default 60; needs clang and libclang-rt-14-dev, which setup.sh installs)
 set -euo pipefail
@@ -8,7 +9,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 seconds=${1:-60}
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_C_COMPILER=clang -DTOPOTET_FUZZ=ON -DTOPOTET_SANITIZE=address,undefined -DTOPOTET_BUILD_BENCH=OFF
-cmake --build build-fuzz -j "$(nproc)" --target fuzz_readers
+cmake --build build-fuzz -j "$(nproc)" --target fuzz_readers fuzz_simplify
 corpus=build-fuzz/fuzz_corpus
 mkdir -p "$corpus" build-fuzz/fuzz_artifacts
 cp tests/data/*.msh "$corpus/"
@@ -19,4 +20,8 @@ printf 'Dimension 3\nVertices\n5\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 1 0\nT
   >"$corpus/seed_mixed.mesh"
 build-fuzz/tests/fuzz_readers -max_total_time="$seconds" -rss_limit_mb=2048 -max_len=20000 \
   -dict=tests/fuzz/readers.dict -artifact_prefix=build-fuzz/fuzz_artifacts/ "$corpus"
-echo "fuzz smoke: no crash in ${seconds} s; corpus: $(ls "$corpus" | wc -l) files"
+echo "fuzz smoke (readers): no crash in ${seconds} s; corpus: $(ls "$corpus" | wc -l) files"
+mkdir -p build-fuzz/fuzz_simplify_corpus
+build-fuzz/tests/fuzz_simplify -max_total_time="$seconds" -rss_limit_mb=2048 -max_len=64 -len_control=0 \
+  -artifact_prefix=build-fuzz/fuzz_artifacts/simplify- build-fuzz/fuzz_simplify_corpus
+echo "fuzz smoke (simplify): no crash, no topology change in ${seconds} s"

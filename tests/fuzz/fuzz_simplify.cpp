@@ -121,13 +121,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   for (int pins = bytes.in(0, 3); pins > 0; --pins) {
     const VertId v = g.vid(bytes.in(0, nx), bytes.in(0, ny), bytes.in(0, nz));
-    if (std::find(g.data.pinned.begin(), g.data.pinned.end(), v) == g.data.pinned.end()) g.data.pinned.push_back(v);
+    if (std::find(g.data.corners.begin(), g.data.corners.end(), v) == g.data.corners.end()) g.data.corners.push_back(v);
   }
   // Drop vertices no kept tet uses would be the reader's job; here only pin used ones.
   std::vector<bool> used(g.data.positions.size(), false);
   for (const auto& t : g.data.tets)
     for (VertId v : t) used[v] = true;
-  std::erase_if(g.data.pinned, [&](VertId v) { return !used[v]; });
+  std::erase_if(g.data.corners, [&](VertId v) { return !used[v]; });
 
   SimplifyOptions options;
   options.target_vertex_ratio = 0.05 * bytes.in(1, 19);
@@ -152,7 +152,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const metrics::TopologyReport after = metrics::compute_topology(out);
   std::string differences;
   if (!metrics::same_topology(before, after, &differences)) fail("topology changed", differences);
-  const metrics::QualityStats quality = metrics::compute_quality(out);
+  const QualityStats quality = compute_quality(out);
   if (quality.inverted != 0 || quality.zero_volume != 0) fail("inverted or flat tets in the output");
   return 0;
 }
