@@ -299,17 +299,38 @@ void write_json_atomically(const std::string& path, const Json& json) {
   write_text_atomically(path, json.dump(2) + "\n");
 }
 
-// ---- progress bar ----
+// ---- progress ----
 
-ProgressBar::ProgressBar(std::string label, bool enabled)
-    : label_(std::move(label)), enabled_(enabled && stderr_is_terminal()) {}
+ProgressMode parse_progress_mode(const std::string& text) {
+  if (text == "auto") return ProgressMode::kAuto;
+  if (text == "bar") return ProgressMode::kBar;
+  if (text == "lines") return ProgressMode::kLines;
+  if (text == "none") return ProgressMode::kNone;
+  throw InputError("--progress: expected auto, bar, lines or none, got '" + text + "'");
+}
+
+ProgressBar::ProgressBar(std::string label, bool enabled, ProgressMode mode, double interval_seconds)
+    : label_(std::move(label)),
+      mode_(!enabled ? ProgressMode::kNone
+            : mode == ProgressMode::kAuto ? (stderr_is_terminal() ? ProgressMode::kBar : ProgressMode::kNone)
+                                          : mode),
+      interval_seconds_(interval_seconds) {}
 
 void ProgressBar::update(double done_fraction) {
-  if (!enabled_) return;
+  if (mode_ == ProgressMode::kNone) return;
   const double now = clock_.seconds();
+  const double f = std::clamp(done_fraction, 0.0, 1.0);
+  if (mode_ == ProgressMode::kLines) {
+    // The first line after one interval, then one per interval.
+    const double next = last_draw_seconds_ < 0.0 ? interval_seconds_ : last_draw_seconds_ + interval_seconds_;
+    if (now < next) return;
+    last_draw_seconds_ = now;
+    std::fprintf(stderr, "%s: %d%% after %s\n", label_.c_str(), static_cast<int>(f * 100.0), format_seconds(now).c_str());
+    std::fflush(stderr);
+    return;
+  }
   if (now < 1.0 || now - last_draw_seconds_ < 0.1) return;
   last_draw_seconds_ = now;
-  const double f = std::clamp(done_fraction, 0.0, 1.0);
   constexpr int kWidth = 30;
   const int filled = static_cast<int>(f * kWidth + 0.5);
   std::string bar(static_cast<std::size_t>(filled), '#');

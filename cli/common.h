@@ -63,6 +63,8 @@ struct SimplifyJob {
   bool verify = true;        // run the topology checker (--no-verify skips only it)
   bool metrics = true;       // measure quality, field error, distance and topology (--no-metrics: none)
   bool quiet = false;
+  std::string progress = "auto";     // ProgressMode, parsed before any reading
+  double progress_interval = 10.0;  // seconds between lines (--progress lines)
 };
 // Builds, simplifies, writes, measures and verifies; prints the report. Returns the exit code.
 int run_simplify_job(SimplifyJob& job);
@@ -139,12 +141,18 @@ void check_output_folder(const std::string& path);
 void write_text_atomically(const std::string& path, const std::string& text);
 void write_json_atomically(const std::string& path, const Json& json);
 
-// ---- progress bar on stderr ----
-// Draws only when stderr is a terminal and the work has run for more than a second. update() may
-// be called from any thread but never concurrently (SimplifyOptions::on_progress's contract).
+// ---- progress on stderr ----
+// kAuto draws a bar when stderr is a terminal and nothing otherwise; kLines prints one plain line
+// every `interval` seconds (batch schedulers' logs, where a bar's carriage returns are noise);
+// kNone stays silent. Nothing shows before the work has run for a second. update() may be called
+// from any thread but never concurrently (SimplifyOptions::on_progress's contract).
+enum class ProgressMode { kAuto, kBar, kLines, kNone };
+ProgressMode parse_progress_mode(const std::string& text);  // "auto", "bar", "lines", "none"
+
 class ProgressBar {
  public:
-  explicit ProgressBar(std::string label, bool enabled = true);
+  explicit ProgressBar(std::string label, bool enabled = true, ProgressMode mode = ProgressMode::kAuto,
+                       double interval_seconds = 10.0);
   ~ProgressBar() { finish(); }
   ProgressBar(const ProgressBar&) = delete;
   ProgressBar& operator=(const ProgressBar&) = delete;
@@ -153,7 +161,8 @@ class ProgressBar {
 
  private:
   std::string label_;
-  bool enabled_;
+  ProgressMode mode_;  // kBar, kLines or kNone once resolved
+  double interval_seconds_;
   bool drawn_ = false;
   double last_draw_seconds_ = -1.0;
   Stopwatch clock_;

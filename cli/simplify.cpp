@@ -301,7 +301,8 @@ int run_simplify_job(SimplifyJob& job) {
         options.target_vertices = std::max<std::uint64_t>(
             1, static_cast<std::uint64_t>(std::llround(level * static_cast<double>(vertices_in))));
       }
-      ProgressBar bar(level > 0 ? "level " + format_ratio(level) : "simplify", !job.quiet);
+      ProgressBar bar(level > 0 ? "level " + format_ratio(level) : "simplify", !job.quiet,
+                      parse_progress_mode(job.progress), job.progress_interval);
       options.on_progress = [&bar](double done) {
         bar.update(done);
         return true;
@@ -539,6 +540,8 @@ struct SimplifyArgs {
   bool no_metrics = false;
   std::vector<double> levels;
   bool quiet = false;
+  std::string progress = "auto";
+  double progress_interval = 10.0;
   bool binary = false;
   bool tets_only = false;
   bool msh22 = false;
@@ -577,6 +580,8 @@ int run_simplify(const SimplifyArgs& args) {
   job.verify = !args.no_verify;
   job.metrics = !args.no_metrics;
   job.quiet = args.quiet;
+  job.progress = args.progress;
+  job.progress_interval = args.progress_interval;
   return run_simplify_job(job);
 }
 
@@ -640,6 +645,14 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
   levels->excludes(ratio)->excludes(target);
   ratio->excludes(target);
   cmd->add_flag("--quiet", args->quiet, "No report and no progress bar (errors and a topology FAIL still print)");
+  cmd->add_option("--progress", args->progress,
+                  "auto (a bar when stderr is a terminal), bar, lines (one line every --progress-interval seconds, "
+                  "for batch logs) or none")
+      ->check(CLI::IsMember({"auto", "bar", "lines", "none"}))
+      ->capture_default_str();
+  cmd->add_option("--progress-interval", args->progress_interval, "Seconds between --progress lines")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_flag("--binary", args->binary, "Binary Gmsh 4.1 / raw appended VTU data");
   cmd->add_flag("--msh22", args->msh22, "Write .msh as Gmsh 2.2 ASCII (for tools that read only the old format)")
       ->excludes("--binary");

@@ -149,6 +149,19 @@ expect_error no_command -- "$topotet"
 expect 0 generate_slab -- "$topotet" generate slab --tets 3000 -o slab.mesh
 expect 1 check_fails -- "$topotet" check in.mesh slab.mesh
 
+# --- progress for batch logs: plain lines on stderr, none by default without a terminal ---
+expect 0 progress_lines -- "$topotet" simplify in.mesh -o pl.mesh --ratio 0.1 --threads 1 --no-metrics \
+  --progress lines --progress-interval 0.001
+if grep -Eq '^simplify: [0-9]+% after ' progress_lines.err && ! grep -q $'\r' progress_lines.err; then
+  pass "progress lines: plain lines on stderr"
+else
+  fail "progress lines: no 'simplify: N% after' line, or a carriage return, on stderr"
+fi
+if ! grep -q '% after' progress_lines.out; then pass "progress lines: none on stdout"; else fail "progress lines on stdout"; fi
+expect 0 progress_auto -- "$topotet" simplify in.mesh -o pa.mesh --ratio 0.1 --threads 1 --no-metrics
+if ! grep -q '% after\|\[#' progress_auto.err; then pass "progress auto: silent without a terminal"; else fail "progress auto drew without a terminal"; fi
+expect_error progress_bad -- "$topotet" simplify in.mesh -o pb.mesh --progress sometimes
+
 # --- no temporary file left behind ---
 leftovers=$(find . -name '*.tmp*' | sort)
 if [[ -z $leftovers ]]; then pass "no temporary files"; else fail "temporary files left: $leftovers"; fi
