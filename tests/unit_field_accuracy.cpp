@@ -56,16 +56,16 @@ void set_field(MeshData& m, const std::string& name, const Field& f) {
   m.fields.push_back(std::move(field));
 }
 
-struct Run {
+struct Simplified {
   MeshData output;
   Report report;
 };
 
-Run simplify_data(const MeshData& input, double ratio, Engine engine = Engine::kParallel, SimplifyOptions options = {}) {
+Simplified simplify_data(const MeshData& input, double ratio, Engine engine = Engine::kParallel, SimplifyOptions options = {}) {
   TetMesh mesh = build_tet_mesh(input);
   options.target_vertex_ratio = ratio;
   options.engine = engine;
-  Run run;
+  Simplified run;
   run.report = simplify(mesh, options);
   run.output = mesh.to_mesh_data();
   return run;
@@ -93,7 +93,7 @@ TEST(FieldAccuracy, LinearFieldIsReproducedToRoundOffAtAnyRatio) {
   const double range = 2.0 * 16 + 3.0 * 16 + 0.5 * 16;
   for (Engine engine : {Engine::kParallel, Engine::kSequential})
     for (double ratio : {0.5, 0.2, 0.05}) {
-      const Run run = simplify_data(input, ratio, engine);
+      const Simplified run = simplify_data(input, ratio, engine);
       ASSERT_EQ(run.report.status, Status::kOk) << run.report.message;
       EXPECT_LE(max_vertex_error(run.output, 0, kLinear), 1e-11 * range) << "ratio " << ratio;
       const FieldError e = compare_fields(input, run.output);
@@ -109,7 +109,7 @@ TEST(FieldAccuracy, LinearFieldIsReproducedOnFeatureVerticesAndWithSeveralFields
   for (const glm::dvec3& p : input.positions) vector.values.insert(vector.values.end(), {p.y, p.x - p.z, 7.0});
   input.fields.push_back(vector);
   for (double ratio : {0.3, 0.1}) {
-    const Run run = simplify_data(input, ratio);
+    const Simplified run = simplify_data(input, ratio);
     ASSERT_EQ(run.report.status, Status::kOk) << run.report.message;
     EXPECT_LE(max_vertex_error(run.output, 0, kLinear), 1e-11) << "ratio " << ratio;
     const FieldError e = compare_fields(input, run.output);
@@ -128,7 +128,7 @@ void expect_error_falls_as_the_ratio_grows(const Field& f, Engine engine) {
   set_field(input, "f", f);
   double previous = std::numeric_limits<double>::infinity(), previous_vertex = previous;
   for (double ratio : {0.05, 0.1, 0.2, 0.4}) {
-    const Run run = simplify_data(input, ratio, engine);
+    const Simplified run = simplify_data(input, ratio, engine);
     ASSERT_EQ(run.report.status, Status::kOk) << run.report.message;
     const double error = rms_both(input, run.output);
     const double vertex_error = max_vertex_error(run.output, 0, f);
@@ -193,16 +193,17 @@ TEST(FieldAccuracy, FeatureVerticesAreAsAccurateAsInteriorOnes) {
   };
   set_field(input, "f", f);
   for (double ratio : {0.3, 0.1}) {
-    const Run run = simplify_data(input, ratio);
+    const Simplified run = simplify_data(input, ratio);
     ASSERT_EQ(run.report.status, Status::kOk) << run.report.message;
     const std::vector<char> feature = feature_vertices(run.output);
     double sum2[2] = {0, 0}, sum[2] = {0, 0};
     std::size_t count[2] = {0, 0};
     for (std::size_t v = 0; v < run.output.vertex_count(); ++v) {
       const double e = run.output.fields[0].values[v] - f(run.output.positions[v]);
-      sum2[feature[v]] += e * e;
-      sum[feature[v]] += e;
-      ++count[feature[v]];
+      const int group = feature[v] ? 1 : 0;
+      sum2[group] += e * e;
+      sum[group] += e;
+      ++count[group];
     }
     ASSERT_GT(count[0], 100u);
     ASSERT_GT(count[1], 100u);
@@ -243,8 +244,8 @@ TEST(FieldWeights, ZeroWeightLeavesTheCollapsesToTheOtherFields) {
   set_field(two, "linear", kLinear);
   SimplifyOptions options;
   options.field_weights["linear"] = 0.0;
-  const Run a = simplify_data(one, 0.1);
-  const Run b = simplify_data(two, 0.1, Engine::kParallel, options);
+  const Simplified a = simplify_data(one, 0.1);
+  const Simplified b = simplify_data(two, 0.1, Engine::kParallel, options);
   ASSERT_EQ(b.report.status, Status::kOk) << b.report.message;
   EXPECT_TRUE(a.output.positions == b.output.positions);
   EXPECT_TRUE(a.output.tets == b.output.tets);
@@ -258,10 +259,10 @@ TEST(FieldWeights, ALargerWeightKeepsThatFieldCloser) {
   MeshData input = plain_box();
   set_field(input, "x_front", [](const glm::dvec3& p) { return std::tanh((p.x - 5.3) / 0.3); });
   set_field(input, "y_front", [](const glm::dvec3& p) { return std::tanh((p.y + 0.5 * p.z - 11.2) / 0.3); });
-  const Run even = simplify_data(input, 0.1);
+  const Simplified even = simplify_data(input, 0.1);
   SimplifyOptions options;
   options.field_weights["x_front"] = 10.0;
-  const Run favoured = simplify_data(input, 0.1, Engine::kParallel, options);
+  const Simplified favoured = simplify_data(input, 0.1, Engine::kParallel, options);
   const double x_even = rms_both(input, even.output, 0), y_even = rms_both(input, even.output, 1);
   const double x_favoured = rms_both(input, favoured.output, 0), y_favoured = rms_both(input, favoured.output, 1);
   std::printf("[ field ] weights 1/1: x %.5f y %.5f; weights 10/1: x %.5f y %.5f\n", x_even, y_even, x_favoured,
@@ -280,7 +281,7 @@ TEST(FieldWeights, OutputIsIdenticalForEveryThreadCount) {
   MeshData reference;
   for (int threads : {1, 2, 4}) {
     options.num_threads = threads;
-    const Run run = simplify_data(input, 0.15, Engine::kParallel, options);
+    const Simplified run = simplify_data(input, 0.15, Engine::kParallel, options);
     ASSERT_EQ(run.report.status, Status::kOk) << run.report.message;
     if (threads == 1)
       reference = run.output;
