@@ -96,7 +96,8 @@ CostModel::CostModel(const TetMesh& mesh, const SimplifyOptions& options)
   });
   parallel::for_range<std::size_t>(0, nv, 512, "init_quadrics", [&](std::size_t begin, std::size_t end) {
     LinkScratch scratch;
-    double pts[4 * kMaxQuadricDim], weights[kMaxQuadricDim], star[quadric_size(kMaxQuadricDim)];
+    double pts[4 * kMaxQuadricDim], tet_pts[4 * kMaxQuadricDim], weights[kMaxQuadricDim],
+        star[quadric_size(kMaxQuadricDim)];
     for (std::size_t vi = begin; vi < end; ++vi) {
       const VertId a = static_cast<VertId>(vi);
       if (mesh.is_dead_vertex(a)) {
@@ -152,8 +153,29 @@ CostModel::CostModel(const TetMesh& mesh, const SimplifyOptions& options)
         const double area = 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
         quadric_add_simplex_positions(q, n_, pts, 3, area * plane_scale * options.boundary_weight);
         if (k > 0 && field_per_area > 0.0) {
-          for (int c = 0; c < k; ++c) weights[c] = field_per_area * component_weight[c];
-          quadric_add_field_simplex(q, n_, pts, 3, weights);  // x area
+          // The field term of the face is the error against the linear interpolant of a tet
+          // through it (the first in a's chain), not the face's own interpolant: that one is
+          // constant along the face's normal, so a vertex off the face's plane (a curved or
+          // jittered boundary, a midpoint across a fold) would pay for, and take, a linear
+          // field's normal slope as error. With the tet's interpolant a linear field costs
+          // nothing anywhere. Weighted by the face's area (measure / volume cancels the tet's).
+          TetId through = kInvalid;
+          mesh.for_each_tet_of(a, [&](TetId t) {
+            const auto& tv = mesh.tets[t];
+            const auto has = [&](VertId x) { return tv[0] == x || tv[1] == x || tv[2] == x || tv[3] == x; };
+            if (through == kInvalid && has(face.x) && has(face.y)) through = t;
+          });
+          if (through != kInvalid) {
+            for (int j = 0; j < 4; ++j) std::copy_n(coordinates(mesh.tets[through][j]), n_, tet_pts + j * n_);
+            const glm::dvec3 t0(tet_pts[0], tet_pts[1], tet_pts[2]), t1(tet_pts[n_], tet_pts[n_ + 1], tet_pts[n_ + 2]),
+                t2(tet_pts[2 * n_], tet_pts[2 * n_ + 1], tet_pts[2 * n_ + 2]),
+                t3(tet_pts[3 * n_], tet_pts[3 * n_ + 1], tet_pts[3 * n_ + 2]);
+            const double volume = std::fabs(glm::dot(t1 - t0, glm::cross(t2 - t0, t3 - t0))) / 6.0;
+            if (volume > 0.0) {
+              for (int c = 0; c < k; ++c) weights[c] = field_per_area * area / volume * component_weight[c];
+              quadric_add_field_simplex(q, n_, tet_pts, 4, weights);  // x volume
+            }
+          }
         }
       }
       double fan_length = 0.0;
@@ -355,7 +377,7 @@ void CostModel::fields_at(const TetMesh& mesh, const CollapseCandidate& c, doubl
   }
   // The mesh's current field at p: at an endpoint its values, at the midpoint the mean of the two;
   // elsewhere linear in the tet of St(u) ∪ St(v) that contains p (the first one found whose
-  // barycentric coordinates are all >= 0, else the one whose smallest is largest, clamped onto it).
+  // barycentric coordinates are all >= 0, else the one whose smallest is largest).
   const double* fv = mesh.field_values.data() + static_cast<std::size_t>(c.v) * stride_;
   if (c.placement == kAtU) {
     std::copy_n(fu, stride_, out);
@@ -385,15 +407,11 @@ void CostModel::fields_at(const TetMesh& mesh, const CollapseCandidate& c, doubl
     mesh.for_each_tet_of(c.u, [&](TetId t) { if (has(t, c.v)) test(t); });
     mesh.for_each_tet_of(c.u, [&](TetId t) { if (!has(t, c.v)) test(t); });
     mesh.for_each_tet_of(c.v, [&](TetId t) { if (!has(t, c.u)) test(t); });
+    // Outside every tet (rare: the optimum lies near the edge) the nearest tet's interpolant is
+    // extended linearly rather than clamped onto the tet: a linear field stays exact.
     const double* corner[4] = {fu, fu, fu, fu};
-    if (best != kInvalid) {
-      double total = 0.0;
-      for (double& x : bary) total += (x = std::max(x, 0.0));
-      for (int i = 0; i < 4; ++i) {
-        bary[i] /= total;
-        corner[i] = mesh.field_values.data() + static_cast<std::size_t>(mesh.tets[best][i]) * stride_;
-      }
-    }
+    if (best != kInvalid)
+      for (int i = 0; i < 4; ++i) corner[i] = mesh.field_values.data() + static_cast<std::size_t>(mesh.tets[best][i]) * stride_;
     for (int k = 0; k < stride_; ++k)
       out[k] = bary[0] * corner[0][k] + bary[1] * corner[1][k] + bary[2] * corner[2][k] + bary[3] * corner[3][k];
   }

@@ -100,6 +100,14 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
       park(e.b, e.a);
       continue;
     }
+    // The edge was ranked by its cheapest placement; when that one is illegal and the legal one
+    // costs more than the next edge in the heap, the edge goes back with its true cost (as the
+    // parallel engine ranks by the chosen placement's cost). Collapsing it now cut the corners
+    // of boxes (a costly midpoint across a crease) while cheap collapses were still waiting.
+    if (cands[chosen].cost > e.cost && !heap.empty() && Entry{cands[chosen].cost, e.a, e.b, e.stamp} > heap.top()) {
+      heap.push({cands[chosen].cost, e.a, e.b, e.stamp});
+      continue;
+    }
     {
       const CollapseCandidate& c = cands[chosen];
       stencil.clear();
