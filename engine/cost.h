@@ -8,15 +8,17 @@
 //     the "vertical" distance), with w_c the component's field weight (SimplifyOptions::
 //     field_weights) times the tet's share of one sample (below);
 //   - for every incident boundary, interface or listed surface face, its plane quadric (position
-//     only) weighted by boundary_weight, and the same field term over the face's own interpolant,
-//     weighing kFeatureFieldWeight tets;
+//     only) weighted by boundary_weight, and the same field term over the interpolant of a tet
+//     through the face, weighing kFeatureFieldWeight tets (the face's own interpolant, constant
+//     along its normal, made a linear field cost something off the face's plane);
 //   - for every incident polyline edge, its line quadric (position only), weighted by
 //     polyline_weight.
 // After a collapse u <- v, Q_u += Q_v (the standard Garland–Heckbert accumulation).
 //
 // Why these terms (issue #11; LOX post 513k tets to 30%, parallel engine, field 0, RMS relative to
 // the range pooled over both directions, against VTK's vtkUnstructuredGridQuadricDecimation
-// 0.0014 at the same vertex count):
+// 0.0014 at the same vertex count; the step-by-step numbers below were measured while building
+// the model, on the engine before the rewritten rounds; README.md has the final ones):
 //   - Vertical, not orthogonal, distance. The 3-flat of a tet in R^(3+k) measured orthogonally
 //     gives (f - L(x))^2 / (1 + |grad f|^2): in normalised units the gradient of a boundary layer
 //     is in the hundreds, so the steepest parts of a field, where the error is made, cost 1e-4
@@ -31,7 +33,7 @@
 //     2%). All weights are multiplied by the mean tet volume, so costs keep the units of before
 //     (max_cost).
 //   - The feature field term. A boundary vertex has about half the tets of an interior one, so its
-//     field error weighed half; kFeatureFieldWeight = 2 tets per face (a boundary vertex has about 6
+//     field error weighed half; kFeatureFieldWeight = 3 tets per face (a boundary vertex has about 6
 //     faces and 12 tets where an interior one has 24 tets) gives it back. LOX 30%: max error
 //     0.0217 -> 0.0025, RMS 0.00031 -> 0.00024; weights 1..4 within 3%.
 //   - The feature quadrics measure position only (quadric_add_simplex_positions): built in
