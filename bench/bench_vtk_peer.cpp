@@ -5,6 +5,8 @@
 //   build-vtk/bench/bench_vtk_peer --dataset cube-sphere --tets 1000000 --ratio 0.1 --repeat 3
 //       --json bench/vtk_peer.jsonl                                            (one command line)
 //   build-vtk/bench/bench_vtk_peer --input ../shared/data/volume/lox_post_tets.mesh.gz --ratio 0.02
+//   build-vtk/bench/bench_vtk_peer --input ../shared/data/volume/Bucky.raw --ratio 0.1   (32^3 bytes,
+//       6 tets per voxel: raw_volume.h)
 //
 // Matching the targets. topotet's target is a vertex count (ratio * input vertices); VTK's
 // TargetReduction is a fraction of the *tets*. We run topotet's reference (sequential) engine
@@ -49,6 +51,7 @@
 #include <vtkUnstructuredGridQuadricDecimation.h>
 
 #include "material_transfer.h"
+#include "raw_volume.h"
 #include "topotet/generate.h"
 #include "topotet/io.h"
 #include "topotet/metrics/field_error.h"
@@ -281,7 +284,7 @@ json to_json(const Measured& m, const EngineRuns& runs, double vtk_seconds) {
 
 void usage() {
   std::fprintf(stderr,
-               "usage: bench_vtk_peer (--input FILE | --dataset cube-sphere|slab|linked-tori --tets N [--seed S])\n"
+               "usage: bench_vtk_peer (--input FILE|VOLUME.raw | --dataset cube-sphere|slab|linked-tori --tets N [--seed S])\n"
                "       [--ratio R] [--repeat K] [--vtk-repeat K] [--threads T] [--match vertices|tets]\n"
                "       [--first-field-only] [--vtk-scale auto|S] [--feature-angle A] [--tolerance-rel H] [--json FILE]\n");
 }
@@ -326,7 +329,8 @@ int main(int argc, char** argv) {
   std::string name;
   try {
     if (!a.input.empty()) {
-      input = read_mesh(a.input);
+      // A raw byte volume (the Bucky ball) becomes a 6-tets-per-voxel mesh (raw_volume.h).
+      input = bench::is_raw_volume(a.input) ? bench::read_raw_volume(a.input) : read_mesh(a.input);
       name = std::filesystem::path(a.input).filename().string();
     } else {
       GenerateOptions g;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <cstdlib>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -499,6 +500,7 @@ int run_simplify_job(SimplifyJob& job) {
                       {"tolerance", job.options.tolerance},
                       {"tolerance_rel", job.options.tolerance_rel},
                       {"feature_angle", job.options.feature_angle},
+                      {"field_weights", job.options.field_weights},
                       {"verify", verify},
                       {"metrics", job.metrics}};
       j["peak_rss_bytes"] = peak_bytes;
@@ -539,6 +541,7 @@ struct SimplifyArgs {
   bool no_verify = false;
   bool no_metrics = false;
   std::vector<double> levels;
+  std::vector<std::string> field_weights;  // NAME=W, checked by field_weight_syntax
   bool quiet = false;
   std::string progress = "auto";
   double progress_interval = 10.0;
@@ -547,6 +550,19 @@ struct SimplifyArgs {
   bool msh22 = false;
   std::string format;
 };
+
+// "NAME=W" with a non-empty NAME and W a finite number >= 0 (split at the last '=': a field name
+// may contain one). Returns the CLI11 validator's message, empty when the value is fine.
+std::string field_weight_syntax(const std::string& value, std::string* name = nullptr, double* weight = nullptr) {
+  const std::size_t eq = value.rfind('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == value.size()) return "expected NAME=W, got '" + value + "'";
+  char* end = nullptr;
+  const double w = std::strtod(value.c_str() + eq + 1, &end);
+  if (*end != '\0' || !std::isfinite(w) || w < 0.0) return "the weight in '" + value + "' must be a number >= 0";
+  if (name) *name = value.substr(0, eq);
+  if (weight) *weight = w;
+  return {};
+}
 
 int run_simplify(const SimplifyArgs& args) {
   SimplifyJob job;
@@ -573,6 +589,12 @@ int run_simplify(const SimplifyArgs& args) {
   job.options.engine = args.sequential ? Engine::kSequential : Engine::kParallel;
   job.options.num_threads = args.threads;
   job.options.round_fraction = args.round_fraction;
+  for (const std::string& entry : args.field_weights) {
+    std::string name;
+    double weight = 1.0;
+    field_weight_syntax(entry, &name, &weight);  // checked when parsing
+    job.options.field_weights[name] = weight;    // the last one given wins
+  }
   job.output_path = args.output;
   job.binary = args.binary;
   job.msh22 = args.msh22;
@@ -633,6 +655,13 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
                   "Parallel engine: the cheapest fraction of the proposals that compete in one round")
       ->check(number_in(0.0, 1.0, true))
       ->capture_default_str();
+  cmd->add_option("--field-weight", args->field_weights,
+                  "Weight W of field NAME in the cost (repeatable; fields not given weigh 1; 0 = carried but not "
+                  "preserved); errors are relative to each field's range")
+      ->type_name("NAME=W")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->check([](const std::string& value) { return field_weight_syntax(value); });
   cmd->add_option("--report", args->report, "Write the report as JSON to this file");
   cmd->add_flag("--no-verify", args->no_verify, "Skip the topology checker (quality, field error and distance are still measured)");
   cmd->add_flag("--no-metrics", args->no_metrics,

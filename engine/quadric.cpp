@@ -65,39 +65,109 @@ void quadric_add_simplex_positions(double* q, int n, const double* points, int c
   b[n] += b3[3];
 }
 
-void quadric_add_tet_one_field(double* q, const double* points, double weight) {
-  constexpr int n = 4;
+namespace {
+
+template <int kN, int kCount>
+double add_field_simplex(double* q, int n_runtime, const double* points, const double* weights) {
+  constexpr int count = kCount;
+  const int n = quadric_detail::dim<kN>(n_runtime);
+  const int k = n - 3;
   const double* p0 = points;
-  double e[3][3], df[3];
-  for (int i = 0; i < 3; ++i) {
+  // Gradients g_c of the interpolants: g_c . e_i = df_i for the edge vectors e_i = p_i - p_0.
+  double e[3][3];
+  for (int i = 0; i + 1 < count; ++i)
     for (int d = 0; d < 3; ++d) e[i][d] = points[(i + 1) * n + d] - p0[d];
-    df[i] = points[(i + 1) * n + 3] - p0[3];
+  constexpr int kK = kN > 0 ? kN - 3 : kMaxQuadricDim - 3;
+  double grad[kK > 0 ? kK : 1][3];
+  double measure = 0.0;
+  if constexpr (count == 4) {
+    // Cramer's rule: g = (df0 (e1 x e2) + df1 (e2 x e0) + df2 (e0 x e1)) / det, det = 6 volume.
+    const auto cross = [](const double* a, const double* b, double* out) {
+      out[0] = a[1] * b[2] - a[2] * b[1];
+      out[1] = a[2] * b[0] - a[0] * b[2];
+      out[2] = a[0] * b[1] - a[1] * b[0];
+    };
+    double c12[3], c20[3], c01[3];
+    cross(e[1], e[2], c12);
+    cross(e[2], e[0], c20);
+    cross(e[0], e[1], c01);
+    const double det = e[0][0] * c12[0] + e[0][1] * c12[1] + e[0][2] * c12[2];
+    if (det == 0.0) return 0.0;
+    measure = std::fabs(det) / 6.0;
+    const double inv = 1.0 / det;
+    for (int c = 0; c < k; ++c) {
+      const double d0 = points[n + 3 + c] - p0[3 + c], d1 = points[2 * n + 3 + c] - p0[3 + c],
+                   d2 = points[3 * n + 3 + c] - p0[3 + c];
+      for (int d = 0; d < 3; ++d) grad[c][d] = (d0 * c12[d] + d1 * c20[d] + d2 * c01[d]) * inv;
+    }
+  } else {
+    static_assert(count == 3);
+    // In the plane: g = a e0 + b e1 with the Gram system [e0.e0 e0.e1; e0.e1 e1.e1] (a, b) = df;
+    // its determinant is |e0 x e1|^2 = (2 area)^2.
+    const double g00 = e[0][0] * e[0][0] + e[0][1] * e[0][1] + e[0][2] * e[0][2];
+    const double g01 = e[0][0] * e[1][0] + e[0][1] * e[1][1] + e[0][2] * e[1][2];
+    const double g11 = e[1][0] * e[1][0] + e[1][1] * e[1][1] + e[1][2] * e[1][2];
+    const double det = g00 * g11 - g01 * g01;
+    if (!(det > 1e-24 * g00 * g11)) return 0.0;  // collinear corners: no plane
+    measure = 0.5 * std::sqrt(det);
+    const double inv = 1.0 / det;
+    for (int c = 0; c < k; ++c) {
+      const double d0 = points[n + 3 + c] - p0[3 + c], d1 = points[2 * n + 3 + c] - p0[3 + c];
+      const double a = (g11 * d0 - g01 * d1) * inv, b = (g00 * d1 - g01 * d0) * inv;
+      for (int d = 0; d < 3; ++d) grad[c][d] = a * e[0][d] + b * e[1][d];
+    }
   }
-  auto cross = [](const double* a, const double* b, double* out) {
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-  };
-  double c23[3], c31[3], c12[3];
-  cross(e[1], e[2], c23);
-  cross(e[2], e[0], c31);
-  cross(e[0], e[1], c12);
-  const double det = e[0][0] * c23[0] + e[0][1] * c23[1] + e[0][2] * c23[2];
-  if (det == 0.0) return;
-  // Gradient of the linear interpolant (Cramer's rule: g . e_i = df_i).
-  double normal[4];
-  for (int d = 0; d < 3; ++d) normal[d] = (df[0] * c23[d] + df[1] * c31[d] + df[2] * c12[d]) / det;
-  normal[3] = -1.0;
-  const double norm2 = normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2] + 1.0;
-  const double s = weight / norm2;
-  const double offset = normal[0] * p0[0] + normal[1] * p0[1] + normal[2] * p0[2] + normal[3] * p0[3];
-  if (!std::isfinite(s * offset * offset)) return;
-  // A = s n n^T, b = -A p0 = -s (n . p0) n, c = s (n . p0)^2.
-  int k = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = i; j < n; ++j) q[k++] += s * normal[i] * normal[j];
-  for (int i = 0; i < n; ++i) q[k++] -= s * offset * normal[i];
-  q[k] += s * offset * offset;
+  if (k <= 0) return measure;
+  // Component c contributes w (g.x - f - o)^2 with o = g.p0 - f0: the rank-1 form of the normal
+  // (g, -e_c) with A = w nu nu^T, b = -w o nu, c = w o^2 (w = measure x weight). Summed:
+  double w[kK > 0 ? kK : 1], offset[kK > 0 ? kK : 1];
+  double aa[6] = {}, bp[3] = {}, cc = 0.0;
+  for (int c = 0; c < k; ++c) {
+    const double* g = grad[c];
+    w[c] = measure * weights[c];
+    offset[c] = g[0] * p0[0] + g[1] * p0[1] + g[2] * p0[2] - p0[3 + c];
+    if (!std::isfinite(w[c] * offset[c] * offset[c] * (1.0 + g[0] * g[0] + g[1] * g[1] + g[2] * g[2]))) return 0.0;
+    const double wg[3] = {w[c] * g[0], w[c] * g[1], w[c] * g[2]};
+    aa[0] += wg[0] * g[0];
+    aa[1] += wg[0] * g[1];
+    aa[2] += wg[0] * g[2];
+    aa[3] += wg[1] * g[1];
+    aa[4] += wg[1] * g[2];
+    aa[5] += wg[2] * g[2];
+    for (int i = 0; i < 3; ++i) bp[i] -= offset[c] * wg[i];
+    cc += w[c] * offset[c] * offset[c];
+  }
+  q[tri_index(n, 0, 0)] += aa[0];
+  q[tri_index(n, 0, 1)] += aa[1];
+  q[tri_index(n, 0, 2)] += aa[2];
+  q[tri_index(n, 1, 1)] += aa[3];
+  q[tri_index(n, 1, 2)] += aa[4];
+  q[tri_index(n, 2, 2)] += aa[5];
+  for (int i = 0; i < 3; ++i)
+    for (int c = 0; c < k; ++c) q[tri_index(n, i, 3 + c)] -= w[c] * grad[c][i];
+  for (int c = 0; c < k; ++c) q[tri_index(n, 3 + c, 3 + c)] += w[c];
+  double* b = q + n * (n + 1) / 2;
+  for (int i = 0; i < 3; ++i) b[i] += bp[i];
+  for (int c = 0; c < k; ++c) b[3 + c] += w[c] * offset[c];
+  b[n] += cc;
+  return measure;
+}
+
+}  // namespace
+
+double quadric_add_field_simplex(double* q, int n, const double* points, int count, const double* weights) {
+  // Instantiated for the common dimensions (one to four field components), where the loops unroll.
+  if (count == 4) {
+    switch (n) {
+      case 4: return add_field_simplex<4, 4>(q, n, points, weights);
+      case 5: return add_field_simplex<5, 4>(q, n, points, weights);
+      case 6: return add_field_simplex<6, 4>(q, n, points, weights);
+      case 7: return add_field_simplex<7, 4>(q, n, points, weights);
+      default: return add_field_simplex<0, 4>(q, n, points, weights);
+    }
+  }
+  if (count == 3) return add_field_simplex<0, 3>(q, n, points, weights);
+  return 0.0;
 }
 
 void quadric_add(double* q, const double* other, int n) { quadric_detail::add<0>(q, other, n); }

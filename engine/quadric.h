@@ -30,10 +30,16 @@ void quadric_add_simplex(double* q, int n, const double* points, int count, doub
 // (weighted by the feature penalty), starving the interior of vertices.
 void quadric_add_simplex_positions(double* q, int n, const double* points, int count, double weight);
 
-// q += weight * squared distance to the 3-flat of a tet in R^4 (one field): the graph of the linear
-// interpolant f(x) = f0 + g.(x - x0), whose normal is (g, -1). Equal to quadric_add_simplex with
-// count 4 and n 4, at a third of the cost (no Gram-Schmidt); does nothing for a flat tet.
-void quadric_add_tet_one_field(double* q, const double* points, double weight);
+// q += sum over the field components c = 0 .. n-4 of m * weights[c] * (x[3 + c] - L_c(x[0..3)))^2,
+// where L_c is the linear interpolant of component c over `count` points (rows of `points`, n
+// doubles each) and m their measure: a tet (count 4, m its volume), or a triangle (count 3, m its
+// area; L_c then varies only in the triangle's plane and is constant along its normal). Returns m
+// (0 for a flat simplex, which adds nothing). This is the "vertical" distance to the graph of the
+// interpolant: the error of the field value at a position, which is what a field error measures.
+// The orthogonal distance of quadric_add_simplex is that error divided by sqrt(1 + |grad f|^2),
+// which all but ignores the steep regions of a field (cost.h says what that did). One rank-1 term
+// per component, sharing the gradient computation.
+double quadric_add_field_simplex(double* q, int n, const double* points, int count, const double* weights);
 
 void quadric_add(double* q, const double* other, int n);
 

@@ -1,5 +1,6 @@
 // topotet::simplify: checks the options, picks an engine, runs it inside the caller's thread
 // budget, compacts the result and fills the report. Never throws.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -53,6 +54,17 @@ std::string check_options(const SimplifyOptions& o) {
   if (o.num_threads < 0) return "num_threads must be >= 0";
   if (!(o.round_fraction > 0.0 && o.round_fraction <= 1.0)) return "round_fraction must be in (0, 1]";
   if (!(o.feature_angle >= 0.0 && o.feature_angle <= 180.0)) return "feature_angle must be in [0, 180] degrees";
+  for (const auto& [name, weight] : o.field_weights)
+    if (!(weight >= 0.0) || !std::isfinite(weight)) return "field_weights: the weight of '" + name + "' must be finite and >= 0";
+  return {};
+}
+
+std::string check_field_names(const SimplifyOptions& o, const TetMesh& mesh) {
+  for (const auto& entry : o.field_weights) {
+    const std::string& name = entry.first;
+    if (std::none_of(mesh.fields.begin(), mesh.fields.end(), [&](const FieldInfo& f) { return f.name == name; }))
+      return "field_weights: the mesh has no field named '" + name + "'";
+  }
   return {};
 }
 
@@ -107,6 +119,7 @@ Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<
   bool map_done = false;
   try {
     report.message = check_options(options);
+    if (report.message.empty()) report.message = check_field_names(options, mesh);
     if (!report.message.empty()) {
       report.status = Status::kInvalidInput;
       if (vertex_map != nullptr) resolve_vertex_map(mesh, input_vertex_count, {}, false, *vertex_map);

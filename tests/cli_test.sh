@@ -140,6 +140,10 @@ expect_error truncated_simplify -- "$topotet" simplify truncated.mesh -o never.m
 expect_error missing_file -- "$topotet" simplify no_such_file.mesh -o never.mesh
 expect_error bad_option -- "$topotet" simplify in.mesh -o never.mesh --no-such-option
 expect_error bad_ratio -- "$topotet" simplify in.mesh -o never.mesh --ratio 7
+expect_error bad_field_weight_name -- "$topotet" simplify in.mesh -o never.mesh --field-weight no_such_field=2
+expect_error bad_field_weight_syntax -- "$topotet" simplify in.mesh -o never.mesh --field-weight f
+expect 0 simplify_field_weight -- "$topotet" simplify in.mesh -o fw.mesh --ratio 0.3 --no-verify --field-weight f=0.5 --report fw.json
+if tr -d ' \n' <fw.json | grep -q '"field_weights":{"f":0.5}'; then pass "the report lists the field weights"; else fail "no field_weights in the report"; fi
 expect_error bad_extension -- "$topotet" convert in.mesh never.xyz
 expect_error bad_family -- "$topotet" generate no-such-family --tets 20000 -o never.mesh
 expect_error no_command -- "$topotet"

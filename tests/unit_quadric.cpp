@@ -2,8 +2,12 @@
 // the minimisers the cost model places vertices with.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 
 #include "quadric.h"
 
@@ -88,27 +92,76 @@ TEST(Quadric, FullMinimiserFindsTheCommonPointOfThreePlanes) {
   EXPECT_FALSE(quadric_minimize(flat, 3, y));
 }
 
-TEST(Quadric, OneFieldTetQuadricEqualsTheGeneralOne) {
-  // The closed form (normal (grad f, -1)) against Gram-Schmidt, on random and on thin tets.
+TEST(Quadric, FieldTetQuadricIsTheOrthogonalOneTimesOnePlusGradientSquared) {
+  // The vertical distance (f - L(x))^2 against the distance to the 3-flat in R^4 computed by
+  // Gram-Schmidt: the same form scaled by |normal|^2 = 1 + |grad f|^2, on random and thin tets
+  // (not slivers: there Gram-Schmidt loses the digits that the factor 1 + |grad f|^2 amplifies).
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1, 1);
   for (int trial = 0; trial < 200; ++trial) {
     double pts[4 * kN];
     for (double& x : pts) x = u(rng);
     if (trial % 4 == 0)
-      for (int d = 0; d < 3; ++d) pts[3 * kN + d] = pts[d] + 1e-4 * u(rng);  // a sliver
-    double general[quadric_size(kN)] = {}, closed[quadric_size(kN)] = {};
-    quadric_add_simplex(general, kN, pts, 4, 0.7);
-    quadric_add_tet_one_field(closed, pts, 0.7);
+      for (int d = 0; d < 3; ++d) pts[3 * kN + d] = pts[d] + 1e-2 * u(rng);  // a thin tet
+    double orthogonal[quadric_size(kN)] = {}, vertical[quadric_size(kN)] = {};
+    const double weight = 0.7;
+    const double volume = quadric_add_field_simplex(vertical, kN, pts, 4, &weight);
+    const glm::dvec3 p0(pts[0], pts[1], pts[2]), p1(pts[kN], pts[kN + 1], pts[kN + 2]),
+        p2(pts[2 * kN], pts[2 * kN + 1], pts[2 * kN + 2]), p3(pts[3 * kN], pts[3 * kN + 1], pts[3 * kN + 2]);
+    EXPECT_NEAR(volume, std::fabs(glm::dot(p1 - p0, glm::cross(p2 - p0, p3 - p0))) / 6.0, 1e-15);
+    quadric_add_simplex(orthogonal, kN, pts, 4, weight * volume);
+    // grad f from the vertical quadric itself: A(i, 3) = -w g_i, w = volume x weight.
+    double g2 = 0.0;
+    for (int i = 0; i < 3; ++i) g2 += std::pow(vertical[quadric_detail::tri_index(kN, i, 3)] / (weight * volume), 2);
     for (int i = 0; i < quadric_size(kN); ++i)
-      EXPECT_NEAR(closed[i], general[i], 1e-9 * (1.0 + std::fabs(general[i]))) << "trial " << trial << " entry " << i;
+      EXPECT_NEAR(vertical[i], orthogonal[i] * (1.0 + g2), 1e-7 * (1.0 + std::fabs(vertical[i])))
+          << "trial " << trial << " entry " << i;
   }
 }
 
-TEST(Quadric, FlatTetAddsNothingInClosedForm) {
-  const double pts[4 * kN] = {0, 0, 0, 1, 1, 0, 0, 2, 0, 1, 0, 3, 1, 1, 0, 4};  // all in z = 0
+TEST(Quadric, FieldQuadricMeasuresEachComponentAgainstItsInterpolant) {
+  // Three components on the unit corner tet (volume 1/6), weighted 1, 2 and 0: f0 = x,
+  // f1 = 2y - z + 1, f2 = anything.
+  constexpr int n = 6;
+  const double corners[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  double pts[4 * n];
+  for (int i = 0; i < 4; ++i) {
+    const double *p = corners[i];
+    const double row[n] = {p[0], p[1], p[2], p[0], 2 * p[1] - p[2] + 1, 7.0 * i};
+    std::copy_n(row, n, pts + i * n);
+  }
+  const double weights[3] = {1.0, 2.0, 0.0};
+  double q[quadric_size(n)] = {};
+  EXPECT_DOUBLE_EQ(quadric_add_field_simplex(q, n, pts, 4, weights), 1.0 / 6.0);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-2, 2);
+  for (int i = 0; i < 50; ++i) {
+    double x[n];
+    for (double& c : x) c = u(rng);
+    const double e0 = x[3] - x[0], e1 = x[4] - (2 * x[1] - x[2] + 1);
+    EXPECT_NEAR(quadric_eval(q, n, x), (e0 * e0 + 2.0 * e1 * e1) / 6.0, 1e-12);
+  }
+}
+
+TEST(Quadric, FieldTriangleQuadricIsConstantAlongTheNormal) {
+  // Triangle in z = 0 (area 1/2) with f = 3x - y: the interpolant extends unchanged along z.
+  const double pts[3 * kN] = {0, 0, 0, 0, 1, 0, 0, 3, 0, 1, 0, -1};
+  const double weight = 1.0;
   double q[quadric_size(kN)] = {};
-  quadric_add_tet_one_field(q, pts, 1.0);
+  EXPECT_DOUBLE_EQ(quadric_add_field_simplex(q, kN, pts, 3, &weight), 0.5);
+  const double on[kN] = {0.2, 0.7, 5.0, 3 * 0.2 - 0.7};
+  const double off[kN] = {0.2, 0.7, -3.0, 3 * 0.2 - 0.7 + 0.4};
+  EXPECT_NEAR(quadric_eval(q, kN, on), 0.0, 1e-12);
+  EXPECT_NEAR(quadric_eval(q, kN, off), 0.5 * 0.4 * 0.4, 1e-12);
+}
+
+TEST(Quadric, FlatSimplicesAddNothingToTheFieldQuadric) {
+  const double tet[4 * kN] = {0, 0, 0, 1, 1, 0, 0, 2, 0, 1, 0, 3, 1, 1, 0, 4};  // all in z = 0
+  const double line[3 * kN] = {0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3};            // collinear
+  const double weight = 1.0;
+  double q[quadric_size(kN)] = {};
+  EXPECT_EQ(quadric_add_field_simplex(q, kN, tet, 4, &weight), 0.0);
+  EXPECT_EQ(quadric_add_field_simplex(q, kN, line, 3, &weight), 0.0);
   for (double x : q) EXPECT_EQ(x, 0.0);
 }
 

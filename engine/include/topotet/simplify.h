@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -61,8 +62,9 @@ struct SimplifyOptions {
   // target_vertices if non-zero (it wins over the ratio).
   double target_vertex_ratio = 0.25;
   std::uint64_t target_vertices = 0;
-  // Stop when the cheapest candidate costs more than this (quadric error, in units of the bounding
-  // box diagonal squared); 0 = no limit.
+  // Stop when the cheapest candidate costs more than this (quadric error in normalised units: the
+  // bounding box diagonal is 1, every field component spans [0, 1], and each input tet the
+  // collapse affects counts as a tet of the mean volume; engine/cost.h); 0 = no limit.
   double max_cost = 0.0;
   // Reject collapses whose new star would have a tet below min(min_quality, worst of the old star)
   // (mean ratio, 1 = regular tet).
@@ -70,6 +72,18 @@ struct SimplifyOptions {
   // Weight of boundary/surface (plane) and polyline (line) quadrics relative to tet quadrics.
   double boundary_weight = 100.0;
   double polyline_weight = 100.0;
+  // Weight of each field in the cost, by name; a field not listed weighs 1. The cost adds up, over
+  // every component of every field, weight x (error relative to the component's range)^2 at the
+  // input vertices the collapse affects (engine/cost.h), so by default every component counts
+  // alike whatever its units. With several fields the vertices are shared: raise a field's weight
+  // to keep it closer at the others' expense. 0: the field is carried along (interpolated at new
+  // vertices) but does not steer the collapses. Weights must be finite and >= 0 and every name a
+  // field of the mesh, else the call returns kInvalidInput. Scaling by range, not by standard
+  // deviation or not at all: the cost then adds up exactly the errors the reports print (relative
+  // to the range); unscaled, the balance would follow the fields' units; by standard deviation it
+  // follows their distributions, and moves vertices from the geometry to fields with a few extreme
+  // values (README.md, "Field accuracy", has the measurements).
+  std::map<std::string, double> field_weights;
   // Geometric tolerance (like MMG's -hausd): a collapse is refused (reason "tolerance") when the
   // boundary, interface, listed surfaces or polylines around the moved vertex would leave a
   // distance H of the ORIGINAL ones of the same label (ref and material pair). H = tolerance (mesh
