@@ -159,7 +159,9 @@ SurfaceReference::SurfaceReference(SurfaceSoup soup) : soup_(std::move(soup)), e
   for (std::uint32_t s = 0; s < soup_.segments.size(); ++s)
     e.primitives[soup_.face_labels + soup_.segment_label[s]].push_back(s);
 
-  e.device = rtcNewDevice(nullptr);
+  // One builder thread in the TSan build (parallel::kStdThreads): Embree's own TBB workers are
+  // invisible to TSan there. Elsewhere Embree builds in the caller's task arena.
+  e.device = rtcNewDevice(parallel::kStdThreads ? "threads=1" : nullptr);
   if (e.device == nullptr) throw std::runtime_error("Embree: cannot create a device");
   e.scene = rtcNewScene(e.device);
   e.segment_data.reserve(soup_.polyline_labels);  // no reallocation: Embree keeps pointers

@@ -31,6 +31,15 @@
 
 namespace topotet::parallel {
 
+// True in the ThreadSanitizer build. Libraries that start their own TBB workers (Embree's BVH
+// builder) must then run single-threaded, or TSan reports their uninstrumented synchronisation as
+// races inside them.
+#ifdef TOPOTET_STD_THREADS
+inline constexpr bool kStdThreads = true;
+#else
+inline constexpr bool kStdThreads = false;
+#endif
+
 #ifndef TOPOTET_STD_THREADS
 
 // Calls body(begin, end) on disjoint sub-ranges of [begin, end) that cover it.
