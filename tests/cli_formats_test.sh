@@ -5,30 +5,15 @@
 # small (well under a second each).
 #   usage: bash tests/cli_formats_test.sh path/to/topotet
 set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 
 topotet=$(realpath "${1:?usage: cli_formats_test.sh path/to/topotet}")
 work=$(mktemp -d "${TMPDIR:-/tmp}/topotet_cli_formats.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); echo "ok      $1"; }
-fail() { failed=$((failed + 1)); echo "FAILED  $1"; }
-
-# expect CODE NAME -- COMMAND...: runs COMMAND (stdout+stderr to NAME.out/.err), checks the code.
-expect() {
-  local want=$1 name=$2
-  shift 3
-  local got=0
-  "$@" >"$name.out" 2>"$name.err" || got=$?
-  if [[ $got == "$want" ]]; then
-    pass "$name (exit $got)"
-  else
-    fail "$name: exit $got, expected $want"
-    sed 's/^/        /' "$name.out" "$name.err" | tail -n 20
-  fi
-}
+# pass, fail, expect and the counters.
+source "$here/cli_harness.sh"
 
 # expect_error NAME PATTERN -- COMMAND...: exit 2, one 'topotet: error:' line matching PATTERN.
 expect_error() {
