@@ -454,7 +454,13 @@ topotet_status topotet_mesh_copy_vertex_map(const topotet_mesh* mesh, topotet_ou
   return TOPOTET_OK;
 }
 
-int64_t topotet_mesh_triangle_count(const topotet_mesh* mesh) {
+}  // extern "C"
+
+namespace {
+// The count of the listed triangles or segments (`items` picks which), recovered on first use:
+// 0 for a NULL mesh, -1 (and the error set) when out of memory.
+template <class Items>
+int64_t substructure_count(const topotet_mesh* mesh, Items items) {
   if (mesh == nullptr) return 0;
   try {
     mesh->recover_substructures();
@@ -462,18 +468,18 @@ int64_t topotet_mesh_triangle_count(const topotet_mesh* mesh) {
     fail(TOPOTET_OUT_OF_MEMORY, "out of memory");
     return -1;
   }
-  return static_cast<std::int64_t>(mesh->triangles.size());
+  return static_cast<std::int64_t>(items(*mesh).size());
+}
+}  // namespace
+
+extern "C" {
+
+int64_t topotet_mesh_triangle_count(const topotet_mesh* mesh) {
+  return substructure_count(mesh, [](const topotet_mesh& m) -> const auto& { return m.triangles; });
 }
 
 int64_t topotet_mesh_segment_count(const topotet_mesh* mesh) {
-  if (mesh == nullptr) return 0;
-  try {
-    mesh->recover_substructures();
-  } catch (const std::bad_alloc&) {
-    fail(TOPOTET_OUT_OF_MEMORY, "out of memory");
-    return -1;
-  }
-  return static_cast<std::int64_t>(mesh->segments.size());
+  return substructure_count(mesh, [](const topotet_mesh& m) -> const auto& { return m.segments; });
 }
 
 
