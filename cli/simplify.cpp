@@ -7,6 +7,7 @@
 // The outputs are measured after the last level so that the peak memory reported is the one of
 // reading, building and simplifying, not of the checker. Each measurement is timed on its own, so
 // the report shows what the measurements cost next to the simplification.
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -23,6 +24,7 @@
 #include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
 #include "topotet/metrics/topology.h"
+#include "topotet/round_log.h"
 #include "topotet/threads.h"
 
 namespace topotet::cli {
@@ -31,10 +33,12 @@ namespace {
 // Inputs above this use the checker's fast mode (Euler characteristics and components only).
 constexpr std::size_t kFastCheckTets = 2'000'000;
 
-// Indexed like CollapseReason in engine/collapse.h (ok, link_K, link_Ktilde, pinned, inversion,
-// quality, tolerance); the JSON keys are the snake_case forms.
-constexpr const char* kReasonNames[7] = {"ok", "link_K", "link_Ktilde", "pinned", "inversion", "quality", "tolerance"};
-constexpr const char* kReasonKeys[7] = {"ok", "link_k", "link_ktilde", "pinned", "inversion", "quality", "tolerance"};
+// The JSON key of a reject reason: to_string's name in snake_case ("link_K" -> "link_k").
+std::string reason_key(RejectReason reason) {
+  std::string key = to_string(reason);
+  for (char& c : key) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return key;
+}
 constexpr const char* kPhaseKeys[4] = {"evaluate", "select", "apply", "compact"};
 
 constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
@@ -58,6 +62,7 @@ struct LevelResult {
   bool topology_ok = true;
   std::string differences;
   metrics::TopologyReport topology;
+  std::vector<RoundStats> rounds;  // filled at -vv only (SimplifyOptions::round_log)
 };
 
 std::size_t complex_count(const metrics::TopologyReport& r) {
@@ -89,7 +94,7 @@ Json field_error_json(const FieldError& f) {
 Json level_json(const LevelResult& l) {
   const Report& r = l.report;
   Json rejected = Json::object();
-  for (int i = 1; i < 7; ++i) rejected[kReasonKeys[i]] = r.rejected[static_cast<std::size_t>(i)];
+  for (RejectReason reason : kRejectReasons) rejected[reason_key(reason)] = r.rejected_by(reason);
   Json phases = Json::object();
   for (int i = 0; i < 4; ++i) phases[kPhaseKeys[i]] = r.phase_seconds[static_cast<std::size_t>(i)];
   Json j;
@@ -138,9 +143,9 @@ Json level_json(const LevelResult& l) {
 
 std::string rejected_text(const Report& r) {
   std::string s;
-  for (int i = 1; i < 7; ++i) {
+  for (RejectReason reason : kRejectReasons) {
     if (!s.empty()) s += ", ";
-    s += std::string(kReasonNames[i]) + " " + format_count(r.rejected[static_cast<std::size_t>(i)]);
+    s += std::string(to_string(reason)) + " " + format_count(r.rejected_by(reason));
   }
   return s;
 }
@@ -188,13 +193,13 @@ std::string phases_text(const Report& r) {
 }
 
 // -vv: one line per parallel round (RoundStats), on the report stream.
-void print_rounds(const Report& r) {
+void print_rounds(const std::vector<RoundStats>& rounds) {
   std::FILE* out = report_stream();
-  if (r.round_stats.empty()) return;
+  if (rounds.empty()) return;
   std::fprintf(out, "%-10s%6s %10s %10s %9s %9s %9s %9s %9s %9s\n", "rounds", "round", "evaluated", "candidates",
                "winners", "collapses", "evaluate", "select", "apply", "serial");
-  for (std::size_t i = 0; i < r.round_stats.size(); ++i) {
-    const RoundStats& st = r.round_stats[i];
+  for (std::size_t i = 0; i < rounds.size(); ++i) {
+    const RoundStats& st = rounds[i];
     std::fprintf(out, "%-10s%6zu %10s %10s %9s %9s %9s %9s %9s %9s\n", "", i + 1, format_count(st.evaluated).c_str(),
                  format_count(st.candidates).c_str(), format_count(st.winners).c_str(),
                  format_count(st.collapses).c_str(), format_seconds(st.phase_seconds[0]).c_str(),
@@ -340,6 +345,7 @@ int run_simplify_job(SimplifyJob& job) {
         return true;
       };
       log_stage("simplify" + (level > 0 ? " level " + format_ratio(level) : std::string()) + ": start");
+      if (verbosity() >= Verbosity::kDebug) options.round_log = &result.rounds;
       result.report = simplify(mesh, options);
       bar.finish();
       log_stage("simplify: " + format_count(result.report.collapses) + " collapses in " +
@@ -428,7 +434,7 @@ int run_simplify_job(SimplifyJob& job) {
                         " evaluations/collapse, " + format_count(r.legality_checks) + " legality checks");
         row("rejected", rejected_text(r));
         if (verbosity() >= Verbosity::kVerbose) row("phases", phases_text(r));
-        if (verbosity() >= Verbosity::kDebug) print_rounds(r);
+        if (verbosity() >= Verbosity::kDebug) print_rounds(last.rounds);
         if (r.status != Status::kOk) row("status", std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message));
       } else {
         const auto angle = [&](const QualityStats& q, const SampleStats QualityStats::*which, double scale) {
@@ -492,7 +498,7 @@ int run_simplify_job(SimplifyJob& job) {
       if (job.levels.empty() && r.tolerance > 0)
         row("tolerance", format_number(r.tolerance) + (job.options.tolerance > 0 ? "" : " (" + format_number(100.0 * job.options.tolerance_rel) + "% of the diagonal)") +
                              (r.tolerance_limited ? ", may have stopped the run before the target (it refused " +
-                                                        format_count(r.rejected[6]) + " collapses)"
+                                                        format_count(r.rejected_by(RejectReason::kTolerance)) + " collapses)"
                                                   : "") +
                              " (Embree scene of the input's surfaces built in " +
                              format_seconds(r.tolerance_setup_seconds) + ")");
