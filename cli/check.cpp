@@ -33,14 +33,14 @@ int run_check(const CheckArgs& args) {
   const MeshData before = read_input(args.before, &read_before);
   const MeshData after = read_input(args.after, &read_after);
 
-  metrics::TopologyOptions options;
+  topotet::TopologyOptions options;
   options.fast = args.fast;
   const Stopwatch topology_clock;
-  const metrics::TopologyReport before_topology = metrics::compute_topology(before, options);
-  const metrics::TopologyReport after_topology = metrics::compute_topology(after, options);
+  const topotet::TopologyReport before_topology = topotet::compute_topology(before, options);
+  const topotet::TopologyReport after_topology = topotet::compute_topology(after, options);
   const double topology_seconds = topology_clock.seconds();
   std::string differences;
-  bool ok = metrics::same_topology(before_topology, after_topology, &differences);
+  bool ok = topotet::same_topology(before_topology, after_topology, &differences);
 
   const Stopwatch quality_clock;
   const QualityStats quality = compute_quality(after);
@@ -52,10 +52,10 @@ int run_check(const CheckArgs& args) {
 
   std::fprintf(report_stream(), "IN  %s: %s vertices, %s tets (read %s)\n", args.before.c_str(), format_count(before.vertex_count()).c_str(),
               format_count(before.tet_count()).c_str(), format_seconds(read_before).c_str());
-  print_indented(report_stream(), metrics::format_topology_table(before_topology));
+  print_indented(report_stream(), topotet::format_topology_table(before_topology));
   std::fprintf(report_stream(), "\nOUT %s: %s vertices, %s tets (read %s)\n", args.after.c_str(), format_count(after.vertex_count()).c_str(),
               format_count(after.tet_count()).c_str(), format_seconds(read_after).c_str());
-  print_indented(report_stream(), metrics::format_topology_table(after_topology));
+  print_indented(report_stream(), topotet::format_topology_table(after_topology));
   constexpr double kRad = std::numbers::pi / 180.0;
   std::fprintf(report_stream(), "\nquality   OUT: std dev dihedral %s rad, solid %s sr, face %s rad; min mean ratio %s; inverted %zu, "
               "zero volume %zu (%s)\n",

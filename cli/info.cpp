@@ -84,11 +84,11 @@ int run_info(const InfoArgs& args) {
 
   // Topology first (it never throws on bad input), then validation by building the model.
   const Stopwatch topology_clock;
-  metrics::TopologyOptions topology_options;
+  topotet::TopologyOptions topology_options;
   // -v: every complex's Betti numbers, as `check` computes them; else the fast mode's Euler
   // characteristics and components, which every mesh size affords.
   topology_options.fast = verbosity() < Verbosity::kVerbose;
-  const metrics::TopologyReport topology = metrics::compute_topology(data, topology_options);
+  const topotet::TopologyReport topology = topotet::compute_topology(data, topology_options);
   const double topology_seconds = topology_clock.seconds();
 
   std::string build_error;
@@ -144,7 +144,7 @@ int run_info(const InfoArgs& args) {
                    std::to_string(topology.mesh.betti[0]) + " connected component" +
                    (topology.mesh.betti[0] == 1 ? "" : "s") + " (" + format_seconds(topology_seconds) + ")");
   if (!topology_options.fast)
-    for (const std::string& line : split_lines(metrics::format_topology_table(topology)))
+    for (const std::string& line : split_lines(topotet::format_topology_table(topology)))
       std::fprintf(report_stream(), "%-14s %s\n", "", line.c_str());
   if (build_error.empty()) {
     row("model", format_count(data.tet_count() ? model_bytes / data.tet_count() : 0) + " bytes/tet, " +

@@ -41,7 +41,7 @@ Json quality_json(const QualityStats& q) {
           {"zero_volume_tets", q.zero_volume}};
 }
 
-Json topology_report_json(const metrics::TopologyReport& r) { return Json::parse(metrics::topology_to_json(r)); }
+Json topology_report_json(const topotet::TopologyReport& r) { return Json::parse(topotet::topology_to_json(r)); }
 
 std::vector<std::string> split_lines(const std::string& text) {
   std::vector<std::string> lines;

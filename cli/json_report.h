@@ -35,7 +35,7 @@ Json mesh_json(const std::string& file, const MeshData& mesh, double read_second
 Json quality_json(const QualityStats& q);
 
 // The checker's report (Betti numbers and Euler characteristic of every complex).
-Json topology_report_json(const metrics::TopologyReport& r);
+Json topology_report_json(const topotet::TopologyReport& r);
 
 // The non-empty lines of `text` (the checker's differences), as a JSON array.
 std::vector<std::string> split_lines(const std::string& text);

@@ -61,11 +61,11 @@ struct LevelResult {
   bool verified = false;
   bool topology_ok = true;
   std::string differences;
-  metrics::TopologyReport topology;
+  topotet::TopologyReport topology;
   std::vector<RoundStats> rounds;  // filled at -vv only (SimplifyOptions::round_log)
 };
 
-std::size_t complex_count(const metrics::TopologyReport& r) {
+std::size_t complex_count(const topotet::TopologyReport& r) {
   return 6 + r.materials.size() + r.surfaces.size() + r.interfaces.size() + r.polylines.size();
 }
 
@@ -254,17 +254,17 @@ void measure_levels(const SimplifyJob& job, std::vector<LevelResult>& results) {
 }
 
 // The output of every level against the input's topology; returns the input's.
-metrics::TopologyReport verify_levels(const SimplifyJob& job, bool fast, std::vector<LevelResult>& results,
+topotet::TopologyReport verify_levels(const SimplifyJob& job, bool fast, std::vector<LevelResult>& results,
                                       double& input_seconds) {
-  metrics::TopologyOptions options;
+  topotet::TopologyOptions options;
   options.fast = fast;
   const Stopwatch input_clock;
-  metrics::TopologyReport input_topology = metrics::compute_topology(job.input, options);
+  topotet::TopologyReport input_topology = topotet::compute_topology(job.input, options);
   input_seconds = input_clock.seconds();
   for (LevelResult& l : results) {
     const Stopwatch clock;
-    l.topology = metrics::compute_topology(l.output, options);
-    l.topology_ok = metrics::same_topology(input_topology, l.topology, &l.differences);
+    l.topology = topotet::compute_topology(l.output, options);
+    l.topology_ok = topotet::same_topology(input_topology, l.topology, &l.differences);
     l.verified = true;
     l.topology_seconds = clock.seconds();
   }
@@ -390,7 +390,7 @@ int run_simplify_job(SimplifyJob& job) {
       measure_levels(job, results);
     }
     const bool fast = tets_in > kFastCheckTets;
-    metrics::TopologyReport input_topology;
+    topotet::TopologyReport input_topology;
     if (verify) {
       log_stage(std::string("verify: topology of the input and the output") + (fast ? " (fast mode)" : ""));
       input_topology = verify_levels(job, fast, results, times.input_topology);

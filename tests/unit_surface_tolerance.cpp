@@ -200,7 +200,7 @@ TEST(SimplifyTolerance, TightToleranceFreezesTheCurvedInterfaceButNotTheInterior
   EXPECT_GE(sphere_after, sphere_before * 95 / 100);  // the jittered, curved interface cannot move
   EXPECT_LE(free_after, free_before / 3);             // while the interior coarsens
   std::string differences;
-  EXPECT_TRUE(metrics::same_topology(metrics::compute_topology(input), metrics::compute_topology(output), &differences))
+  EXPECT_TRUE(topotet::same_topology(topotet::compute_topology(input), topotet::compute_topology(output), &differences))
       << differences;
 }
 
