@@ -18,7 +18,8 @@ profdata=$(command -v "llvm-profdata-$llvm_version" || command -v llvm-profdata)
 cov=$(command -v "llvm-cov-$llvm_version" || command -v llvm-cov)
 flags="-fprofile-instr-generate -fcoverage-mapping"
 cmake -S . -B build-cov -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-  -DCMAKE_C_COMPILER=clang -DTOPOTET_FUZZ=ON -DTOPOTET_BUILD_BENCH=OFF \
+  -DCMAKE_C_COMPILER=clang -DTOPOTET_FUZZ=ON -DTOPOTET_BUILD_BENCH=OFF -DTOPOTET_BUILD_CLI=OFF \
+  -DTOPOTET_BUILD_C_API=OFF -DTOPOTET_BUILD_FORTRAN=OFF -DTOPOTET_BUILD_PYTHON=OFF \
   -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_C_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags" >/dev/null
 cmake --build build-cov -j "$(nproc)" --target fuzz_readers fuzz_simplify
 rm -f build-cov/*.profraw
