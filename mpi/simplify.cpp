@@ -28,6 +28,8 @@ using detail::size_of;
 using detail::sum_over_ranks;
 using Clock = std::chrono::steady_clock;
 
+__extension__ typedef unsigned __int128 Wide;  // remove x removable can exceed 64 bits
+
 double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 std::uint64_t peak_rss_bytes() {
@@ -78,7 +80,7 @@ std::uint64_t share_of(MPI_Comm comm, std::uint64_t removable, std::uint64_t rem
   std::vector<std::uint64_t> share(ranks);
   std::uint64_t given = 0;
   for (int r = 0; r < ranks; ++r) {
-    share[r] = static_cast<std::uint64_t>(static_cast<unsigned __int128>(remove) * all[r] / denominator);
+    share[r] = static_cast<std::uint64_t>(static_cast<Wide>(remove) * all[r] / denominator);
     given += share[r];
   }
   // The rounding left-overs (fewer than `ranks`), when the whole of `remove` is to be given.

@@ -88,29 +88,29 @@ DistributedMesh slab_part(const MeshData& whole) {
   return part;
 }
 
-struct Run {
+struct Simplified {
   MeshData output;                  // rank 0
   std::vector<GlobalId> output_ids;  // rank 0: global id of each output vertex
   Result result;
 };
 
-Run run(DistributedMesh part, double ratio, int threads) {
+Simplified run(DistributedMesh part, double ratio, int threads) {
   Options options;
   options.simplify.target_vertex_ratio = ratio;
   options.simplify.num_threads = threads;
-  Run r;
+  Simplified r;
   r.result = simplify(MPI_COMM_WORLD, part, options);
   r.output = gather(MPI_COMM_WORLD, part, 0, &r.output_ids);
   return r;
 }
 
-Run run_from_rank0(const MeshData& whole, double ratio, int threads) {
+Simplified run_from_rank0(const MeshData& whole, double ratio, int threads) {
   DistributedMesh part = rank() == 0 ? from_whole(whole) : DistributedMesh{};
   distribute(MPI_COMM_WORLD, part);
   return run(std::move(part), ratio, threads);
 }
 
-void expect_same_topology(const MeshData& input, const Run& r) {
+void expect_same_topology(const MeshData& input, const Simplified& r) {
   if (rank() != 0) return;
   const auto before = metrics::compute_topology(input);
   const auto after = metrics::compute_topology(r.output);
@@ -124,11 +124,15 @@ class MpiSimplify : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MpiSimplify, GatheredResultKeepsTheTopology) {
   const MeshData input = generated(GetParam(), 8000);
-  const Run r = run_from_rank0(input, 0.15, 2);
+  const Simplified r = run_from_rank0(input, 0.15, 2);
   EXPECT_EQ(r.result.report.vertices_before, input.vertex_count());
   EXPECT_LE(r.result.report.vertices_after, static_cast<std::uint64_t>(0.2 * input.vertex_count()));
-  if (rank() == 0) EXPECT_EQ(r.output.vertex_count(), r.result.report.vertices_after);
-  if (ranks() > 1) EXPECT_GT(r.result.passes.front().frozen_vertices, 0u);
+  if (rank() == 0) {
+    EXPECT_EQ(r.output.vertex_count(), r.result.report.vertices_after);
+  }
+  if (ranks() > 1) {
+    EXPECT_GT(r.result.passes.front().frozen_vertices, 0u);
+  }
   expect_same_topology(input, r);
 }
 
@@ -139,7 +143,7 @@ TEST(MpiSimplifyDistributed, AlreadySpreadMeshKeepsTheTopologyAndMapsEveryVertex
   const MeshData input = generated("cube-sphere", 8000);
   DistributedMesh part = slab_part(input);
   const std::vector<GlobalId> my_ids = part.global_ids;
-  const Run r = run(std::move(part), 0.2, 2);
+  const Simplified r = run(std::move(part), 0.2, 2);
   expect_same_topology(input, r);
   // The map: gather (input id, final id) pairs; every input tet renamed through it is an output
   // tet, or has collapsed (two corners with one image).
@@ -163,7 +167,9 @@ TEST(MpiSimplifyDistributed, AlreadySpreadMeshKeepsTheTopologyAndMapsEveryVertex
   if (rank() != 0) return;
   std::vector<GlobalId> image(input.vertex_count(), ~GlobalId{0});
   for (std::size_t k = 0; k < all.size(); k += 2) {
-    if (image[all[k]] != ~GlobalId{0}) EXPECT_EQ(image[all[k]], all[k + 1]) << "ranks disagree on vertex " << all[k];
+    if (image[all[k]] != ~GlobalId{0}) {
+      EXPECT_EQ(image[all[k]], all[k + 1]) << "ranks disagree on vertex " << all[k];
+    }
     image[all[k]] = all[k + 1];
   }
   std::unordered_map<GlobalId, VertId> output_of;
@@ -178,12 +184,12 @@ TEST(MpiSimplifyDistributed, AlreadySpreadMeshKeepsTheTopologyAndMapsEveryVertex
       v[k] = it->second;
     }
     std::sort(v.begin(), v.end());
-    if (std::adjacent_find(v.begin(), v.end()) == v.end()) renamed.push_back({v, input.tet_material[t]});
+    if (std::adjacent_find(v.begin(), v.end()) == v.end()) renamed.emplace_back(v, input.tet_material[t]);
   }
   for (std::size_t t = 0; t < r.output.tet_count(); ++t) {
     std::array<VertId, 4> v = r.output.tets[t];
     std::sort(v.begin(), v.end());
-    output.push_back({v, r.output.tet_material[t]});
+    output.emplace_back(v, r.output.tet_material[t]);
   }
   std::sort(renamed.begin(), renamed.end());
   std::sort(output.begin(), output.end());
@@ -192,9 +198,9 @@ TEST(MpiSimplifyDistributed, AlreadySpreadMeshKeepsTheTopologyAndMapsEveryVertex
 
 TEST(MpiSimplifyDeterminism, SameOutputForEveryRunAndThreadCount) {
   const MeshData input = generated("cube-sphere", 6000);
-  const Run first = run_from_rank0(input, 0.2, 1);
-  const Run again = run_from_rank0(input, 0.2, 1);
-  const Run threads = run_from_rank0(input, 0.2, 2);
+  const Simplified first = run_from_rank0(input, 0.2, 1);
+  const Simplified again = run_from_rank0(input, 0.2, 1);
+  const Simplified threads = run_from_rank0(input, 0.2, 2);
   if (rank() != 0) return;
   EXPECT_TRUE(first.output == again.output);
   EXPECT_TRUE(first.output == threads.output);

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "topotet/error.h"
 #include "topotet/io.h"
 #include "topotet/mpi.h"
 #include "topotet/tet_mesh.h"
