@@ -15,7 +15,7 @@ namespace topotet::mpi::detail {
 
 // Sends local tet t to rank dest[t] (itself included) and replaces `mesh` by what this rank
 // receives, in rank order of the senders, so the result depends only on the inputs. `pending`
-// is a per-vertex mark carried along (OR of the copies). Returns the tets sent to other ranks.
+// (per-vertex marks, partition.h) is carried along (OR of the copies). Returns the tets sent to other ranks.
 std::uint64_t migrate(MPI_Comm comm, DistributedMesh& mesh, std::vector<std::uint8_t>& pending,
                       const std::vector<int>& dest, std::uint64_t* bytes_sent);
 

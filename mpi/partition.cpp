@@ -100,7 +100,7 @@ std::vector<idx_t> cut(const std::vector<std::array<GlobalId, 4>>& tets, const s
 
 }  // namespace
 
-std::vector<int> partition(MPI_Comm comm, const DistributedMesh& mesh, const std::vector<std::uint8_t>& pending,
+std::vector<int> partition(MPI_Comm comm, const DistributedMesh& mesh, const std::vector<std::uint8_t>& marks,
                            std::int32_t seed, std::uint64_t* bytes_sent) {
   const int ranks = size_of(comm), me = rank_of(comm);
   const MeshData& d = mesh.local;
@@ -111,7 +111,7 @@ std::vector<int> partition(MPI_Comm comm, const DistributedMesh& mesh, const std
     std::uint8_t hot = 0;
     for (VertId v : d.tets[t]) {
       p.put(mesh.global_ids[v]);
-      if (!pending.empty() && pending[v]) hot = 1;
+      if (!marks.empty() && (marks[v] & kFrozenLastPass)) hot = 1;
     }
     p.put(hot);
   }

@@ -18,9 +18,13 @@
 namespace topotet::mpi::detail {
 
 inline constexpr int kPendingFaceWeight = 20;
+// Bits of the per-vertex marks carried through passes and migrations.
+inline constexpr std::uint8_t kFrozenLastPass = 1;  // pending: the next partition avoids it
+inline constexpr std::uint8_t kFrozenOnce = 2;      // frozen in some pass (reported, Result::touched_border)
 
-// [local tet] the rank it should move to. `pending` may be empty (no weights). Collective.
-std::vector<int> partition(MPI_Comm comm, const DistributedMesh& mesh, const std::vector<std::uint8_t>& pending,
+// [local tet] the rank it should move to. `marks` (per vertex, kFrozenLastPass read) may be empty
+// (no weights). Collective.
+std::vector<int> partition(MPI_Comm comm, const DistributedMesh& mesh, const std::vector<std::uint8_t>& marks,
                            std::int32_t seed, std::uint64_t* bytes_sent);
 
 }  // namespace topotet::mpi::detail

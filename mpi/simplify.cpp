@@ -154,7 +154,8 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
   SimplifyOptions local = o;
   local.tolerance = o.tolerance > 0.0 ? o.tolerance : o.tolerance_rel * global_diagonal(comm, mesh.local);
   report.tolerance = local.tolerance;
-  std::vector<std::uint8_t> pending;
+  // Per vertex: kFrozenLastPass (the partition should avoid it: pending), kFrozenOnce (sticky).
+  std::vector<std::uint8_t> marks(mesh.local.vertex_count(), 0);
 
   for (int pass = 1; pass <= options.max_passes && global_vertices > target; ++pass) {
     const auto pass_start = Clock::now();
@@ -180,11 +181,12 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
     stats.simplify_seconds = max_over_ranks(comm, since(simplify_start));
     add_counts(report, lp.report);
     detail::apply_merges(comm, lp.merges, result.vertex_map, &bytes);
-    pending = sharing.shared;
+    for (std::size_t v = 0; v < marks.size(); ++v)
+      marks[v] = sharing.shared[v] ? detail::kFrozenLastPass | detail::kFrozenOnce : marks[v] & detail::kFrozenOnce;
     if (share > 0) {
       std::vector<std::uint8_t> carried(lp.origin.size());
-      for (std::size_t v = 0; v < lp.origin.size(); ++v) carried[v] = pending[lp.origin[v]];
-      pending = std::move(carried);
+      for (std::size_t v = 0; v < lp.origin.size(); ++v) carried[v] = marks[lp.origin[v]];
+      marks = std::move(carried);
     }
     global_vertices = sum_over_ranks(comm, owned_count(mesh, me));
     stats.vertices_after = global_vertices;
@@ -192,8 +194,8 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
     const bool last = global_vertices <= target || stats.collapses == 0 || pass == options.max_passes;
     if (!last) {
       const auto partition_start = Clock::now();
-      const std::vector<int> dest = detail::partition(comm, mesh, pending, options.metis_seed, &bytes);
-      stats.migrated_tets = sum_over_ranks(comm, detail::migrate(comm, mesh, pending, dest, &bytes));
+      const std::vector<int> dest = detail::partition(comm, mesh, marks, options.metis_seed, &bytes);
+      stats.migrated_tets = sum_over_ranks(comm, detail::migrate(comm, mesh, marks, dest, &bytes));
       sharing = detail::find_sharing(comm, mesh.global_ids, &bytes);
       mesh.owner = sharing.owner;
       stats.partition_seconds = max_over_ranks(comm, since(partition_start));
@@ -214,8 +216,12 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
                      ") after " + std::to_string(result.passes.size()) + " passes" +
                      (result.passes.back().collapses == 0 ? ": no legal collapse left" : " (max_passes)");
   report.seconds = max_over_ranks(comm, since(start));
-  const double rss = static_cast<double>(peak_rss_bytes());
-  result.peak_rss_bytes = static_cast<std::uint64_t>(max_over_ranks(comm, rss));
+  result.touched_border.resize(marks.size());
+  for (std::size_t v = 0; v < marks.size(); ++v) result.touched_border[v] = marks[v] & detail::kFrozenOnce ? 1 : 0;
+  const std::uint64_t rss = peak_rss_bytes();
+  result.peak_rss_per_rank.resize(size_of(comm));
+  MPI_Allgather(&rss, 1, MPI_UINT64_T, result.peak_rss_per_rank.data(), 1, MPI_UINT64_T, comm);
+  result.peak_rss_bytes = *std::max_element(result.peak_rss_per_rank.begin(), result.peak_rss_per_rank.end());
   return result;
 }
 

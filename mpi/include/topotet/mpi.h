@@ -78,7 +78,11 @@ struct Result {
   // [vertex of the DistributedMesh as passed] the global id of the output vertex it became or
   // merged into (a surviving vertex keeps its global id).
   std::vector<GlobalId> vertex_map;
-  std::uint64_t peak_rss_bytes = 0;  // the largest over ranks (VmHWM)
+  // [vertex of the output part] 1 if the vertex was frozen on a partition border in some pass:
+  // the tets around such vertices are where seams would show (quality reported separately).
+  std::vector<std::uint8_t> touched_border;
+  std::uint64_t peak_rss_bytes = 0;         // the largest over ranks (VmHWM)
+  std::vector<std::uint64_t> peak_rss_per_rank;  // [rank] VmHWM, bytes
 };
 
 Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options);
