@@ -1,4 +1,6 @@
-// One distributed run, measured: `mpirun -np N mpi_bench FAMILY TETS RATIO [THREADS] [--compare]`.
+// One distributed run, measured:
+//   mpirun -np N mpi_bench FAMILY TETS RATIO [THREADS] [--compare] [--former-borders]
+// (--former-borders: Options::later_passes_on_former_borders = true).
 // Rank 0 generates the mesh, METIS spreads it, topotet::mpi::simplify runs; rank 0 gathers and
 // prints one JSON line: time per pass, migrated tets, bytes sent, peak memory per rank, and the
 // quality of the result (dihedral spread of all tets and, separately, of the tets with a vertex
@@ -52,7 +54,7 @@ int main(int argc, char** argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   if (argc < 4) {
-    if (rank == 0) std::fprintf(stderr, "usage: mpi_bench FAMILY TETS RATIO [THREADS] [--compare]\n");
+    if (rank == 0) std::fprintf(stderr, "usage: mpi_bench FAMILY TETS RATIO [THREADS] [--compare] [--former-borders]\n");
     MPI_Finalize();
     return 2;
   }
@@ -60,8 +62,12 @@ int main(int argc, char** argv) {
   g.family = argv[1];
   g.target_tets = std::stoull(argv[2]);
   const double ratio = std::stod(argv[3]);
-  const int threads = argc > 4 && std::strcmp(argv[4], "--compare") != 0 ? std::stoi(argv[4]) : 0;
-  const bool compare = std::strcmp(argv[argc - 1], "--compare") == 0;
+  const int threads = argc > 4 && argv[4][0] != '-' ? std::stoi(argv[4]) : 0;
+  bool compare = false, restrict_later = false;
+  for (int i = 4; i < argc; ++i) {
+    compare = compare || std::strcmp(argv[i], "--compare") == 0;
+    if (std::strcmp(argv[i], "--former-borders") == 0) restrict_later = true;
+  }
 
   topotet::MeshData input;
   if (rank == 0) input = topotet::generate_mesh(g);
@@ -72,6 +78,7 @@ int main(int argc, char** argv) {
   topotet::mpi::Options options;
   options.simplify.target_vertex_ratio = ratio;
   options.simplify.num_threads = threads;
+  options.later_passes_on_former_borders = restrict_later;
   const topotet::mpi::Result r = topotet::mpi::simplify(MPI_COMM_WORLD, part, options);
   std::vector<topotet::mpi::GlobalId> ids;
   const topotet::MeshData out = topotet::mpi::gather(MPI_COMM_WORLD, part, 0, &ids);

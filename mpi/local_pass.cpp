@@ -6,8 +6,8 @@
 
 namespace topotet::mpi::detail {
 
-LocalPass simplify_part(DistributedMesh& mesh, const std::vector<std::uint8_t>& shared, SimplifyOptions options,
-                        std::uint64_t target_vertices) {
+LocalPass simplify_part(DistributedMesh& mesh, const std::vector<std::uint8_t>& shared,
+                        const std::vector<std::uint8_t>& keep, SimplifyOptions options, std::uint64_t target_vertices) {
   LocalPass pass;
   MeshData data = std::move(mesh.local);
   const std::size_t n = data.vertex_count();
@@ -21,6 +21,7 @@ LocalPass simplify_part(DistributedMesh& mesh, const std::vector<std::uint8_t>& 
   data = MeshData{};
   for (VertId v = 0; v < n; ++v)
     if (shared[v]) part.vertex_states[v] |= vertex_state::kFrozen | vertex_state::kPinned;
+    else if (!keep.empty() && keep[v]) part.vertex_states[v] |= vertex_state::kPinned;
   options.target_vertices = std::max<std::uint64_t>(target_vertices, 1);
   std::vector<VertId> map;
   pass.report = simplify(part, options, map);

@@ -19,9 +19,10 @@ struct LocalPass {
 };
 
 // Simplifies `mesh` towards `target_vertices` local vertices (options.target_vertices is
-// overridden). shared[v]: vertex v is frozen. The part keeps its global ids on the surviving
+// overridden). shared[v]: vertex v is frozen. keep (may be empty) [v]: vertex v is pinned (it may
+// absorb a collapse, but neither moves nor goes). The part keeps its global ids on the surviving
 // vertices; `owner` is carried over. Throws InputError when the part is not a valid mesh.
-LocalPass simplify_part(DistributedMesh& mesh, const std::vector<std::uint8_t>& shared, SimplifyOptions options,
-                        std::uint64_t target_vertices);
+LocalPass simplify_part(DistributedMesh& mesh, const std::vector<std::uint8_t>& shared,
+                        const std::vector<std::uint8_t>& keep, SimplifyOptions options, std::uint64_t target_vertices);
 
 }  // namespace topotet::mpi::detail

@@ -157,21 +157,31 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
   // Per vertex: kFrozenLastPass (the partition should avoid it: pending), kFrozenOnce (sticky).
   std::vector<std::uint8_t> marks(mesh.local.vertex_count(), 0);
 
+  bool unrestricted = false;
   for (int pass = 1; pass <= options.max_passes && global_vertices > target; ++pass) {
     const auto pass_start = Clock::now();
     PassStats stats;
     stats.frozen_vertices = sum_over_ranks(comm, std::count(sharing.shared.begin(), sharing.shared.end(), 1));
     // Pass 1 removes from each vertex its fair share (the frozen ones' share waits for their
-    // turn as interiors); later passes give what is left to the removable vertices.
-    const std::uint64_t removable = std::count(sharing.shared.begin(), sharing.shared.end(), 0);
+    // turn as interiors); later passes give what is left to the removable vertices, which are
+    // (unless unrestricted) those frozen in an earlier pass.
+    const bool restricted = options.later_passes_on_former_borders && pass >= 2 && !unrestricted;
+    std::vector<std::uint8_t> keep;
+    if (restricted) {
+      keep.resize(marks.size());
+      for (std::size_t v = 0; v < marks.size(); ++v) keep[v] = !sharing.shared[v] && !(marks[v] & detail::kFrozenOnce);
+    }
+    std::uint64_t removable = 0;
+    for (std::size_t v = 0; v < marks.size(); ++v) removable += !sharing.shared[v] && (keep.empty() || !keep[v]);
     const std::uint64_t share =
         share_of(comm, removable, global_vertices - target, pass == 1 ? global_vertices : 0);
+    const std::uint64_t global_share = sum_over_ranks(comm, share);
     const auto simplify_start = Clock::now();
     detail::LocalPass lp;
     std::string error;
     if (share > 0) {
       try {
-        lp = detail::simplify_part(mesh, sharing.shared, local, mesh.local.vertex_count() - share);
+        lp = detail::simplify_part(mesh, sharing.shared, keep, local, mesh.local.vertex_count() - share);
         if (is_failure(lp.report.status)) error = lp.report.message;
       } catch (const std::exception& e) {
         error = e.what();
@@ -191,7 +201,12 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
     global_vertices = sum_over_ranks(comm, owned_count(mesh, me));
     stats.vertices_after = global_vertices;
     stats.collapses = sum_over_ranks(comm, lp.report.collapses);
-    const bool last = global_vertices <= target || stats.collapses == 0 || pass == options.max_passes;
+    // A restricted pass that fell short hands over to unrestricted ones (the former borders left
+    // may need their neighbours to move).
+    const bool fell_short = restricted && 2 * stats.collapses < global_share;
+    if (fell_short) unrestricted = true;
+    const bool last =
+        global_vertices <= target || (stats.collapses == 0 && !fell_short) || pass == options.max_passes;
     if (!last) {
       const auto partition_start = Clock::now();
       const std::vector<int> dest = detail::partition(comm, mesh, marks, options.metis_seed, &bytes);

@@ -123,7 +123,7 @@ void expect_same_topology(const MeshData& input, const Simplified& r) {
 class MpiSimplify : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MpiSimplify, GatheredResultKeepsTheTopology) {
-  const MeshData input = generated(GetParam(), 4000);
+  const MeshData input = generated(GetParam(), 3000);
   const Simplified r = run_from_rank0(input, 0.15, 2);
   EXPECT_EQ(r.result.report.vertices_before, input.vertex_count());
   EXPECT_LE(r.result.report.vertices_after, static_cast<std::uint64_t>(0.2 * input.vertex_count()));
@@ -140,7 +140,7 @@ INSTANTIATE_TEST_SUITE_P(Families, MpiSimplify, ::testing::Values("cube-sphere",
                          [](const auto& p) { return p.param == "cube-sphere" ? std::string("cube_sphere") : p.param; });
 
 TEST(MpiSimplifyDistributed, AlreadySpreadMeshKeepsTheTopologyAndMapsEveryVertex) {
-  const MeshData input = generated("cube-sphere", 4000);
+  const MeshData input = generated("cube-sphere", 3000);
   DistributedMesh part = slab_part(input);
   const std::vector<GlobalId> my_ids = part.global_ids;
   const Simplified r = run(std::move(part), 0.2, 2);
@@ -197,7 +197,7 @@ TEST(MpiSimplifyDistributed, AlreadySpreadMeshKeepsTheTopologyAndMapsEveryVertex
 }
 
 TEST(MpiSimplifyDeterminism, SameOutputForEveryRunAndThreadCount) {
-  const MeshData input = generated("cube-sphere", 3500);
+  const MeshData input = generated("slab", 2000);
   const Simplified first = run_from_rank0(input, 0.2, 1);
   const Simplified again = run_from_rank0(input, 0.2, 1);
   const Simplified threads = run_from_rank0(input, 0.2, 2);
