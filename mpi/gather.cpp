@@ -37,6 +37,8 @@ void distribute(MPI_Comm comm, DistributedMesh& mesh, std::int32_t metis_seed) {
 MeshData gather(MPI_Comm comm, const DistributedMesh& mesh, int root, std::vector<GlobalId>* global_ids) {
   const int ranks = detail::size_of(comm), me = detail::rank_of(comm);
   const MeshData& d = mesh.local;
+  // The owners anew: the caller's part may come straight from its own code, without them.
+  const std::vector<int> owner = detail::find_sharing(comm, mesh.global_ids, nullptr).owner;
   // Each rank sends the vertices it owns, its tets, listed triangles and segments (in global ids).
   Packer p;
   std::vector<std::uint8_t> mark(d.vertex_count(), 0);
@@ -44,13 +46,13 @@ MeshData gather(MPI_Comm comm, const DistributedMesh& mesh, int root, std::vecto
   for (VertId v : d.required_vertices) mark[v] |= 2;
   std::vector<std::uint8_t> ridge(d.segments.size(), 0);
   for (std::uint32_t s : d.ridges) ridge[s] = 1;
-  const std::uint64_t owned = std::count(mesh.owner.begin(), mesh.owner.end(), me);
+  const std::uint64_t owned = std::count(owner.begin(), owner.end(), me);
   p.put(owned);
   p.put<std::uint64_t>(d.tet_count());
   p.put<std::uint64_t>(d.triangles.size());
   p.put<std::uint64_t>(d.segments.size());
   for (VertId v = 0; v < d.vertex_count(); ++v) {
-    if (mesh.owner[v] != me) continue;
+    if (owner[v] != me) continue;
     p.put(mesh.global_ids[v]);
     p.put(d.positions[v]);
     p.put<std::int32_t>(d.vertex_refs.empty() ? 0 : d.vertex_refs[v]);

@@ -124,9 +124,9 @@ class MpiSimplify : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MpiSimplify, GatheredResultKeepsTheTopology) {
   const MeshData input = generated(GetParam(), 3000);
-  const Simplified r = run_from_rank0(input, 0.15, 2);
+  const Simplified r = run_from_rank0(input, 0.3, 1);
   EXPECT_EQ(r.result.report.vertices_before, input.vertex_count());
-  EXPECT_LE(r.result.report.vertices_after, static_cast<std::uint64_t>(0.2 * input.vertex_count()));
+  EXPECT_LE(r.result.report.vertices_after, static_cast<std::uint64_t>(0.35 * input.vertex_count()));
   if (rank() == 0) {
     EXPECT_EQ(r.output.vertex_count(), r.result.report.vertices_after);
   }
@@ -143,7 +143,7 @@ TEST(MpiSimplifyDistributed, AlreadySpreadMeshKeepsTheTopologyAndMapsEveryVertex
   const MeshData input = generated("cube-sphere", 3000);
   DistributedMesh part = slab_part(input);
   const std::vector<GlobalId> my_ids = part.global_ids;
-  const Simplified r = run(std::move(part), 0.2, 2);
+  const Simplified r = run(std::move(part), 0.3, 1);
   expect_same_topology(input, r);
   // The map: gather (input id, final id) pairs; every input tet renamed through it is an output
   // tet, or has collapsed (two corners with one image).
@@ -198,9 +198,9 @@ TEST(MpiSimplifyDistributed, AlreadySpreadMeshKeepsTheTopologyAndMapsEveryVertex
 
 TEST(MpiSimplifyDeterminism, SameOutputForEveryRunAndThreadCount) {
   const MeshData input = generated("slab", 2000);
-  const Simplified first = run_from_rank0(input, 0.2, 1);
-  const Simplified again = run_from_rank0(input, 0.2, 1);
-  const Simplified threads = run_from_rank0(input, 0.2, 2);
+  const Simplified first = run_from_rank0(input, 0.3, 1);
+  const Simplified again = run_from_rank0(input, 0.3, 1);
+  const Simplified threads = run_from_rank0(input, 0.3, 2);
   if (rank() != 0) return;
   EXPECT_TRUE(first.output == again.output);
   EXPECT_TRUE(first.output == threads.output);

@@ -56,6 +56,25 @@ topotet::mpi::DistributedMesh my_slab(const topotet::MeshData& whole, int rank, 
   return part;
 }
 
+void run(int rank, int ranks) {
+  topotet::GenerateOptions g;
+  g.target_tets = 20000;
+  topotet::mpi::DistributedMesh part = my_slab(topotet::generate_mesh(g), rank, ranks);
+  const std::size_t my_vertices = part.global_ids.size();
+  topotet::mpi::Options options;
+  options.simplify.target_vertex_ratio = 0.2;  // of the global vertex count
+  const topotet::mpi::Result r = topotet::mpi::simplify(MPI_COMM_WORLD, part, options);
+  // part: this rank's share of the result. r.vertex_map[i]: the global id my input vertex i became
+  // or merged into (a code transfers its fields back with it). r.report: reduced over the ranks.
+  if (rank == 0)
+    std::printf("%llu -> %llu vertices in %zu passes, %.2f s (%s)\n",
+                static_cast<unsigned long long>(r.report.vertices_before),
+                static_cast<unsigned long long>(r.report.vertices_after), r.passes.size(), r.report.seconds,
+                topotet::to_string(r.report.status));
+  std::printf("rank %d: %zu of %zu input vertices mapped, %zu tets now\n", rank, r.vertex_map.size(), my_vertices,
+              part.local.tet_count());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -63,25 +82,9 @@ int main(int argc, char** argv) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  topotet::GenerateOptions g;
-  g.target_tets = 20000;
-  topotet::mpi::DistributedMesh part = my_slab(topotet::generate_mesh(g), rank, ranks);
-  const std::size_t my_vertices = part.global_ids.size();
-
-  topotet::mpi::Options options;
-  options.simplify.target_vertex_ratio = 0.2;
   int code = 0;
   try {
-    const topotet::mpi::Result r = topotet::mpi::simplify(MPI_COMM_WORLD, part, options);
-    // r.vertex_map[i]: the global id that my input vertex i became or merged into (a code
-    // transfers its fields back with it); `part` now holds this rank's share of the result.
-    if (rank == 0)
-      std::printf("%llu -> %llu vertices in %zu passes, %.2f s (%s)\n",
-                  static_cast<unsigned long long>(r.report.vertices_before),
-                  static_cast<unsigned long long>(r.report.vertices_after), r.passes.size(), r.report.seconds,
-                  topotet::to_string(r.report.status));
-    std::printf("rank %d: %zu input vertices mapped, %zu tets now\n", rank, r.vertex_map.size() == my_vertices ? my_vertices : 0,
-                part.local.tet_count());
+    run(rank, ranks);  // collective: an error throws on every rank together (topotet/mpi.h)
   } catch (const std::exception& e) {
     if (rank == 0) std::fprintf(stderr, "distributed_simplify: %s\n", e.what());
     code = 1;

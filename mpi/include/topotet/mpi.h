@@ -49,8 +49,8 @@ using GlobalId = std::uint64_t;
 struct DistributedMesh {
   MeshData local;
   std::vector<GlobalId> global_ids;  // [local vertex], unique over the mesh
-  // [local vertex] the rank that owns the vertex: the lowest rank holding it. Filled by every
-  // call below (input values are not read): the owner writes a shared vertex when gathering.
+  // [local vertex] the rank that owns the vertex: the lowest rank holding it. Filled by simplify
+  // and distribute (input values are not read; gather finds the owners itself).
   std::vector<int> owner;
 };
 
