@@ -17,7 +17,11 @@ LocalPass simplify_part(DistributedMesh& mesh, const std::vector<std::uint8_t>& 
   std::vector<std::int32_t> user_refs = std::move(data.vertex_refs);
   data.vertex_refs.resize(n);
   std::iota(data.vertex_refs.begin(), data.vertex_refs.end(), 0);
-  TetMesh part = build_tet_mesh(data);
+  // A listed triangle or segment whose vertices are here but that is no face or edge of a local
+  // tet belongs to another rank's tets (a code may list it on every rank holding its vertices).
+  BuildOptions build;
+  build.skip_detached_substructures = true;
+  TetMesh part = build_tet_mesh(data, build);
   data = MeshData{};
   for (VertId v = 0; v < n; ++v)
     if (shared[v]) part.vertex_states[v] |= vertex_state::kFrozen | vertex_state::kPinned;

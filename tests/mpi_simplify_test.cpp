@@ -63,20 +63,13 @@ DistributedMesh slab_part(const MeshData& whole) {
     d.tet_material.push_back(whole.tet_material[t]);
   }
   auto here = [&](VertId g) { return local_of.count(g) != 0; };
-  // Listed triangles and segments with all vertices here; one that is not on a local tet (its
-  // vertices here by chance) would be refused by the builder, so keep only faces / edges of tets.
-  auto on_a_tet = [&](std::initializer_list<VertId> vs) {
-    return std::any_of(d.tets.begin(), d.tets.end(), [&](const std::array<VertId, 4>& t) {
-      return std::all_of(vs.begin(), vs.end(), [&](VertId v) { return std::find(t.begin(), t.end(), v) != t.end(); });
-    });
-  };
+  // Listed triangles and segments with all vertices here, as a code that knows no better would
+  // list them: those that are no face / edge of a local tet are ignored by the library.
   for (const auto& tri : whole.triangles)
-    if (here(tri.v[0]) && here(tri.v[1]) && here(tri.v[2]) &&
-        on_a_tet({local_of[tri.v[0]], local_of[tri.v[1]], local_of[tri.v[2]]}))
+    if (here(tri.v[0]) && here(tri.v[1]) && here(tri.v[2]))
       d.triangles.push_back({{local_of[tri.v[0]], local_of[tri.v[1]], local_of[tri.v[2]]}, tri.ref});
   for (const auto& seg : whole.segments)
-    if (here(seg.v[0]) && here(seg.v[1]) && on_a_tet({local_of[seg.v[0]], local_of[seg.v[1]]}))
-      d.segments.push_back({{local_of[seg.v[0]], local_of[seg.v[1]]}, seg.ref});
+    if (here(seg.v[0]) && here(seg.v[1])) d.segments.push_back({{local_of[seg.v[0]], local_of[seg.v[1]]}, seg.ref});
   for (VertId c : whole.corners)
     if (here(c)) d.corners.push_back(local_of[c]);
   for (const auto& f : whole.fields) {

@@ -44,7 +44,8 @@ using GlobalId = std::uint64_t;
 // One rank's part: a MeshData over LOCAL vertex indices (the vertices of its tets only) plus
 // their global ids. `local.triangles` / `local.segments` are the listed faces / edges of its
 // tets (a face or edge on a partition border may be listed on both sides; they are merged by
-// global ids). Corners and required vertices are listed by every rank holding them. Field
+// global ids). Each must be listed on at least one rank whose tets have it: elsewhere it is
+// ignored (a code may list it on every rank holding its vertices). Corners and required vertices are listed by every rank holding them. Field
 // layouts (names, components) must be the same on every rank that has tets.
 struct DistributedMesh {
   MeshData local;
