@@ -205,8 +205,10 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
     // may need their neighbours to move).
     const bool fell_short = restricted && 2 * stats.collapses < global_share;
     if (fell_short) unrestricted = true;
-    const bool last =
-        global_vertices <= target || (stats.collapses == 0 && !fell_short) || pass == options.max_passes;
+    // Without frozen vertices (one rank, or parts that share nothing) the pass saw the whole
+    // problem: what it could not remove, no other partition would.
+    const bool last = global_vertices <= target || (stats.collapses == 0 && !fell_short) ||
+                      stats.frozen_vertices == 0 || pass == options.max_passes;
     if (!last) {
       const auto partition_start = Clock::now();
       const std::vector<int> dest = detail::partition(comm, mesh, marks, options.metis_seed, &bytes);
