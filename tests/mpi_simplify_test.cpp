@@ -105,10 +105,10 @@ Simplified run_from_rank0(const MeshData& whole, double ratio, int threads) {
 
 void expect_same_topology(const MeshData& input, const Simplified& r) {
   if (rank() != 0) return;
-  const auto before = metrics::compute_topology(input);
-  const auto after = metrics::compute_topology(r.output);
+  const auto before = compute_topology(input);
+  const auto after = compute_topology(r.output);
   std::string differences;
-  EXPECT_TRUE(metrics::same_topology(before, after, &differences)) << differences;
+  EXPECT_TRUE(same_topology(before, after, &differences)) << differences;
   EXPECT_EQ(after.inverted_tet_count, 0u);
   EXPECT_EQ(after.degenerate_tet_count, 0u);
 }
