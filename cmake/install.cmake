@@ -11,6 +11,16 @@ endif()
 if(TARGET topotet_fortran)
   list(APPEND topotet_install_targets topotet_fortran)
 endif()
+# topotet::mpi (TOPOTET_MPI): the package then finds MPI for its consumers.
+set(TOPOTET_PACKAGE_HAS_MPI OFF)
+if(TARGET topotet_mpi)
+  list(APPEND topotet_install_targets topotet_mpi)
+  set(TOPOTET_PACKAGE_HAS_MPI ON)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/mpi/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+endif()
+if(TARGET topotet-mpi)
+  install(TARGETS topotet-mpi RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endif()
 
 install(TARGETS ${topotet_install_targets} EXPORT topotetTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

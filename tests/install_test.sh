@@ -38,6 +38,13 @@ if [[ -x $work/consumer/simplify_f90 ]]; then
 elif command -v gfortran >/dev/null; then
   echo "gfortran is installed but the package has no topotet::fortran"; exit 1
 fi
+if [[ -x $work/consumer/distributed_simplify ]]; then
+  OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_mpi_yield_when_idle=1 \
+    mpirun -np 2 --oversubscribe --bind-to none "$work/consumer/distributed_simplify"
+  echo "MPI example (topotet::mpi from the package): ran on 2 ranks"
+elif [[ -x $prefix/bin/topotet-mpi ]]; then
+  echo "topotet-mpi is installed but the package has no topotet::mpi"; exit 1
+fi
 
 echo "--- pkg-config"
 export PKG_CONFIG_PATH=$(dirname "$pc")
