@@ -194,8 +194,15 @@ class Rounds {
   // The round's threshold and the proposals below it (candidates_, in vertex order).
   void threshold(RoundStats& stats) {
     threshold_ = sampled_quantile(options_.round_fraction, stats.serial_seconds);
-    parallel::filter_map(
+    const double* rank_costs = proposals_.rank_costs();
+    const double threshold_cost = threshold_.cost;
+    parallel::filter_map_sparse(
         mesh_.vertex_capacity(), candidates_,
+        [&](std::size_t begin, std::size_t end) {  // a branch-free pass over 8 costs skips most blocks
+          bool any = false;
+          for (std::size_t a = begin; a < end; ++a) any |= rank_costs[a] <= threshold_cost;
+          return any;
+        },
         [&](std::size_t a) {
           const VertId x = static_cast<VertId>(a);
           // (An infinite threshold lets every proposal compete, but never a vertex without one.)
