@@ -199,9 +199,13 @@ class Rounds {
     parallel::filter_map_sparse(
         mesh_.vertex_capacity(), candidates_,
         [&](std::size_t begin, std::size_t end) {  // a branch-free pass over 8 costs skips most blocks
-          bool any = false;
-          for (std::size_t a = begin; a < end; ++a) any |= rank_costs[a] <= threshold_cost;
-          return any;
+          int below = 0;
+          if (end - begin == 8) {
+            for (int k = 0; k < 8; ++k) below += rank_costs[begin + k] <= threshold_cost;  // unrolled
+          } else {
+            for (std::size_t a = begin; a < end; ++a) below += rank_costs[a] <= threshold_cost;
+          }
+          return below != 0;
         },
         [&](std::size_t a) {
           const VertId x = static_cast<VertId>(a);
