@@ -406,9 +406,13 @@ void CostModel::fields_at(const TetMesh& mesh, const CollapseCandidate& c, doubl
       const auto& tv = mesh.tets[t];
       return tv[0] == x || tv[1] == x || tv[2] == x || tv[3] == x;
     };
+    // The other tets are walked only when none of those holds p (the walk itself costs: it was
+    // most of this function's time, on every collapse).
     mesh.for_each_tet_of(c.u, [&](TetId t) { if (has(t, c.v)) test(t); });
-    mesh.for_each_tet_of(c.u, [&](TetId t) { if (!has(t, c.v)) test(t); });
-    mesh.for_each_tet_of(c.v, [&](TetId t) { if (!has(t, c.u)) test(t); });
+    if (best_min < 0.0) {
+      mesh.for_each_tet_of(c.u, [&](TetId t) { if (!has(t, c.v)) test(t); });
+      mesh.for_each_tet_of(c.v, [&](TetId t) { if (!has(t, c.u)) test(t); });
+    }
     // Outside every tet (rare: the optimum lies near the edge) the nearest tet's interpolant is
     // extended linearly rather than clamped onto the tet: a linear field stays exact.
     const double* corner[4] = {fu, fu, fu, fu};

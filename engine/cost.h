@@ -51,6 +51,10 @@
 // 1.2 by standard deviation, not better overall), and the balance with the geometry moves with
 // the field's distribution (LOX 30%: max error 0.0028 -> 0.0216, a corner of the post cut).
 // Unscaled, the balance would depend on the fields' units.
+// Balancing the fields by their own achievable error (weights 1 / RMS alone^2, taken from the
+// single-field runs) only moves error between them (LOX 30%: 2.01 / 1.43 / 1.51 -> 1.63 / 1.69 /
+// 1.25 times the single-field RMS): three fields within 1.2x of their own runs need about 1.33x
+// the vertices of one (README.md, "Several fields").
 //
 // Placement of the merged vertex (ord = order in the substructure filtration, link_condition.h):
 //   ord a > ord b : a stays where it is (a vertex on a feature never leaves it);

@@ -72,6 +72,7 @@ class Proposals {
   // --- ranking ---
   // The cost a competes with (its verified placement's, else its edge's); infinite for none.
   double rank_cost(VertId a) const { return rank_cost_[a]; }
+  const double* rank_costs() const { return rank_cost_.data(); }  // [vertex], for scans
   Ranked ranked(VertId a) const { return Ranked{rank_cost_[a], a, proposals_[a].b}; }
 
   // --- after a collapse u <- v (apply phase) ---

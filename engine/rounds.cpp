@@ -195,8 +195,19 @@ class Rounds {
   // The round's threshold and the proposals below it (candidates_, in vertex order).
   void threshold(RoundStats& stats) {
     threshold_ = sampled_quantile(options_.round_fraction, stats.serial_seconds);
-    parallel::filter_map(
+    const double* rank_costs = proposals_.rank_costs();
+    const double threshold_cost = threshold_.cost;
+    parallel::filter_map_sparse(
         mesh_.vertex_capacity(), candidates_,
+        [&](std::size_t begin, std::size_t end) {  // a branch-free pass over 8 costs skips most blocks
+          int below = 0;
+          if (end - begin == 8) {
+            for (int k = 0; k < 8; ++k) below += rank_costs[begin + k] <= threshold_cost;  // unrolled
+          } else {
+            for (std::size_t a = begin; a < end; ++a) below += rank_costs[a] <= threshold_cost;
+          }
+          return below != 0;
+        },
         [&](std::size_t a) {
           const VertId x = static_cast<VertId>(a);
           // (An infinite threshold lets every proposal compete, but never a vertex without one.)

@@ -11,6 +11,11 @@
 //           if may_collapse(u, v, p): collapse; Q_u += Q_v; stamp u; push every edge of u; break
 //           else count the rejection reason
 //
+// An edge whose cheapest placement is illegal goes back into the heap with the cost of the
+// placement the kernel accepted when that costs clearly more than the next edge (see below); the
+// entry remembers the accepted placement and when it was checked, and if nothing in St(a) ∪ St(b)
+// has changed when it comes out again, that placement is taken without a second check (the
+// kernel reads only those stars, the same argument as the parallel engine's is_verified).
 // Entries are ordered by (cost, a, b), so the result does not depend on heap internals. An edge
 // whose every placement is illegal is dropped and its ends are "parked"; when a later collapse
 // touches a parked vertex (it lies in the collapse's stencil), all its edges are pushed again,
@@ -30,6 +35,9 @@ struct Entry {
   double cost;
   VertId a, b;
   std::uint32_t stamp;
+  // 0, or the clock when the kernel accepted placement `checked & 3` of this edge, times 4: the
+  // entry stays 24 bytes (the heap holds an entry per edge). Clocks from 2^30 on are not kept.
+  std::uint32_t checked = 0;
   bool operator>(const Entry& o) const {
     return cost != o.cost ? cost > o.cost : (a != o.a ? a > o.a : b > o.b);
   }
@@ -45,6 +53,9 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
   std::vector<VertId> nbrs, stencil;
   std::vector<double> fields(static_cast<std::size_t>(mesh.field_stride()));
   std::vector<std::uint32_t> stamp(mesh.positions.size(), 0);
+  // The clock of the last collapse whose stencil held the vertex: its star changed then.
+  std::vector<std::uint32_t> changed(mesh.positions.size(), 0);
+  constexpr std::uint32_t kMaxCheckedClock = (1u << 30) - 1;
   // Edges dropped as illegal, remembered at both ends (up to kParked partners per vertex; past
   // that the vertex overflows and all its edges are offered again).
   constexpr int kParked = 3;
@@ -90,11 +101,21 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
     }
     const int n = cost.candidates(mesh, e.a, e.b, cands, scratch.link);
     ++report.evaluations;
-    Placement placements[4];
-    for (int i = 0; i < n; ++i) placements[i] = {cands[i].u, cands[i].v, cands[i].p};
-    ++report.legality_checks;
-    cost.hint_orders(e.a, e.b, scratch.link);
-    const int chosen = first_acceptable(mesh, placements, n, kernel_options, scratch, &report.rejected);
+    int chosen = -1;
+    const std::uint32_t checked_at = e.checked >> 2;
+    if (e.checked != 0 && changed[e.a] <= checked_at && changed[e.b] <= checked_at &&
+        static_cast<int>(e.checked & 3) < n && cands[e.checked & 3].cost == e.cost) {
+      // Re-ranked, and St(a) ∪ St(b) untouched since the kernel accepted this placement: the same
+      // candidates, the same verdict. The stars are gathered for the stencil below.
+      chosen = static_cast<int>(e.checked & 3);
+      gather_stars(mesh, cands[chosen].u, cands[chosen].v, scratch);
+    } else {
+      Placement placements[4];
+      for (int i = 0; i < n; ++i) placements[i] = {cands[i].u, cands[i].v, cands[i].p};
+      ++report.legality_checks;
+      cost.hint_orders(e.a, e.b, scratch.link);
+      chosen = first_acceptable(mesh, placements, n, kernel_options, scratch, &report.rejected);
+    }
     if (chosen < 0) {
       park(e.a, e.b);  // look again when something around them changes
       park(e.b, e.a);
@@ -106,8 +127,11 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
     // corners of boxes (a costly midpoint across a crease) while cheap collapses were waiting.
     // Only a clear loss (twice the next edge's cost) is worth the second check the edge gets when
     // it comes back out of the heap: re-ranking every small excess cost 60% more kernel checks.
+    // The accepted placement is remembered: an edge left alone until it comes back out is not
+    // checked again (most of them; the others had their stars changed by a collapse meanwhile).
     if (cands[chosen].cost > e.cost && !heap.empty() && cands[chosen].cost > 2.0 * heap.top().cost) {
-      heap.push({cands[chosen].cost, e.a, e.b, e.stamp});
+      const std::uint32_t checked = clock <= kMaxCheckedClock ? clock << 2 | static_cast<std::uint32_t>(chosen) : 0;
+      heap.push({cands[chosen].cost, e.a, e.b, e.stamp, checked});
       continue;
     }
     {
@@ -126,6 +150,7 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
       ++report.collapses;
       --live;
       stamp[c.u] = ++clock;
+      for (VertId x : stencil) changed[x] = clock;
       mesh.neighbours(c.u, nbrs);
       for (VertId x : nbrs) push(c.u, x);
       // Edges rejected earlier near this collapse may have become legal: offer them again.
