@@ -38,12 +38,13 @@ struct Entry {
 }  // namespace
 
 void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel_options,
-                         std::uint64_t target, Report& report) {
+                         FieldBounds* bounds, std::uint64_t target, Report& report) {
   CostModel cost(mesh, options);
   CollapseScratch scratch;
   CollapseCandidate cands[4];
   std::vector<VertId> nbrs, stencil;
   std::vector<double> fields(static_cast<std::size_t>(mesh.field_stride()));
+  std::vector<double> candidate_fields;  // the field error check's values at each placement
   std::vector<std::uint32_t> stamp(mesh.positions.size(), 0);
   // Edges dropped as illegal, remembered at both ends (up to kParked partners per vertex; past
   // that the vertex overflows and all its edges are offered again).
@@ -92,6 +93,7 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
     ++report.evaluations;
     Placement placements[4];
     for (int i = 0; i < n; ++i) placements[i] = {cands[i].u, cands[i].v, cands[i].p};
+    if (bounds != nullptr) set_placement_fields(mesh, cost, cands, n, placements, candidate_fields);
     ++report.legality_checks;
     cost.hint_orders(e.a, e.b, scratch.link);
     const int chosen = first_acceptable(mesh, placements, n, kernel_options, scratch, &report.rejected);
@@ -120,7 +122,7 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
       stencil.erase(std::unique(stencil.begin(), stencil.end()), stencil.end());
       cost.fields_at(mesh, c, fields.data());
       reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
-      collapse(mesh, c.u, c.v, c.p, fields.data(), scratch, refs_used);
+      collapse(mesh, c.u, c.v, c.p, fields.data(), scratch, refs_used, bounds);
       cost.on_collapse(mesh, c.u, c.v, scratch.star_uv);
       report.max_cost = std::max(report.max_cost, c.cost);
       ++report.collapses;
