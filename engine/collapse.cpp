@@ -337,7 +337,7 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
       reject(CollapseReason::kTolerance);
       continue;
     }
-    if (options.field_bounds != nullptr && !within_field_bounds(mesh, pl, *options.field_bounds, s)) {
+    if (options.field_bounds != nullptr && options.field_bounds->has_limit() && !within_field_bounds(mesh, pl, *options.field_bounds, s)) {
       reject(CollapseReason::kFieldError);
       continue;
     }

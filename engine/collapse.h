@@ -47,7 +47,8 @@ struct CollapseOptions {
   double tolerance = 0.0;
   // Optional field error bounds (field_bounds.h): with them, a placement whose new star would have
   // a bound above its limit is refused (kFieldError). Checked after everything else (it locates
-  // every sample of the stencil); read-only here, updated by collapse().
+  // every sample of the stencil), and only when a limit is set; read-only here, updated by
+  // collapse().
   const FieldBounds* field_bounds = nullptr;
 };
 

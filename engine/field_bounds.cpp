@@ -180,6 +180,7 @@ FieldBounds::FieldBounds(const TetMesh& mesh, double max_abs, double max_rel) : 
     if (max_abs > 0.0) limit = std::min(limit, max_abs);
     if (max_rel > 0.0) limit = std::min(limit, max_rel * range_[c]);
     limit_[c] = limit;
+    has_limit_ = has_limit_ || limit < std::numeric_limits<double>::infinity();
     // Interpolating at the same point in two tets, or with barycentric coordinates rounded
     // differently (the measurement's), differs by rounding: a few ulps of the largest value, and
     // up to kInsideTolerance of the range where a point on a shared face is taken in either tet.

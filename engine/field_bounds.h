@@ -79,6 +79,9 @@ class FieldBounds {
   // Range (max - min over the samples) of component c; 1 for a constant component.
   double range(int c) const { return range_[static_cast<std::size_t>(c)]; }
   double limit(int c) const { return limit_[static_cast<std::size_t>(c)]; }  // +inf = none
+  // Some component has a limit: only then can a collapse be refused, and only then does the
+  // kernel check placements (without one the bounds are just kept, at each applied collapse).
+  bool has_limit() const { return has_limit_; }
   float bound(TetId t, int c) const { return bound_[static_cast<std::size_t>(t) * k_ + c]; }
 
   // The bounds the new star would have after collapse u <- v: `s.star` (filled by the caller)
@@ -109,6 +112,7 @@ class FieldBounds {
 
  private:
   int k_ = 0;
+  bool has_limit_ = false;
   std::vector<double> range_, limit_, slack_;    // [component]
   std::vector<float> bound_;                     // [tet * k + c]
   std::vector<std::uint32_t> head_;              // [tet] first sample, kInvalid = none

@@ -93,7 +93,7 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
     ++report.evaluations;
     Placement placements[4];
     for (int i = 0; i < n; ++i) placements[i] = {cands[i].u, cands[i].v, cands[i].p};
-    if (bounds != nullptr) set_placement_fields(mesh, cost, cands, n, placements, candidate_fields);
+    if (bounds != nullptr && bounds->has_limit()) set_placement_fields(mesh, cost, cands, n, placements, candidate_fields);
     ++report.legality_checks;
     cost.hint_orders(e.a, e.b, scratch.link);
     const int chosen = first_acceptable(mesh, placements, n, kernel_options, scratch, &report.rejected);
