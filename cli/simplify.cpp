@@ -150,6 +150,9 @@ Json field_bounds_json(const LevelResult& l) {
   return {{"max_bound_rel", r.field_bound_rel},
           {"components", components},
           {"measured_max_rel", l.field_error ? Json(measured_at_original_vertices(*l.field_error)) : Json(nullptr)},
+          // The bound covers these only up to the tet they were attached to (engine/field_bounds.h).
+          {"original_vertices_outside",
+           l.field_error ? Json(l.field_error->original_in_simplified.outside) : Json(nullptr)},
           {"bytes", r.field_bounds_bytes},
           {"setup_seconds", r.field_bounds_setup_seconds}};
 }
@@ -499,6 +502,10 @@ int run_simplify_job(SimplifyJob& job) {
                           (last.field_error ? ", measured " + format_number(measured_at_original_vertices(*last.field_error)) +
                                                   " at the original vertices"
                                             : "") +
+                          (last.field_error && last.field_error->original_in_simplified.outside > 0
+                               ? " (" + format_count(last.field_error->original_in_simplified.outside) +
+                                     " of them outside the output: bounded only approximately)"
+                               : "") +
                           (limited ? "; limit " + limit + ", refused " +
                                          format_count(r.rejected_by(RejectReason::kFieldError)) + " collapses"
                                    : "") +
