@@ -111,7 +111,8 @@ float round_up(double x) {
 
 // Where sample q lands in the new star: the index and the barycentric coordinates to interpolate
 // with (field_bounds.h says which tet).
-std::uint32_t locate(const FieldBoundsScratch& s, const glm::dvec3& q, std::uint32_t home, Bary& lambda) {
+std::uint32_t locate(const FieldBoundsScratch& s, const glm::dvec3& q, std::uint32_t home, Bary& lambda, bool& outside) {
+  outside = false;
   if (home != kInvalid && barycentric(s.corners[home], q, lambda) && smallest(lambda) >= -kInsideTolerance) return home;
   const std::size_t n = s.star.size();
   std::uint32_t best = kInvalid;
@@ -127,6 +128,7 @@ std::uint32_t locate(const FieldBoundsScratch& s, const glm::dvec3& q, std::uint
     }
   }
   if (best != kInvalid && best_min >= -kInsideTolerance) return best;
+  outside = true;
   double best_d2 = std::numeric_limits<double>::infinity();
   best = kInvalid;
   for (std::uint32_t i = 0; i < n; ++i) {
@@ -220,7 +222,11 @@ bool FieldBounds::evaluate(const TetMesh& mesh, std::span<const TetId> removed, 
   Bary lambda{};
   for (std::size_t i = 0; i < s.samples.size(); ++i) {
     const std::uint32_t w = s.samples[i];
-    const std::uint32_t j = locate(s, sample_position_[w], s.home[i], lambda);
+    bool outside = false;
+    const std::uint32_t j = locate(s, sample_position_[w], s.home[i], lambda, outside);
+    // Under a limit no original vertex may leave the mesh: outside it the measurement takes the
+    // globally closest tet, which this stencil cannot know (field_bounds.h).
+    if (stop_at_limit && outside) return false;
     s.lands[i] = j;
     const auto& vals = s.values[j];
     for (std::size_t c = 0; c < k; ++c) {

@@ -30,11 +30,15 @@
 // written lies in the collapse's stencil (its tets' sample lists, their samples), so collapses
 // with disjoint stencils may run concurrently and the result is the same for every schedule.
 //
-// Known gap: a sample outside the mesh stays with the tet it was closest to when its stencil last
-// collapsed; a later collapse next to it (not through its tet) may bring another tet closer, or
-// push the boundary out over it, and the measurement then interpolates another tet than the
-// bound did. Only samples outside the simplified mesh are concerned (within the geometric
-// tolerance of its boundary).
+// Samples outside the mesh. Without a limit (tracking only) a sample outside stays with the tet
+// it was closest to when its stencil last collapsed; a later collapse next to it (not through its
+// tet), or a concave corner, may make another tet closer, and the measurement (which takes the
+// globally closest tet) then interpolates another tet than the bound did: measured on LOX, up to
+// 10x the bound at such vertices. So under a limit a collapse that would leave an original vertex
+// outside its new star (outside the mesh: the star's outer faces are the only ones that move) is
+// refused like one that exceeds the limit: every sample then stays inside the mesh and the bound
+// holds at every original vertex. The price: a convex curved boundary cannot retreat past the
+// original vertices on it (flat boundaries and concave ones simplify freely).
 //
 // Memory: per tet one list head and one float per component; per original vertex its position,
 // its values and a list link: (4 + 4k) bytes per tet + (28 + 8k) bytes per vertex.
@@ -87,8 +91,8 @@ class FieldBounds {
   // The bounds the new star would have after collapse u <- v: `s.star` (filled by the caller)
   // lists its tets with their moving corner, `removed` the tets of St(uv). `fields_at_p` are u's
   // new values (nullptr: u's current values). Pure (reads the mesh and the bounds). With
-  // `stop_at_limit`, returns false as soon as one bound would exceed its limit; otherwise always
-  // true. The result is left in `s` for commit().
+  // `stop_at_limit`, returns false as soon as one bound would exceed its limit or one sample would
+  // end up outside the new star; otherwise always true. The result is left in `s` for commit().
   bool evaluate(const TetMesh& mesh, std::span<const TetId> removed, VertId u, const glm::dvec3& p,
                 const double* fields_at_p, FieldBoundsScratch& s, bool stop_at_limit) const;
 
