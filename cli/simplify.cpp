@@ -7,6 +7,7 @@
 // The outputs are measured after the last level so that the peak memory reported is the one of
 // reading, building and simplifying, not of the checker. Each measurement is timed on its own, so
 // the report shows what the measurements cost next to the simplification.
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -91,6 +92,39 @@ Json field_error_json(const FieldError& f) {
           {"unmatched_fields", f.unmatched_fields}};
 }
 
+// The largest error measured at the original vertices (the samples the bounds cover), relative to
+// each component's range, worst component.
+double measured_at_original_vertices(const FieldError& f) {
+  double worst = 0.0;
+  for (const ComponentError& c : f.components) worst = std::max(worst, c.original_to_simplified.max_rel);
+  return worst;
+}
+
+Json field_bounds_json(const LevelResult& l) {
+  const Report& r = l.report;
+  if (!r.field_bounds) return nullptr;
+  Json components = Json::array();
+  for (std::size_t c = 0; c < r.field_bound.size(); ++c) {
+    Json e = {{"bound", r.field_bound[c]}};
+    if (l.field_error && c < l.field_error->components.size()) {
+      const ComponentError& m = l.field_error->components[c];
+      e["field"] = m.field;
+      e["component"] = m.component;
+      e["bound_rel"] = m.range > 0 ? r.field_bound[c] / m.range : r.field_bound[c];
+      e["measured_max_abs"] = m.original_to_simplified.max_abs;
+    }
+    components.push_back(e);
+  }
+  return {{"max_bound_rel", r.field_bound_rel},
+          {"components", components},
+          {"measured_max_rel", l.field_error ? Json(measured_at_original_vertices(*l.field_error)) : Json(nullptr)},
+          // The bound covers these only up to the tet they were attached to (engine/field_bounds.h).
+          {"original_vertices_outside",
+           l.field_error ? Json(l.field_error->original_in_simplified.outside) : Json(nullptr)},
+          {"bytes", r.field_bounds_bytes},
+          {"setup_seconds", r.field_bounds_setup_seconds}};
+}
+
 Json level_json(const LevelResult& l) {
   const Report& r = l.report;
   Json rejected = Json::object();
@@ -125,6 +159,7 @@ Json level_json(const LevelResult& l) {
   j["tolerance"] = r.tolerance;
   j["tolerance_setup_seconds"] = r.tolerance_setup_seconds;
   j["tolerance_limited"] = r.tolerance_limited;
+  j["field_bounds"] = field_bounds_json(l);
   j["feature_edges"] = r.feature_edges;
   j["feature_corners"] = r.feature_corners;
   j["feature_seconds"] = r.feature_seconds;
@@ -144,6 +179,7 @@ Json level_json(const LevelResult& l) {
 std::string rejected_text(const Report& r) {
   std::string s;
   for (RejectReason reason : kRejectReasons) {
+    if (reason == RejectReason::kFieldError && !r.field_bounds) continue;  // no bounds kept: nothing to refuse
     if (!s.empty()) s += ", ";
     s += std::string(to_string(reason)) + " " + format_count(r.rejected_by(reason));
   }
@@ -502,6 +538,25 @@ int run_simplify_job(SimplifyJob& job) {
                                                   : "") +
                              " (Embree scene of the input's surfaces built in " +
                              format_seconds(r.tolerance_setup_seconds) + ")");
+      if (job.levels.empty() && r.field_bounds) {
+        const bool limited = job.options.max_field_error > 0 || job.options.max_field_error_rel > 0;
+        std::string limit;
+        if (job.options.max_field_error > 0) limit += format_number(job.options.max_field_error) + " (field units)";
+        if (job.options.max_field_error_rel > 0)
+          limit += (limit.empty() ? "" : " and ") + format_number(job.options.max_field_error_rel) + " of the range";
+        row("bounds", "field error bound " + format_number(r.field_bound_rel) + " (relative to the range, worst component)" +
+                          (last.field_error ? ", measured " + format_number(measured_at_original_vertices(*last.field_error)) +
+                                                  " at the original vertices"
+                                            : "") +
+                          (last.field_error && last.field_error->original_in_simplified.outside > 0
+                               ? " (" + format_count(last.field_error->original_in_simplified.outside) +
+                                     " of them outside the output: bounded only approximately)"
+                               : "") +
+                          (limited ? "; limit " + limit + ", refused " +
+                                         format_count(r.rejected_by(RejectReason::kFieldError)) + " collapses"
+                                   : "") +
+                          " (" + format_bytes(r.field_bounds_bytes) + ")");
+      }
       if (job.levels.empty() && job.metrics) print_surface_distance(last.distance, last.distance_seconds,
                                                                       /*per_label=*/verbosity() >= Verbosity::kVerbose);
       if (!job.metrics) {
@@ -548,6 +603,8 @@ int run_simplify_job(SimplifyJob& job) {
                       {"round_fraction", job.options.round_fraction},
                       {"tolerance", job.options.tolerance},
                       {"tolerance_rel", job.options.tolerance_rel},
+                      {"max_field_error", job.options.max_field_error},
+                      {"max_field_error_rel", job.options.max_field_error_rel},
                       {"feature_angle", job.options.feature_angle},
                       {"field_weights", job.options.field_weights},
                       {"verify", verify},
@@ -580,6 +637,9 @@ struct SimplifyArgs {
   double min_quality = SimplifyOptions{}.min_quality;
   double tolerance = -1.0;  // < 0: not given (the relative default applies)
   double tolerance_rel = SimplifyOptions{}.tolerance_rel;
+  double max_field_error = 0.0;
+  double max_field_error_rel = 0.0;
+  bool field_bounds = false;
   double feature_angle = SimplifyOptions{}.feature_angle;
   std::optional<std::int32_t> feature_ref;
   bool sequential = false;
@@ -631,6 +691,9 @@ int run_simplify(const SimplifyArgs& args) {
   } else {
     job.options.tolerance_rel = args.tolerance_rel;
   }
+  job.options.max_field_error = args.max_field_error;
+  job.options.max_field_error_rel = args.max_field_error_rel;
+  job.options.track_field_bounds = args.field_bounds;
   job.options.feature_angle = args.feature_angle;
   job.feature_ref = args.feature_ref;
   job.options.engine = args.sequential ? Engine::kSequential : Engine::kParallel;
@@ -686,6 +749,19 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
       ->check(number_in(0.0, kInfinity, false))
       ->excludes(tolerance)
       ->capture_default_str();
+  auto* max_field_error =
+      cmd->add_option("--max-field-error", args->max_field_error,
+                      "Refuse collapses that would let the field error at an original vertex exceed E (field units, "
+                      "every component; a per-tet bound kept exact through the run); 0 = no limit")
+          ->type_name("E")
+          ->check(number_in(0.0, kInfinity, false));
+  auto* max_field_error_rel =
+      cmd->add_option("--max-field-error-rel", args->max_field_error_rel,
+                      "The same, relative to each field component's range (both given: the smaller)")
+          ->type_name("E")
+          ->check(number_in(0.0, kInfinity, false));
+  auto* field_bounds = cmd->add_flag("--field-bounds", args->field_bounds,
+                                     "Keep the per-tet field error bounds and report them, without a limit");
   cmd->add_option("--feature-angle", args->feature_angle,
                   "Keep as feature curves (like polylines) the surface edges whose faces turn by more than this "
                   "angle in degrees, and pin their corners; 180 = off")
@@ -719,6 +795,8 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
                                  "extension (out_0.3.mesh), one table row per level")
                      ->delimiter(',');
   levels->excludes(ratio)->excludes(target);
+  // Each level simplifies the previous one's output: its bounds would be against that, not the input.
+  for (CLI::Option* bounds_option : {max_field_error, max_field_error_rel, field_bounds}) levels->excludes(bounds_option);
   ratio->excludes(target);
   add_verbosity_flags(cmd);
   cmd->add_option("--progress", args->progress,

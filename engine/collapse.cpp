@@ -22,6 +22,7 @@ const char* to_string(CollapseReason reason) {
     case CollapseReason::kInversion: return "inversion";
     case CollapseReason::kQuality: return "quality";
     case CollapseReason::kTolerance: return "tolerance";
+    case CollapseReason::kFieldError: return "field_error";
   }
   return "?";
 }
@@ -255,6 +256,18 @@ bool within_tolerance(const TetMesh& mesh, const Placement& pl, const CollapseOp
   return placement_within_tolerance(mesh, reference, options.tolerance, pl.u, pl.v, pl.p, s.surface);
 }
 
+// The new star as the field bounds see it (the tets that survive, with their moving corner).
+void bound_star(const CollapseScratch& s, FieldBoundsScratch& b) {
+  b.star.clear();
+  for (const CollapseScratch::NewStarTet& t : s.new_star) b.star.push_back({t.tet, t.corner});
+}
+
+// The field error check of one placement (both stars gathered).
+bool within_field_bounds(const TetMesh& mesh, const Placement& pl, const FieldBounds& bounds, CollapseScratch& s) {
+  bound_star(s, s.bounds);
+  return bounds.evaluate(mesh, s.star_uv, pl.u, pl.p, pl.fields, s.bounds, true);
+}
+
 }  // namespace
 
 int first_acceptable(const TetMesh& mesh, const Placement* placements, int count, const CollapseOptions& options,
@@ -325,6 +338,10 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
       reject(CollapseReason::kTolerance);
       continue;
     }
+    if (options.field_bounds != nullptr && options.field_bounds->has_limit() && !within_field_bounds(mesh, pl, *options.field_bounds, s)) {
+      reject(CollapseReason::kFieldError);
+      continue;
+    }
     return i;
   }
   return -1;
@@ -345,9 +362,17 @@ void reserve_refs_headroom(TetMesh& mesh, std::uint32_t refs_used, std::size_t c
     mesh.refs_table.resize(std::max<std::size_t>(refs_used + count, mesh.refs_table.size() * 3 / 2));
 }
 
-void collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
-              CollapseScratch& s, std::uint32_t& refs_used) {
+float collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
+               CollapseScratch& s, std::uint32_t& refs_used, FieldBounds* bounds) {
   gather_stars(mesh, u, v, s);
+  // 0. The field bounds of the new star, from the mesh as it is (nothing written yet); stored at once:
+  //    they are keyed by tet ids, which the collapse keeps.
+  float star_bound = 0.0f;
+  if (bounds != nullptr) {
+    bound_star(s, s.bounds);
+    bounds->evaluate(mesh, s.star_uv, u, p, fields_at_p, s.bounds, false);
+    star_bound = bounds->commit(s.star_uv, s.bounds);
+  }
 
   // 1. The flagged faces and edges through u or v in the old stencil, with v renamed to u: only
   //    those can change (a face or edge away from u and v keeps its vertices, its tets and its
@@ -475,6 +500,7 @@ void collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const doub
   mesh.vertex_states[v] |= vertex_state::kDead;
   // v is in this collapse's stencil, so no other collapse of the round writes its entry.
   if (!mesh.merged_into.empty()) mesh.merged_into[v] = u;
+  return star_bound;
 }
 
 }  // namespace topotet

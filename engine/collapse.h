@@ -17,6 +17,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "field_bounds.h"
 #include "link_condition.h"
 #include "surface_tolerance.h"
 #include "topotet/tet_mesh.h"
@@ -31,8 +32,9 @@ enum class CollapseReason : std::uint8_t {
   kInversion,   // a tet of the new star would be inverted or degenerate
   kQuality,     // a tet of the new star would fall below the quality floor
   kTolerance,   // a surface or polyline around p would leave the tolerance (surface_tolerance.h)
+  kFieldError,  // a tet of the new star would exceed the field error limit (field_bounds.h)
 };
-inline constexpr int kCollapseReasonCount = 7;
+inline constexpr int kCollapseReasonCount = 8;
 const char* to_string(CollapseReason reason);
 
 struct CollapseOptions {
@@ -43,6 +45,11 @@ struct CollapseOptions {
   // reference is immutable, so the check is thread-safe.
   const SurfaceReference* surfaces = nullptr;
   double tolerance = 0.0;
+  // Optional field error bounds (field_bounds.h): with them, a placement whose new star would have
+  // a bound above its limit is refused (kFieldError). Checked after everything else (it locates
+  // every sample of the stencil), and only when a limit is set; read-only here, updated by
+  // collapse().
+  const FieldBounds* field_bounds = nullptr;
 };
 
 // Per-thread scratch; keeps capacity between calls so that steady-state calls do not allocate.
@@ -91,12 +98,15 @@ struct CollapseScratch {
   std::vector<TetId> merged;
   std::vector<VertId> link_vertices;  // vertices of St(uv) other than u, v
   SurfaceStencil surface;  // the tolerance check's faces and edges at u, v
+  FieldBoundsScratch bounds;
 };
 
-// One way to collapse an edge: v merges into u, which moves to p.
+// One way to collapse an edge: v merges into u, which moves to p with field values `fields`
+// (field_stride() of them; nullptr: u keeps its values). Only the field error check reads them.
 struct Placement {
   VertId u, v;
   glm::dvec3 p;
+  const double* fields = nullptr;
 };
 
 // Fills scratch.star_u, star_v, star_uv. Returns false if uv is not an edge.
@@ -125,8 +135,11 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
 // field values (field_stride() doubles); nullptr keeps u's values.
 // Needs mesh.refs_table headroom for |St(u)| + |St(v)| new slots (see reserve_refs_headroom),
 // taken through `refs_used` with an atomic increment.
-void collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
-              CollapseScratch& scratch, std::uint32_t& refs_used);
+// With `bounds`, the samples of the stencil move to the new star and its tets get their new
+// bounds (inside the stencil too); returns the largest of them relative to its component's range
+// (FieldBounds::commit), 0 without bounds.
+float collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
+               CollapseScratch& scratch, std::uint32_t& refs_used, FieldBounds* bounds = nullptr);
 
 // Grows mesh.refs_table so that `count` more slots can be taken after `refs_used`.
 void reserve_refs_headroom(TetMesh& mesh, std::uint32_t refs_used, std::size_t count);

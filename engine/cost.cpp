@@ -467,4 +467,15 @@ std::size_t CostModel::memory_bytes() const {
          (field_min_.capacity() + field_scale_.capacity()) * sizeof(double);
 }
 
+void set_placement_fields(const TetMesh& mesh, const CostModel& cost, const CollapseCandidate* cands, int n,
+                          topotet::Placement* placements, std::vector<double>& storage) {
+  const std::size_t stride = static_cast<std::size_t>(mesh.field_stride());
+  storage.resize(stride * static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    double* out = storage.data() + stride * static_cast<std::size_t>(i);
+    cost.fields_at(mesh, cands[i], out);
+    placements[i].fields = out;
+  }
+}
+
 }  // namespace topotet

@@ -85,6 +85,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "collapse.h"
 #include "link_condition.h"
 #include "quadric.h"
 #include "topotet/simplify.h"
@@ -170,5 +171,10 @@ class CostModel {
   std::unique_ptr<std::atomic<std::uint8_t>[]> orders_;  // 0xFF = stale
   std::size_t vertex_count_ = 0;
 };
+
+// Points placements[i].fields at fields_at(cands[i]) (stored in `storage`), for the kernel's field
+// error check (CollapseOptions::field_bounds): it must see the values collapse() will write.
+void set_placement_fields(const TetMesh& mesh, const CostModel& cost, const CollapseCandidate* cands, int n,
+                          Placement* placements, std::vector<double>& storage);
 
 }  // namespace topotet

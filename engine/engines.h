@@ -28,10 +28,12 @@ class Progress {
   std::uint64_t start_, target_;
 };
 
-// `kernel` carries the kernel settings derived from the options (quality floor, tolerance).
+// `kernel` carries the kernel settings derived from the options (quality floor, tolerance, the
+// field bound limits); `bounds` (kernel.field_bounds, writable; nullptr = none) is updated by
+// every applied collapse.
 void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                         std::uint64_t target_vertices, Report& report);
+                         FieldBounds* bounds, std::uint64_t target_vertices, Report& report);
 void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                       std::uint64_t target_vertices, Report& report);
+                       FieldBounds* bounds, std::uint64_t target_vertices, Report& report);
 
 }  // namespace topotet::detail

@@ -169,6 +169,7 @@ void Proposals::restore_lifted_bans(VertId a, Proposal& p, VertId u) {
 int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
   Placement placements[4];
   for (int i = 0; i < n; ++i) placements[i] = {s.cands[i].u, s.cands[i].v, s.cands[i].p};
+  if (kernel_.field_bounds != nullptr && kernel_.field_bounds->has_limit()) set_placement_fields(mesh_, cost_, s.cands, n, placements, s.fields);
   ++s.checks;
   cost_.hint_orders(a, b, s.collapse.link);
   return first_acceptable(mesh_, placements, n, kernel_, s.collapse, &s.rejected);

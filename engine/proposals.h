@@ -46,6 +46,7 @@ struct ProposalScratch {
   std::vector<EdgeCost> edges;
   std::vector<std::uint32_t> edge_order;
   std::array<std::uint64_t, kCollapseReasonCount> rejected{};
+  std::vector<double> fields;  // the field error check's values at each placement
   std::uint64_t evaluations = 0, checks = 0;
 };
 

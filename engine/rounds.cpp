@@ -90,9 +90,10 @@ void stencil_of(const TetMesh& mesh, VertId a, VertId b, std::vector<VertId>& ou
 
 class Rounds {
  public:
-  Rounds(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel, std::uint64_t target,
-         Report& report)
+  Rounds(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel, FieldBounds* bounds,
+         std::uint64_t target, Report& report)
       : mesh_(mesh),
+        bounds_(bounds),
         options_(options),
         target_(target),
         report_(report),
@@ -388,7 +389,7 @@ class Rounds {
           throw std::logic_error("parallel rounds: a verified proposal changed before it was applied");
         const CollapseCandidate& c = cands[chosen];
         cost_.fields_at(mesh_, c, s.fields.data());
-        collapse(mesh_, c.u, c.v, c.p, s.fields.data(), kernel, refs_used_);
+        collapse(mesh_, c.u, c.v, c.p, s.fields.data(), kernel, refs_used_, bounds_);
         cost_.on_collapse(mesh_, c.u, c.v, kernel.star_uv);
         applied_cost_[w] = c.cost;
         ++n_applied;
@@ -463,6 +464,7 @@ class Rounds {
   }
 
   TetMesh& mesh_;
+  FieldBounds* bounds_;  // nullptr = none; each collapse updates its own stencil's bounds
   const SimplifyOptions& options_;
   const std::uint64_t target_;
   Report& report_;
@@ -498,8 +500,8 @@ class Rounds {
 }  // namespace
 
 void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                       std::uint64_t target, Report& report) {
-  Rounds rounds(mesh, options, kernel, target, report);
+                       FieldBounds* bounds, std::uint64_t target, Report& report) {
+  Rounds rounds(mesh, options, kernel, bounds, target, report);
   rounds.run();
 }
 

@@ -46,12 +46,13 @@ struct Entry {
 }  // namespace
 
 void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel_options,
-                         std::uint64_t target, Report& report) {
+                         FieldBounds* bounds, std::uint64_t target, Report& report) {
   CostModel cost(mesh, options);
   CollapseScratch scratch;
   CollapseCandidate cands[4];
   std::vector<VertId> nbrs, stencil;
   std::vector<double> fields(static_cast<std::size_t>(mesh.field_stride()));
+  std::vector<double> candidate_fields;  // the field error check's values at each placement
   std::vector<std::uint32_t> stamp(mesh.positions.size(), 0);
   // The clock of the last collapse whose stencil held the vertex: its star changed then.
   std::vector<std::uint32_t> changed(mesh.positions.size(), 0);
@@ -106,12 +107,14 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
     if (e.checked != 0 && changed[e.a] <= checked_at && changed[e.b] <= checked_at &&
         static_cast<int>(e.checked & 3) < n && cands[e.checked & 3].cost == e.cost) {
       // Re-ranked, and St(a) ∪ St(b) untouched since the kernel accepted this placement: the same
-      // candidates, the same verdict. The stars are gathered for the stencil below.
+      // candidates, the same verdict (the field bounds of the stars are unchanged too). The stars
+      // are gathered for the stencil below.
       chosen = static_cast<int>(e.checked & 3);
       gather_stars(mesh, cands[chosen].u, cands[chosen].v, scratch);
     } else {
       Placement placements[4];
       for (int i = 0; i < n; ++i) placements[i] = {cands[i].u, cands[i].v, cands[i].p};
+      if (bounds != nullptr && bounds->has_limit()) set_placement_fields(mesh, cost, cands, n, placements, candidate_fields);
       ++report.legality_checks;
       cost.hint_orders(e.a, e.b, scratch.link);
       chosen = first_acceptable(mesh, placements, n, kernel_options, scratch, &report.rejected);
@@ -144,7 +147,7 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
       stencil.erase(std::unique(stencil.begin(), stencil.end()), stencil.end());
       cost.fields_at(mesh, c, fields.data());
       reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
-      collapse(mesh, c.u, c.v, c.p, fields.data(), scratch, refs_used);
+      collapse(mesh, c.u, c.v, c.p, fields.data(), scratch, refs_used, bounds);
       cost.on_collapse(mesh, c.u, c.v, scratch.star_uv);
       report.max_cost = std::max(report.max_cost, c.cost);
       ++report.collapses;

@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "engines.h"
+#include "field_bounds.h"
 #include "parallel/for_range.h"
 #include "reorder.h"
 #include "surface_tolerance.h"
@@ -39,6 +40,7 @@ static_assert(static_cast<int>(RejectReason::kPinned) == static_cast<int>(Collap
 static_assert(static_cast<int>(RejectReason::kInversion) == static_cast<int>(CollapseReason::kInversion));
 static_assert(static_cast<int>(RejectReason::kQuality) == static_cast<int>(CollapseReason::kQuality));
 static_assert(static_cast<int>(RejectReason::kTolerance) == static_cast<int>(CollapseReason::kTolerance));
+static_assert(static_cast<int>(RejectReason::kFieldError) == static_cast<int>(CollapseReason::kFieldError));
 static_assert(kCollapseReasonCount == std::tuple_size_v<decltype(Report::rejected)>);
 
 namespace {
@@ -51,6 +53,9 @@ std::string check_options(const SimplifyOptions& o) {
   if (!(o.boundary_weight >= 0.0) || !(o.polyline_weight >= 0.0)) return "weights must be >= 0";
   if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance)) return "tolerance must be finite and >= 0";
   if (!(o.tolerance_rel >= 0.0) || !std::isfinite(o.tolerance_rel)) return "tolerance_rel must be finite and >= 0";
+  if (!(o.max_field_error >= 0.0) || !std::isfinite(o.max_field_error)) return "max_field_error must be finite and >= 0";
+  if (!(o.max_field_error_rel >= 0.0) || !std::isfinite(o.max_field_error_rel))
+    return "max_field_error_rel must be finite and >= 0";
   if (o.num_threads < 0) return "num_threads must be >= 0";
   if (!(o.round_fraction > 0.0 && o.round_fraction <= 1.0)) return "round_fraction must be in (0, 1]";
   if (!(o.feature_angle >= 0.0 && o.feature_angle <= 180.0)) return "feature_angle must be in [0, 180] degrees";
@@ -156,10 +161,32 @@ Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<
         report.tolerance_setup_seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
       }
+      // Field error bounds, only when asked for (they cost memory and a point location per sample
+      // of every checked stencil). Taken after the renumbering: they are keyed by tet and vertex ids.
+      std::unique_ptr<FieldBounds> bounds;
+      const bool want_bounds = options.max_field_error > 0.0 || options.max_field_error_rel > 0.0 || options.track_field_bounds;
+      if (want_bounds && mesh.field_stride() > 0) {
+        const auto setup_start = std::chrono::steady_clock::now();
+        bounds = std::make_unique<FieldBounds>(mesh, options.max_field_error, options.max_field_error_rel);
+        kernel.field_bounds = bounds.get();
+        report.field_bounds = true;
+        report.field_bounds_bytes = bounds->memory_bytes();
+        report.field_bounds_setup_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
+      }
       if (options.engine == Engine::kSequential)
-        detail::simplify_sequential(mesh, options, kernel, target, report);
+        detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report);
       else
-        detail::simplify_parallel(mesh, options, kernel, target, report);
+        detail::simplify_parallel(mesh, options, kernel, bounds.get(), target, report);
+      if (bounds != nullptr) {
+        report.field_bound = bounds->max_bounds(mesh);
+        report.field_bound_rel = bounds->max_bound_rel(mesh);
+        // In the order compact() keeps: the live tets by id.
+        for (TetId t = 0; t < mesh.tets.size(); ++t) {
+          if (mesh.flags[t] & tet_flag::kDead) continue;
+          for (int c = 0; c < bounds->components(); ++c) report.tet_field_bound.push_back(bounds->bound(t, c));
+        }
+      }
       // Once, at the end: renumbering mid-run would have to remap every per-vertex array of the
       // engines (proposals, quadrics, orders) for a locality gain the runs here did not need.
       if (report.status == Status::kStoppedEarly && report.tolerance > 0.0 &&
@@ -171,6 +198,9 @@ Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<
                          std::to_string(report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)]) +
                          " collapses, so it may be what stopped the run before the target (compare with tolerance 0)";
       }
+      const std::uint64_t field_refusals = report.rejected[static_cast<std::size_t>(CollapseReason::kFieldError)];
+      if (report.status == Status::kStoppedEarly && field_refusals > 0)
+        report.message += "; the field error limit refused " + std::to_string(field_refusals) + " collapses";
       const auto compact_start = std::chrono::steady_clock::now();
       if (vertex_map != nullptr) {
         resolve_vertex_map(mesh, input_vertex_count, new2old, true, *vertex_map);

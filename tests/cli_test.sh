@@ -163,6 +163,19 @@ sys.exit(0 if l["tolerance"] == 0 and l["feature_edges"] == 0 else 1)' plain.jso
 else
   fail "--tolerance 0 --feature-angle 180 did not turn both off"
 fi
+# --- field error bounds (issue #16): the limit holds and the measured error stays under the bound ---
+expect 0 simplify_field_bounds -- "$topotet" simplify in.mesh -o fb.mesh --ratio 0.05 --max-field-error-rel 0.01 --no-verify --report fb.json
+if python3 -c '
+import json, sys
+l = json.load(open(sys.argv[1]))["levels"][0]
+b = l["field_bounds"]
+ok = b["max_bound_rel"] <= 0.01 and b["measured_max_rel"] <= b["max_bound_rel"] and "field_error" in l["rejected"]
+sys.exit(0 if ok else 1)' fb.json && grep -q '^bounds .*field error bound' simplify_field_bounds.out; then
+  pass "--max-field-error-rel: bound <= E, measured <= bound, reported"
+else
+  fail "--max-field-error-rel: bound above E, measured above the bound, or not reported"
+fi
+expect_error field_bounds_with_levels -- "$topotet" simplify in.mesh -o lv.mesh --levels 0.5,0.3 --max-field-error 1
 expect 0 simplify_feature_ref -- "$topotet" simplify in.mesh -o fr.mesh --ratio 0.3 --feature-ref 99
 expect 0 convert_features -- "$topotet" convert in.mesh feat.mesh --features 99
 if grep -q ' 99$' feat.mesh && grep -q ' 99$' fr.mesh; then pass "feature edges written with their ref"; else fail "no feature edges with ref 99"; fi

@@ -53,11 +53,13 @@ enum class RejectReason : std::uint8_t {
   kInversion,      // a tet of the new star would be inverted or degenerate
   kQuality,        // a tet of the new star would fall below min_quality
   kTolerance,      // a surface or polyline would leave the geometric tolerance
+  kFieldError,     // a tet's field error bound would exceed max_field_error(_rel)
 };
 inline constexpr RejectReason kRejectReasons[] = {RejectReason::kLinkK,     RejectReason::kLinkKtilde,
                                                   RejectReason::kPinned,    RejectReason::kInversion,
-                                                  RejectReason::kQuality,   RejectReason::kTolerance};
-const char* to_string(RejectReason reason);  // "link_K", "link_Ktilde", "pinned", ...
+                                                  RejectReason::kQuality,   RejectReason::kTolerance,
+                                                  RejectReason::kFieldError};
+const char* to_string(RejectReason reason);  // "link_K", "link_Ktilde", "pinned", ..., "field_error"
 
 struct SimplifyOptions {
   // Stop when the live vertex count reaches target_vertex_ratio * input vertices, or
@@ -96,6 +98,18 @@ struct SimplifyOptions {
   // (kDefaultToleranceRel, chosen in README.md "Default runs"); tolerance_rel = 0 turns it off.
   double tolerance = 0.0;
   double tolerance_rel = kDefaultToleranceRel;
+  // Field error bounds (paper 003; engine/field_bounds.h says exactly what is bounded): every tet
+  // carries, per field component, the largest |original - simplified| over the original vertices
+  // that lie in it (exact, kept through every collapse). A collapse that would give a tet a bound
+  // above max_field_error (field units, every component) or max_field_error_rel x the component's
+  // range (max - min over the input vertices) is refused (reason "field_error"), so the run stops
+  // before any bound exceeds the limit; both given = the smaller per component. 0 = no limit.
+  // With a limit or track_field_bounds, the report gives the achieved bounds. Off by default: the
+  // bounds cost memory and time (README.md, "Field error bounds"). A mesh without fields has
+  // nothing to bound (the limits are then ignored).
+  double max_field_error = 0.0;
+  double max_field_error_rel = 0.0;
+  bool track_field_bounds = false;
   Engine engine = Engine::kParallel;
   int num_threads = 0;  // 0 = the caller's current task arena; the output is identical for every value
   // Parallel rounds: about this fraction of the cheapest proposals is verified and competes in
@@ -127,7 +141,7 @@ struct Report {
   std::uint64_t evaluations = 0;      // candidate cost evaluations
   std::uint64_t legality_checks = 0;  // calls of the kernel's may_collapse
   // Rejections by reason: read them with rejected_by(RejectReason) (entry 0 is unused).
-  std::array<std::uint64_t, 7> rejected{};
+  std::array<std::uint64_t, 8> rejected{};
   std::uint64_t rejected_by(RejectReason reason) const { return rejected[static_cast<std::size_t>(reason)]; }
   std::uint64_t rounds = 0;  // parallel engine: rounds run
   double seconds = 0.0;
@@ -149,6 +163,16 @@ struct Report {
   // was, and not the topology or the features, only a run without it tells (measured on the
   // cube-sphere at 2%: features alone stop at 5.1%, the same as with the tolerance).
   bool tolerance_limited = false;
+  // Field error bounds (SimplifyOptions::max_field_error): the largest bound over the output's
+  // tets per field component (fields in order, then components; field units), and the largest
+  // relative to the component's range. Empty / 0 when the bounds were not kept.
+  bool field_bounds = false;
+  std::vector<double> field_bound;
+  double field_bound_rel = 0.0;
+  // Per output tet (the simplified mesh's numbering) and component: [tet * field_stride() + c].
+  std::vector<float> tet_field_bound;
+  std::uint64_t field_bounds_bytes = 0;  // memory the bounds took (field_bounds.h)
+  double field_bounds_setup_seconds = 0.0;
 };
 
 // Simplifies in place. The mesh is valid on return for every status.

@@ -1,0 +1,308 @@
+// Field error bounds (issue #16, paper 003; engine/field_bounds.h): the per-tet bounds the
+// simplifier keeps with SimplifyOptions::track_field_bounds / max_field_error(_rel).
+//
+// What field_bounds.h guarantees, and what is checked here against the ORIGINAL mesh, on a box
+// (flat boundary) and on the cube-sphere (curved boundary: original vertices end up outside the
+// simplified mesh), for a linear, a quadratic and a sharp-front field, with both engines:
+//   1. at every original vertex, |f - f~| <= the bound of a simplified tet holding it (of the
+//      closest tets when it lies outside the simplified mesh);
+//   2. densely (35 points per original tet: the barycentric lattice of order 4) on every original
+//      tet whose four vertices lie in ONE simplified tet, |f - f~| <= that tet's bound; the test
+//      also prints how far the dense error goes above the bounds on the other original tets (no
+//      guarantee there: field_bounds.h);
+//   3. the report's largest bound is at least the error compare_fields measures at the original
+//      vertices;
+//   4. with max_field_error E (absolute or relative) no bound, and no measured error at the
+//      original vertices, exceeds E, the limit refused collapses (it was active), and no original
+//      vertex is outside the output (a limit refuses that too);
+//   5. the output, the bounds and the report's bound are identical for 1, 2 and 4 threads.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "test_meshes.h"
+#include "topotet/generate.h"
+#include "topotet/metrics/field_error.h"
+#include "topotet/simplify.h"
+#include "topotet/tet_mesh.h"
+
+namespace topotet {
+namespace {
+
+using Field = std::function<double(const glm::dvec3&)>;
+using Bary = std::array<double, 4>;
+
+const Field kLinear = [](const glm::dvec3& p) { return 2.0 * p.x - 3.0 * p.y + 0.5 * p.z + 1.0; };
+const Field kQuadratic = [](const glm::dvec3& p) {
+  const glm::dvec3 d = p - glm::dvec3(0.4, 0.6, 0.5);
+  return d.x * d.x + 2.0 * d.y * d.y - 0.5 * d.z * d.z + d.x * d.z;
+};
+const Field kFront = [](const glm::dvec3& p) { return std::tanh((p.x + 0.4 * p.y - 0.3 * p.z - 0.5) / 0.03) + 0.05 * p.z; };
+
+// A jittered 8^3-cube box (3,072 tets) scaled to the unit cube, and a small cube-sphere.
+MeshData box() {
+  MeshData m = testing::make_grid(8, 8, 8, [](int, int, int) { return 1; }).data;
+  for (glm::dvec3& p : m.positions) p /= 8.0;
+  return m;
+}
+MeshData cube_sphere() {
+  GenerateOptions g;
+  g.family = "cube-sphere";
+  g.target_tets = 6000;
+  g.seed = 5;
+  MeshData m = generate_mesh(g);
+  m.fields.clear();
+  return m;
+}
+
+void set_field(MeshData& m, const Field& f) {
+  VertexField field{"f", 1, {}};
+  for (const glm::dvec3& p : m.positions) field.values.push_back(f(p));
+  m.fields.push_back(std::move(field));
+}
+
+struct Outcome {
+  MeshData output;
+  Report report;
+};
+
+Outcome run(const MeshData& input, Engine engine, SimplifyOptions options, double ratio = 0.15) {
+  TetMesh mesh = build_tet_mesh(input);
+  options.target_vertex_ratio = ratio;
+  options.engine = engine;
+  if (options.max_field_error == 0.0 && options.max_field_error_rel == 0.0) options.track_field_bounds = true;
+  Outcome r;
+  r.report = simplify(mesh, options);
+  r.output = mesh.to_mesh_data();
+  return r;
+}
+
+bool barycentric(const MeshData& m, std::size_t t, const glm::dvec3& q, Bary& l) {
+  const auto& tv = m.tets[t];
+  const glm::dvec3 a = m.positions[tv[0]] - q, b = m.positions[tv[1]] - q, c = m.positions[tv[2]] - q,
+                   d = m.positions[tv[3]] - q;
+  auto det = [](const glm::dvec3& x, const glm::dvec3& y, const glm::dvec3& z) { return glm::dot(x, glm::cross(y, z)); };
+  l = {det(b, c, d), -det(a, c, d), det(a, b, d), -det(a, b, c)};
+  const double sum = l[0] + l[1] + l[2] + l[3];
+  if (sum == 0.0) return false;
+  for (double& x : l) x /= sum;
+  return true;
+}
+
+double smallest(const Bary& l) { return std::min({l[0], l[1], l[2], l[3]}); }
+
+// The simplified mesh's tets by a uniform grid of their boxes, for point location.
+class Locator {
+ public:
+  explicit Locator(const MeshData& m) : m_(m) {
+    lo_ = glm::dvec3(std::numeric_limits<double>::infinity());
+    glm::dvec3 hi(-std::numeric_limits<double>::infinity());
+    for (const glm::dvec3& p : m.positions) lo_ = glm::min(lo_, p), hi = glm::max(hi, p);
+    lo_ -= 1e-6;
+    cell_ = (glm::dvec3(hi) + 1e-6 - lo_) / double(kN);
+    cells_.resize(kN * kN * kN);
+    for (std::size_t t = 0; t < m.tets.size(); ++t) {
+      glm::dvec3 a(std::numeric_limits<double>::infinity()), b(-std::numeric_limits<double>::infinity());
+      for (VertId v : m.tets[t]) a = glm::min(a, m.positions[v]), b = glm::max(b, m.positions[v]);
+      const auto ia = index(a), ib = index(b);
+      for (int z = ia[2]; z <= ib[2]; ++z)
+        for (int y = ia[1]; y <= ib[1]; ++y)
+          for (int x = ia[0]; x <= ib[0]; ++x) cells_[(z * kN + y) * kN + x].push_back(static_cast<TetId>(t));
+    }
+  }
+  // Tets holding q (smallest barycentric coordinate >= -1e-9), with its coordinates in each.
+  void holding(const glm::dvec3& q, std::vector<std::pair<TetId, Bary>>& out) const {
+    out.clear();
+    const auto i = index(q);
+    Bary l;
+    for (TetId t : cells_[(i[2] * kN + i[1]) * kN + i[0]])
+      if (barycentric(m_, t, q, l) && smallest(l) >= -1e-9) out.push_back({t, l});
+  }
+
+ private:
+  static constexpr int kN = 24;
+  std::array<int, 3> index(const glm::dvec3& p) const {
+    std::array<int, 3> i{};
+    for (int k = 0; k < 3; ++k) i[k] = std::clamp(int((p[k] - lo_[k]) / cell_[k]), 0, kN - 1);
+    return i;
+  }
+  const MeshData& m_;
+  glm::dvec3 lo_, cell_;
+  std::vector<std::vector<TetId>> cells_;
+};
+
+double interpolate(const MeshData& m, std::size_t t, const Bary& l) {
+  double f = 0.0;
+  for (int i = 0; i < 4; ++i) f += l[i] * m.fields[0].values[m.tets[t][i]];
+  return f;
+}
+
+// Checks 1 and 2 (see the top) for one run; returns the largest dense error over the original
+// tets without a guarantee, relative to the largest bound (printed by the caller).
+double check_against_original(const MeshData& input, const Outcome& r, const std::string& what) {
+  const MeshData& out = r.output;
+  const std::vector<float>& bound = r.report.tet_field_bound;
+  EXPECT_EQ(bound.size(), out.tets.size()) << what;
+  if (bound.size() != out.tets.size()) return 0.0;
+  const Locator locator(out);
+  std::vector<std::pair<TetId, Bary>> hold;
+  // 1. Original vertices inside the simplified mesh.
+  std::vector<TetId> vertex_tet(input.vertex_count(), kInvalid);  // the single tet holding it, if one
+  std::size_t outside = 0;
+  for (std::size_t v = 0; v < input.vertex_count(); ++v) {
+    const glm::dvec3 q = input.positions[v];
+    const double f = input.fields[0].values[v];
+    locator.holding(q, hold);
+    if (hold.empty()) {
+      // Outside the simplified mesh (the curved boundary moved): the bound covers the value at
+      // the closest point of the closest tet, which compare_fields measures (check 3).
+      ++outside;
+      continue;
+    }
+    double allowed = 0.0;
+    for (const auto& entry : hold) allowed = std::max(allowed, double(bound[entry.first]));
+    // All holding tets give the same value up to rounding (they share the face q lies on).
+    EXPECT_LE(std::fabs(f - interpolate(out, hold[0].first, hold[0].second)), allowed) << what << ": original vertex " << v;
+    if (hold.size() == 1) vertex_tet[v] = hold[0].first;
+  }
+  // 2. Dense points of the original tets lying in one simplified tet.
+  std::size_t contained = 0;
+  double worst_unguaranteed = 0.0, max_bound = 0.0;
+  for (float b : bound) max_bound = std::max(max_bound, double(b));
+  for (std::size_t t0 = 0; t0 < input.tets.size(); ++t0) {
+    const auto& tv = input.tets[t0];
+    const TetId t = vertex_tet[tv[0]];
+    const bool in_one = t != kInvalid && vertex_tet[tv[1]] == t && vertex_tet[tv[2]] == t && vertex_tet[tv[3]] == t;
+    contained += in_one;
+    for (int a = 0; a <= 4; ++a)
+      for (int b = 0; a + b <= 4; ++b)
+        for (int c = 0; a + b + c <= 4; ++c) {
+          const int d = 4 - a - b - c;
+          const Bary w = {a / 4.0, b / 4.0, c / 4.0, d / 4.0};
+          glm::dvec3 q(0.0);
+          double f = 0.0;
+          for (int i = 0; i < 4; ++i) q += w[i] * input.positions[tv[i]], f += w[i] * input.fields[0].values[tv[i]];
+          if (in_one) {
+            Bary l;
+            EXPECT_TRUE(barycentric(out, t, q, l)) << what << ": flat simplified tet " << t;
+            EXPECT_LE(std::fabs(f - interpolate(out, t, l)), double(bound[t])) << what << ": original tet " << t0;
+          } else {
+            locator.holding(q, hold);
+            for (const auto& [s, l] : hold)
+              worst_unguaranteed = std::max(worst_unguaranteed, std::fabs(f - interpolate(out, s, l)) - double(bound[s]));
+          }
+        }
+  }
+  EXPECT_GT(contained, 0u) << what << ": no original tet inside one simplified tet: check 2 checked nothing";
+  std::printf("[ bounds ] %s: %zu original vertices outside, %zu of %zu original tets inside one simplified tet; "
+              "elsewhere the dense error exceeds the local bound by up to %.3g of the largest bound\n",
+              what.c_str(), outside, contained, input.tets.size(), max_bound > 0 ? worst_unguaranteed / max_bound : 0.0);
+  return worst_unguaranteed;
+}
+
+struct Case {
+  const char* name;
+  Field field;
+};
+
+TEST(FieldBounds, BoundHoldsAtOriginalVerticesAndDenselyInContainedTets) {
+  const std::vector<Case> fields = {{"linear", kLinear}, {"quadratic", kQuadratic}, {"front", kFront}};
+  for (const auto& [mesh_name, base] : {std::pair<const char*, MeshData>{"box", box()}, {"cube-sphere", cube_sphere()}})
+    for (const Case& c : fields) {
+      MeshData input = base;
+      set_field(input, c.field);
+      for (Engine engine : {Engine::kParallel, Engine::kSequential}) {
+        const std::string what = std::string(mesh_name) + " " + c.name + (engine == Engine::kParallel ? " parallel" : " sequential");
+        const Outcome r = run(input, engine, {});
+        ASSERT_NE(r.report.status, Status::kInvalidInput) << r.report.message;
+        ASSERT_TRUE(r.report.field_bounds);
+        ASSERT_EQ(r.report.field_bound.size(), 1u);
+        check_against_original(input, r, what);
+        // 3. The measured error at the original vertices (both inside and outside) is covered.
+        const FieldError e = compare_fields(input, r.output);
+        EXPECT_LE(e.components[0].original_to_simplified.max_abs, r.report.field_bound[0]) << what;
+        if (c.name == std::string("linear")) EXPECT_LE(r.report.field_bound_rel, 1e-7) << what;  // rounding only
+        else EXPECT_GT(r.report.field_bound_rel, 1e-4) << what;
+      }
+    }
+}
+
+TEST(FieldBounds, MaxFieldErrorIsNeverExceeded) {
+  for (const Field& f : {kQuadratic, kFront}) {
+    MeshData input = cube_sphere();
+    set_field(input, f);
+    for (Engine engine : {Engine::kParallel, Engine::kSequential}) {
+      // Unlimited first, to pick limits that bind.
+      const Outcome free_run = run(input, engine, {}, 0.05);
+      const double free_rel = free_run.report.field_bound_rel;
+      ASSERT_GT(free_rel, 0.0);
+      for (const double fraction : {0.3}) {
+        SimplifyOptions relative;
+        relative.max_field_error_rel = fraction * free_rel;
+        const Outcome r = run(input, engine, relative, 0.05);
+        ASSERT_NE(r.report.status, Status::kInvalidInput) << r.report.message;
+        EXPECT_EQ(r.report.status, Status::kStoppedEarly) << "the limit should stop the run before 5%";
+        EXPECT_GT(r.report.rejected_by(RejectReason::kFieldError), 0u);
+        EXPECT_LE(r.report.field_bound_rel, relative.max_field_error_rel);
+        const FieldError e = compare_fields(input, r.output);
+        EXPECT_EQ(e.original_in_simplified.outside, 0u) << "under a limit no original vertex leaves the mesh";
+        EXPECT_LE(e.components[0].original_to_simplified.max_rel, relative.max_field_error_rel);
+        EXPECT_LE(e.components[0].original_to_simplified.max_abs, r.report.field_bound[0]);
+        EXPECT_GT(r.report.vertices_after, free_run.report.vertices_after);
+        // The same limit in field units.
+        SimplifyOptions absolute;
+        absolute.max_field_error = relative.max_field_error_rel * e.components[0].range;
+        const Outcome a = run(input, engine, absolute, 0.05);
+        EXPECT_LE(a.report.field_bound[0], absolute.max_field_error);
+        EXPECT_LE(compare_fields(input, a.output).components[0].original_to_simplified.max_abs, absolute.max_field_error);
+      }
+    }
+  }
+}
+
+TEST(FieldBounds, SameOutputAndBoundsForAnyThreadCount) {
+  MeshData input = cube_sphere();
+  set_field(input, kFront);
+  SimplifyOptions options;
+  options.max_field_error_rel = 0.05;
+  std::vector<Outcome> runs;
+  for (int threads : {1, 2, 4}) {
+    options.num_threads = threads;
+    runs.push_back(run(input, Engine::kParallel, options, 0.1));
+  }
+  for (std::size_t i = 1; i < runs.size(); ++i) {
+    EXPECT_EQ(runs[i].output.positions, runs[0].output.positions);
+    EXPECT_EQ(runs[i].output.tets, runs[0].output.tets);
+    EXPECT_EQ(runs[i].output.fields[0].values, runs[0].output.fields[0].values);
+    EXPECT_EQ(runs[i].report.tet_field_bound, runs[0].report.tet_field_bound);
+    EXPECT_EQ(runs[i].report.field_bound, runs[0].report.field_bound);
+    EXPECT_EQ(runs[i].report.collapses, runs[0].report.collapses);
+  }
+}
+
+TEST(FieldBounds, OffByDefaultAndRefusesBadLimits) {
+  MeshData input = box();
+  set_field(input, kQuadratic);
+  TetMesh mesh = build_tet_mesh(input);
+  const Report r = simplify(mesh, {});
+  EXPECT_FALSE(r.field_bounds);
+  EXPECT_TRUE(r.field_bound.empty() && r.tet_field_bound.empty());
+  EXPECT_EQ(r.field_bounds_bytes, 0u);
+  SimplifyOptions bad;
+  bad.max_field_error = -1.0;
+  TetMesh other = build_tet_mesh(input);
+  EXPECT_EQ(simplify(other, bad).status, Status::kInvalidInput);
+  EXPECT_STREQ(to_string(RejectReason::kFieldError), "field_error");
+}
+
+}  // namespace
+}  // namespace topotet
