@@ -45,6 +45,7 @@ void add_convert_command(CLI::App& app, CommandRunner& run);
 void add_simplify_command(CLI::App& app, CommandRunner& run);
 void add_check_command(CLI::App& app, CommandRunner& run);
 void add_demo_command(CLI::App& app, CommandRunner& run);
+void add_extract_command(CLI::App& app, CommandRunner& run);
 
 // ---- simplification pipeline, shared by `simplify` and `demo` (simplify.cpp) ----
 struct SimplifyJob {
@@ -55,6 +56,7 @@ struct SimplifyJob {
   SimplifyOptions options;     // target and engine settings (targets overridden by `levels`)
   std::vector<double> levels;  // descending vertex ratios; empty = one run with `options`
   std::string output_path;     // empty = write nothing
+  std::string hierarchy_path;  // --hierarchy: also record the collapses into this .tth file
   std::optional<std::int32_t> feature_ref;  // also write detected features, with this ref
   bool binary = false;         // WriteOptions::binary
   bool msh22 = false;          // WriteOptions::msh22

@@ -8,6 +8,7 @@
 // reading, building and simplifying, not of the checker. Each measurement is timed on its own, so
 // the report shows what the measurements cost next to the simplification.
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <limits>
 #include <cstdlib>
@@ -18,6 +19,7 @@
 #include "common.h"
 #include "distance_report.h"
 #include "topotet/error.h"
+#include "topotet/hierarchy.h"
 #include "topotet/io.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
@@ -294,6 +296,8 @@ int run_simplify_job(SimplifyJob& job) {
     if (levels.empty()) levels.push_back(0.0);
     std::vector<LevelResult> results;
     double cumulative = 0.0;
+    Hierarchy hierarchy;  // --hierarchy
+    double hierarchy_write_seconds = 0.0;
     for (double level : levels) {
       LevelResult& result = results.emplace_back();
       result.target_ratio = level > 0 ? level : (job.options.target_vertices ? 0.0 : job.options.target_vertex_ratio);
@@ -308,7 +312,8 @@ int run_simplify_job(SimplifyJob& job) {
         bar.update(done);
         return true;
       };
-      result.report = simplify(mesh, options);
+      result.report = job.hierarchy_path.empty() ? simplify(mesh, options)
+                                                 : simplify_with_hierarchy(mesh, options, hierarchy);
       bar.finish();
       if (result.report.status == Status::kInvalidInput) throw_input_error(job.input_label, result.report.message);
       if (result.report.status == Status::kOutOfMemory)
@@ -333,6 +338,11 @@ int run_simplify_job(SimplifyJob& job) {
           write_mesh(result.output_path, result.output, write_options);
         }
         result.write_seconds = write_clock.seconds();
+      }
+      if (!job.hierarchy_path.empty()) {
+        const Stopwatch write_clock;
+        write_hierarchy(job.hierarchy_path, hierarchy);
+        hierarchy_write_seconds = write_clock.seconds();
       }
     }
     const std::uint64_t peak_bytes = peak_rss_bytes();
@@ -419,6 +429,13 @@ int run_simplify_job(SimplifyJob& job) {
           if (l.report.status != Status::kOk)
             row("status", "level " + format_ratio(l.target_ratio) + ": " + to_string(l.report.status) +
                               (l.report.message.empty() ? "" : ": " + l.report.message));
+      }
+      if (!job.hierarchy_path.empty()) {
+        const auto bytes = std::filesystem::file_size(job.hierarchy_path);
+        row("hierarchy", job.hierarchy_path + ": " + format_count(hierarchy.collapse_count()) + " collapses, " +
+                             format_bytes(bytes) + " (" +
+                             format_number(per(static_cast<double>(bytes), static_cast<double>(hierarchy.collapse_count()))) +
+                             " bytes/collapse; write " + format_seconds(hierarchy_write_seconds) + ")");
       }
       row("memory", "peak " + format_bytes(peak_bytes) + " (" +
                         format_count(tets_in ? peak_bytes / tets_in : 0) + " bytes/input tet); model " +
@@ -526,6 +543,7 @@ namespace {
 struct SimplifyArgs {
   std::string input;
   std::string output;
+  std::string hierarchy;  // --hierarchy
   double ratio = 0.25;
   std::uint64_t target_vertices = 0;
   double max_cost = 0.0;
@@ -596,6 +614,7 @@ int run_simplify(const SimplifyArgs& args) {
     job.options.field_weights[name] = weight;    // the last one given wins
   }
   job.output_path = args.output;
+  job.hierarchy_path = args.hierarchy;
   job.binary = args.binary;
   job.msh22 = args.msh22;
   job.report_path = args.report;
@@ -672,6 +691,10 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
                                  "extension (out_0.3.mesh), one table row per level")
                      ->delimiter(',');
   levels->excludes(ratio)->excludes(target);
+  cmd->add_option("--hierarchy", args->hierarchy,
+                  "Also record every collapse into this hierarchy file (.tth): `topotet extract` then gives any "
+                  "level, uniform or fine in a volume of interest")
+      ->excludes(levels);
   ratio->excludes(target);
   cmd->add_flag("--quiet", args->quiet, "No report and no progress bar (errors and a topology FAIL still print)");
   cmd->add_option("--progress", args->progress,

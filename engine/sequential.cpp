@@ -38,7 +38,7 @@ struct Entry {
 }  // namespace
 
 void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel_options,
-                         std::uint64_t target, Report& report) {
+                         std::uint64_t target, Report& report, CollapseLog* log) {
   CostModel cost(mesh, options);
   CollapseScratch scratch;
   CollapseCandidate cands[4];
@@ -120,6 +120,11 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
       stencil.erase(std::unique(stencil.begin(), stencil.end()), stencil.end());
       cost.fields_at(mesh, c, fields.data());
       reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
+      if (log != nullptr) {
+        log->begin_batch(1);
+        log->record(0, mesh, c.u, c.v, c.p, fields.data(), c.cost, stencil.data(), stencil.data() + stencil.size());
+        log->end_batch();
+      }
       collapse(mesh, c.u, c.v, c.p, fields.data(), scratch, refs_used);
       cost.on_collapse(mesh, c.u, c.v, scratch.star_uv);
       report.max_cost = std::max(report.max_cost, c.cost);

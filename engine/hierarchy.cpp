@@ -1,0 +1,206 @@
+// Recording the collapse hierarchy (topotet/hierarchy.h): the engines' log (hierarchy_log.h) and
+// simplify_with_hierarchy, which runs simplify() with the log and translates it to input ids.
+//
+// Why a downward-closed set S of collapses, applied in recording order, replays each member i
+// exactly as the engine verified it. Write V_j for the stencil of collapse j (the vertices of
+// St(u_j) ∪ St(v_j) at its time). A collapse changes only tets whose vertices are all in its
+// stencil (the tets of St(u) ∪ St(v)), and moves only u, which is in its stencil. Parents of i:
+// for each w in V_i, the latest j < i with w in V_j. Since that j has w in V_j, its own parents
+// include the previous such collapse, so S holds every collapse whose stencil ever held a vertex
+// of V_i before i ("the history of w"). Induction over the members in order:
+//  - a tet t of St(u_i) or St(v_i) in the full run: let k_1 < ... < k_m < i be the collapses that
+//    changed t. Every vertex of t after k_m is in V_i and in V_{k_m}, so k_m is in that vertex's
+//    history, hence in S; t's vertices before k_m were in V_{k_m} and V_{k_{m-1}}, so k_{m-1} is in
+//    the history of one of them before k_m, hence in S (S holds k_m and is closed); and so on down
+//    to k_1. By induction each k is replayed with its verified stencil, so it changes t the same
+//    way: t is in the same state.
+//  - no other tet enters St(u_i) in the replay: a tet t' that contains u_i in the replay had its
+//    changes k_1 .. k_p applied and k_{p+1} < i not (the applied ones are a prefix of its changes,
+//    as above). Between them t' contained u_i, so u_i is in V_{k_{p+1}}: k_{p+1} is in the history
+//    of u_i before i, which S holds. Contradiction. The same for v_i.
+//  - positions: w in V_i was last moved by a collapse j with u_j = w, so w in V_j: in S.
+// The kernel reads only those stars, those positions and fields, and immutable data (pinned
+// flags, the original surfaces for the tolerance), so it gives the same verdict: the collapse is
+// legal in the replayed mesh. tests/property_hierarchy.cpp checks the consequence on random sets.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <new>
+
+#include "engines.h"
+#include "hierarchy_log.h"
+#include "topotet/error.h"
+#include "topotet/hierarchy.h"
+
+namespace topotet {
+namespace detail {
+
+CollapseLog::CollapseLog(std::size_t vertex_capacity, int field_stride)
+    : stride_(field_stride), last_toucher_(vertex_capacity, kInvalid) {}
+
+void CollapseLog::begin_batch(std::size_t slots) {
+  batch_size_ = slots;
+  if (slots_.size() < slots) slots_.resize(slots);
+  slot_fields_.resize(slots * 2 * static_cast<std::size_t>(stride_));
+}
+
+void CollapseLog::record(std::size_t slot, const TetMesh& mesh, VertId cu, VertId cv, const glm::dvec3& p,
+                         const double* fields_after_p, double collapse_cost, const VertId* stencil_first,
+                         const VertId* stencil_last) {
+  Slot& s = slots_[slot];
+  s.u = cu;
+  s.v = cv;
+  s.u_before = mesh.positions[cu];
+  s.u_after = p;
+  s.v_position = mesh.positions[cv];
+  s.cost = collapse_cost;
+  const std::size_t stride = static_cast<std::size_t>(stride_);
+  double* f = slot_fields_.data() + slot * 2 * stride;
+  const double* old_fields = mesh.field_values.data() + cu * stride;
+  std::copy_n(old_fields, stride, f);
+  std::copy_n(fields_after_p != nullptr ? fields_after_p : old_fields, stride, f + stride);
+  // The collapses of earlier batches are committed, so u.size() is this batch's first id.
+  const auto id = static_cast<std::uint32_t>(u.size() + slot);
+  s.parents.clear();
+  for (const VertId* it = stencil_first; it != stencil_last; ++it) {
+    std::uint32_t& last = last_toucher_[*it];
+    if (last != kInvalid) s.parents.push_back(last);
+    last = id;
+  }
+  std::sort(s.parents.begin(), s.parents.end());
+  s.parents.erase(std::unique(s.parents.begin(), s.parents.end()), s.parents.end());
+}
+
+void CollapseLog::end_batch() {
+  const std::size_t stride = static_cast<std::size_t>(stride_);
+  for (std::size_t i = 0; i < batch_size_; ++i) {
+    const Slot& s = slots_[i];
+    u.push_back(s.u);
+    v.push_back(s.v);
+    u_before.push_back(s.u_before);
+    u_after.push_back(s.u_after);
+    v_position.push_back(s.v_position);
+    cost.push_back(s.cost);
+    const double* f = slot_fields_.data() + i * 2 * stride;
+    fields_before.insert(fields_before.end(), f, f + stride);
+    fields_after.insert(fields_after.end(), f + stride, f + 2 * stride);
+    parents.insert(parents.end(), s.parents.begin(), s.parents.end());
+    parent_offsets.push_back(static_cast<std::uint32_t>(parents.size()));
+  }
+  batch_size_ = 0;
+}
+
+}  // namespace detail
+
+namespace {
+
+void fill_error(Hierarchy& h) {
+  h.error.resize(h.cost.size());
+  double running = 0.0;
+  for (std::size_t i = 0; i < h.cost.size(); ++i) {
+    running = std::max(running, h.cost[i]);
+    h.error[i] = running;
+  }
+}
+
+}  // namespace
+
+Report simplify_with_hierarchy(TetMesh& mesh, const SimplifyOptions& options, Hierarchy& hierarchy) noexcept {
+  Report report;
+  try {
+    hierarchy = Hierarchy{};
+    hierarchy.original = mesh.to_mesh_data();
+    hierarchy.field_stride = mesh.field_stride();
+    // to_mesh_data numbers the live vertices densely in their order: the records' ids.
+    std::vector<VertId> dense(mesh.vertex_capacity(), kInvalid);
+    VertId next = 0;
+    for (VertId x = 0; x < mesh.vertex_capacity(); ++x)
+      if (!mesh.is_dead_vertex(x)) dense[x] = next++;
+    detail::CollapseLog log(mesh.vertex_capacity(), mesh.field_stride());
+    std::vector<VertId> new2old;
+    report = detail::simplify_recorded(mesh, options, log, new2old);
+    if (report.status == Status::kInvalidInput) return report;
+    auto input_id = [&](VertId x) { return new2old.empty() ? dense[x] : dense[new2old[x]]; };
+    const std::size_t n = log.u.size();
+    hierarchy.u.resize(n);
+    hierarchy.v.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      hierarchy.u[i] = input_id(log.u[i]);
+      hierarchy.v[i] = input_id(log.v[i]);
+    }
+    hierarchy.u_before = std::move(log.u_before);
+    hierarchy.u_after = std::move(log.u_after);
+    hierarchy.v_position = std::move(log.v_position);
+    hierarchy.fields_before = std::move(log.fields_before);
+    hierarchy.fields_after = std::move(log.fields_after);
+    hierarchy.cost = std::move(log.cost);
+    hierarchy.error_bound.assign(n, std::numeric_limits<float>::quiet_NaN());
+    hierarchy.parent_offsets = std::move(log.parent_offsets);
+    hierarchy.parents = std::move(log.parents);
+    fill_error(hierarchy);
+  } catch (const std::bad_alloc&) {
+    report.status = Status::kOutOfMemory;
+    report.message = "out of memory while recording the hierarchy";
+  } catch (const std::exception& e) {
+    report.status = Status::kInternalError;
+    report.message = std::string("internal error while recording the hierarchy: ") + e.what();
+  }
+  return report;
+}
+
+void validate_hierarchy(const Hierarchy& h, const std::string& label) {
+  auto fail = [&](const std::string& what) { throw InputError(label + ": " + what); };
+  const MeshData& m = h.original;
+  const std::size_t nv = m.positions.size();
+  auto check_vertex = [&](std::uint64_t x, const char* where, std::size_t index) {
+    if (x >= nv)
+      fail(std::string(where) + " " + std::to_string(index + 1) + ": vertex index " + std::to_string(x) +
+           " out of range (the mesh has " + std::to_string(nv) + " vertices)");
+  };
+  if (!m.vertex_refs.empty() && m.vertex_refs.size() != nv) fail("vertex refs: count differs from the vertex count");
+  if (m.tet_material.size() != m.tets.size()) fail("tet materials: count differs from the tet count");
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+    for (VertId x : m.tets[t]) check_vertex(x, "tet", t);
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    for (VertId x : m.triangles[t].v) check_vertex(x, "triangle", t);
+  for (std::size_t s = 0; s < m.segments.size(); ++s)
+    for (VertId x : m.segments[s].v) check_vertex(x, "segment", s);
+  for (std::size_t r = 0; r < m.ridges.size(); ++r)
+    if (m.ridges[r] >= m.segments.size()) fail("ridge " + std::to_string(r + 1) + ": segment index out of range");
+  for (std::size_t c = 0; c < m.corners.size(); ++c) check_vertex(m.corners[c], "corner", c);
+  for (std::size_t c = 0; c < m.required_vertices.size(); ++c) check_vertex(m.required_vertices[c], "required vertex", c);
+  int stride = 0;
+  for (const VertexField& f : m.fields) {
+    if (f.components < 1) fail("field '" + f.name + "': components must be >= 1");
+    if (f.values.size() != nv * static_cast<std::size_t>(f.components))
+      fail("field '" + f.name + "': value count differs from vertices x components");
+    stride += f.components;
+  }
+  if (stride != h.field_stride) fail("field stride " + std::to_string(h.field_stride) + " differs from the fields' components");
+  const std::size_t n = h.u.size();
+  const std::size_t sn = n * static_cast<std::size_t>(stride);
+  if (h.v.size() != n || h.u_before.size() != n || h.u_after.size() != n || h.v_position.size() != n ||
+      h.cost.size() != n || h.error.size() != n || h.error_bound.size() != n || h.fields_before.size() != sn ||
+      h.fields_after.size() != sn || h.parent_offsets.size() != n + 1)
+    fail("collapse arrays have different lengths");
+  if (h.parent_offsets[0] != 0 || h.parent_offsets[n] != h.parents.size()) fail("parent offsets do not cover the parents");
+  std::vector<std::uint8_t> removed(nv, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string where = "collapse " + std::to_string(i + 1);
+    check_vertex(h.u[i], where.c_str(), 0);
+    check_vertex(h.v[i], where.c_str(), 0);
+    if (h.u[i] == h.v[i]) fail(where + ": u and v are the same vertex");
+    if (removed[h.u[i]] || removed[h.v[i]]) fail(where + ": a vertex removed by an earlier collapse");
+    removed[h.v[i]] = 1;
+    if (h.parent_offsets[i + 1] < h.parent_offsets[i]) fail(where + ": parent offsets decrease");
+    std::uint64_t previous = 0;
+    for (std::uint32_t k = h.parent_offsets[i]; k < h.parent_offsets[i + 1]; ++k) {
+      const std::uint32_t p = h.parents[k];
+      if (p >= i) fail(where + ": parent " + std::to_string(p + 1) + " does not come before it");
+      if (k > h.parent_offsets[i] && p <= previous) fail(where + ": parents not sorted and distinct");
+      previous = p;
+    }
+  }
+}
+
+}  // namespace topotet
