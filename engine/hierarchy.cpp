@@ -2,26 +2,25 @@
 // simplify_with_hierarchy, which runs simplify() with the log and translates it to input ids.
 //
 // Why a downward-closed set S of collapses, applied in recording order, replays each member i
-// exactly as the engine verified it. Write V_j for the stencil of collapse j (the vertices of
-// St(u_j) ∪ St(v_j) at its time). A collapse changes only tets whose vertices are all in its
-// stencil (the tets of St(u) ∪ St(v)), and moves only u, which is in its stencil. Parents of i:
-// for each w in V_i, the latest j < i with w in V_j. Since that j has w in V_j, its own parents
-// include the previous such collapse, so S holds every collapse whose stencil ever held a vertex
-// of V_i before i ("the history of w"). Induction over the members in order:
-//  - a tet t of St(u_i) or St(v_i) in the full run: let k_1 < ... < k_m < i be the collapses that
-//    changed t. Every vertex of t after k_m is in V_i and in V_{k_m}, so k_m is in that vertex's
-//    history, hence in S; t's vertices before k_m were in V_{k_m} and V_{k_{m-1}}, so k_{m-1} is in
-//    the history of one of them before k_m, hence in S (S holds k_m and is closed); and so on down
-//    to k_1. By induction each k is replayed with its verified stencil, so it changes t the same
-//    way: t is in the same state.
-//  - no other tet enters St(u_i) in the replay: a tet t' that contains u_i in the replay had its
-//    changes k_1 .. k_p applied and k_{p+1} < i not (the applied ones are a prefix of its changes,
-//    as above). Between them t' contained u_i, so u_i is in V_{k_{p+1}}: k_{p+1} is in the history
-//    of u_i before i, which S holds. Contradiction. The same for v_i.
-//  - positions: w in V_i was last moved by a collapse j with u_j = w, so w in V_j: in S.
-// The kernel reads only those stars, those positions and fields, and immutable data (pinned
-// flags, the original surfaces for the tolerance), so it gives the same verdict: the collapse is
-// legal in the replayed mesh. tests/property_hierarchy.cpp checks the consequence on random sets.
+// exactly as the engine verified it. The patch P_i of collapse i is St(u_i) ∪ St(v_i) at its time;
+// the collapse changes exactly the tets of P_i (kills St(uv), renames v in the rest; u moves, and
+// every tet holding u is in P_i). Parents of i: the collapses that last changed a tet of P_i.
+// Induction over the members in order:
+//  - every tet t of P_i: the collapses that changed t before i form a chain, each the parent of
+//    the next (t was in the next one's patch), ending at a parent of i: all are in S, each is
+//    replayed with its verified patch (induction), so each changes t the same way. t is the same.
+//  - no other tet holds u_i in the replay. Say t' does: its applied changes are a prefix of its
+//    changes (as above), and the first missing one, k < i, changed t' while t' held u_i. A legal
+//    collapse keeps every link vertex: k left at least one tet holding u_i among the tets it
+//    changed, and every later change of St(u_i) (which removes such a tet only by changing it)
+//    again leaves one, so some tet of St(u_i) at time i, in P_i, descends from k: k is an
+//    ancestor of i, in S. Contradiction. The same for v_i.
+//  - positions: the last collapse j that moved w (u_j = w) changed every tet holding w then, and
+//    every tet holding w afterwards descends from those; P_i holds one (w in P_i): j is in S.
+// The kernel reads only the two stars, the positions and fields of their vertices, and immutable
+// data (pinned flags, the original surfaces for the tolerance), so it gives the same verdict: the
+// collapse is legal in the replayed mesh. tests/property_hierarchy.cpp replays random closed sets
+// through the kernel (may_collapse must accept every collapse) to check exactly this.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -35,8 +34,8 @@
 namespace topotet {
 namespace detail {
 
-CollapseLog::CollapseLog(std::size_t vertex_capacity, int field_stride)
-    : stride_(field_stride), last_toucher_(vertex_capacity, kInvalid) {}
+CollapseLog::CollapseLog(std::size_t tet_capacity, int field_stride)
+    : stride_(field_stride), last_change_(tet_capacity, kInvalid) {}
 
 void CollapseLog::begin_batch(std::size_t slots) {
   batch_size_ = slots;
@@ -45,8 +44,7 @@ void CollapseLog::begin_batch(std::size_t slots) {
 }
 
 void CollapseLog::record(std::size_t slot, const TetMesh& mesh, VertId cu, VertId cv, const glm::dvec3& p,
-                         const double* fields_after_p, double collapse_cost, const VertId* stencil_first,
-                         const VertId* stencil_last) {
+                         const double* fields_after_p, double collapse_cost) {
   Slot& s = slots_[slot];
   s.u = cu;
   s.v = cv;
@@ -59,14 +57,19 @@ void CollapseLog::record(std::size_t slot, const TetMesh& mesh, VertId cu, VertI
   const double* old_fields = mesh.field_values.data() + cu * stride;
   std::copy_n(old_fields, stride, f);
   std::copy_n(fields_after_p != nullptr ? fields_after_p : old_fields, stride, f + stride);
+}
+
+void CollapseLog::depend(std::size_t slot, const std::vector<TetId>& star_u, const std::vector<TetId>& star_v) {
+  Slot& s = slots_[slot];
   // The collapses of earlier batches are committed, so u.size() is this batch's first id.
   const auto id = static_cast<std::uint32_t>(u.size() + slot);
   s.parents.clear();
-  for (const VertId* it = stencil_first; it != stencil_last; ++it) {
-    std::uint32_t& last = last_toucher_[*it];
-    if (last != kInvalid) s.parents.push_back(last);
-    last = id;
-  }
+  for (const auto* star : {&star_u, &star_v})
+    for (TetId t : *star) {
+      std::uint32_t& last = last_change_[t];
+      if (last != kInvalid && last != id) s.parents.push_back(last);
+      last = id;  // killed tets too: no later collapse reads them
+    }
   std::sort(s.parents.begin(), s.parents.end());
   s.parents.erase(std::unique(s.parents.begin(), s.parents.end()), s.parents.end());
 }
@@ -116,7 +119,7 @@ Report simplify_with_hierarchy(TetMesh& mesh, const SimplifyOptions& options, Hi
     VertId next = 0;
     for (VertId x = 0; x < mesh.vertex_capacity(); ++x)
       if (!mesh.is_dead_vertex(x)) dense[x] = next++;
-    detail::CollapseLog log(mesh.vertex_capacity(), mesh.field_stride());
+    detail::CollapseLog log(mesh.tet_capacity(), mesh.field_stride());
     std::vector<VertId> new2old;
     report = detail::simplify_recorded(mesh, options, log, new2old);
     if (report.status == Status::kInvalidInput) return report;

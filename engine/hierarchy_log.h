@@ -3,12 +3,13 @@
 //
 // The engines record in batches: the parallel engine one batch per round (slot = the winner's
 // position in the round's ascending winner list), the sequential engine one batch per collapse.
-// record() must be called just BEFORE collapse() (it reads u's and v's old positions and fields)
-// with the collapse's stencil (the vertices of St(u) ∪ St(v)). Within a batch the stencils are
-// disjoint, so record() may run concurrently for different slots: it writes only its slot and
-// the last_toucher_ entries of its own stencil, and reads entries no other slot of the batch
-// writes. Collapse ids are the batch's first id plus the slot, so the log is the same for any
-// thread count.
+// record() must be called just BEFORE collapse() (it reads u's and v's old positions and fields),
+// and depend() just AFTER it with the old stars St(u) and St(v) (the kernel scratch's star_u and
+// star_v, which collapse() gathers and leaves): the parents are the collapses that last changed
+// one of those tets. Within a batch the stencils are disjoint, so both may run concurrently for
+// different slots: they write only their slot and the last_change_ entries of their own tets, and
+// read entries no other slot of the batch writes. Collapse ids are the batch's first id plus the
+// slot, so the log is the same for any thread count.
 #pragma once
 
 #include <cstdint>
@@ -22,11 +23,12 @@ namespace topotet::detail {
 
 class CollapseLog {
  public:
-  CollapseLog(std::size_t vertex_capacity, int field_stride);
+  CollapseLog(std::size_t tet_capacity, int field_stride);
 
   void begin_batch(std::size_t slots);
   void record(std::size_t slot, const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
-              const double* fields_after, double cost, const VertId* stencil_first, const VertId* stencil_last);
+              const double* fields_after, double cost);
+  void depend(std::size_t slot, const std::vector<TetId>& star_u, const std::vector<TetId>& star_v);
   void end_batch();  // appends the batch's slots in order
 
   int field_stride() const { return stride_; }
@@ -45,7 +47,7 @@ class CollapseLog {
     std::vector<std::uint32_t> parents;  // capacity kept between batches: no allocation per collapse
   };
   int stride_;
-  std::vector<std::uint32_t> last_toucher_;  // [vertex] latest collapse whose stencil held it
+  std::vector<std::uint32_t> last_change_;  // [tet] the latest collapse that changed it (kInvalid: none)
   std::vector<Slot> slots_;
   std::vector<double> slot_fields_;  // [slot * 2 * stride_]: before, then after
   std::size_t batch_size_ = 0;

@@ -378,13 +378,14 @@ class Rounds {
           throw std::logic_error("parallel rounds: a verified proposal changed before it was applied");
         const CollapseCandidate& c = cands[chosen];
         cost_.fields_at(mesh_, c, s.fields.data());
-        const VertId* first = stencils_.data() + stencil_offsets_[i];
-        const VertId* last = stencils_.data() + stencil_offsets_[i + 1];
-        if (log_ != nullptr) log_->record(w, mesh_, c.u, c.v, c.p, s.fields.data(), c.cost, first, last);
+        if (log_ != nullptr) log_->record(w, mesh_, c.u, c.v, c.p, s.fields.data(), c.cost);
         collapse(mesh_, c.u, c.v, c.p, s.fields.data(), kernel, refs_used_);
+        if (log_ != nullptr) log_->depend(w, kernel.star_u, kernel.star_v);
         cost_.on_collapse(mesh_, c.u, c.v, kernel.star_uv);
         applied_cost_[w] = c.cost;
         ++n_applied;
+        const VertId* first = stencils_.data() + stencil_offsets_[i];
+        const VertId* last = stencils_.data() + stencil_offsets_[i + 1];
         mark_stencil(c, first, last, s);
         reservations_.release(first, last);
       }

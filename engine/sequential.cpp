@@ -122,10 +122,13 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
       reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
       if (log != nullptr) {
         log->begin_batch(1);
-        log->record(0, mesh, c.u, c.v, c.p, fields.data(), c.cost, stencil.data(), stencil.data() + stencil.size());
-        log->end_batch();
+        log->record(0, mesh, c.u, c.v, c.p, fields.data(), c.cost);
       }
       collapse(mesh, c.u, c.v, c.p, fields.data(), scratch, refs_used);
+      if (log != nullptr) {
+        log->depend(0, scratch.star_u, scratch.star_v);
+        log->end_batch();
+      }
       cost.on_collapse(mesh, c.u, c.v, scratch.star_uv);
       report.max_cost = std::max(report.max_cost, c.cost);
       ++report.collapses;

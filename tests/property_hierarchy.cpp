@@ -173,36 +173,39 @@ TEST(Hierarchy, nothing_applied_gives_the_input_and_everything_the_base_mesh) {
   }
 }
 
-// The key fact the hierarchy rests on, checked with the kernel itself: replaying any downward
+// The key fact the hierarchy rests on, checked with the kernel itself: replaying a downward
 // closed set in recording order, every collapse passes may_collapse (same quality floor,
 // tolerance and features as the run), and the kernel's mesh equals extract()'s.
-TEST(Hierarchy, downward_closed_sets_replay_legally_through_the_kernel) {
-  const Built& b = cube_sphere();
+void expect_kernel_replay(const Built& b, const std::vector<std::uint8_t>& applied, const std::string& what) {
+  SCOPED_TRACE(what);
   const Hierarchy& h = b.hierarchy;
-  std::mt19937 rng(7);
-  for (double p : {0.3, 0.7, 0.95}) {
-    const std::vector<std::uint8_t> applied = random_closed(h, p, rng);
-    TetMesh mesh = build_tet_mesh(h.original);
-    detect_features(mesh, SimplifyOptions{}.feature_angle);
-    CollapseOptions kernel;
-    kernel.quality_floor = SimplifyOptions{}.min_quality;
-    const auto surfaces = SurfaceReference::from_mesh(mesh);
-    kernel.surfaces = surfaces.get();
-    kernel.tolerance = b.report.tolerance;
-    CollapseScratch scratch;
-    std::uint32_t refs_used = static_cast<std::uint32_t>(mesh.refs_table.size());
-    std::size_t replayed = 0;
-    for (std::size_t i = 0; i < applied.size(); ++i) {
-      if (!applied[i]) continue;
-      const CollapseReason reason = may_collapse(mesh, h.u[i], h.v[i], h.u_after[i], kernel, scratch);
-      ASSERT_EQ(reason, CollapseReason::kOk) << "collapse " << i << " (p = " << p << "): " << to_string(reason);
-      reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
-      collapse(mesh, h.u[i], h.v[i], h.u_after[i], h.fields_after.data() + i * h.field_stride, scratch, refs_used);
-      ++replayed;
-    }
-    EXPECT_GT(replayed, 0u);
-    EXPECT_TRUE(canonical(mesh.to_mesh_data()) == canonical(extract(h, applied))) << "p = " << p;
+  TetMesh mesh = build_tet_mesh(h.original);
+  detect_features(mesh, SimplifyOptions{}.feature_angle);
+  CollapseOptions kernel;
+  kernel.quality_floor = SimplifyOptions{}.min_quality;
+  const auto surfaces = SurfaceReference::from_mesh(mesh);
+  kernel.surfaces = surfaces.get();
+  kernel.tolerance = b.report.tolerance;
+  CollapseScratch scratch;
+  std::uint32_t refs_used = static_cast<std::uint32_t>(mesh.refs_table.size());
+  for (std::size_t i = 0; i < applied.size(); ++i) {
+    if (!applied[i]) continue;
+    const CollapseReason reason = may_collapse(mesh, h.u[i], h.v[i], h.u_after[i], kernel, scratch);
+    ASSERT_EQ(reason, CollapseReason::kOk) << "collapse " << i << ": " << to_string(reason);
+    reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
+    collapse(mesh, h.u[i], h.v[i], h.u_after[i], h.fields_after.data() + i * h.field_stride, scratch, refs_used);
   }
+  EXPECT_TRUE(canonical(mesh.to_mesh_data()) == canonical(extract(h, applied)));
+}
+
+TEST(Hierarchy, downward_closed_sets_replay_legally_through_the_kernel) {
+  std::mt19937 rng(7);
+  const Built slab = build("slab", 3000, Engine::kParallel, 2, 0.15);
+  const Built sequential = build("cube-sphere", 4000, Engine::kSequential, 1);
+  for (const Built* b : {&cube_sphere(), &slab, &sequential})
+    for (double p : {0.2, 0.5, 0.8, 0.95}) expect_kernel_replay(*b, random_closed(b->hierarchy, p, rng), "p " + std::to_string(p));
+  const Hierarchy& h = cube_sphere().hierarchy;
+  expect_kernel_replay(cube_sphere(), select_voi(h, parse_voi("box:0.2,0.2,0.2,0.6,0.7,0.5"), 0.0, h.error.back()), "box");
 }
 
 TEST(Hierarchy, uniform_and_selective_levels_keep_the_topology) {

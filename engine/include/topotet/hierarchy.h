@@ -13,14 +13,14 @@
 // are still four distinct vertices, and a vertex sits where the last applied collapse that moved
 // it put it. Records use the ids of `Hierarchy::original` (the mesh as simplify received it).
 //
-// Dependencies (paper 000 §5.2's DAG). The stencil of collapse i is the set V_i of the vertices of
-// St(u) ∪ St(v) when the engine checked it; a collapse changes only tets whose vertices are all in
-// its stencil and moves only u. Collapse i depends on, for every w in V_i, the latest earlier
-// collapse j whose stencil V_j contains w. Applying any DOWNWARD-CLOSED set of collapses (every
-// parent of a member is a member) in recording order gives each member exactly the stars of u and
-// v and the positions of V_i the engine verified (proof in engine/hierarchy.cpp), and the
-// kernel's checks (link conditions, orientation, quality, tolerance) read nothing else, so every
-// such set gives a valid mesh with the topology of the original, substructures included.
+// Dependencies (paper 000 §5.2's DAG, as in the MT library). A collapse replaces the patch
+// St(u) ∪ St(v) (the tets it reads) by the new star (those tets, changed). Collapse i depends on
+// the collapses that last changed a tet of its patch. Applying any DOWNWARD-CLOSED set of
+// collapses (every parent of a member is a member) in recording order gives each member exactly
+// the patch and the positions the engine verified (argument in engine/hierarchy.cpp; checked with
+// the kernel itself in tests/property_hierarchy.cpp), and the kernel's checks (link conditions,
+// orientation, quality, tolerance) read nothing else, so every such set gives a valid mesh with
+// the topology of the original, substructures included.
 //
 // The parallel engine records its rounds winner by winner (their stencils are disjoint, so any
 // order within a round is a valid sequence); the records are identical for every thread count.
