@@ -432,10 +432,12 @@ int run_simplify_job(SimplifyJob& job) {
       }
       if (!job.hierarchy_path.empty()) {
         const auto bytes = std::filesystem::file_size(job.hierarchy_path);
+        const double n = static_cast<double>(hierarchy.collapse_count());
         row("hierarchy", job.hierarchy_path + ": " + format_count(hierarchy.collapse_count()) + " collapses, " +
-                             format_bytes(bytes) + " (" +
-                             format_number(per(static_cast<double>(bytes), static_cast<double>(hierarchy.collapse_count()))) +
-                             " bytes/collapse; write " + format_seconds(hierarchy_write_seconds) + ")");
+                             format_bytes(bytes) + " (records " +
+                             format_number(per(static_cast<double>(hierarchy_collapse_bytes(hierarchy)), n)) +
+                             " bytes/collapse, " + format_number(per(static_cast<double>(hierarchy.parents.size()), n)) +
+                             " parents/collapse; write " + format_seconds(hierarchy_write_seconds) + ")");
       }
       row("memory", "peak " + format_bytes(peak_bytes) + " (" +
                         format_count(tets_in ? peak_bytes / tets_in : 0) + " bytes/input tet); model " +

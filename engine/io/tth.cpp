@@ -169,6 +169,14 @@ void write_hierarchy(const std::string& path, const Hierarchy& h) {
   file.commit();
 }
 
+std::uint64_t hierarchy_collapse_bytes(const Hierarchy& h) {
+  const std::uint64_t n = h.collapse_count();
+  const std::uint64_t per_collapse = 2 * sizeof(VertId) + 3 * sizeof(glm::dvec3) + sizeof(double) + sizeof(float) +
+                                     2 * sizeof(double) * static_cast<std::uint64_t>(h.field_stride);
+  return sizeof(std::uint64_t) + sizeof(std::uint32_t) + n * per_collapse + (n + 1) * sizeof(std::uint32_t) +
+         h.parents.size() * sizeof(std::uint32_t);
+}
+
 Hierarchy read_hierarchy(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open");

@@ -135,5 +135,7 @@ class HierarchyCursor {
 void write_hierarchy(const std::string& path, const Hierarchy& hierarchy);
 // Throws InputError naming the file and the byte offset of the fault on a bad or truncated file.
 Hierarchy read_hierarchy(const std::string& path);
+// Bytes of the file's collapse section (the records and dependencies; the rest is the original mesh).
+std::uint64_t hierarchy_collapse_bytes(const Hierarchy& hierarchy);
 
 }  // namespace topotet
