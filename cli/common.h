@@ -25,6 +25,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "topotet/hierarchy.h"
 #include "topotet/io.h"
 #include "topotet/mesh_data.h"
 #include "topotet/simplify.h"
@@ -70,6 +71,13 @@ struct SimplifyJob {
 };
 // Builds, simplifies, writes, measures and verifies; prints the report. Returns the exit code.
 int run_simplify_job(SimplifyJob& job);
+
+// ---- levels of a collapse hierarchy (extract.cpp) ----
+// One uniform level per error threshold, written as `output` with the threshold before the
+// extension; prints one table row per level (size, field error, error bound, angles, topology
+// against the original). Returns kExitCheckFailed if a level fails the check.
+int print_error_levels(const Hierarchy& hierarchy, const std::string& output, std::vector<double> levels,
+                       const WriteOptions& write_options);
 
 // ---- timing ----
 class Stopwatch {

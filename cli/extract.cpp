@@ -71,8 +71,10 @@ Checked check_level(const metrics::TopologyReport& original, const MeshData& lev
   return c;
 }
 
-int run_levels_table(const ExtractArgs& args, const Hierarchy& h, WriteOptions write_options) {
-  std::vector<double> levels = args.levels_error;
+}  // namespace
+
+int print_error_levels(const Hierarchy& h, const std::string& output, std::vector<double> levels,
+                       const WriteOptions& write_options) {
   std::sort(levels.begin(), levels.end());
   levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
   const MeshData& original = h.original;
@@ -93,7 +95,7 @@ int run_levels_table(const ExtractArgs& args, const Hierarchy& h, WriteOptions w
     const Stopwatch clock;
     const MeshData level = extract(h, applied);
     const double seconds = clock.seconds();
-    write_mesh(level_path(args.output, e), level, write_options);
+    write_mesh(level_path(output, e), level, write_options);
     const Checked c = check_level(original_topology, level);
     all_ok = all_ok && c.ok;
     const FieldError f = compare_fields(original, level);
@@ -113,6 +115,8 @@ int run_levels_table(const ExtractArgs& args, const Hierarchy& h, WriteOptions w
   return all_ok ? kExitOk : kExitCheckFailed;
 }
 
+namespace {
+
 int run_extract(const ExtractArgs& args) {
   const int given = (args.vertices ? 1 : 0) + (args.max_error ? 1 : 0) + (args.voi.empty() ? 0 : 1) +
                     (args.levels_error.empty() ? 0 : 1);
@@ -131,7 +135,7 @@ int run_extract(const ExtractArgs& args) {
     const Hierarchy h = read_hierarchy(args.input);
     const double read_seconds = read_clock.seconds();
     if (!args.levels_error.empty()) {
-      exit_code = run_levels_table(args, h, write_options);
+      exit_code = print_error_levels(h, args.output, args.levels_error, write_options);
       return;
     }
     const Stopwatch select_clock;

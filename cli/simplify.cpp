@@ -7,6 +7,7 @@
 // The outputs are measured after the last level so that the peak memory reported is the one of
 // reading, building and simplifying, not of the checker. Each measurement is timed on its own, so
 // the report shows what the measurements cost next to the simplification.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <cstdio>
@@ -546,6 +547,7 @@ struct SimplifyArgs {
   std::string input;
   std::string output;
   std::string hierarchy;  // --hierarchy
+  std::vector<double> levels_error;  // --levels-error
   double ratio = 0.25;
   std::uint64_t target_vertices = 0;
   double max_cost = 0.0;
@@ -617,6 +619,8 @@ int run_simplify(const SimplifyArgs& args) {
   }
   job.output_path = args.output;
   job.hierarchy_path = args.hierarchy;
+  if (!args.levels_error.empty() && job.hierarchy_path.empty())
+    throw InputError("--levels-error needs --hierarchy H.tth (the levels are extracted from it)");
   job.binary = args.binary;
   job.msh22 = args.msh22;
   job.report_path = args.report;
@@ -625,7 +629,15 @@ int run_simplify(const SimplifyArgs& args) {
   job.quiet = args.quiet;
   job.progress = args.progress;
   job.progress_interval = args.progress_interval;
-  return run_simplify_job(job);
+  const int code = run_simplify_job(job);
+  if (args.levels_error.empty()) return code;
+  // One run, one hierarchy, every level: the levels are extracted, not re-simplified.
+  WriteOptions write_options;
+  write_options.binary = job.binary;
+  write_options.msh22 = job.msh22;
+  std::fprintf(report_stream(), "\nlevels from %s:\n", job.hierarchy_path.c_str());
+  return std::max(code, print_error_levels(read_hierarchy(job.hierarchy_path), job.output_path, args.levels_error,
+                                           write_options));
 }
 
 }  // namespace
@@ -696,6 +708,13 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("--hierarchy", args->hierarchy,
                   "Also record every collapse into this hierarchy file (.tth): `topotet extract` then gives any "
                   "level, uniform or fine in a volume of interest")
+      ->excludes(levels);
+  cmd->add_option("--levels-error", args->levels_error,
+                  "With --hierarchy: also extract one uniform level per error threshold from it, written as OUT "
+                  "with the threshold before the extension, with a table (the columns of --levels, the field "
+                  "error and its bound)")
+      ->delimiter(',')
+      ->check(number_in(0.0, std::numeric_limits<double>::infinity(), false))
       ->excludes(levels);
   ratio->excludes(target);
   cmd->add_flag("--quiet", args->quiet, "No report and no progress bar (errors and a topology FAIL still print)");
