@@ -172,7 +172,8 @@ int run_extract(const ExtractArgs& args) {
     if (!args.quiet) {
       row("hierarchy", args.input + ": " + format_count(h.original.vertex_count()) + " vertices, " +
                            format_count(h.original.tet_count()) + " tets, " + format_count(h.collapse_count()) +
-                           " collapses (read " + format_seconds(read_seconds) + ")");
+                           " collapses of error up to " + format_number(h.error.empty() ? 0.0 : h.error.back()) +
+                           " (read " + format_seconds(read_seconds) + ")");
       row("level", how + ": " + format_count(applied_count) + " collapses applied (select " +
                        format_seconds(select_seconds) + ")");
       row("output", args.output + ": " + format_count(level.vertex_count()) + " vertices, " +
