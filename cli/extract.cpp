@@ -33,6 +33,7 @@ struct ExtractArgs {
   double inside_error = 0.0;
   double outside_error = std::numeric_limits<double>::infinity();
   std::vector<double> levels_error;
+  std::string voi_closure = "fine";
   bool binary = false;
   bool no_verify = false;
   bool quiet = false;
@@ -148,9 +149,17 @@ int run_extract(const ExtractArgs& args) {
       applied = select_prefix(h, prefix_for_error(h, *args.max_error));
       how = "uniform, error <= " + format_number(*args.max_error);
     } else {
-      applied = select_voi(h, *voi, args.inside_error, args.outside_error);
+      const VoiClosure closure = args.voi_closure == "coarse" ? VoiClosure::kReachCoarse : VoiClosure::kKeepFine;
+      applied = select_voi(h, *voi, args.inside_error, args.outside_error, closure);
       how = "VOI " + args.voi + ", error <= " + format_number(args.inside_error) + " inside, <= " +
-            format_number(args.outside_error) + " outside";
+            format_number(args.outside_error) + " outside, closure " + args.voi_closure;
+      std::size_t in_voi = 0, above = 0;
+      for (std::size_t i = 0; i < applied.size(); ++i)
+        if (applied[i] && (voi->contains(h.u_before[i]) || voi->contains(h.v_position[i]) || voi->contains(h.u_after[i]))) {
+          ++in_voi;
+          above += h.error[i] > args.inside_error;
+        }
+      how += " (" + format_count(in_voi) + " applied in the VOI, " + format_count(above) + " of them above the inside error)";
     }
     const double select_seconds = select_clock.seconds();
     const Stopwatch extract_clock;
@@ -216,6 +225,12 @@ void add_extract_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("--outside-error", args->outside_error, "Error of the collapses applied outside (default: all)")
       ->needs(voi)
       ->check(number_in(0.0, std::numeric_limits<double>::infinity(), false));
+  cmd->add_option("--voi-closure", args->voi_closure,
+                  "When a coarse collapse outside needs a fine one inside: fine = leave it out (the VOI stays at "
+                  "--inside-error), coarse = apply both (the outside reaches --outside-error)")
+      ->needs(voi)
+      ->check(CLI::IsMember({"fine", "coarse"}))
+      ->capture_default_str();
   cmd->add_option("--levels-error", args->levels_error,
                   "One uniform level per error threshold, written as OUT with the threshold before the extension, "
                   "and a table of their size, field error, quality and topology")

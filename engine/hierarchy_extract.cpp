@@ -82,11 +82,21 @@ std::size_t prefix_for_error(const Hierarchy& h, double max_error) {
   return static_cast<std::size_t>(std::upper_bound(h.error.begin(), h.error.end(), max_error) - h.error.begin());
 }
 
-std::vector<std::uint8_t> select_voi(const Hierarchy& h, const Voi& voi, double inside_error, double outside_error) {
+std::vector<std::uint8_t> select_voi(const Hierarchy& h, const Voi& voi, double inside_error, double outside_error,
+                                     VoiClosure closure) {
   std::vector<std::uint8_t> applied(h.collapse_count(), 0);
+  auto wanted = [&](std::size_t i) { return h.error[i] <= (touches(h, i, voi) ? inside_error : outside_error); };
+  if (closure == VoiClosure::kReachCoarse) {
+    // Parents come before their children: one backward pass adds every ancestor.
+    for (std::size_t i = applied.size(); i-- > 0;) {
+      if (!applied[i] && !wanted(i)) continue;
+      applied[i] = 1;
+      for (std::uint32_t k = h.parent_offsets[i]; k < h.parent_offsets[i + 1]; ++k) applied[h.parents[k]] = 1;
+    }
+    return applied;
+  }
   for (std::size_t i = 0; i < applied.size(); ++i) {
-    const double limit = touches(h, i, voi) ? inside_error : outside_error;
-    if (!(h.error[i] <= limit)) continue;
+    if (!wanted(i)) continue;
     bool parents_applied = true;
     for (std::uint32_t k = h.parent_offsets[i]; k < h.parent_offsets[i + 1] && parents_applied; ++k)
       parents_applied = applied[h.parents[k]] != 0;

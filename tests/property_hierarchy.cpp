@@ -205,7 +205,9 @@ TEST(Hierarchy, downward_closed_sets_replay_legally_through_the_kernel) {
   for (const Built* b : {&cube_sphere(), &slab, &sequential})
     for (double p : {0.2, 0.5, 0.8, 0.95}) expect_kernel_replay(*b, random_closed(b->hierarchy, p, rng), "p " + std::to_string(p));
   const Hierarchy& h = cube_sphere().hierarchy;
-  expect_kernel_replay(cube_sphere(), select_voi(h, parse_voi("box:0.2,0.2,0.2,0.6,0.7,0.5"), 0.0, h.error.back()), "box");
+  const Voi box = parse_voi("box:0.2,0.2,0.2,0.6,0.7,0.5");
+  expect_kernel_replay(cube_sphere(), select_voi(h, box, 0.0, h.error.back()), "box");
+  expect_kernel_replay(cube_sphere(), select_voi(h, box, 0.0, h.error.back(), VoiClosure::kReachCoarse), "coarse box");
 }
 
 TEST(Hierarchy, uniform_and_selective_levels_keep_the_topology) {
@@ -237,12 +239,21 @@ TEST(Hierarchy, uniform_and_selective_levels_keep_the_topology) {
     }
     const double inside = top * 0.01 * unit(rng), outside = top * unit(rng);
     const std::vector<std::uint8_t> applied = select_voi(h, voi, inside, outside);
-    const MeshData level = extract(h, applied);
-    expect_valid_level(b.input, input_topology, level, "voi trial " + std::to_string(trial));
-    for (std::size_t i = 0; i < applied.size(); ++i)
-      if (applied[i] && (voi.contains(h.u_after[i]) || voi.contains(h.v_position[i]))) {
+    expect_valid_level(b.input, input_topology, extract(h, applied), "voi trial " + std::to_string(trial));
+    const std::vector<std::uint8_t> coarse = select_voi(h, voi, inside, outside, VoiClosure::kReachCoarse);
+    expect_valid_level(b.input, input_topology, extract(h, coarse), "coarse voi trial " + std::to_string(trial));
+    for (std::size_t i = 0; i < applied.size(); ++i) {
+      const bool inside_voi = voi.contains(h.u_before[i]) || voi.contains(h.u_after[i]) || voi.contains(h.v_position[i]);
+      if (applied[i] && inside_voi) {  // kKeepFine: the VOI stays fine
         EXPECT_LE(h.error[i], inside);
       }
+      if (!inside_voi && h.error[i] <= outside) {  // kReachCoarse: the outside is coarse
+        EXPECT_TRUE(coarse[i]);
+      }
+      if (applied[i]) {  // the closed subset lies inside the closed superset
+        EXPECT_TRUE(coarse[i]);
+      }
+    }
   }
 }
 

@@ -98,12 +98,18 @@ struct Voi {
 Voi parse_voi(const std::string& text);
 
 // Selective level: collapse i is wanted iff its error is <= inside_error when it touches the VOI
-// (u before, v, or u after inside it), else <= outside_error. The result is the largest downward
-// closed set of wanted collapses: i is applied iff wanted and all its parents are applied. So no
-// collapse above inside_error is ever applied in the VOI (it stays fine), and the coarse part
-// stops where it would need one: the transition conforms by construction.
+// (u before, v, or u after inside it), else <= outside_error. The wanted set is rarely closed (a
+// coarse collapse outside may depend on a fine one inside), and `closure` decides which side
+// gives way:
+//  - kKeepFine: the largest closed subset of the wanted set: i is applied iff wanted and all its
+//    parents are applied. No collapse above inside_error is ever applied in the VOI (it stays
+//    fine), and the coarsening outside stops where it would need one.
+//  - kReachCoarse: the smallest closed superset: the wanted collapses and all their ancestors.
+//    Everything outside reaches outside_error, and the VOI gets the collapses that needs.
+// Either way the transition conforms by construction (the set is closed).
+enum class VoiClosure : std::uint8_t { kKeepFine, kReachCoarse };
 std::vector<std::uint8_t> select_voi(const Hierarchy& hierarchy, const Voi& voi, double inside_error,
-                                     double outside_error);
+                                     double outside_error, VoiClosure closure = VoiClosure::kKeepFine);
 
 // The mesh after applying the selected collapses (which must be downward closed; checked, throws
 // InputError otherwise). Vertices are the original's that remain, in original order; tets the
