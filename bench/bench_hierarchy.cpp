@@ -8,10 +8,10 @@
 // build:     plain simplify() and simplify_with_hierarchy() alternate, `runs` each, on fresh copies
 //            of the same built mesh; medians and their ratio (A/B in one process, so machine load
 //            hits both alike).
-// extract:   uniform levels at 3 error thresholds (quartiles of the recorded error) and the base;
+// extract:   uniform levels with a quarter, half, three quarters and all of the collapses applied;
 //            median seconds and output tets per second (1 thread: extraction is sequential).
 // voi_sweep: a sphere of radius 1/8 of the bounding box diagonal, fine inside (error 0) and coarse
-//            outside, moved 10 times by a tenth of its diameter along x; per move, the time of the
+//            outside (each VoiClosure), moved 10 times by a tenth of its diameter along x; per move, the time of the
 //            new selection and the undo/apply of the difference (HierarchyCursor::move_to) and
 //            separately the time to emit the mesh (HierarchyCursor::mesh), medians.
 #include <algorithm>
@@ -129,10 +129,10 @@ int main(int argc, char** argv) {
         static_cast<unsigned long long>(file_bytes), write_seconds, read_seconds);
     if (reread.collapse_count() != h.collapse_count()) std::fprintf(stderr, "bench_hierarchy: file round trip differs\n");
 
-    // Uniform extraction throughput.
+    // Uniform extraction throughput, at a quarter, half, three quarters and all of the collapses.
     const double top = h.error.empty() ? 0.0 : h.error.back();
-    for (double q : {0.0001, 0.01, 0.25, 1.0}) {
-      const std::vector<std::uint8_t> applied = select_prefix(h, prefix_for_error(h, q * top));
+    for (double q : {0.25, 0.5, 0.75, 1.0}) {
+      const std::vector<std::uint8_t> applied = select_prefix(h, static_cast<std::size_t>(q * n));
       std::vector<double> seconds;
       std::size_t tets_out = 0;
       for (int r = 0; r < std::max(3, args.runs); ++r) {
@@ -141,42 +141,45 @@ int main(int argc, char** argv) {
         seconds.push_back(since(t));
         tets_out = level.tet_count();
       }
-      std::printf("{\"bench\":\"extract\",\"dataset\":\"%s\",\"error_fraction\":%g,\"tets_out\":%zu,\"seconds\":%.5f,"
+      std::printf("{\"bench\":\"extract\",\"dataset\":\"%s\",\"collapse_fraction\":%g,\"tets_out\":%zu,\"seconds\":%.5f,"
                   "\"tets_per_second\":%.0f}\n",
                   dataset.c_str(), q, tets_out, median(seconds), static_cast<double>(tets_out) / median(seconds));
     }
 
-    // VOI sweep.
+    // VOI sweep, with each closure (topotet/hierarchy.h, select_voi).
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
     for (const glm::dvec3& p : h.original.positions) {
       lo = glm::dvec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
       hi = glm::dvec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
     }
     const glm::dvec3 d = hi - lo;
-    Voi voi;
-    voi.kind = Voi::Kind::kSphere;
-    voi.radius = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z) / 8.0;
-    voi.centre = lo + 0.5 * d - glm::dvec3(5 * voi.size() / 10, 0, 0);
-    HierarchyCursor cursor(h);
-    cursor.move_to(select_voi(h, voi, 0.0, top));
-    std::vector<double> move_seconds, mesh_seconds;
-    std::size_t changed_total = 0, tets_out = 0, applied_count = 0;
-    for (int step = 0; step < 10; ++step) {
-      voi = voi.moved({voi.size() / 10, 0, 0});
-      auto t = Clock::now();
-      changed_total += cursor.move_to(select_voi(h, voi, 0.0, top));
-      move_seconds.push_back(since(t));
-      t = Clock::now();
-      const MeshData level = cursor.mesh();
-      mesh_seconds.push_back(since(t));
-      tets_out = level.tet_count();
+    for (VoiClosure closure : {VoiClosure::kKeepFine, VoiClosure::kReachCoarse}) {
+      Voi voi;
+      voi.kind = Voi::Kind::kSphere;
+      voi.radius = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z) / 8.0;
+      voi.centre = lo + 0.5 * d - glm::dvec3(5 * voi.size() / 10, 0, 0);
+      HierarchyCursor cursor(h);
+      cursor.move_to(select_voi(h, voi, 0.0, top, closure));
+      std::vector<double> move_seconds, mesh_seconds;
+      std::size_t changed_total = 0, tets_out = 0, applied_count = 0;
+      for (int step = 0; step < 10; ++step) {
+        voi = voi.moved({voi.size() / 10, 0, 0});
+        auto t = Clock::now();
+        changed_total += cursor.move_to(select_voi(h, voi, 0.0, top, closure));
+        move_seconds.push_back(since(t));
+        t = Clock::now();
+        const MeshData level = cursor.mesh();
+        mesh_seconds.push_back(since(t));
+        tets_out = level.tet_count();
+      }
+      for (std::uint8_t a : cursor.applied()) applied_count += a;
+      std::printf("{\"bench\":\"voi_sweep\",\"dataset\":\"%s\",\"closure\":\"%s\",\"radius\":%g,\"step\":%g,"
+                  "\"moves\":10,\"applied\":%zu,\"changed_per_move\":%.0f,\"move_seconds\":%.5f,\"mesh_seconds\":%.5f,"
+                  "\"tets_out\":%zu,\"tets_per_second\":%.0f}\n",
+                  dataset.c_str(), closure == VoiClosure::kKeepFine ? "fine" : "coarse", voi.radius, voi.size() / 10,
+                  applied_count, static_cast<double>(changed_total) / 10.0, median(move_seconds), median(mesh_seconds),
+                  tets_out, static_cast<double>(tets_out) / median(mesh_seconds));
     }
-    for (std::uint8_t a : cursor.applied()) applied_count += a;
-    std::printf("{\"bench\":\"voi_sweep\",\"dataset\":\"%s\",\"radius\":%g,\"step\":%g,\"moves\":10,\"applied\":%zu,"
-                "\"changed_per_move\":%.0f,\"move_seconds\":%.5f,\"mesh_seconds\":%.5f,\"tets_out\":%zu,"
-                "\"tets_per_second\":%.0f}\n",
-                dataset.c_str(), voi.radius, voi.size() / 10, applied_count, static_cast<double>(changed_total) / 10.0,
-                median(move_seconds), median(mesh_seconds), tets_out, static_cast<double>(tets_out) / median(mesh_seconds));
   });
   return 0;
 }
