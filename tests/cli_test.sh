@@ -154,6 +154,8 @@ expect_error progress_bad -- "$topotet" simplify in.mesh -o pb.mesh --progress s
 # --- the collapse hierarchy (issue #16): one run, any level, checked against the original ---
 expect 0 simplify_hierarchy -- "$topotet" simplify in.mesh -o hbase.mesh --ratio 0.1 --threads 2 --no-metrics --hierarchy h.tth
 if grep -q '^hierarchy *h.tth: .* collapses' simplify_hierarchy.out; then pass "simplify reports the hierarchy"; else fail "no hierarchy line"; fi
+expect 0 simplify_hierarchy_1 -- "$topotet" simplify in.mesh -o hbase1.mesh --ratio 0.1 --threads 1 --no-metrics --hierarchy h1.tth
+if cmp -s h.tth h1.tth; then pass "hierarchy file identical for 1 and 2 threads"; else fail "hierarchy file differs between 1 and 2 threads"; fi
 expect 0 extract_vertices -- "$topotet" extract h.tth -o hv.mesh --vertices 2000
 if grep -q '^output *hv.mesh: 2,000 vertices' extract_vertices.out && grep -q '^topology *PASS' extract_vertices.out; then
   pass "extract --vertices: the count asked for, topology PASS"
