@@ -74,6 +74,15 @@ void CollapseLog::depend(std::size_t slot, const std::vector<TetId>& star_u, con
   s.parents.erase(std::unique(s.parents.begin(), s.parents.end()), s.parents.end());
 }
 
+void fill_running_error(Hierarchy& h) {
+  h.error.resize(h.cost.size());
+  double running = 0.0;
+  for (std::size_t i = 0; i < h.cost.size(); ++i) {
+    running = std::max(running, h.cost[i]);
+    h.error[i] = running;
+  }
+}
+
 void CollapseLog::end_batch() {
   const std::size_t stride = static_cast<std::size_t>(stride_);
   for (std::size_t i = 0; i < batch_size_; ++i) {
@@ -94,19 +103,6 @@ void CollapseLog::end_batch() {
 }
 
 }  // namespace detail
-
-namespace {
-
-void fill_error(Hierarchy& h) {
-  h.error.resize(h.cost.size());
-  double running = 0.0;
-  for (std::size_t i = 0; i < h.cost.size(); ++i) {
-    running = std::max(running, h.cost[i]);
-    h.error[i] = running;
-  }
-}
-
-}  // namespace
 
 Report simplify_with_hierarchy(TetMesh& mesh, const SimplifyOptions& options, Hierarchy& hierarchy) noexcept {
   Report report;
@@ -140,7 +136,7 @@ Report simplify_with_hierarchy(TetMesh& mesh, const SimplifyOptions& options, Hi
     hierarchy.error_bound.assign(n, std::numeric_limits<float>::quiet_NaN());
     hierarchy.parent_offsets = std::move(log.parent_offsets);
     hierarchy.parents = std::move(log.parents);
-    fill_error(hierarchy);
+    detail::fill_running_error(hierarchy);
   } catch (const std::bad_alloc&) {
     report.status = Status::kOutOfMemory;
     report.message = "out of memory while recording the hierarchy";

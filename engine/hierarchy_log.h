@@ -19,7 +19,14 @@
 
 #include "topotet/tet_mesh.h"
 
+namespace topotet {
+struct Hierarchy;
+}
+
 namespace topotet::detail {
+
+// Hierarchy::error from Hierarchy::cost (the running maximum); used after recording and reading.
+void fill_running_error(Hierarchy& hierarchy);
 
 class CollapseLog {
  public:

@@ -20,6 +20,7 @@
 #include <fstream>
 #include <limits>
 
+#include "hierarchy_log.h"
 #include "io/atomic_file.h"
 #include "topotet/error.h"
 #include "topotet/hierarchy.h"
@@ -257,12 +258,7 @@ Hierarchy read_hierarchy(const std::string& path) {
   r.raw(end, 8, "the end marker");
   if (std::memcmp(end, kEnd, 8) != 0) r.fail("bad end marker (corrupt file)");
   if (r.offset() != r.size()) r.fail(std::to_string(r.size() - r.offset()) + " bytes after the end marker");
-  h.error.resize(n);
-  double running = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    running = std::max(running, h.cost[i]);
-    h.error[i] = running;
-  }
+  detail::fill_running_error(h);
   validate_hierarchy(h, path);
   return h;
 }
