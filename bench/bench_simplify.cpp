@@ -31,6 +31,7 @@
 #include "topotet/io.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
+#include "topotet/round_log.h"
 #include "topotet/simplify.h"
 #include "topotet/tet_mesh.h"
 
@@ -89,10 +90,10 @@ struct Run {
 // ignores memory bandwidth and synchronisation, meant to show where the rounds' Amdahl terms are.
 // Outside the rounds: the setup (quadrics and orders, a parallel loop) counts as divisible, the
 // final compaction (sequential code) as it is.
-double project(const Report& r, int threads_measured, int p) {
+double project(const Report& r, const std::vector<RoundStats>& rounds, int threads_measured, int p) {
   const double setup = r.seconds - (r.phase_seconds[0] + r.phase_seconds[1] + r.phase_seconds[2] + r.phase_seconds[3]);
   double t = std::max(0.0, setup) * threads_measured / p + r.phase_seconds[3];
-  for (const RoundStats& s : r.round_stats) {
+  for (const RoundStats& s : rounds) {
     const double eval_work = s.phase_seconds[0] * threads_measured, apply_work = s.phase_seconds[2] * threads_measured;
     const double eval_span = s.evaluated ? eval_work / static_cast<double>(s.evaluated) : 0;
     const double apply_span = s.winners ? apply_work / static_cast<double>(s.winners) : 0;
@@ -102,9 +103,9 @@ double project(const Report& r, int threads_measured, int p) {
   return t;
 }
 
-double serial_seconds(const Report& r) {
+double serial_seconds(const std::vector<RoundStats>& rounds) {
   double t = 0;
-  for (const RoundStats& s : r.round_stats) t += s.serial_seconds;
+  for (const RoundStats& s : rounds) t += s.serial_seconds;
   return t;
 }
 
@@ -124,6 +125,8 @@ std::string run_child(const Args& a, const std::string& dataset, std::uint64_t t
   o.tolerance_rel = a.tolerance_rel;
   o.engine = engine == "sequential" ? Engine::kSequential : Engine::kParallel;
   o.num_threads = threads;
+  std::vector<RoundStats> rounds;
+  o.round_log = &rounds;
   const Report r = simplify(mesh, o);
   const long peak = peak_rss_bytes();  // before the quality measurement below allocates
   double rms_rel = 0, dihedral_sd = 0;
@@ -136,7 +139,7 @@ std::string run_child(const Args& a, const std::string& dataset, std::uint64_t t
   }
   std::ostringstream js;
   double set = 0, competing = 0, evaluated = 0;
-  for (const RoundStats& s : r.round_stats) {
+  for (const RoundStats& s : rounds) {
     set += static_cast<double>(s.winners);
     competing += static_cast<double>(s.candidates);
     evaluated += static_cast<double>(s.evaluated);
@@ -152,13 +155,13 @@ std::string run_child(const Args& a, const std::string& dataset, std::uint64_t t
      << ",\"checks_per_collapse\":" << static_cast<double>(r.legality_checks) / std::max<double>(1, r.collapses)
      << ",\"phase_seconds\":{\"evaluate\":" << r.phase_seconds[0] << ",\"select\":" << r.phase_seconds[1]
      << ",\"apply\":" << r.phase_seconds[2] << ",\"compact\":" << r.phase_seconds[3] << "}"
-     << ",\"serial_seconds\":" << serial_seconds(r) << ",\"round_fraction\":" << a.round_fraction
+     << ",\"serial_seconds\":" << serial_seconds(rounds) << ",\"round_fraction\":" << a.round_fraction
      << ",\"rms_rel\":" << rms_rel << ",\"dihedral_sd\":" << dihedral_sd
      << ",\"peak_rss_bytes\":" << peak
      << ",\"peak_bytes_per_tet\":" << static_cast<double>(peak) / std::max<double>(r.tets_before, 1)
      << ",\"status\":\"" << to_string(r.status) << "\",\"projected_seconds\":{";
   for (std::size_t i = 0; i < a.project.size(); ++i)
-    js << (i ? "," : "") << "\"" << a.project[i] << "\":" << (engine == "parallel" ? project(r, threads, a.project[i]) : 0.0);
+    js << (i ? "," : "") << "\"" << a.project[i] << "\":" << (engine == "parallel" ? project(r, rounds, threads, a.project[i]) : 0.0);
   js << "}}";
   return js.str();
 }

@@ -177,7 +177,7 @@ struct Measured {
   double worst_rms_rel = 0;        // over every field topotet kept
   bool has_field_error = false;
   QualityStats quality;
-  metrics::TopologyReport topology, topology_mesh_only;
+  topotet::TopologyReport topology, topology_mesh_only;
   bool same_topology = false, same_mesh_only = false;
   std::string differences;
   std::size_t straddling = 0, relabel_outside = 0;
@@ -186,8 +186,8 @@ struct Measured {
 
 int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
-Measured measure(const MeshData& input, const MeshData& scalar_reference, const metrics::TopologyReport& input_topology,
-                 const metrics::TopologyReport& input_mesh_only, const EngineRuns& runs, bool is_vtk,
+Measured measure(const MeshData& input, const MeshData& scalar_reference, const topotet::TopologyReport& input_topology,
+                 const topotet::TopologyReport& input_mesh_only, const EngineRuns& runs, bool is_vtk,
                  std::uint64_t vertices_in) {
   Measured m;
   const MeshData& out = runs.output;
@@ -203,13 +203,13 @@ Measured measure(const MeshData& input, const MeshData& scalar_reference, const 
     m.worst_rms_rel = e.worst_rms_rel;
   }
   m.quality = compute_quality(out);
-  metrics::TopologyOptions options;
+  topotet::TopologyOptions options;
   options.fast = input.tet_count() > kFastCheckTets;
-  m.topology = metrics::compute_topology(out, options);
-  m.same_topology = metrics::same_topology(input_topology, m.topology, &m.differences);
+  m.topology = topotet::compute_topology(out, options);
+  m.same_topology = topotet::same_topology(input_topology, m.topology, &m.differences);
   const MeshData bare = mesh_only(out);
-  m.topology_mesh_only = metrics::compute_topology(bare, options);
-  m.same_mesh_only = metrics::same_topology(input_mesh_only, m.topology_mesh_only);
+  m.topology_mesh_only = topotet::compute_topology(bare, options);
+  m.same_mesh_only = topotet::same_topology(input_mesh_only, m.topology_mesh_only);
 
   const bench::MaterialTransfer transfer = bench::transfer_materials(input, bare);
   m.straddling = transfer.straddling;
@@ -222,7 +222,7 @@ Measured measure(const MeshData& input, const MeshData& scalar_reference, const 
   return m;
 }
 
-std::string betti(const metrics::ComplexTopology& c) {
+std::string betti(const topotet::ComplexTopology& c) {
   std::string s = "(";
   for (int k = 0; k < 4; ++k) {
     if (k) s += ',';
@@ -231,7 +231,7 @@ std::string betti(const metrics::ComplexTopology& c) {
   return s + ")";
 }
 
-json betti_json(const metrics::ComplexTopology& c) {
+json betti_json(const topotet::ComplexTopology& c) {
   json j = json::array();
   for (auto b : c.betti) j.push_back(b < 0 ? json(nullptr) : json(b));
   return j;
@@ -392,10 +392,10 @@ int main(int argc, char** argv) {
   }
 
   // ---- measure (once, on the last outputs) ----
-  metrics::TopologyOptions options;
+  topotet::TopologyOptions options;
   options.fast = input.tet_count() > kFastCheckTets;
-  const metrics::TopologyReport input_topology = metrics::compute_topology(input, options);
-  const metrics::TopologyReport input_mesh_only = metrics::compute_topology(mesh_only(input), options);
+  const topotet::TopologyReport input_topology = topotet::compute_topology(input, options);
+  const topotet::TopologyReport input_mesh_only = topotet::compute_topology(mesh_only(input), options);
   const QualityStats input_quality = compute_quality(input);
   std::vector<EngineRuns*> engines = {&vtk, &sequential, &parallel};
   std::vector<Measured> m;

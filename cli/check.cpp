@@ -7,6 +7,7 @@
 
 #include "common.h"
 #include "distance_report.h"
+#include "json_report.h"
 #include "topotet/metrics/quality.h"
 #include "topotet/metrics/topology.h"
 
@@ -22,14 +23,8 @@ struct CheckArgs {
   bool has_sample_spacing = false;  // --sample-spacing-rel given: exactly that spacing
 };
 
-void print_indented(const std::string& text) {
-  std::size_t begin = 0;
-  while (begin < text.size()) {
-    std::size_t end = text.find('\n', begin);
-    if (end == std::string::npos) end = text.size();
-    std::printf("  %s\n", text.substr(begin, end - begin).c_str());
-    begin = end + 1;
-  }
+void print_indented(std::FILE* out, const std::string& text) {
+  for (const std::string& line : split_lines(text)) std::fprintf(out, "  %s\n", line.c_str());
 }
 
 int run_check(const CheckArgs& args) {
@@ -38,14 +33,14 @@ int run_check(const CheckArgs& args) {
   const MeshData before = read_input(args.before, &read_before);
   const MeshData after = read_input(args.after, &read_after);
 
-  metrics::TopologyOptions options;
+  topotet::TopologyOptions options;
   options.fast = args.fast;
   const Stopwatch topology_clock;
-  const metrics::TopologyReport before_topology = metrics::compute_topology(before, options);
-  const metrics::TopologyReport after_topology = metrics::compute_topology(after, options);
+  const topotet::TopologyReport before_topology = topotet::compute_topology(before, options);
+  const topotet::TopologyReport after_topology = topotet::compute_topology(after, options);
   const double topology_seconds = topology_clock.seconds();
   std::string differences;
-  bool ok = metrics::same_topology(before_topology, after_topology, &differences);
+  bool ok = topotet::same_topology(before_topology, after_topology, &differences);
 
   const Stopwatch quality_clock;
   const QualityStats quality = compute_quality(after);
@@ -55,21 +50,26 @@ int run_check(const CheckArgs& args) {
     differences += "inverted tets (quality check): " + std::to_string(quality.inverted) + "\n";
   }
 
-  std::printf("IN  %s: %s vertices, %s tets (read %s)\n", args.before.c_str(), format_count(before.vertex_count()).c_str(),
+  std::fprintf(report_stream(), "IN  %s: %s vertices, %s tets (read %s)\n", args.before.c_str(), format_count(before.vertex_count()).c_str(),
               format_count(before.tet_count()).c_str(), format_seconds(read_before).c_str());
-  print_indented(metrics::format_topology_table(before_topology));
-  std::printf("\nOUT %s: %s vertices, %s tets (read %s)\n", args.after.c_str(), format_count(after.vertex_count()).c_str(),
+  print_indented(report_stream(), topotet::format_topology_table(before_topology));
+  std::fprintf(report_stream(), "\nOUT %s: %s vertices, %s tets (read %s)\n", args.after.c_str(), format_count(after.vertex_count()).c_str(),
               format_count(after.tet_count()).c_str(), format_seconds(read_after).c_str());
-  print_indented(metrics::format_topology_table(after_topology));
+  print_indented(report_stream(), topotet::format_topology_table(after_topology));
   constexpr double kRad = std::numbers::pi / 180.0;
-  std::printf("\nquality   OUT: std dev dihedral %s rad, solid %s sr, face %s rad; min mean ratio %s; inverted %zu, "
+  std::fprintf(report_stream(), "\nquality   OUT: std dev dihedral %s rad, solid %s sr, face %s rad; min mean ratio %s; inverted %zu, "
               "zero volume %zu (%s)\n",
               format_number(quality.dihedral_deg.std_dev * kRad).c_str(), format_number(quality.solid_sr.std_dev).c_str(),
               format_number(quality.face_deg.std_dev * kRad).c_str(), format_number(quality.mean_ratio.min).c_str(),
               quality.inverted, quality.zero_volume, format_seconds(quality_seconds).c_str());
-  std::printf("topology  %s (%s%s)\n", ok ? "PASS" : "FAIL", args.fast ? "fast mode, " : "",
+  std::fprintf(report_stream(), "topology  %s (%s%s)\n", ok ? "PASS" : "FAIL", args.fast ? "fast mode, " : "",
               format_seconds(topology_seconds).c_str());
-  if (!ok) print_indented(differences);
+  if (!ok) {
+    // A failed check prints even with -q (on stderr then): it is why the exit code is 1.
+    std::FILE* out = verbosity() == Verbosity::kQuiet ? stderr : report_stream();
+    if (verbosity() == Verbosity::kQuiet) std::fprintf(out, "topology: FAIL\n");
+    print_indented(out, differences);
+  }
 
   const Stopwatch distance_clock;
   // Every label accurate (the table lists them); the spacing is the coarser of 1e-3 x the diagonal
@@ -83,29 +83,19 @@ int run_check(const CheckArgs& args) {
   print_surface_distance(distance, distance_seconds, /*per_label=*/true);
 
   if (!args.json_path.empty()) {
-    Json j;
-    j["before_file"] = args.before;
-    j["after_file"] = args.after;
+    Json j = json_header("check");
+    Json in = mesh_json(args.before, before, read_before);
+    in["topology_report"] = topology_report_json(before_topology);
+    Json out = mesh_json(args.after, after, read_after);
+    out["topology_report"] = topology_report_json(after_topology);
+    out["quality"] = quality_json(quality);
+    out["quality_seconds"] = quality_seconds;
+    j["before"] = in;
+    j["after"] = out;
     j["fast"] = args.fast;
     j["topology"] = ok ? "pass" : "fail";
-    Json lines = Json::array();
-    std::size_t begin = 0;
-    while (begin < differences.size()) {
-      std::size_t end = differences.find('\n', begin);
-      if (end == std::string::npos) end = differences.size();
-      if (end > begin) lines.push_back(differences.substr(begin, end - begin));
-      begin = end + 1;
-    }
-    j["differences"] = lines;
-    j["before"] = Json::parse(metrics::topology_to_json(before_topology));
-    j["after"] = Json::parse(metrics::topology_to_json(after_topology));
-    j["after_quality"] = {{"std_dev_dihedral_rad", quality.dihedral_deg.std_dev * kRad},
-                          {"std_dev_solid_sr", quality.solid_sr.std_dev},
-                          {"std_dev_face_rad", quality.face_deg.std_dev * kRad},
-                          {"min_mean_ratio", quality.mean_ratio.min},
-                          {"inverted_tets", quality.inverted},
-                          {"zero_volume_tets", quality.zero_volume}};
-    j["topology_seconds"] = topology_seconds;
+    j["topology_differences"] = split_lines(differences);
+    j["topology_seconds"] = topology_seconds;  // both meshes' topology and the comparison
     j["surface_distance"] = surface_distance_json(distance);
     j["surface_distance_seconds"] = distance_seconds;
     write_json_atomically(args.json_path, j);
@@ -123,6 +113,7 @@ void add_check_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("IN", args->before, "Original mesh")->required();
   cmd->add_option("OUT", args->after, "Simplified mesh")->required();
   cmd->add_option("--json", args->json_path, "Also write both reports and the verdict as JSON");
+  add_verbosity_flags(cmd);
   cmd->add_flag("--fast", args->fast, "Euler characteristics and components only (for huge meshes)");
   cmd->add_option("--sample-spacing-rel", args->sample_spacing_rel,
                   "Surface distance: finest sampling, relative to the bounding box diagonal (error <= it / sqrt(3)); "

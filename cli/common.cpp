@@ -116,6 +116,7 @@ MeshData read_input(const std::string& path, double* seconds, const ReadOptions&
   std::error_code ec;
   if (path != "-" && !std::filesystem::exists(path, ec)) throw_input_error(path, "no such file");
   MeshData data;
+  log_stage("read " + path + ": start");
   try {
     ReadNotes notes;
     data = read_mesh(path, options, &notes);
@@ -140,14 +141,56 @@ MeshData read_input(const std::string& path, double* seconds, const ReadOptions&
     throw_input_error(path, e.what());
   }
   if (seconds) *seconds = clock.seconds();
+  log_stage("read " + path + ": " + format_count(data.vertex_count()) + " vertices, " + format_count(data.tet_count()) +
+            " tets, " + format_count(data.triangles.size()) + " triangles, " + format_count(data.segments.size()) +
+            " edges, " + std::to_string(data.fields.size()) + " fields in " + format_seconds(clock.seconds()));
   return data;
 }
 
 namespace {
 std::FILE* g_report_stream = nullptr;  // nullptr = stdout (stdout is not a constant expression)
+// The CLI's own settings (one process, one command): the library has no global state.
+int g_verbose_count = 0;  // -v given this many times
+bool g_quiet = false;
+const Stopwatch g_process_clock;  // for the -vv log
+
+// Where a -q report goes: a sink, so that the commands print the same way at every level.
+std::FILE* null_stream() {
+  static std::FILE* sink = std::fopen("/dev/null", "w");
+  return sink;
+}
 }  // namespace
 
-std::FILE* report_stream() { return g_report_stream ? g_report_stream : stdout; }
+std::FILE* report_stream() {
+  if (g_quiet) {
+    if (std::FILE* sink = null_stream()) return sink;
+  }
+  return g_report_stream ? g_report_stream : stdout;
+}
+
+Verbosity verbosity() {
+  if (g_quiet) return Verbosity::kQuiet;
+  return g_verbose_count >= 2 ? Verbosity::kDebug : g_verbose_count == 1 ? Verbosity::kVerbose : Verbosity::kNormal;
+}
+
+void add_verbosity_flags(CLI::App* cmd) {
+  auto* verbose = cmd->add_flag("-v,--verbose", g_verbose_count,
+                                "More detail: the effective options, phase times, every field and surface label, notes; "
+                                "twice (-vv): also a timed log of every stage on stderr");
+  cmd->add_flag("-q,--quiet", g_quiet, "No report and no progress (errors, warnings and a failed check still print)")
+      ->excludes(verbose);
+}
+
+void print_note(const std::string& message) {
+  if (verbosity() < Verbosity::kVerbose) return;
+  std::fprintf(stderr, "topotet: note: %s\n", message.c_str());
+}
+
+void log_stage(const std::string& message) {
+  if (verbosity() < Verbosity::kDebug) return;
+  std::fprintf(stderr, "topotet: [%s] %s\n", format_seconds(g_process_clock.seconds()).c_str(), message.c_str());
+  std::fflush(stderr);
+}
 void send_report_to_stderr() { g_report_stream = stderr; }
 
 std::optional<MeshFormat> parse_format(const std::string& name) {
@@ -238,10 +281,12 @@ TetMesh build_input(const std::string& label, const MeshData& data, double* seco
     BuildOptions options;
     options.skip_detached_substructures = true;
     BuildNotes local_notes;
+    log_stage("build " + label + ": start");
     TetMesh mesh = build_tet_mesh(data, options, &local_notes);
     warn_about(label, local_notes);
     if (notes) *notes = std::move(local_notes);
     if (seconds) *seconds = clock.seconds();
+    log_stage("build " + label + ": " + format_bytes(mesh.memory_bytes()) + " in " + format_seconds(clock.seconds()));
     return mesh;
   } catch (const InputError& e) {
     throw_input_error(label, e.what());

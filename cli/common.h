@@ -16,7 +16,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
-#include <optional>
 #include <functional>
 #include <optional>
 #include <string>
@@ -106,9 +105,26 @@ int hardware_threads();
 std::string prefix_file(const std::string& file, const std::string& message);
 
 // Where the human-readable report goes: stdout, or stderr once a command sends data (a mesh or
-// the JSON report, path "-") to stdout, so that the two never mix.
+// the JSON report, path "-") to stdout, so that the two never mix; nowhere with -q.
 std::FILE* report_stream();
 void send_report_to_stderr();
+
+// ---- verbosity: -q, (default), -v, -vv on every command ----
+//   kQuiet    errors, warnings and a failed check only (a batch job's log stays empty when all is well)
+//   kNormal   the report
+//   kVerbose  also details: the effective options, phase times, every field component and surface
+//             label, and notes on stderr ("topotet: note: ...") for what the tool decided for the
+//             user (a --threads value capped to the cores it may use, a format guessed)
+//   kDebug    also a log of every stage on stderr with the time since start ("topotet: [1.23 s]
+//             build: ..."), and one line per parallel round
+// Warnings (input left out, repeated elements) print at every level: they say the output is not
+// what the input asked for.
+enum class Verbosity : int { kQuiet = 0, kNormal = 1, kVerbose = 2, kDebug = 3 };
+Verbosity verbosity();
+// Registers -v/--verbose (give it twice for kDebug) and -q/--quiet on a command.
+void add_verbosity_flags(CLI::App* cmd);
+void print_note(const std::string& message);  // kVerbose and above
+void log_stage(const std::string& message);   // kDebug
 
 // --format: "mesh", "msh" or "vtu"; empty = none. Throws InputError.
 std::optional<MeshFormat> parse_format(const std::string& name);

@@ -81,6 +81,7 @@ void add_convert_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("IN", args->input, "Input mesh")->required();
   cmd->add_option("OUT", args->output, "Output mesh")->required();
   cmd->add_flag("--binary", args->binary, "Binary Gmsh 4.1 / raw appended VTU data");
+  add_verbosity_flags(cmd);
   cmd->add_flag("--validate", args->validate, "Build the model first: refuse invalid meshes (exit 2)");
   cmd->add_option("--format", args->format, "Format of the - paths (stdin, stdout): mesh, msh or vtu");
   cmd->add_flag("--msh22", args->msh22, "Write .msh as Gmsh 2.2 ASCII (for tools that read only the old format)")

@@ -1,4 +1,4 @@
-// topotet demo [--tets N] [--threads T] [-o OUT]: no input needed. Generates the cube-sphere
+// topotet demo [--tets N] [--threads T] [-o OUT] [--json F]: no input needed. Generates the cube-sphere
 // mesh, simplifies it to 10% of its vertices with the parallel engine, verifies the topology and
 // prints the report. Writes nothing unless -o is given.
 #include <cstdio>
@@ -15,6 +15,7 @@ struct DemoArgs {
   std::uint64_t tets = 200000;
   int threads = 0;
   std::string output;
+  std::string json;
 };
 
 int run_demo(const DemoArgs& args) {
@@ -31,12 +32,14 @@ int run_demo(const DemoArgs& args) {
   }
   job.read_seconds = clock.seconds();
   job.read_verb = "generate";
-  std::printf("topotet demo: a cube (material 1) holding a ball (material 2), an open surface patch, a polyline\n"
+  std::fprintf(report_stream(), "topotet demo: a cube (material 1) holding a ball (material 2), an open surface patch, a polyline\n"
               "through the ball's surface and 8 pinned corners; simplify to 10%% of the vertices, in parallel.\n\n");
   job.options.target_vertex_ratio = 0.1;
   job.options.engine = Engine::kParallel;
   job.options.num_threads = args.threads;
   job.output_path = args.output;
+  job.report_path = args.json;
+  job.quiet = verbosity() == Verbosity::kQuiet;
   return run_simplify_job(job);
 }
 
@@ -47,8 +50,10 @@ void add_demo_command(CLI::App& app, CommandRunner& run) {
   CLI::App* cmd = app.add_subcommand(
       "demo", "Generate a cube-sphere mesh, simplify it to 10% of its vertices in parallel, verify its topology.");
   cmd->add_option("--tets", args->tets, "Tets of the generated mesh")->capture_default_str();
-  cmd->add_option("--threads", args->threads, "Threads (0 = all cores)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  cmd->add_option("--threads", args->threads, "Threads (0 = all cores)")->check(whole_number_at_least(0))->capture_default_str();
   cmd->add_option("-o,--output", args->output, "Also write the simplified mesh (.mesh, .msh or .vtu)");
+  cmd->add_option("--json", args->json, "Also write the report as JSON to this file (- = stdout)");
+  add_verbosity_flags(cmd);
   cmd->callback([args, &run] { run = [args] { return run_demo(*args); }; });
 }
 

@@ -36,7 +36,6 @@ struct ExtractArgs {
   std::string voi_closure = "fine";
   bool binary = false;
   bool no_verify = false;
-  bool quiet = false;
   int threads = 0;
 };
 
@@ -178,7 +177,7 @@ int run_extract(const ExtractArgs& args) {
       check_seconds = check_clock.seconds();
       if (!checked.ok) exit_code = kExitCheckFailed;
     }
-    if (!args.quiet) {
+    if (verbosity() != Verbosity::kQuiet) {
       row("hierarchy", args.input + ": " + format_count(h.original.vertex_count()) + " vertices, " +
                            format_count(h.original.tet_count()) + " tets, " + format_count(h.collapse_count()) +
                            " collapses of error up to " + format_number(h.error.empty() ? 0.0 : h.error.back()) +
@@ -240,7 +239,7 @@ void add_extract_command(CLI::App& app, CommandRunner& run) {
   cmd->add_flag("--no-verify", args->no_verify, "Skip the topology and inversion check against the original");
   cmd->add_option("--threads", args->threads, "Threads for reading and checking (0 = all cores)")
       ->check(whole_number_at_least(0));
-  cmd->add_flag("--quiet", args->quiet, "No report");
+  add_verbosity_flags(cmd);
   cmd->callback([args, &run] { run = [args] { return run_extract(*args); }; });
 }
 

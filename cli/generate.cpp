@@ -40,11 +40,11 @@ int run_generate(const GenerateArgs& args) {
   WriteOptions write_options;
   write_options.binary = args.binary;
   write_mesh(args.output, mesh, write_options);
-  std::printf("%s: %s vertices, %s tets, %s triangles, %s edges, %s corners, %zu field%s\n", args.family.c_str(),
+  std::fprintf(report_stream(), "%s: %s vertices, %s tets, %s triangles, %s edges, %s corners, %zu field%s\n", args.family.c_str(),
               format_count(mesh.vertex_count()).c_str(), format_count(mesh.tet_count()).c_str(),
               format_count(mesh.triangles.size()).c_str(), format_count(mesh.segments.size()).c_str(),
               format_count(mesh.corners.size()).c_str(), mesh.fields.size(), mesh.fields.size() == 1 ? "" : "s");
-  std::printf("generated in %s, wrote %s in %s\n", format_seconds(generate_seconds).c_str(), args.output.c_str(),
+  std::fprintf(report_stream(), "generated in %s, wrote %s in %s\n", format_seconds(generate_seconds).c_str(), args.output.c_str(),
               format_seconds(write_clock.seconds()).c_str());
   return kExitOk;
 }
@@ -61,6 +61,7 @@ void add_generate_command(CLI::App& app, CommandRunner& run) {
       ->capture_default_str();
   cmd->add_option("-o,--output", args->output, "Output file (.mesh, .msh or .vtu)")->required();
   cmd->add_flag("--binary", args->binary, "Binary Gmsh 4.1 / raw appended VTU data");
+  add_verbosity_flags(cmd);
   cmd->callback([args, &run] { run = [args] { return run_generate(*args); }; });
 }
 

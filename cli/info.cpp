@@ -9,6 +9,7 @@
 #include <glm/common.hpp>
 
 #include "common.h"
+#include "json_report.h"
 #include "topotet/error.h"
 #include "topotet/features.h"
 #include "topotet/simplify.h"
@@ -83,9 +84,11 @@ int run_info(const InfoArgs& args) {
 
   // Topology first (it never throws on bad input), then validation by building the model.
   const Stopwatch topology_clock;
-  metrics::TopologyOptions topology_options;
-  topology_options.fast = true;
-  const metrics::TopologyReport topology = metrics::compute_topology(data, topology_options);
+  topotet::TopologyOptions topology_options;
+  // -v: every complex's Betti numbers, as `check` computes them; else the fast mode's Euler
+  // characteristics and components, which every mesh size affords.
+  topology_options.fast = verbosity() < Verbosity::kVerbose;
+  const topotet::TopologyReport topology = topotet::compute_topology(data, topology_options);
   const double topology_seconds = topology_clock.seconds();
 
   std::string build_error;
@@ -140,6 +143,9 @@ int run_info(const InfoArgs& args) {
                    std::to_string(topology.boundary.euler_characteristic) + "; " +
                    std::to_string(topology.mesh.betti[0]) + " connected component" +
                    (topology.mesh.betti[0] == 1 ? "" : "s") + " (" + format_seconds(topology_seconds) + ")");
+  if (!topology_options.fast)
+    for (const std::string& line : split_lines(topotet::format_topology_table(topology)))
+      std::fprintf(report_stream(), "%-14s %s\n", "", line.c_str());
   if (build_error.empty()) {
     row("model", format_count(data.tet_count() ? model_bytes / data.tet_count() : 0) + " bytes/tet, " +
                      format_bytes(model_bytes) + " (build " + format_seconds(build_seconds) + ")");
@@ -153,42 +159,45 @@ int run_info(const InfoArgs& args) {
   }
 
   if (!args.json_path.empty()) {
-    Json j;
-    j["file"] = args.input;
-    j["vertices"] = data.vertex_count();
-    j["tets"] = data.tet_count();
-    j["materials"] = counts_json(materials);
-    j["triangles"] = data.triangles.size();
-    j["triangles_by_ref"] = counts_json(triangles);
-    j["edges"] = data.segments.size();
-    j["edges_by_ref"] = counts_json(segments);
-    j["ridges"] = data.ridges.size();
-    j["corners"] = data.corners.size();
-    j["required_vertices"] = data.required_vertices.size();
-    j["pinned_vertices"] = pinned.size();
-    j["fields"] = Json::array();
-    for (const VertexField& f : data.fields) j["fields"].push_back({{"name", f.name}, {"components", f.components}});
-    if (!data.positions.empty()) {
-      j["bounding_box"] = {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}};
-    } else {
-      j["bounding_box"] = nullptr;
-    }
-    j["euler_characteristic"] = topology.mesh.euler_characteristic;
-    j["boundary_euler_characteristic"] = topology.boundary.euler_characteristic;
-    j["connected_components"] = topology.mesh.betti[0];
-    j["valid"] = build_error.empty();
+    Json j = json_header("info");
+    Json in = mesh_json(args.input, data, read_seconds);
+    in["valid"] = build_error.empty();
     if (build_error.empty()) {
-      j["model_bytes"] = model_bytes;
-      j["bytes_per_tet"] = data.tet_count() ? static_cast<double>(model_bytes) / data.tet_count() : 0.0;
-      j["feature_angle"] = args.feature_angle;
-      j["feature_edges"] = features.edges;
-      j["feature_corners"] = features.corners;
+      in["build_seconds"] = build_seconds;
+      in["model_bytes"] = model_bytes;
+      in["model_bytes_per_tet"] = data.tet_count() ? static_cast<double>(model_bytes) / data.tet_count() : 0.0;
     } else {
-      j["error"] = build_error;
+      in["error"] = build_error;
     }
-    j["read_seconds"] = read_seconds;
-    j["build_seconds"] = build_seconds;
-    j["topology_seconds"] = topology_seconds;
+    in["materials"] = counts_json(materials);
+    in["triangles"] = data.triangles.size();
+    in["triangles_by_ref"] = counts_json(triangles);
+    in["edges"] = data.segments.size();
+    in["edges_by_ref"] = counts_json(segments);
+    in["ridges"] = data.ridges.size();
+    in["corners"] = data.corners.size();
+    in["required_vertices"] = data.required_vertices.size();
+    in["pinned_vertices"] = pinned.size();
+    in["fields"] = Json::array();
+    for (const VertexField& f : data.fields) in["fields"].push_back({{"name", f.name}, {"components", f.components}});
+    if (!data.positions.empty()) {
+      in["bounding_box"] = {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}};
+    } else {
+      in["bounding_box"] = nullptr;
+    }
+    // The fast checker's numbers (Euler characteristics and components), as `check --fast` gives them.
+    in["euler_characteristic"] = topology.mesh.euler_characteristic;
+    in["boundary_euler_characteristic"] = topology.boundary.euler_characteristic;
+    in["connected_components"] = topology.mesh.betti[0];
+    if (!topology_options.fast) in["topology_report"] = topology_report_json(topology);
+    in["topology_seconds"] = topology_seconds;
+    if (build_error.empty()) {
+      in["feature_angle"] = args.feature_angle;
+      in["feature_edges"] = features.edges;
+      in["feature_corners"] = features.corners;
+      in["feature_seconds"] = feature_seconds;
+    }
+    j["input"] = in;
     write_json_atomically(args.json_path, j);
   }
   if (!build_error.empty()) throw InputError(build_error);
@@ -204,6 +213,7 @@ void add_info_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("FILE", args->input, "Mesh file (.mesh, .msh, optionally .gz)")->required();
   cmd->add_option("--json", args->json_path, "Also write the numbers as JSON to this file");
   cmd->add_option("--format", args->format, "Format of FILE when it is - (stdin): mesh or msh");
+  add_verbosity_flags(cmd);
   cmd->add_flag("--tets-only", args->tets_only, "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) instead of refusing it");
   cmd->add_option("--feature-angle", args->feature_angle,
                   "Count the sharp edges (faces turning by more than this many degrees) and corners simplify keeps; "

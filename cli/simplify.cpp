@@ -8,6 +8,7 @@
 // reading, building and simplifying, not of the checker. Each measurement is timed on its own, so
 // the report shows what the measurements cost next to the simplification.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <cstdio>
@@ -19,14 +20,15 @@
 
 #include "common.h"
 #include "distance_report.h"
+#include "json_report.h"
 #include "topotet/error.h"
 #include "topotet/hierarchy.h"
 #include "topotet/io.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
 #include "topotet/metrics/topology.h"
+#include "topotet/round_log.h"
 #include "topotet/threads.h"
-#include "topotet/version.h"
 
 namespace topotet::cli {
 namespace {
@@ -34,10 +36,12 @@ namespace {
 // Inputs above this use the checker's fast mode (Euler characteristics and components only).
 constexpr std::size_t kFastCheckTets = 2'000'000;
 
-// Indexed like CollapseReason in engine/collapse.h (ok, link_K, link_Ktilde, pinned, inversion,
-// quality, tolerance); the JSON keys are the snake_case forms.
-constexpr const char* kReasonNames[7] = {"ok", "link_K", "link_Ktilde", "pinned", "inversion", "quality", "tolerance"};
-constexpr const char* kReasonKeys[7] = {"ok", "link_k", "link_ktilde", "pinned", "inversion", "quality", "tolerance"};
+// The JSON key of a reject reason: to_string's name in snake_case ("link_K" -> "link_k").
+std::string reason_key(RejectReason reason) {
+  std::string key = to_string(reason);
+  for (char& c : key) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return key;
+}
 constexpr const char* kPhaseKeys[4] = {"evaluate", "select", "apply", "compact"};
 
 constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
@@ -60,32 +64,15 @@ struct LevelResult {
   bool verified = false;
   bool topology_ok = true;
   std::string differences;
-  metrics::TopologyReport topology;
+  topotet::TopologyReport topology;
+  std::vector<RoundStats> rounds;  // filled at -vv only (SimplifyOptions::round_log)
 };
 
-std::size_t complex_count(const metrics::TopologyReport& r) {
+std::size_t complex_count(const topotet::TopologyReport& r) {
   return 6 + r.materials.size() + r.surfaces.size() + r.interfaces.size() + r.polylines.size();
 }
 
 double per(double a, double b) { return b > 0 ? a / b : 0.0; }
-
-Json sample_json(const SampleStats& s) {
-  return {{"count", s.count}, {"min", s.min}, {"max", s.max}, {"mean", s.mean}, {"std_dev", s.std_dev}};
-}
-
-Json quality_json(const QualityStats& q) {
-  return {{"tets", q.tet_count},
-          {"dihedral_deg", sample_json(q.dihedral_deg)},
-          {"solid_sr", sample_json(q.solid_sr)},
-          {"face_deg", sample_json(q.face_deg)},
-          {"mean_ratio", sample_json(q.mean_ratio)},
-          {"std_dev_dihedral_rad", q.dihedral_deg.std_dev * kRadiansPerDegree},
-          {"std_dev_solid_sr", q.solid_sr.std_dev},
-          {"std_dev_face_rad", q.face_deg.std_dev * kRadiansPerDegree},
-          {"min_mean_ratio", q.mean_ratio.min},
-          {"inverted_tets", q.inverted},
-          {"zero_volume_tets", q.zero_volume}};
-}
 
 Json direction_json(const DirectionalError& d) {
   return {{"samples", d.samples}, {"rms", d.rms}, {"max_abs", d.max_abs}, {"rms_rel", d.rms_rel}, {"max_rel", d.max_rel}};
@@ -107,24 +94,10 @@ Json field_error_json(const FieldError& f) {
           {"unmatched_fields", f.unmatched_fields}};
 }
 
-Json parse_topology(const metrics::TopologyReport& r) { return Json::parse(metrics::topology_to_json(r)); }
-
-std::vector<std::string> split_lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::size_t begin = 0;
-  while (begin < text.size()) {
-    std::size_t end = text.find('\n', begin);
-    if (end == std::string::npos) end = text.size();
-    if (end > begin) lines.push_back(text.substr(begin, end - begin));
-    begin = end + 1;
-  }
-  return lines;
-}
-
 Json level_json(const LevelResult& l) {
   const Report& r = l.report;
   Json rejected = Json::object();
-  for (int i = 1; i < 7; ++i) rejected[kReasonKeys[i]] = r.rejected[static_cast<std::size_t>(i)];
+  for (RejectReason reason : kRejectReasons) rejected[reason_key(reason)] = r.rejected_by(reason);
   Json phases = Json::object();
   for (int i = 0; i < 4; ++i) phases[kPhaseKeys[i]] = r.phase_seconds[static_cast<std::size_t>(i)];
   Json j;
@@ -164,7 +137,7 @@ Json level_json(const LevelResult& l) {
   if (l.verified) {
     j["topology"] = l.topology_ok ? "pass" : "fail";
     j["topology_differences"] = split_lines(l.differences);
-    j["output_topology"] = parse_topology(l.topology);
+    j["topology_report"] = topology_report_json(l.topology);
   } else {
     j["topology"] = "skipped";
   }
@@ -173,9 +146,9 @@ Json level_json(const LevelResult& l) {
 
 std::string rejected_text(const Report& r) {
   std::string s;
-  for (int i = 1; i < 7; ++i) {
+  for (RejectReason reason : kRejectReasons) {
     if (!s.empty()) s += ", ";
-    s += std::string(kReasonNames[i]) + " " + format_count(r.rejected[static_cast<std::size_t>(i)]);
+    s += std::string(to_string(reason)) + " " + format_count(r.rejected_by(reason));
   }
   return s;
 }
@@ -189,6 +162,64 @@ std::string field_text(const FieldError& f) {
   return "rms " + format_number(f.worst_rms_rel) + ", max " + format_number(f.worst_max_rel) +
          " (relative to the field's range, worst of " + std::to_string(f.components.size()) + " component" +
          (f.components.size() == 1 ? "" : "s") + ")";
+}
+
+// -v: what the run was asked for, after the defaults and the thread cap.
+std::string options_text(const SimplifyOptions& o, const std::vector<double>& levels) {
+  std::string s;
+  if (!levels.empty()) {
+    s = "levels";
+    for (double l : levels) s += " " + format_ratio(l);
+  } else if (o.target_vertices) {
+    s = "target " + format_count(o.target_vertices) + " vertices";
+  } else {
+    s = "ratio " + format_number(o.target_vertex_ratio);
+  }
+  if (o.max_cost > 0) s += ", max cost " + format_number(o.max_cost);
+  s += ", min quality " + format_number(o.min_quality);
+  s += o.tolerance > 0 ? ", tolerance " + format_number(o.tolerance)
+       : o.tolerance_rel > 0 ? ", tolerance " + format_number(100.0 * o.tolerance_rel) + "% of the diagonal"
+                             : std::string(", no tolerance");
+  s += o.feature_angle < 180.0 ? ", feature angle " + format_number(o.feature_angle) : std::string(", no features");
+  if (o.engine == Engine::kParallel) s += ", round fraction " + format_number(o.round_fraction);
+  s += ", boundary weight " + format_number(o.boundary_weight) + ", polyline weight " + format_number(o.polyline_weight);
+  for (const auto& [name, weight] : o.field_weights) s += ", weight of " + name + " " + format_number(weight);
+  return s;
+}
+
+std::string phases_text(const Report& r) {
+  std::string s = "evaluate " + format_seconds(r.evaluate_seconds()) + ", select " + format_seconds(r.select_seconds()) +
+                  ", apply " + format_seconds(r.apply_seconds()) + ", compact " + format_seconds(r.compact_seconds());
+  if (r.feature_seconds > 0) s += "; feature detection " + format_seconds(r.feature_seconds);
+  if (r.tolerance_setup_seconds > 0) s += "; tolerance scene " + format_seconds(r.tolerance_setup_seconds);
+  return s;
+}
+
+// -vv: one line per parallel round (RoundStats), on the report stream.
+void print_rounds(const std::vector<RoundStats>& rounds) {
+  std::FILE* out = report_stream();
+  if (rounds.empty()) return;
+  std::fprintf(out, "%-10s%6s %10s %10s %9s %9s %9s %9s %9s %9s\n", "rounds", "round", "evaluated", "candidates",
+               "winners", "collapses", "evaluate", "select", "apply", "serial");
+  for (std::size_t i = 0; i < rounds.size(); ++i) {
+    const RoundStats& st = rounds[i];
+    std::fprintf(out, "%-10s%6zu %10s %10s %9s %9s %9s %9s %9s %9s\n", "", i + 1, format_count(st.evaluated).c_str(),
+                 format_count(st.candidates).c_str(), format_count(st.winners).c_str(),
+                 format_count(st.collapses).c_str(), format_seconds(st.phase_seconds[0]).c_str(),
+                 format_seconds(st.phase_seconds[1]).c_str(), format_seconds(st.phase_seconds[2]).c_str(),
+                 format_seconds(st.serial_seconds).c_str());
+  }
+}
+
+// -v: every field component, both directions.
+void print_field_components(const FieldError& f) {
+  for (const ComponentError& c : f.components)
+    std::fprintf(report_stream(), "%-10s  %-28s rms %s (in->out %s, out->in %s), max in->out %s, out->in %s\n", "",
+                 (c.field + (f.components.size() > 1 ? "[" + std::to_string(c.component) + "]" : "")).c_str(),
+                 format_number(c.rms_both_rel).c_str(), format_number(c.original_to_simplified.rms_rel).c_str(),
+                 format_number(c.simplified_to_original.rms_rel).c_str(),
+                 format_number(c.original_to_simplified.max_rel).c_str(),
+                 format_number(c.simplified_to_original.max_rel).c_str());
 }
 
 void row(const char* key, const std::string& value) { std::fprintf(report_stream(), "%-10s%s\n", key, value.c_str()); }
@@ -226,17 +257,17 @@ void measure_levels(const SimplifyJob& job, std::vector<LevelResult>& results) {
 }
 
 // The output of every level against the input's topology; returns the input's.
-metrics::TopologyReport verify_levels(const SimplifyJob& job, bool fast, std::vector<LevelResult>& results,
+topotet::TopologyReport verify_levels(const SimplifyJob& job, bool fast, std::vector<LevelResult>& results,
                                       double& input_seconds) {
-  metrics::TopologyOptions options;
+  topotet::TopologyOptions options;
   options.fast = fast;
   const Stopwatch input_clock;
-  metrics::TopologyReport input_topology = metrics::compute_topology(job.input, options);
+  topotet::TopologyReport input_topology = topotet::compute_topology(job.input, options);
   input_seconds = input_clock.seconds();
   for (LevelResult& l : results) {
     const Stopwatch clock;
-    l.topology = metrics::compute_topology(l.output, options);
-    l.topology_ok = metrics::same_topology(input_topology, l.topology, &l.differences);
+    l.topology = topotet::compute_topology(l.output, options);
+    l.topology_ok = topotet::same_topology(input_topology, l.topology, &l.differences);
     l.verified = true;
     l.topology_seconds = clock.seconds();
   }
@@ -257,7 +288,7 @@ std::string measure_text(const MeasureTimes& t, double simplify_seconds) {
 
 int run_simplify_job(SimplifyJob& job) {
   if (job.output_path == "-" && job.report_path == "-")
-    throw InputError("-o - and --report -: only one of them can go to stdout");
+    throw InputError("-o - and --json -: only one of them can go to stdout");
   if (job.output_path == "-") {
     if (!job.output_format) throw InputError("-o -: the output format must be given (--format mesh, msh or vtu)");
     if (!job.levels.empty()) throw InputError("-o -: --levels writes several meshes, stdout takes one");
@@ -275,7 +306,12 @@ int run_simplify_job(SimplifyJob& job) {
   // which hardware_concurrency() does not. Asking for more only oversubscribes the cores (and
   // makes TBB print a warning on stderr); the output is the same for every count, so cap it.
   const int available = current_thread_limit();
-  if (job.options.num_threads > available) job.options.num_threads = available;
+  if (job.options.num_threads > available) {
+    print_note("--threads " + std::to_string(job.options.num_threads) + ": this process may use " +
+               std::to_string(available) + " core" + (available == 1 ? "" : "s") + " (CPU affinity); running " +
+               std::to_string(available) + " threads (the output is the same for every count)");
+    job.options.num_threads = available;
+  }
   const int threads = job.options.num_threads > 0 ? job.options.num_threads : available;
   const bool is_parallel = job.options.engine == Engine::kParallel;
   const bool verify = job.verify && job.metrics;
@@ -313,9 +349,13 @@ int run_simplify_job(SimplifyJob& job) {
         bar.update(done);
         return true;
       };
+      log_stage("simplify" + (level > 0 ? " level " + format_ratio(level) : std::string()) + ": start");
+      if (verbosity() >= Verbosity::kDebug) options.round_log = &result.rounds;
       result.report = job.hierarchy_path.empty() ? simplify(mesh, options)
                                                  : simplify_with_hierarchy(mesh, options, hierarchy);
       bar.finish();
+      log_stage("simplify: " + format_count(result.report.collapses) + " collapses in " +
+                format_seconds(result.report.seconds) + ", " + format_count(result.report.vertices_after) + " vertices left");
       if (result.report.status == Status::kInvalidInput) throw_input_error(job.input_label, result.report.message);
       if (result.report.status == Status::kOutOfMemory)
         throw_input_error(job.input_label, "out of memory while simplifying");
@@ -339,6 +379,7 @@ int run_simplify_job(SimplifyJob& job) {
           write_mesh(result.output_path, result.output, write_options);
         }
         result.write_seconds = write_clock.seconds();
+        log_stage("write " + result.output_path + " in " + format_seconds(result.write_seconds));
       }
       if (!job.hierarchy_path.empty()) {
         const Stopwatch write_clock;
@@ -356,11 +397,16 @@ int run_simplify_job(SimplifyJob& job) {
       const Stopwatch clock;
       input_quality = compute_quality(job.input);
       times.input_quality = clock.seconds();
+      log_stage("measure: quality, field error, surface distance");
       measure_levels(job, results);
     }
     const bool fast = tets_in > kFastCheckTets;
-    metrics::TopologyReport input_topology;
-    if (verify) input_topology = verify_levels(job, fast, results, times.input_topology);
+    topotet::TopologyReport input_topology;
+    if (verify) {
+      log_stage(std::string("verify: topology of the input and the output") + (fast ? " (fast mode)" : ""));
+      input_topology = verify_levels(job, fast, results, times.input_topology);
+      log_stage("verify: done");
+    }
     bool all_ok = true;
     for (LevelResult& l : results) {
       if (l.measured && l.quality.inverted != 0) {
@@ -381,6 +427,7 @@ int run_simplify_job(SimplifyJob& job) {
       row("input", job.input_label + ": " + format_count(vertices_in) + " vertices, " + format_count(tets_in) +
                        " tets (" + job.read_verb + " " + format_seconds(job.read_seconds) + ", build " + format_seconds(build_seconds) +
                        ")");
+      if (verbosity() >= Verbosity::kVerbose) row("options", options_text(job.options, job.levels));
       const std::string engine_text = is_parallel ? "parallel, " + std::to_string(threads) + " thread" +
                                                         (threads == 1 ? "" : "s")
                                                   : std::string("sequential");
@@ -397,6 +444,8 @@ int run_simplify_job(SimplifyJob& job) {
                         format_number(per(static_cast<double>(r.evaluations), static_cast<double>(r.collapses))) +
                         " evaluations/collapse, " + format_count(r.legality_checks) + " legality checks");
         row("rejected", rejected_text(r));
+        if (verbosity() >= Verbosity::kVerbose) row("phases", phases_text(r));
+        if (verbosity() >= Verbosity::kDebug) print_rounds(last.rounds);
         if (r.status != Status::kOk) row("status", std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message));
       } else {
         const auto angle = [&](const QualityStats& q, const SampleStats QualityStats::*which, double scale) {
@@ -450,8 +499,10 @@ int run_simplify_job(SimplifyJob& job) {
                     format_number(last.quality.mean_ratio.min) + ", inverted tets " +
                     std::to_string(last.quality.inverted) + " (" +
                     format_seconds(times.input_quality + last.quality_seconds) + ")");
-        if (last.field_error)
+        if (last.field_error) {
           row("fields", field_text(*last.field_error) + " (" + format_seconds(last.field_error_seconds) + ")");
+          if (verbosity() >= Verbosity::kVerbose) print_field_components(*last.field_error);
+        }
       }
       if (job.options.feature_angle < 180.0) {
         std::uint64_t edges = 0, corners = 0;
@@ -467,11 +518,12 @@ int run_simplify_job(SimplifyJob& job) {
       if (job.levels.empty() && r.tolerance > 0)
         row("tolerance", format_number(r.tolerance) + (job.options.tolerance > 0 ? "" : " (" + format_number(100.0 * job.options.tolerance_rel) + "% of the diagonal)") +
                              (r.tolerance_limited ? ", may have stopped the run before the target (it refused " +
-                                                        format_count(r.rejected[6]) + " collapses)"
+                                                        format_count(r.rejected_by(RejectReason::kTolerance)) + " collapses)"
                                                   : "") +
                              " (Embree scene of the input's surfaces built in " +
                              format_seconds(r.tolerance_setup_seconds) + ")");
-      if (job.levels.empty() && job.metrics) print_surface_distance(last.distance, last.distance_seconds, /*per_label=*/false);
+      if (job.levels.empty() && job.metrics) print_surface_distance(last.distance, last.distance_seconds,
+                                                                      /*per_label=*/verbosity() >= Verbosity::kVerbose);
       if (!job.metrics) {
         row("topology", "not checked (--no-metrics: no quality, field error, distance or topology)");
       } else if (!job.verify) {
@@ -495,20 +547,17 @@ int run_simplify_job(SimplifyJob& job) {
 
     // ---- JSON report ----
     if (!job.report_path.empty()) {
-      Json j;
-      // schema_version: bumped when a key changes meaning or goes away (new keys keep it).
-      j["schema_version"] = 1;
-      j["topotet_version"] = TOPOTET_VERSION_STRING;
-      j["input"] = {{"file", job.input_label},
-                    {"vertices", vertices_in},
-                    {"tets", tets_in},
-                    {job.read_verb + "_seconds", job.read_seconds},
-                    {"build_seconds", build_seconds},
-                    {"model_bytes", model_bytes},
-                    {"model_bytes_per_tet", per(static_cast<double>(model_bytes), static_cast<double>(tets_in))},
-                    {"quality", job.metrics ? quality_json(input_quality) : Json(nullptr)},
-                    {"quality_seconds", times.input_quality},
-                    {"topology_seconds", times.input_topology}};
+      Json j = json_header("simplify");
+      Json input = mesh_json(job.input_label, job.input, job.read_seconds);
+      input["generated"] = job.read_verb == "generate";  // the demo's mesh: read_seconds is its generation
+      input["build_seconds"] = build_seconds;
+      input["model_bytes"] = model_bytes;
+      input["model_bytes_per_tet"] = per(static_cast<double>(model_bytes), static_cast<double>(tets_in));
+      input["quality"] = job.metrics ? quality_json(input_quality) : Json(nullptr);
+      input["quality_seconds"] = times.input_quality;
+      input["topology_report"] = verify ? topology_report_json(input_topology) : Json(nullptr);
+      input["topology_seconds"] = times.input_topology;
+      j["input"] = input;
       j["options"] = {{"engine", is_parallel ? "parallel" : "sequential"},
                       {"threads", threads},
                       {"target_vertex_ratio", job.levels.empty() ? Json(job.options.target_vertex_ratio) : Json(nullptr)},
@@ -531,7 +580,6 @@ int run_simplify_job(SimplifyJob& job) {
       j["metrics_share_of_simplify"] = per(times.total(), cumulative);
       j["topology_mode"] = !verify ? "skipped" : (fast ? "fast" : "full");
       j["topology"] = !verify ? (all_ok ? "skipped" : "fail") : (all_ok ? "pass" : "fail");
-      j["input_topology"] = verify ? parse_topology(input_topology) : Json(nullptr);
       j["levels"] = Json::array();
       for (const LevelResult& l : results) j["levels"].push_back(level_json(l));
       write_json_atomically(job.report_path, j);
@@ -564,7 +612,6 @@ struct SimplifyArgs {
   bool no_metrics = false;
   std::vector<double> levels;
   std::vector<std::string> field_weights;  // NAME=W, checked by field_weight_syntax
-  bool quiet = false;
   std::string progress = "auto";
   double progress_interval = 10.0;
   bool binary = false;
@@ -626,7 +673,7 @@ int run_simplify(const SimplifyArgs& args) {
   job.report_path = args.report;
   job.verify = !args.no_verify;
   job.metrics = !args.no_metrics;
-  job.quiet = args.quiet;
+  job.quiet = verbosity() == Verbosity::kQuiet;
   job.progress = args.progress;
   job.progress_interval = args.progress_interval;
   const int code = run_simplify_job(job);
@@ -695,7 +742,7 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
       ->check([](const std::string& value) { return field_weight_syntax(value); });
-  cmd->add_option("--report", args->report, "Write the report as JSON to this file");
+  cmd->add_option("--json,--report", args->report, "Write the report as JSON to this file (- = stdout)");
   cmd->add_flag("--no-verify", args->no_verify, "Skip the topology checker (quality, field error and distance are still measured)");
   cmd->add_flag("--no-metrics", args->no_metrics,
                 "Skip every measurement (quality, field error, Hausdorff distance, topology): report only counts, "
@@ -717,7 +764,7 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
       ->check(number_in(0.0, std::numeric_limits<double>::infinity(), false))
       ->excludes(levels);
   ratio->excludes(target);
-  cmd->add_flag("--quiet", args->quiet, "No report and no progress bar (errors and a topology FAIL still print)");
+  add_verbosity_flags(cmd);
   cmd->add_option("--progress", args->progress,
                   "auto (a bar when stderr is a terminal), bar, lines (one line every --progress-interval seconds, "
                   "for batch logs) or none")

@@ -272,7 +272,8 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
   std::array<VertId, 2> surface_edge{kInvalid, kInvalid};  // edge whose surface stencil s.surface holds
   for (int i = 0; i < count; ++i) {
     const Placement& pl = placements[i];
-    if (mesh.is_pinned(pl.v) || (mesh.is_pinned(pl.u) && pl.p != mesh.positions[pl.u])) {
+    if (mesh.is_frozen(pl.u) || mesh.is_frozen(pl.v) || mesh.is_pinned(pl.v) ||
+        (mesh.is_pinned(pl.u) && pl.p != mesh.positions[pl.u])) {
       reject(CollapseReason::kPinned);
       continue;
     }

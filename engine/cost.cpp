@@ -290,6 +290,7 @@ struct CostModel::EdgeQuadric {
 
 template <int kN>
 int CostModel::candidates_n(const TetMesh& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch) {
+  if (mesh.is_frozen(a) || mesh.is_frozen(b)) return 0;  // no collapse touches a frozen vertex
   const std::uint8_t oa = order(mesh, a, scratch), ob = order(mesh, b, scratch);
   if (oa == 3 && ob == 3) return 0;  // link condition (I); pinned vertices have order 3
   const bool pa = oa == 3 && mesh.is_pinned(a), pb = ob == 3 && mesh.is_pinned(b);
@@ -343,6 +344,7 @@ int CostModel::candidates_n(const TetMesh& mesh, VertId a, VertId b, CollapseCan
 template <int kN>
 double CostModel::edge_cost_n(const TetMesh& mesh, VertId a, VertId b, LinkScratch& scratch) {
   constexpr double kForbidden = std::numeric_limits<double>::infinity();
+  if (mesh.is_frozen(a) || mesh.is_frozen(b)) return kForbidden;  // no collapse touches a frozen vertex
   const std::uint8_t oa = order(mesh, a, scratch), ob = order(mesh, b, scratch);
   if (oa == 3 && ob == 3) return kForbidden;  // link condition (I); pinned vertices have order 3
   const bool pa = oa == 3 && mesh.is_pinned(a), pb = ob == 3 && mesh.is_pinned(b);

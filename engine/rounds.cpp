@@ -32,6 +32,7 @@
 #include "cost.h"
 #include "engines.h"
 #include "parallel/filter.h"
+#include "topotet/round_log.h"
 #include "parallel/for_range.h"
 #include "parallel/reservations.h"
 #include "parallel/scratch.h"
@@ -158,7 +159,7 @@ class Rounds {
 
       if (stats.collapses > 0) refreshed_since_collapse = false;
       for (int k = 0; k < 4; ++k) report_.phase_seconds[k] += stats.phase_seconds[k];
-      report_.round_stats.push_back(stats);
+      if (options_.round_log) options_.round_log->push_back(stats);
       ++report_.rounds;
       if (!progress.update(live_)) {
         report_.status = Status::kCancelled;

@@ -15,7 +15,8 @@
 #include "simplex_index.h"
 #include "z2_homology.h"
 
-namespace topotet::metrics {
+namespace topotet {
+using namespace metrics;  // the checker's internals (z2_homology.h, manifold_betti.h, ...)
 namespace {
 
 using detail::SimplexIndex;
@@ -228,4 +229,4 @@ TopologyReport compute_topology(const MeshData& mesh, const TopologyOptions& opt
   return report;
 }
 
-}  // namespace topotet::metrics
+}  // namespace topotet

@@ -13,6 +13,7 @@ packages=(
   gmsh tetgen
   clang libclang-rt-14-dev
   gfortran pkg-config pybind11-dev python3-dev python3-numpy python3-pybind11
+  openmpi-bin libopenmpi-dev libmetis-dev
 )
 
 missing=()

@@ -134,7 +134,7 @@ gmsh shared41.msh -0 -part 2 -format msh41 -o part.msh >part.log 2>&1 || fail "g
 expect 0 partitioned -- "$topotet" info part.msh --json part.json
 expect 0 whole -- "$topotet" info shared41.msh --json whole.json
 if python3 -c 'import json, sys
-a, b = json.load(open("part.json")), json.load(open("whole.json"))
+a, b = json.load(open("part.json"))["input"], json.load(open("whole.json"))["input"]
 sys.exit(0 if a["materials"] == b["materials"] == {"1": a["materials"]["1"], "2": a["materials"]["2"]}
          and a["triangles_by_ref"] == b["triangles_by_ref"] and a["edges"] == b["edges"] else 1)'; then
   pass "partitioned: materials and refs from the physical groups"

@@ -50,7 +50,7 @@ done
 # --- generate, info ---
 expect 0 generate -- "$topotet" generate cube-sphere --tets 20000 --seed 3 -o in.mesh
 expect 0 info -- "$topotet" info in.mesh --json info.json
-check_json info.json euler_characteristic
+check_json info.json input
 if grep -q '^valid *yes' info.out; then pass "info says valid"; else fail "info does not say valid"; fi
 
 # --- convert: .mesh -> .msh -> .vtu, and .msh -> .mesh (.vtu is write-only) ---
@@ -96,6 +96,56 @@ sys.exit(0 if ok else 1)' nm.json; then
 else
   fail "--no-metrics report is wrong"
 fi
+
+# --- one JSON schema across commands (cli/json_report.h): the header, and a mesh described alike ---
+if python3 -c '
+import json, sys
+info, simplify, check = (json.load(open(f)) for f in ("info.json", "report.json", "check.json"))
+ok = all(list(r)[:3] == ["schema_version", "topotet_version", "command"] and r["schema_version"] == 2
+         for r in (info, simplify, check))
+ok = ok and (info["command"], simplify["command"], check["command"]) == ("info", "simplify", "check")
+mesh_keys = ["file", "vertices", "tets", "read_seconds"]
+meshes = (info["input"], simplify["input"], check["before"], check["after"])
+ok = ok and all(list(m)[:4] == mesh_keys for m in meshes)
+ok = ok and info["input"]["vertices"] == simplify["input"]["vertices"] == check["before"]["vertices"]
+ok = ok and check["after"]["vertices"] == simplify["levels"][0]["vertices_after"]
+ok = ok and set(check["after"]["quality"]) == set(simplify["input"]["quality"])
+ok = ok and simplify["levels"][0]["topology"] == check["topology"] == "pass"
+ok = ok and "topology_differences" in check and "topology_differences" in simplify["levels"][0]
+sys.exit(0 if ok else 1)'; then
+  pass "info, simplify and check reports share the header and the mesh keys"
+else
+  fail "the JSON reports of info, simplify and check differ in their common keys"
+fi
+expect 0 simplify_json_alias -- "$topotet" simplify in.mesh -o alias.mesh --ratio 0.3 --json alias.json -q
+check_json alias.json levels
+
+# --- verbosity: -q prints nothing, -v details and notes, -vv a timed log of the stages ---
+[[ ! -s simplify_json_alias.out && ! -s simplify_json_alias.err ]] && pass "simplify -q prints nothing" ||
+  fail "simplify -q printed: $(head -c 200 simplify_json_alias.out simplify_json_alias.err)"
+expect 0 check_quiet -- "$topotet" check in.mesh out.mesh -q
+expect 0 info_quiet -- "$topotet" info in.mesh -q
+[[ ! -s check_quiet.out && ! -s info_quiet.out ]] && pass "check -q and info -q print nothing" || fail "check -q or info -q printed"
+expect 0 simplify_verbose -- "$topotet" simplify in.mesh -o v.mesh --ratio 0.3 --threads 64 -v
+if grep -q '^options *ratio 0.3' simplify_verbose.out && grep -q '^phases *evaluate' simplify_verbose.out &&
+  grep -q '^ *interface ref' simplify_verbose.out && grep -q 'note: --threads 64: this process may use' simplify_verbose.err; then
+  pass "simplify -v prints the options, phases, every surface label and the thread note"
+else
+  fail "simplify -v lacks details: $(cat simplify_verbose.out simplify_verbose.err | head -c 400)"
+fi
+cmp -s out.mesh v.mesh && pass "-v writes the same mesh" || fail "-v output differs"
+expect 0 simplify_debug -- "$topotet" simplify in.mesh -o vv.mesh --ratio 0.3 -vv
+if grep -q '^topotet: \[.*\] build in.mesh' simplify_debug.err && grep -q '^topotet: \[.*\] verify: done' simplify_debug.err &&
+  grep -q '^rounds *round' simplify_debug.out; then
+  pass "simplify -vv logs every stage with its time and prints the rounds"
+else
+  fail "simplify -vv log is missing: $(head -c 400 simplify_debug.err)"
+fi
+expect 0 info_verbose -- "$topotet" info in.mesh -v --json info_v.json
+grep -q 'material 2 ' info_verbose.out && json_ok info_v.json input &&
+  python3 -c 'import json; assert "topology_report" in json.load(open("info_v.json"))["input"]' &&
+  pass "info -v prints every complex's Betti numbers" || fail "info -v has no topology table"
+expect_error quiet_and_verbose -- "$topotet" info in.mesh -q -v
 
 # --- the defaults of issue #12: sharp features and a tolerance; both can be turned off ---
 if grep -q '^features .* sharp edges' info.out; then pass "info prints the sharp features"; else fail "info prints no features"; fi

@@ -27,8 +27,8 @@
 namespace topotet {
 namespace {
 
-using metrics::compute_topology;
-using metrics::same_topology;
+using topotet::compute_topology;
+using topotet::same_topology;
 
 std::uint64_t env_u64(const char* name, std::uint64_t fallback) {
   const char* s = std::getenv(name);
@@ -66,7 +66,7 @@ void run_random_collapses(const testing::PlantedMesh& planted, std::uint64_t see
   SCOPED_TRACE(std::string(planted.name) + ", seed " + std::to_string(seed));
   const testing::Grid grid = planted.make();
   const TetMesh input = build_tet_mesh(grid.data);
-  const metrics::TopologyReport baseline = compute_topology(input.to_mesh_data());
+  const topotet::TopologyReport baseline = compute_topology(input.to_mesh_data());
   ASSERT_TRUE(same_topology(baseline, baseline));
 
   std::mt19937_64 rng(seed);

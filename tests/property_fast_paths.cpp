@@ -83,7 +83,7 @@ void run(const testing::PlantedMesh& planted, std::uint64_t seed, std::uint64_t 
   SCOPED_TRACE(std::string(planted.name) + ", seed " + std::to_string(seed));
   const testing::Grid grid = planted.make();
   const TetMesh input = build_tet_mesh(grid.data);
-  const metrics::TopologyReport baseline = metrics::compute_topology(input.to_mesh_data());
+  const topotet::TopologyReport baseline = topotet::compute_topology(input.to_mesh_data());
   TetMesh m = input;
   SimplifyOptions options;
   CostModel cost(m, options);
@@ -158,7 +158,7 @@ void run(const testing::PlantedMesh& planted, std::uint64_t seed, std::uint64_t 
     ++stats.accepted;
     ASSERT_TRUE(flags_are_consistent(m)) << "after collapse " << c.v << " -> " << c.u;
     std::string differences;
-    ASSERT_TRUE(metrics::same_topology(baseline, metrics::compute_topology(m.to_mesh_data()), &differences))
+    ASSERT_TRUE(topotet::same_topology(baseline, topotet::compute_topology(m.to_mesh_data()), &differences))
         << "collapse " << c.v << " -> " << c.u << " changed the topology:\n" << differences;
   }
 }

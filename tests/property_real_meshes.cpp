@@ -45,7 +45,7 @@ TEST_P(RealMeshProperty, RandomAcceptedCollapsesKeepTopology) {
   const MeshData data = read_mesh(shared(rm.path));
   const TetMesh input = build_tet_mesh(data);
   TetMesh mesh = input;
-  const auto baseline = metrics::compute_topology(mesh.to_mesh_data());
+  const auto baseline = topotet::compute_topology(mesh.to_mesh_data());
   const char* env = std::getenv("TOPOTET_PROPERTY_COLLAPSES");
   const std::uint64_t target = env ? std::strtoull(env, nullptr, 10) : 200;
   std::mt19937_64 rng(12345);
@@ -72,7 +72,7 @@ TEST_P(RealMeshProperty, RandomAcceptedCollapsesKeepTopology) {
     since_last = 0;
     if (accepted % rm.check_every == 0 || accepted == target) {
       std::string differences;
-      ASSERT_TRUE(metrics::same_topology(baseline, metrics::compute_topology(mesh.to_mesh_data()), &differences))
+      ASSERT_TRUE(topotet::same_topology(baseline, topotet::compute_topology(mesh.to_mesh_data()), &differences))
           << rm.path << ": after " << accepted << " accepted collapses (last " << v << " -> " << u << "):\n"
           << differences;
     }
@@ -88,14 +88,14 @@ TEST_P(RealMeshProperty, SimplificationKeepsTopologyWithBothEngines) {
   const MeshData data = read_mesh(shared(rm.path));
   for (Engine engine : {Engine::kSequential, Engine::kParallel}) {
     TetMesh mesh = build_tet_mesh(data);
-    const auto before = metrics::compute_topology(mesh.to_mesh_data());
+    const auto before = topotet::compute_topology(mesh.to_mesh_data());
     SimplifyOptions options;
     options.engine = engine;
     options.target_vertex_ratio = 0.25;
     const Report report = simplify(mesh, options);
     ASSERT_TRUE(report.status == Status::kOk || report.status == Status::kStoppedEarly) << report.message;
     std::string differences;
-    EXPECT_TRUE(metrics::same_topology(before, metrics::compute_topology(mesh.to_mesh_data()), &differences))
+    EXPECT_TRUE(topotet::same_topology(before, topotet::compute_topology(mesh.to_mesh_data()), &differences))
         << rm.path << (engine == Engine::kSequential ? " sequential" : " parallel") << ":\n" << differences;
     std::printf("[ simplify ] %s %s: %llu -> %llu vertices in %.3f s (%s)\n", rm.path,
                 engine == Engine::kSequential ? "sequential" : "parallel", (unsigned long long)report.vertices_before,

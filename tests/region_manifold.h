@@ -3,7 +3,7 @@
 // makes of it).
 //
 // Betti numbers alone do not see a pinch: two tets of a region meeting only along an edge leave
-// b = (1, 0, 0, 0). So the tests pair metrics::compute_topology with this check. A compact
+// b = (1, 0, 0, 0). So the tests pair topotet::compute_topology with this check. A compact
 // connected 3-manifold M in the 3-sphere with b1 = b2 = 0 is a ball: b2 = 0 makes its complement
 // connected (Alexander duality), so its boundary is one closed surface, of Euler characteristic
 // 2 chi(M) = 2, a sphere; and a PL 2-sphere in the 3-sphere bounds a ball (Alexander).

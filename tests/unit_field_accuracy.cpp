@@ -116,7 +116,7 @@ TEST(FieldAccuracy, LinearFieldIsReproducedOnFeatureVerticesAndWithSeveralFields
     ASSERT_EQ(e.components.size(), 5u);
     EXPECT_LE(e.worst_max_rel, 1e-11) << "ratio " << ratio;
     std::string differences;
-    EXPECT_TRUE(metrics::same_topology(metrics::compute_topology(input), metrics::compute_topology(run.output),
+    EXPECT_TRUE(topotet::same_topology(topotet::compute_topology(input), topotet::compute_topology(run.output),
                                        &differences))
         << differences;
   }

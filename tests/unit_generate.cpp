@@ -659,7 +659,7 @@ TEST_P(Polycrystal, CellsAreBallsListedInterfacesDiscsAndCurvesTripleJunctions) 
   EXPECT_GT(dihedral_angles(mesh).min, 25.0);
   ASSERT_EQ(mesh.fields.size(), 1u);
   EXPECT_EQ(mesh.fields[0].name, "f");
-  const metrics::TopologyReport topo = metrics::compute_topology(mesh);
+  const topotet::TopologyReport topo = topotet::compute_topology(mesh);
   EXPECT_EQ(topo.mesh.betti, kBall);
   EXPECT_EQ(topo.boundary.betti, kSphere);
 
@@ -784,7 +784,7 @@ TEST(Polycrystal, EveryCellIsABallAcrossSizesAndCellCounts) {
       const std::set<std::int32_t> materials(mesh.tet_material.begin(), mesh.tet_material.end());
       EXPECT_EQ(materials.size(), cells ? cells : default_polycrystal_cells(mesh.tet_count())) << what;
       EXPECT_EQ(testing::count_nonmanifold_region_vertices(mesh), 0u) << what;
-      for (const auto& [m, complex] : metrics::compute_topology(mesh).materials) {
+      for (const auto& [m, complex] : topotet::compute_topology(mesh).materials) {
         EXPECT_EQ(complex.betti, kBall) << what << ", material " << m;
       }
     }
@@ -863,7 +863,7 @@ TEST(TetNeighbourhood, JoinAndLeaveStepsKeepRegionsBalls) {
       regions.tet_material.push_back(material[u]);
     }
     ASSERT_EQ(testing::count_nonmanifold_region_vertices(regions), 0u) << "step " << step;
-    for (const auto& [m, complex] : metrics::compute_topology(regions).materials) {
+    for (const auto& [m, complex] : topotet::compute_topology(regions).materials) {
       ASSERT_EQ(complex.betti, kBall) << "step " << step << ", material " << m;
     }
   }
@@ -887,7 +887,7 @@ TEST(Polycrystal, ManifoldCheckSeesAnEdgePinch) {
       },
       mesh);
   gen::set_jittered_positions(grid, 1, mesh);
-  EXPECT_EQ(metrics::compute_topology(mesh).materials.at(2).betti, kBall);
+  EXPECT_EQ(topotet::compute_topology(mesh).materials.at(2).betti, kBall);
   EXPECT_GT(testing::count_nonmanifold_region_vertices(mesh), 0u);
 }
 

@@ -64,7 +64,7 @@ void every_stage(int num_threads) {
   ASSERT_TRUE(report.status == Status::kOk || report.status == Status::kStoppedEarly) << report.message;
   const MeshData output = mesh.to_mesh_data();
   std::string differences;
-  EXPECT_TRUE(metrics::same_topology(metrics::compute_topology(input), metrics::compute_topology(output), &differences))
+  EXPECT_TRUE(topotet::same_topology(topotet::compute_topology(input), topotet::compute_topology(output), &differences))
       << differences;
   EXPECT_EQ(compute_quality(output).inverted, 0u);
   compare_fields(input, output);

@@ -131,7 +131,7 @@ TEST(ListedSubstructures, DetachedElementsAreLeftOutWhenAsked) {
 // change to either surface's topology would show.
 TEST(ListedSubstructures, CheckerCountsASharedFaceForEachSurface) {
   const Grid g = nested_surfaces();
-  const metrics::TopologyReport report = metrics::compute_topology(g.data);
+  const topotet::TopologyReport report = topotet::compute_topology(g.data);
   ASSERT_EQ(report.surfaces.size(), 2u);
   EXPECT_EQ(report.surfaces.at(3).simplex_count[2], 6 * 6 * 2);
   EXPECT_EQ(report.surfaces.at(4).simplex_count[2], 2 * 2 * 2);
@@ -148,7 +148,7 @@ TEST_P(SharedSurfaces, EachSurfaceKeepsItsTopology) {
   // A third surface: a strip of surface 3 that reaches the box boundary.
   testing::add_patch(g, 0, 3, [](int a, int b) { return a == 4 && b >= 1; }, 5);
   TetMesh mesh = build_tet_mesh(g.data);
-  const metrics::TopologyReport before = metrics::compute_topology(g.data);
+  const topotet::TopologyReport before = topotet::compute_topology(g.data);
   SimplifyOptions options;
   options.engine = GetParam();
   options.target_vertex_ratio = 0.1;
@@ -156,9 +156,9 @@ TEST_P(SharedSurfaces, EachSurfaceKeepsItsTopology) {
   ASSERT_NE(report.status, Status::kInvalidInput) << report.message;
   EXPECT_LT(report.vertices_after, report.vertices_before / 2);
   const MeshData out = mesh.to_mesh_data();
-  const metrics::TopologyReport after = metrics::compute_topology(out);
+  const topotet::TopologyReport after = topotet::compute_topology(out);
   std::string differences;
-  EXPECT_TRUE(metrics::same_topology(before, after, &differences)) << differences;
+  EXPECT_TRUE(topotet::same_topology(before, after, &differences)) << differences;
   ASSERT_EQ(after.surfaces.size(), 3u);
   for (std::int32_t ref : {3, 4, 5}) {
     EXPECT_EQ(after.surfaces.at(ref).betti, before.surfaces.at(ref).betti) << "surface " << ref;

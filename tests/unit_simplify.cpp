@@ -28,7 +28,7 @@ TEST_P(SimplifyPlanted, KeepsTopologyAndReducesTheMesh) {
   const auto& planted = meshes[std::get<0>(GetParam())];
   const testing::Grid g = planted.make();
   TetMesh mesh = build_tet_mesh(g.data);
-  const auto before = metrics::compute_topology(mesh.to_mesh_data());
+  const auto before = topotet::compute_topology(mesh.to_mesh_data());
   SimplifyOptions options;
   options.engine = std::get<1>(GetParam());
   options.target_vertex_ratio = 0.2;
@@ -36,7 +36,7 @@ TEST_P(SimplifyPlanted, KeepsTopologyAndReducesTheMesh) {
   ASSERT_NE(report.status, Status::kInvalidInput) << report.message;
   ASSERT_NE(report.status, Status::kOutOfMemory);
   std::string differences;
-  EXPECT_TRUE(metrics::same_topology(before, metrics::compute_topology(mesh.to_mesh_data()), &differences))
+  EXPECT_TRUE(topotet::same_topology(before, topotet::compute_topology(mesh.to_mesh_data()), &differences))
       << differences;
   EXPECT_LT(report.vertices_after, report.vertices_before * 6 / 10) << planted.name;
   EXPECT_EQ(report.vertices_after, mesh.live_vertex_count());
@@ -132,14 +132,14 @@ TEST(Simplify, EndGameWithFewProposalsLeft) {
   testing::add_linear_field(g);
   for (Engine engine : {Engine::kSequential, Engine::kParallel}) {
     TetMesh mesh = build_tet_mesh(g.data);
-    const auto before = metrics::compute_topology(mesh.to_mesh_data());
+    const auto before = topotet::compute_topology(mesh.to_mesh_data());
     SimplifyOptions options;
     options.engine = engine;
     options.target_vertices = 4;  // unreachable: the run goes until no legal collapse is left
     const Report report = simplify(mesh, options);
     EXPECT_EQ(report.status, Status::kStoppedEarly) << report.message;
     std::string differences;
-    EXPECT_TRUE(metrics::same_topology(before, metrics::compute_topology(mesh.to_mesh_data()), &differences))
+    EXPECT_TRUE(topotet::same_topology(before, topotet::compute_topology(mesh.to_mesh_data()), &differences))
         << differences;
     EXPECT_LT(report.vertices_after, report.vertices_before / 2);
   }
@@ -163,7 +163,7 @@ TEST(Simplify, InvalidOptionsAreReportedNotThrown) {
 // alone would miss a pinch; region_manifold.h).
 TEST(Simplify, PolycrystalKeepsEveryCellAndJunction) {
   const MeshData input = generate_mesh({"polycrystal", 30000, 1, 20});
-  const metrics::TopologyReport before = metrics::compute_topology(input);
+  const topotet::TopologyReport before = topotet::compute_topology(input);
   for (Engine engine : {Engine::kSequential, Engine::kParallel}) {
     TetMesh mesh = build_tet_mesh(input);
     SimplifyOptions options;
@@ -178,7 +178,7 @@ TEST(Simplify, PolycrystalKeepsEveryCellAndJunction) {
     ASSERT_TRUE(report.status == Status::kOk || report.status == Status::kStoppedEarly) << report.message;
     const MeshData output = mesh.to_mesh_data();
     std::string differences;
-    EXPECT_TRUE(metrics::same_topology(before, metrics::compute_topology(output), &differences)) << differences;
+    EXPECT_TRUE(topotet::same_topology(before, topotet::compute_topology(output), &differences)) << differences;
     EXPECT_EQ(testing::count_nonmanifold_region_vertices(output), 0u);
     EXPECT_LE(report.vertices_after, report.vertices_before / 5 + 1);
     std::printf("[ simplify ] polycrystal 30k, 20 cells %s: %llu -> %llu vertices, status %s\n",

@@ -191,7 +191,7 @@ TEST(SimplifyTolerance, TightToleranceFreezesTheCurvedInterfaceButNotTheInterior
   options.tolerance_rel = 1e-6;
   const Report report = simplify(mesh, options);
   ASSERT_TRUE(report.status == Status::kOk || report.status == Status::kStoppedEarly) << report.message;
-  EXPECT_GT(report.rejected[static_cast<int>(6)], 0u);  // CollapseReason::kTolerance
+  EXPECT_GT(report.rejected_by(RejectReason::kTolerance), 0u);
   const MeshData output = mesh.to_mesh_data();
   const auto [sphere_before, free_before] = surface_and_free_vertices(input, 1);
   const auto [sphere_after, free_after] = surface_and_free_vertices(output, 1);
@@ -200,7 +200,7 @@ TEST(SimplifyTolerance, TightToleranceFreezesTheCurvedInterfaceButNotTheInterior
   EXPECT_GE(sphere_after, sphere_before * 95 / 100);  // the jittered, curved interface cannot move
   EXPECT_LE(free_after, free_before / 3);             // while the interior coarsens
   std::string differences;
-  EXPECT_TRUE(metrics::same_topology(metrics::compute_topology(input), metrics::compute_topology(output), &differences))
+  EXPECT_TRUE(topotet::same_topology(topotet::compute_topology(input), topotet::compute_topology(output), &differences))
       << differences;
 }
 
@@ -250,7 +250,7 @@ TEST(SimplifyTolerance, ParallelOutputIsIdenticalForEveryThreadCount) {
     options.tolerance_rel = 0.003;
     const Report report = simplify(mesh, options);
     ASSERT_TRUE(report.status == Status::kOk || report.status == Status::kStoppedEarly) << report.message;
-    EXPECT_GT(report.rejected[6], 0u);
+    EXPECT_GT(report.rejected_by(RejectReason::kTolerance), 0u);
     const MeshData out = mesh.to_mesh_data();
     if (threads == 1)
       reference = out;

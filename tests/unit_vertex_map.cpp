@@ -133,6 +133,35 @@ TEST_P(VertexMap, OneCollapseMergesExactlyOneEdge) {
   EXPECT_EQ(merged, 1);
 }
 
+// Frozen vertices (vertex_state::kFrozen, what mpi/ gives the vertices a rank shares): no collapse
+// touches them, neither as the removed end nor as the end that stays. So each is alone in its
+// preimage and keeps its position, while the rest of the mesh is still simplified.
+TEST_P(VertexMap, FrozenVerticesAreNeitherRemovedNorKept) {
+  const MeshData input = ball_in_box();
+  TetMesh mesh = build_tet_mesh(input);
+  std::vector<bool> frozen(input.vertex_count());
+  for (VertId v = 0; v < input.vertex_count(); ++v) {
+    frozen[v] = input.positions[v].x < 0.45 * input.positions[input.vertex_count() - 1].x;
+    if (frozen[v]) mesh.vertex_states[v] |= vertex_state::kFrozen | vertex_state::kPinned;
+  }
+  SimplifyOptions options;
+  options.engine = GetParam();
+  options.num_threads = 2;
+  options.target_vertex_ratio = 0.2;
+  std::vector<VertId> map;
+  const Report report = simplify(mesh, options, map);
+  ASSERT_TRUE(report.status == Status::kOk || report.status == Status::kStoppedEarly) << report.message;
+  EXPECT_GT(report.collapses, input.vertex_count() / 4);
+  const MeshData out = mesh.to_mesh_data();
+  std::vector<int> preimages(out.vertex_count(), 0);
+  for (VertId i = 0; i < map.size(); ++i) ++preimages[map[i]];
+  for (VertId v = 0; v < input.vertex_count(); ++v) {
+    if (!frozen[v]) continue;
+    EXPECT_EQ(preimages[map[v]], 1) << "frozen vertex " << v << " took part in a collapse";
+    EXPECT_EQ(out.positions[map[v]], input.positions[v]) << "frozen vertex " << v << " moved";
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Engines, VertexMap, ::testing::Values(Engine::kSequential, Engine::kParallel),
                          [](const ::testing::TestParamInfo<Engine>& p) {
                            return p.param == Engine::kSequential ? "sequential" : "parallel";

@@ -2,7 +2,7 @@
 // file and read as .mesh, as .msh, as the .sol beside a fixed valid .mesh, and as each TetGen file
 // (.node, .ele, .face) beside fixed valid others. Every mesh that parses is written as .mesh,
 // .msh 4.1 and .msh 2.2 and read back: the .mesh must give the same MeshData, and every file
-// must read. It is also built into the model (which may refuse it). Every outcome but these or an
+// must read; and as .vtu (ASCII and binary; write-only), which must be complete. It is also built into the model (which may refuse it). Every outcome but these or an
 // InputError (a crash, a sanitizer report, another exception, a huge allocation) is a bug. Build with clang and -DTOPOTET_FUZZ=ON (see tests/CMakeLists.txt), then e.g.
 //   ./fuzz_readers -max_total_time=60 -rss_limit_mb=2048 corpus/
 #include <unistd.h>
@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "topotet/error.h"
@@ -63,6 +64,18 @@ void write_and_read_back(const topotet::MeshData& mesh) {
     }
     const topotet::MeshData back = topotet::read_mesh(dir + "/out.msh");  // must not throw
     if (back.tet_count() != mesh.tet_count()) std::abort();
+  }  // .vtu is write-only (ParaView reads it): ASCII and raw appended data, each complete.
+  for (const bool binary : {false, true}) {
+    topotet::WriteOptions options;
+    options.binary = binary;
+    try {
+      topotet::write_mesh(dir + "/out.vtu", mesh, options);
+    } catch (const topotet::InputError&) {
+      continue;
+    }
+    std::ifstream in(dir + "/out.vtu", std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (text.size() < 12 || text.find("</VTKFile>", text.size() - 12) == std::string::npos) std::abort();
   }
 }
 

@@ -3,7 +3,7 @@
 // planes with random refs, polylines along grid lines, pinned vertices, the target ratio, the
 // minimum quality, the engine and the thread count. The mesh is built, simplified, and the result
 // must pass what `topotet check` checks: the same Betti numbers for the mesh and every
-// substructure (metrics::compute_topology, the independent checker) and no inverted or flat tet.
+// substructure (topotet::compute_topology, the independent checker) and no inverted or flat tet.
 // Anything else (a crash, a sanitizer report, an exception, a topology change, an inverted tet,
 // a status other than ok) is a bug. Build with clang and -DTOPOTET_FUZZ=ON, then e.g.
 //   ./fuzz_simplify -max_total_time=60 -rss_limit_mb=2048
@@ -143,15 +143,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // builder may refuse those with a clear message, which is fine.
     return 0;
   }
-  const metrics::TopologyReport before = metrics::compute_topology(mesh.to_mesh_data());
+  const topotet::TopologyReport before = topotet::compute_topology(mesh.to_mesh_data());
   const Report report = simplify(mesh, options);
   // Stopping early is legitimate: the structure may allow no legal collapse before the target.
   if (report.status != Status::kOk && report.status != Status::kStoppedEarly)
     fail("simplify returned neither ok nor stopped early", report.message);
   const MeshData out = mesh.to_mesh_data();
-  const metrics::TopologyReport after = metrics::compute_topology(out);
+  const topotet::TopologyReport after = topotet::compute_topology(out);
   std::string differences;
-  if (!metrics::same_topology(before, after, &differences)) fail("topology changed", differences);
+  if (!topotet::same_topology(before, after, &differences)) fail("topology changed", differences);
   const QualityStats quality = compute_quality(out);
   if (quality.inverted != 0 || quality.zero_volume != 0) fail("inverted or flat tets in the output");
   return 0;

@@ -24,6 +24,8 @@
 
 namespace topotet {
 
+struct RoundStats;  // topotet/round_log.h
+
 enum class Status : std::uint8_t {
   kOk,            // target reached
   kStoppedEarly,  // mesh valid; no legal collapse was left (topology or error bounds stopped us)
@@ -111,20 +113,9 @@ struct SimplifyOptions {
   // curve kept like a listed polyline, and the corners it makes are pinned. 180 = off. Like
   // Mmg's -ar (45 by default there too).
   double feature_angle = 45.0;
-};
-
-// Work of one parallel round, for the scaling benchmark's work/span projection.
-struct RoundStats {
-  std::uint64_t evaluated = 0;   // dirty vertices re-costed in the evaluate phase
-  std::uint64_t candidates = 0;  // verified proposals competing for the independent set
-  std::uint64_t winners = 0;     // independent set size
-  std::uint64_t collapses = 0;   // winners applied (all: they were verified before selection)
-  // Wall time: evaluate (costs, then the kernel on the round's candidates), select (threshold,
-  // stencils, reservations), apply (collapses and the updates of their stencils), compact.
-  std::array<double, 4> phase_seconds{};
-  // The part of phase_seconds spent in sequential code (the quantile sample, prefix sums, table
-  // growth): the Amdahl term of the round. The rest runs in parallel loops.
-  double serial_seconds = 0.0;
+  // Diagnostics (topotet/round_log.h): with a vector here, the parallel engine appends the work and
+  // times of every round to it (bench/bench_simplify's scaling model, `topotet simplify -vv`).
+  std::vector<RoundStats>* round_log = nullptr;
 };
 
 struct Report {
@@ -150,7 +141,6 @@ struct Report {
   double select_seconds() const { return phase_seconds[1]; }
   double apply_seconds() const { return phase_seconds[2]; }
   double compact_seconds() const { return phase_seconds[3]; }
-  std::vector<RoundStats> round_stats;
   std::uint64_t feature_edges = 0;    // edges detect_features flagged (SimplifyOptions::feature_angle)
   std::uint64_t feature_corners = 0;  // vertices it pinned
   double feature_seconds = 0.0;

@@ -93,6 +93,10 @@ inline constexpr std::uint8_t kPinned = 1u << 0;    // never moves, never remove
 inline constexpr std::uint8_t kCorner = 1u << 1;    // listed as MEDIT Corner / Gmsh point
 inline constexpr std::uint8_t kRequired = 1u << 2;  // listed as MEDIT RequiredVertex
 inline constexpr std::uint8_t kFeatureCorner = 1u << 3;  // pinned by detect_features (a corner)
+// Frozen: no collapse may touch it, not even as the end that stays (kPinned still allows that).
+// Distributed runs (mpi/) freeze the vertices a rank shares with others: a collapse is decided
+// locally only when the whole stars of both its ends are local, which a non-frozen end guarantees.
+inline constexpr std::uint8_t kFrozen = 1u << 4;
 inline constexpr std::uint8_t kDead = 1u << 7;      // removed by a collapse
 }  // namespace vertex_state
 
@@ -171,6 +175,7 @@ class TetMesh {
   bool is_dead_tet(TetId t) const { return flags[t] & tet_flag::kDead; }
   bool is_dead_vertex(VertId v) const { return vertex_states[v] & vertex_state::kDead; }
   bool is_pinned(VertId v) const { return vertex_states[v] & vertex_state::kPinned; }
+  bool is_frozen(VertId v) const { return vertex_states[v] & vertex_state::kFrozen; }
 
   // Calls f(tet) for every live tet incident to v, in chain order.
   template <class F>

@@ -40,7 +40,7 @@
 
 #include "topotet/mesh_data.h"
 
-namespace topotet::metrics {
+namespace topotet {
 
 inline constexpr std::int64_t kUnknownBetti = -1;
 
@@ -115,4 +115,19 @@ std::string format_topology_table(const TopologyReport& report);
 // "3" for material/ref 3, "1,2" for the interface between materials 1 and 2.
 std::string topology_to_json(const TopologyReport& report);
 
-}  // namespace topotet::metrics
+// The checker's first spelling, topotet::metrics::compute_topology and so on, kept so that code
+// written against it still compiles. The public API is in namespace topotet, like the rest of
+// the library; topotet::metrics holds the checker's internals.
+namespace metrics {
+using topotet::ComplexTopology;
+using topotet::compute_topology;
+using topotet::format_topology_table;
+using topotet::kUnknownBetti;
+using topotet::MaterialPair;
+using topotet::same_topology;
+using topotet::topology_to_json;
+using topotet::TopologyOptions;
+using topotet::TopologyReport;
+}  // namespace metrics
+
+}  // namespace topotet

@@ -1,0 +1,24 @@
+// Per-round work of the parallel engine, for scaling studies: opt in with
+// SimplifyOptions::round_log. bench/bench_simplify builds its work/span projection on it, and
+// `topotet simplify -vv` prints it. Not needed to simplify: only this header defines it.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+namespace topotet {
+
+struct RoundStats {
+  std::uint64_t evaluated = 0;   // dirty vertices re-costed in the evaluate phase
+  std::uint64_t candidates = 0;  // verified proposals competing for the independent set
+  std::uint64_t winners = 0;     // independent set size
+  std::uint64_t collapses = 0;   // winners applied (all: they were verified before selection)
+  // Wall time: evaluate (costs, then the kernel on the round's candidates), select (threshold,
+  // stencils, reservations), apply (collapses and the updates of their stencils), compact.
+  std::array<double, 4> phase_seconds{};
+  // The part of phase_seconds spent in sequential code (the quantile sample, prefix sums, table
+  // growth): the Amdahl term of the round. The rest runs in parallel loops.
+  double serial_seconds = 0.0;
+};
+
+}  // namespace topotet

@@ -1,0 +1,186 @@
+// topotet-mpi: the distributed simplifier on a mesh file.
+//   mpirun -np 4 topotet-mpi simplify in.mesh -o out.mesh --ratio 0.1
+// Rank 0 reads IN, checks it (the mesh builder, as `topotet simplify` does), and METIS spreads it
+// over the ranks; topotet::mpi::simplify runs the passes; rank 0 gathers the result and writes
+// OUT. The options are those of `topotet simplify` that steer the engine (the measurements and
+// reports of `topotet simplify` run on one node: use `topotet check IN OUT` on the result).
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "topotet/error.h"
+#include "topotet/io.h"
+#include "topotet/mpi.h"
+#include "topotet/tet_mesh.h"
+
+namespace {
+
+struct Args {
+  std::string input, output, report;
+  double ratio = 0.25;
+  std::uint64_t target_vertices = 0;
+  double max_cost = 0.0, min_quality = 0.05, tolerance = 0.0, tolerance_rel = topotet::kDefaultToleranceRel;
+  double feature_angle = 45.0, round_fraction = 0.015;
+  int threads = 0, max_passes = 8;
+  bool sequential = false, quiet = false;
+};
+
+// Rank 0's whole input, checked by the builder (its errors name the file and element), with the
+// listed elements the builder leaves out dropped, so the checker later compares like with like.
+topotet::MeshData read_checked(const std::string& path) {
+  topotet::MeshData data = topotet::read_mesh(path);
+  topotet::BuildOptions build;
+  build.skip_detached_substructures = true;
+  topotet::BuildNotes notes;
+  try {
+    (void)topotet::build_tet_mesh(data, build, &notes);
+  } catch (const topotet::InputError& e) {
+    const std::string what = e.what();
+    throw topotet::InputError(what.rfind(path, 0) == 0 ? what : path + ": " + what);
+  }
+  topotet::drop_noted_substructures(data, notes);
+  return data;
+}
+
+int run(MPI_Comm comm, const Args& args) {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  const auto start = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  topotet::mpi::DistributedMesh mesh;
+  std::string error;
+  if (rank == 0) {
+    try {
+      mesh = topotet::mpi::from_whole(read_checked(args.input));
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  // Every rank learns of rank 0's read error and stops with it.
+  int failed = error.empty() ? 0 : 1;
+  MPI_Bcast(&failed, 1, MPI_INT, 0, comm);
+  if (failed) {
+    if (rank == 0) std::fprintf(stderr, "topotet-mpi: error: %s\n", error.c_str());
+    return 2;
+  }
+  const double read_seconds = seconds();
+  const std::uint64_t input_tets = mesh.local.tet_count();
+  topotet::mpi::distribute(comm, mesh);
+  const double distribute_seconds = seconds() - read_seconds;
+
+  topotet::mpi::Options options;
+  topotet::SimplifyOptions& o = options.simplify;
+  o.target_vertex_ratio = args.ratio;
+  o.target_vertices = args.target_vertices;
+  o.max_cost = args.max_cost;
+  o.min_quality = args.min_quality;
+  o.tolerance = args.tolerance;
+  o.tolerance_rel = args.tolerance_rel;
+  o.feature_angle = args.feature_angle;
+  o.round_fraction = args.round_fraction;
+  o.num_threads = args.threads;
+  o.engine = args.sequential ? topotet::Engine::kSequential : topotet::Engine::kParallel;
+  options.max_passes = args.max_passes;
+  const topotet::mpi::Result result = topotet::mpi::simplify(comm, mesh, options);
+  const double gather_start = seconds();
+  const topotet::MeshData out = topotet::mpi::gather(comm, mesh, 0);
+  if (rank != 0) return 0;
+  topotet::write_mesh(args.output, out);
+  const double write_seconds = seconds() - gather_start;
+  const topotet::Report& r = result.report;
+  nlohmann::ordered_json json = {
+      {"ranks", ranks},
+      {"input", args.input},
+      {"tets_before", input_tets},
+      {"tets_after", out.tet_count()},
+      {"vertices_before", r.vertices_before},
+      {"vertices_after", r.vertices_after},
+      {"status", topotet::to_string(r.status)},
+      {"message", r.message},
+      {"read_seconds", read_seconds},
+      {"distribute_seconds", distribute_seconds},
+      {"simplify_seconds", r.seconds},
+      {"gather_write_seconds", write_seconds},
+      {"total_seconds", seconds()},
+      {"collapses", r.collapses},
+      {"peak_rss_bytes_max_rank", result.peak_rss_bytes},
+  };
+  nlohmann::ordered_json passes = nlohmann::ordered_json::array();
+  for (const auto& p : result.passes)
+    passes.push_back({{"seconds", p.seconds},
+                      {"simplify_seconds", p.simplify_seconds},
+                      {"partition_seconds", p.partition_seconds},
+                      {"vertices_after", p.vertices_after},
+                      {"collapses", p.collapses},
+                      {"frozen_vertices", p.frozen_vertices},
+                      {"migrated_tets", p.migrated_tets},
+                      {"bytes_sent", p.bytes_sent}});
+  json["passes"] = passes;
+  if (!args.report.empty()) topotet::write_text_file(args.report, json.dump(2) + "\n");
+  if (!args.quiet) {
+    std::printf("ranks     %d\n", ranks);
+    std::printf("vertices  %llu -> %llu (%s)\n", static_cast<unsigned long long>(r.vertices_before),
+                static_cast<unsigned long long>(r.vertices_after), topotet::to_string(r.status));
+    std::printf("tets      %llu -> %llu\n", static_cast<unsigned long long>(input_tets),
+                static_cast<unsigned long long>(out.tet_count()));
+    for (std::size_t i = 0; i < result.passes.size(); ++i) {
+      const auto& p = result.passes[i];
+      std::printf("pass %zu    %.2f s (simplify %.2f s, repartition %.2f s), %llu vertices, %llu collapses, "
+                  "%llu frozen, %llu tets migrated, %llu bytes sent\n",
+                  i + 1, p.seconds, p.simplify_seconds, p.partition_seconds,
+                  static_cast<unsigned long long>(p.vertices_after), static_cast<unsigned long long>(p.collapses),
+                  static_cast<unsigned long long>(p.frozen_vertices), static_cast<unsigned long long>(p.migrated_tets),
+                  static_cast<unsigned long long>(p.bytes_sent));
+    }
+    std::printf("time      read %.2f s, distribute %.2f s, simplify %.2f s, gather+write %.2f s\n", read_seconds,
+                distribute_seconds, r.seconds, write_seconds);
+    std::printf("memory    peak RSS %.1f MB (largest rank)\n", static_cast<double>(result.peak_rss_bytes) / 1e6);
+    if (!r.message.empty()) std::printf("note      %s\n", r.message.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  CLI::App app{"topotet-mpi: distributed topology-preserving simplification of tetrahedral meshes (MPI + METIS)"};
+  app.name("topotet-mpi");
+  app.require_subcommand(1);
+  Args args;
+  CLI::App* cmd = app.add_subcommand("simplify", "Simplify a mesh over the MPI ranks; rank 0 reads IN and writes OUT");
+  cmd->add_option("IN", args.input, "Input mesh (.mesh, .msh, optionally .gz)")->required();
+  cmd->add_option("-o,--output", args.output, "Output mesh (.mesh, .msh or .vtu)")->required();
+  cmd->add_option("--ratio", args.ratio, "Keep this fraction of the vertices, in (0, 1]")->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--target-vertices", args.target_vertices, "Stop at this many vertices (wins over --ratio)");
+  cmd->add_option("--max-cost,--max-error", args.max_cost, "Stop when the cheapest collapse costs more (0 = no limit)");
+  cmd->add_option("--min-quality", args.min_quality, "Reject collapses creating tets below this mean ratio");
+  cmd->add_option("--tolerance", args.tolerance, "Geometric tolerance in mesh units (wins over --tolerance-rel)");
+  cmd->add_option("--tolerance-rel", args.tolerance_rel, "Geometric tolerance relative to the bounding box diagonal");
+  cmd->add_option("--feature-angle", args.feature_angle, "Sharp-feature angle in degrees (180 = off)");
+  cmd->add_option("--round-fraction", args.round_fraction, "Fraction of the cheapest proposals per parallel round");
+  cmd->add_option("--threads", args.threads, "Threads per rank (0 = all; the output is the same for every value)");
+  cmd->add_flag("--sequential", args.sequential, "Use the sequential reference engine on each rank");
+  cmd->add_option("--max-passes", args.max_passes, "Passes (simplify, then repartition) at most");
+  cmd->add_option("--report", args.report, "Write the report (passes, times, traffic, memory) as JSON");
+  cmd->add_flag("--quiet", args.quiet, "No report on stdout");
+  int code = 0;
+  try {
+    app.parse(argc, argv);
+    code = run(MPI_COMM_WORLD, args);
+  } catch (const CLI::ParseError& e) {
+    code = rank == 0 ? app.exit(e) : (e.get_exit_code() == 0 ? 0 : 2);
+    if (code != 0) code = 2;
+  } catch (const std::exception& e) {
+    if (rank == 0) std::fprintf(stderr, "topotet-mpi: error: %s\n", e.what());
+    code = 2;
+  }
+  MPI_Finalize();
+  return code;
+}
