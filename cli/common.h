@@ -24,6 +24,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "topotet/hierarchy.h"
 #include "topotet/io.h"
 #include "topotet/mesh_data.h"
 #include "topotet/simplify.h"
@@ -44,6 +45,7 @@ void add_convert_command(CLI::App& app, CommandRunner& run);
 void add_simplify_command(CLI::App& app, CommandRunner& run);
 void add_check_command(CLI::App& app, CommandRunner& run);
 void add_demo_command(CLI::App& app, CommandRunner& run);
+void add_extract_command(CLI::App& app, CommandRunner& run);
 
 // ---- simplification pipeline, shared by `simplify` and `demo` (simplify.cpp) ----
 struct SimplifyJob {
@@ -54,6 +56,7 @@ struct SimplifyJob {
   SimplifyOptions options;     // target and engine settings (targets overridden by `levels`)
   std::vector<double> levels;  // descending vertex ratios; empty = one run with `options`
   std::string output_path;     // empty = write nothing
+  std::string hierarchy_path;  // --hierarchy: also record the collapses into this .tth file
   std::optional<std::int32_t> feature_ref;  // also write detected features, with this ref
   bool binary = false;         // WriteOptions::binary
   bool msh22 = false;          // WriteOptions::msh22
@@ -67,6 +70,13 @@ struct SimplifyJob {
 };
 // Builds, simplifies, writes, measures and verifies; prints the report. Returns the exit code.
 int run_simplify_job(SimplifyJob& job);
+
+// ---- levels of a collapse hierarchy (extract.cpp) ----
+// One uniform level per error threshold, written as `output` with the threshold before the
+// extension; prints one table row per level (size, field error, error bound, angles, topology
+// against the original). Returns kExitCheckFailed if a level fails the check.
+int print_error_levels(const Hierarchy& hierarchy, const std::string& output, std::vector<double> levels,
+                       const WriteOptions& write_options);
 
 // ---- timing ----
 class Stopwatch {

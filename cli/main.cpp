@@ -73,6 +73,7 @@ int main(int argc, char** argv) {
   add_simplify_command(app, run);
   add_check_command(app, run);
   add_demo_command(app, run);
+  add_extract_command(app, run);
 
   try {
     app.parse(argc, argv);

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <limits>
 #include <cstdlib>
@@ -21,6 +22,7 @@
 #include "distance_report.h"
 #include "json_report.h"
 #include "topotet/error.h"
+#include "topotet/hierarchy.h"
 #include "topotet/io.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
@@ -366,6 +368,8 @@ int run_simplify_job(SimplifyJob& job) {
     if (levels.empty()) levels.push_back(0.0);
     std::vector<LevelResult> results;
     double cumulative = 0.0;
+    Hierarchy hierarchy;  // --hierarchy
+    double hierarchy_write_seconds = 0.0;
     for (double level : levels) {
       LevelResult& result = results.emplace_back();
       result.target_ratio = level > 0 ? level : (job.options.target_vertices ? 0.0 : job.options.target_vertex_ratio);
@@ -382,7 +386,8 @@ int run_simplify_job(SimplifyJob& job) {
       };
       log_stage("simplify" + (level > 0 ? " level " + format_ratio(level) : std::string()) + ": start");
       if (verbosity() >= Verbosity::kDebug) options.round_log = &result.rounds;
-      result.report = simplify(mesh, options);
+      result.report = job.hierarchy_path.empty() ? simplify(mesh, options)
+                                                 : simplify_with_hierarchy(mesh, options, hierarchy);
       bar.finish();
       log_stage("simplify: " + format_count(result.report.collapses) + " collapses in " +
                 format_seconds(result.report.seconds) + ", " + format_count(result.report.vertices_after) + " vertices left");
@@ -410,6 +415,11 @@ int run_simplify_job(SimplifyJob& job) {
         }
         result.write_seconds = write_clock.seconds();
         log_stage("write " + result.output_path + " in " + format_seconds(result.write_seconds));
+      }
+      if (!job.hierarchy_path.empty()) {
+        const Stopwatch write_clock;
+        write_hierarchy(job.hierarchy_path, hierarchy);
+        hierarchy_write_seconds = write_clock.seconds();
       }
     }
     const std::uint64_t peak_bytes = peak_rss_bytes();
@@ -504,6 +514,15 @@ int run_simplify_job(SimplifyJob& job) {
           if (l.report.status != Status::kOk)
             row("status", "level " + format_ratio(l.target_ratio) + ": " + to_string(l.report.status) +
                               (l.report.message.empty() ? "" : ": " + l.report.message));
+      }
+      if (!job.hierarchy_path.empty()) {
+        const auto bytes = std::filesystem::file_size(job.hierarchy_path);
+        const double n = static_cast<double>(hierarchy.collapse_count());
+        row("hierarchy", job.hierarchy_path + ": " + format_count(hierarchy.collapse_count()) + " collapses, " +
+                             format_bytes(bytes) + " (records " +
+                             format_number(per(static_cast<double>(hierarchy_collapse_bytes(hierarchy)), n)) +
+                             " bytes/collapse, " + format_number(per(static_cast<double>(hierarchy.parents.size()), n)) +
+                             " parents/collapse; write " + format_seconds(hierarchy_write_seconds) + ")");
       }
       row("memory", "peak " + format_bytes(peak_bytes) + " (" +
                         format_count(tets_in ? peak_bytes / tets_in : 0) + " bytes/input tet); model " +
@@ -631,6 +650,8 @@ namespace {
 struct SimplifyArgs {
   std::string input;
   std::string output;
+  std::string hierarchy;  // --hierarchy
+  std::vector<double> levels_error;  // --levels-error
   double ratio = 0.25;
   std::uint64_t target_vertices = 0;
   double max_cost = 0.0;
@@ -706,6 +727,12 @@ int run_simplify(const SimplifyArgs& args) {
     job.options.field_weights[name] = weight;    // the last one given wins
   }
   job.output_path = args.output;
+  job.hierarchy_path = args.hierarchy;
+  // A hierarchy with fields records each collapse's field error bound (Hierarchy::error_bound), so
+  // that `extract --max-error` and --levels-error select by a guaranteed error, not by a cost.
+  if (!job.hierarchy_path.empty() && !job.input.fields.empty()) job.options.track_field_bounds = true;
+  if (!args.levels_error.empty() && job.hierarchy_path.empty())
+    throw InputError("--levels-error needs --hierarchy H.tth (the levels are extracted from it)");
   job.binary = args.binary;
   job.msh22 = args.msh22;
   job.report_path = args.report;
@@ -714,7 +741,15 @@ int run_simplify(const SimplifyArgs& args) {
   job.quiet = verbosity() == Verbosity::kQuiet;
   job.progress = args.progress;
   job.progress_interval = args.progress_interval;
-  return run_simplify_job(job);
+  const int code = run_simplify_job(job);
+  if (args.levels_error.empty()) return code;
+  // One run, one hierarchy, every level: the levels are extracted, not re-simplified.
+  WriteOptions write_options;
+  write_options.binary = job.binary;
+  write_options.msh22 = job.msh22;
+  std::fprintf(report_stream(), "\nlevels from %s:\n", job.hierarchy_path.c_str());
+  return std::max(code, print_error_levels(read_hierarchy(job.hierarchy_path), job.output_path, args.levels_error,
+                                           write_options));
 }
 
 }  // namespace
@@ -797,6 +832,17 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
   levels->excludes(ratio)->excludes(target);
   // Each level simplifies the previous one's output: its bounds would be against that, not the input.
   for (CLI::Option* bounds_option : {max_field_error, max_field_error_rel, field_bounds}) levels->excludes(bounds_option);
+  cmd->add_option("--hierarchy", args->hierarchy,
+                  "Also record every collapse into this hierarchy file (.tth): `topotet extract` then gives any "
+                  "level, uniform or fine in a volume of interest")
+      ->excludes(levels);
+  cmd->add_option("--levels-error", args->levels_error,
+                  "With --hierarchy: also extract one uniform level per error threshold from it, written as OUT "
+                  "with the threshold before the extension, with a table (the columns of --levels, the field "
+                  "error and its bound)")
+      ->delimiter(',')
+      ->check(number_in(0.0, std::numeric_limits<double>::infinity(), false))
+      ->excludes(levels);
   ratio->excludes(target);
   add_verbosity_flags(cmd);
   cmd->add_option("--progress", args->progress,

@@ -91,9 +91,10 @@ void stencil_of(const TetMesh& mesh, VertId a, VertId b, std::vector<VertId>& ou
 class Rounds {
  public:
   Rounds(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel, FieldBounds* bounds,
-         std::uint64_t target, Report& report)
+         std::uint64_t target, Report& report, CollapseLog* log)
       : mesh_(mesh),
         bounds_(bounds),
+        log_(log),
         options_(options),
         target_(target),
         report_(report),
@@ -367,6 +368,7 @@ class Rounds {
   void apply(RoundStats& stats) {
     std::atomic<std::uint64_t> applied{0};
     applied_cost_.assign(winners_.size(), -1.0);
+    if (log_ != nullptr) log_->begin_batch(winners_.size());
     parallel::for_range<std::size_t>(0, winners_.size(), 16, "apply", [&](std::size_t b, std::size_t e) {
       ThreadScratch& s = scratch_.local();
       std::uint64_t n_applied = 0;
@@ -389,7 +391,12 @@ class Rounds {
           throw std::logic_error("parallel rounds: a verified proposal changed before it was applied");
         const CollapseCandidate& c = cands[chosen];
         cost_.fields_at(mesh_, c, s.fields.data());
-        collapse(mesh_, c.u, c.v, c.p, s.fields.data(), kernel, refs_used_, bounds_);
+        if (log_ != nullptr) log_->record(w, mesh_, c.u, c.v, c.p, s.fields.data(), c.cost);
+        const float star_bound = collapse(mesh_, c.u, c.v, c.p, s.fields.data(), kernel, refs_used_, bounds_);
+        if (log_ != nullptr) {
+          log_->depend(w, kernel.star_u, kernel.star_v);
+          if (bounds_ != nullptr) log_->bound(w, star_bound);
+        }
         cost_.on_collapse(mesh_, c.u, c.v, kernel.star_uv);
         applied_cost_[w] = c.cost;
         ++n_applied;
@@ -401,6 +408,7 @@ class Rounds {
       applied.fetch_add(n_applied, std::memory_order_relaxed);  // a count, read after the join
     });
     stats.collapses = applied.load();
+    if (log_ != nullptr) log_->end_batch();
     for (double c : applied_cost_) report_.max_cost = std::max(report_.max_cost, c);
     report_.collapses += stats.collapses;
     live_ -= stats.collapses;
@@ -465,6 +473,7 @@ class Rounds {
 
   TetMesh& mesh_;
   FieldBounds* bounds_;  // nullptr = none; each collapse updates its own stencil's bounds
+  CollapseLog* log_;     // nullptr unless simplify_with_hierarchy records the collapses
   const SimplifyOptions& options_;
   const std::uint64_t target_;
   Report& report_;
@@ -500,8 +509,8 @@ class Rounds {
 }  // namespace
 
 void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                       FieldBounds* bounds, std::uint64_t target, Report& report) {
-  Rounds rounds(mesh, options, kernel, bounds, target, report);
+                       FieldBounds* bounds, std::uint64_t target, Report& report, CollapseLog* log) {
+  Rounds rounds(mesh, options, kernel, bounds, target, report, log);
   rounds.run();
 }
 

@@ -46,7 +46,7 @@ struct Entry {
 }  // namespace
 
 void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel_options,
-                         FieldBounds* bounds, std::uint64_t target, Report& report) {
+                         FieldBounds* bounds, std::uint64_t target, Report& report, CollapseLog* log) {
   CostModel cost(mesh, options);
   CollapseScratch scratch;
   CollapseCandidate cands[4];
@@ -147,7 +147,16 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
       stencil.erase(std::unique(stencil.begin(), stencil.end()), stencil.end());
       cost.fields_at(mesh, c, fields.data());
       reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
-      collapse(mesh, c.u, c.v, c.p, fields.data(), scratch, refs_used, bounds);
+      if (log != nullptr) {
+        log->begin_batch(1);
+        log->record(0, mesh, c.u, c.v, c.p, fields.data(), c.cost);
+      }
+      const float star_bound = collapse(mesh, c.u, c.v, c.p, fields.data(), scratch, refs_used, bounds);
+      if (log != nullptr) {
+        log->depend(0, scratch.star_u, scratch.star_v);
+        if (bounds != nullptr) log->bound(0, star_bound);
+        log->end_batch();
+      }
       cost.on_collapse(mesh, c.u, c.v, scratch.star_uv);
       report.max_cost = std::max(report.max_cost, c.cost);
       ++report.collapses;

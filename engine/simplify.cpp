@@ -116,11 +116,14 @@ void resolve_vertex_map(const TetMesh& mesh, std::size_t input_count, const std:
   }
 }
 
-Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<VertId>* vertex_map) noexcept {
+// `log` (simplify_with_hierarchy) records the collapses in the renumbered ids; new2old_out then
+// receives the renumbering.
+Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<VertId>* vertex_map,
+                     detail::CollapseLog* log = nullptr, std::vector<VertId>* new2old_out = nullptr) noexcept {
   Report report;
   const auto start = std::chrono::steady_clock::now();
   const std::size_t input_vertex_count = mesh.vertex_capacity();
-  std::vector<VertId> new2old;  // reorder_for_locality's renumbering, kept for the vertex map
+  std::vector<VertId> new2old;  // reorder_for_locality's renumbering, kept for the vertex map and the log
   bool map_done = false;
   try {
     report.message = check_options(options);
@@ -139,7 +142,8 @@ Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<
     target = std::max<std::uint64_t>(target, 4);
     parallel::run_with_threads(options.num_threads, [&] {
       // Neighbours in space become neighbours in memory: every phase walks stars (reorder.h).
-      reorder_for_locality(mesh, vertex_map != nullptr ? &new2old : nullptr);
+      reorder_for_locality(mesh, vertex_map != nullptr || log != nullptr ? &new2old : nullptr);
+      if (new2old_out != nullptr) *new2old_out = new2old;
       if (vertex_map != nullptr) mesh.merged_into.assign(mesh.vertex_capacity(), kInvalid);
       // Before the cost model and the tolerance reference are built: both see the features as
       // polylines (line quadrics; a curve label the tolerance checks).
@@ -175,9 +179,9 @@ Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<
             std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
       }
       if (options.engine == Engine::kSequential)
-        detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report);
+        detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report, log);
       else
-        detail::simplify_parallel(mesh, options, kernel, bounds.get(), target, report);
+        detail::simplify_parallel(mesh, options, kernel, bounds.get(), target, report, log);
       if (bounds != nullptr) {
         report.field_bound = bounds->max_bounds(mesh);
         report.field_bound_rel = bounds->max_bound_rel(mesh);
@@ -236,6 +240,11 @@ Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<
 }
 
 }  // namespace
+
+Report detail::simplify_recorded(TetMesh& mesh, const SimplifyOptions& options, CollapseLog& log,
+                                 std::vector<VertId>& new2old) noexcept {
+  return simplify_impl(mesh, options, nullptr, &log, &new2old);
+}
 
 Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept { return simplify_impl(mesh, options, nullptr); }
 

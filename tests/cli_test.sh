@@ -43,7 +43,7 @@ check_json() {  # check_json FILE KEY
 expect 0 help -- "$topotet" --help
 expect 0 version -- "$topotet" --version
 if grep -Eq '^topotet [0-9]+\.[0-9]+\.[0-9]+$' version.out; then pass "--version prints the version"; else fail "--version: $(cat version.out)"; fi
-for cmd in info generate convert simplify check demo; do
+for cmd in info generate convert simplify check demo extract; do
   expect 0 "help_$cmd" -- "$topotet" "$cmd" --help
 done
 
@@ -213,6 +213,32 @@ if ! grep -q '% after' progress_lines.out; then pass "progress lines: none on st
 expect 0 progress_auto -- "$topotet" simplify in.mesh -o pa.mesh --ratio 0.1 --threads 1 --no-metrics
 if ! grep -q '% after\|\[#' progress_auto.err; then pass "progress auto: silent without a terminal"; else fail "progress auto drew without a terminal"; fi
 expect_error progress_bad -- "$topotet" simplify in.mesh -o pb.mesh --progress sometimes
+
+# --- the collapse hierarchy (issue #16): one run, any level, checked against the original ---
+expect 0 simplify_hierarchy -- "$topotet" simplify in.mesh -o hbase.mesh --ratio 0.1 --threads 2 --no-metrics --hierarchy h.tth
+if grep -q '^hierarchy *h.tth: .* collapses' simplify_hierarchy.out; then pass "simplify reports the hierarchy"; else fail "no hierarchy line"; fi
+expect 0 simplify_hierarchy_1 -- "$topotet" simplify in.mesh -o hbase1.mesh --ratio 0.1 --threads 1 --no-metrics --hierarchy h1.tth
+if cmp -s h.tth h1.tth; then pass "hierarchy file identical for 1 and 2 threads"; else fail "hierarchy file differs between 1 and 2 threads"; fi
+expect 0 extract_vertices -- "$topotet" extract h.tth -o hv.mesh --vertices 2000
+if grep -q '^output *hv.mesh: 2,000 vertices' extract_vertices.out && grep -q '^topology *PASS' extract_vertices.out; then
+  pass "extract --vertices: the count asked for, topology PASS"
+else
+  fail "extract --vertices: $(cat extract_vertices.out)"
+fi
+expect 0 extract_voi -- "$topotet" extract h.tth -o hvoi.msh --voi sphere:0.5,0.5,0.5,0.2 --inside-error 0
+expect 0 extract_voi_check -- "$topotet" check in.mesh hvoi.msh
+expect 0 extract_levels -- "$topotet" extract h.tth -o hl.mesh --levels-error 1e-6,1e-4
+if [[ -s hl_1e-06.mesh && -s hl_0.0001.mesh ]] && [[ $(grep -c PASS extract_levels.out) == 2 ]]; then
+  pass "extract --levels-error: two levels written, both PASS"
+else
+  fail "extract --levels-error: $(ls hl_* 2>&1) $(cat extract_levels.out)"
+fi
+expect_error extract_no_level -- "$topotet" extract h.tth -o x.mesh
+expect_error extract_bad_voi -- "$topotet" extract h.tth -o x.mesh --voi cube:1,2,3
+head -c 100 h.tth > short.tth
+expect_error extract_truncated -- "$topotet" extract short.tth -o x.mesh --vertices 10
+if grep -q 'short.tth: byte [0-9]*: truncated' extract_truncated.err; then pass "truncated .tth: file and offset named"; else fail "truncated .tth: $(cat extract_truncated.err)"; fi
+expect_error extract_not_tth -- "$topotet" extract in.mesh -o x.mesh --vertices 10
 
 # --- no temporary file left behind ---
 leftovers=$(find . -name '*.tmp*' | sort)
