@@ -86,12 +86,13 @@ int print_error_levels(const Hierarchy& h, const std::string& output, std::vecto
   };
   bool all_ok = true;
   std::FILE* out = report_stream();
-  std::fprintf(out, "%10s %6s %10s %10s %9s %9s %10s %18s %9s  %s\n", "error", "%vert", "#vert", "#tets", "rms", "max",
-               "bound", "dihed/solid/face", "extract", "topology");
-  std::fprintf(out, "%10s %6s %10s %10s %9s %9s %10s %18s %9s\n", "0", "100", format_count(original.vertex_count()).c_str(),
-               format_count(original.tet_count()).c_str(), "0", "0", "0", angles(q0).c_str(), "-");
+  std::fprintf(out, "%10s %6s %10s %10s %9s %9s %9s %10s %18s %9s  %s\n", "error", "%vert", "#vert", "#tets", "rms", "max",
+               "max@orig", "bound", "dihed/solid/face", "extract", "topology");
+  std::fprintf(out, "%10s %6s %10s %10s %9s %9s %9s %10s %18s %9s\n", "0", "100",
+               format_count(original.vertex_count()).c_str(), format_count(original.tet_count()).c_str(), "0", "0", "0",
+               "0", angles(q0).c_str(), "-");
   for (double e : levels) {
-    const std::vector<std::uint8_t> applied = select_prefix(h, prefix_for_error(h, e));
+    const std::vector<std::uint8_t> applied = select_error(h, e);
     const Stopwatch clock;
     const MeshData level = extract(h, applied);
     const double seconds = clock.seconds();
@@ -100,17 +101,21 @@ int print_error_levels(const Hierarchy& h, const std::string& output, std::vecto
     all_ok = all_ok && c.ok;
     const FieldError f = compare_fields(original, level);
     const double bound = max_error_bound(h, applied);
+    double at_original = 0.0;  // what the bound covers: the error at the original vertices
+    for (const ComponentError& k : f.components) at_original = std::max(at_original, k.original_to_simplified.max_rel);
     char pct[32];
     std::snprintf(pct, sizeof pct, "%.1f", 100.0 * per(static_cast<double>(level.vertex_count()), original.vertex_count()));
-    std::fprintf(out, "%10s %6s %10s %10s %9s %9s %10s %18s %9s  %s\n", format_number(e).c_str(), pct,
+    std::fprintf(out, "%10s %6s %10s %10s %9s %9s %9s %10s %18s %9s  %s\n", format_number(e).c_str(), pct,
                  format_count(level.vertex_count()).c_str(), format_count(level.tet_count()).c_str(),
                  format_number(f.worst_rms_rel).c_str(), format_number(f.worst_max_rel).c_str(),
+                 format_number(at_original).c_str(),
                  std::isnan(bound) ? "-" : format_number(bound).c_str(), angles(c.quality).c_str(),
                  format_seconds(seconds).c_str(), c.ok ? "PASS" : "FAIL");
     if (!c.ok) std::fprintf(stderr, "level %s: %s", format_number(e).c_str(), c.differences.c_str());
   }
-  std::fprintf(out, "(error = the hierarchy's monotone collapse error; rms/max field error relative to the range; "
-                    "bound = max field error bound, - while unknown; std dev of dihedral and face angles in rad, "
+  std::fprintf(out, "(error = the hierarchy's monotone error: the field error bound when it has bounds, else the collapse cost; rms/max field error relative to the range, both directions; "
+                    "max@orig = the largest error at the original vertices, which the bound covers; bound = max field "
+                    "error bound of the applied collapses, - without bounds; std dev of dihedral and face angles in rad, "
                     "solid angles in sr)\n");
   return all_ok ? kExitOk : kExitCheckFailed;
 }
@@ -145,7 +150,7 @@ int run_extract(const ExtractArgs& args) {
       applied = select_prefix(h, prefix_for_vertices(h, *args.vertices));
       how = "uniform, " + format_count(*args.vertices) + " vertices";
     } else if (args.max_error) {
-      applied = select_prefix(h, prefix_for_error(h, *args.max_error));
+      applied = select_error(h, *args.max_error);
       how = "uniform, error <= " + format_number(*args.max_error);
     } else {
       const VoiClosure closure = args.voi_closure == "coarse" ? VoiClosure::kReachCoarse : VoiClosure::kKeepFine;
@@ -156,7 +161,7 @@ int run_extract(const ExtractArgs& args) {
       for (std::size_t i = 0; i < applied.size(); ++i)
         if (applied[i] && (voi->contains(h.u_before[i]) || voi->contains(h.v_position[i]) || voi->contains(h.u_after[i]))) {
           ++in_voi;
-          above += h.error[i] > args.inside_error;
+          above += collapse_error(h, i) > args.inside_error;
         }
       how += " (" + format_count(in_voi) + " applied in the VOI, " + format_count(above) + " of them above the inside error)";
     }

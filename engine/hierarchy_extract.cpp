@@ -82,10 +82,28 @@ std::size_t prefix_for_error(const Hierarchy& h, double max_error) {
   return static_cast<std::size_t>(std::upper_bound(h.error.begin(), h.error.end(), max_error) - h.error.begin());
 }
 
+double collapse_error(const Hierarchy& h, std::size_t i) {
+  // Hierarchy::error is the running maximum of the per-collapse values: where it equals the
+  // collapse's own bound, that bound is the value; a bounded hierarchy has no NaN.
+  return !h.error_bound.empty() && !std::isnan(h.error_bound[i]) ? static_cast<double>(h.error_bound[i]) : h.cost[i];
+}
+
+std::vector<std::uint8_t> select_error(const Hierarchy& h, double max_error) {
+  std::vector<std::uint8_t> applied(h.collapse_count(), 0);
+  for (std::size_t i = 0; i < applied.size(); ++i) {
+    if (collapse_error(h, i) > max_error) continue;
+    bool parents_applied = true;
+    for (std::uint32_t k = h.parent_offsets[i]; k < h.parent_offsets[i + 1] && parents_applied; ++k)
+      parents_applied = applied[h.parents[k]] != 0;
+    applied[i] = parents_applied;
+  }
+  return applied;
+}
+
 std::vector<std::uint8_t> select_voi(const Hierarchy& h, const Voi& voi, double inside_error, double outside_error,
                                      VoiClosure closure) {
   std::vector<std::uint8_t> applied(h.collapse_count(), 0);
-  auto wanted = [&](std::size_t i) { return h.error[i] <= (touches(h, i, voi) ? inside_error : outside_error); };
+  auto wanted = [&](std::size_t i) { return collapse_error(h, i) <= (touches(h, i, voi) ? inside_error : outside_error); };
   if (closure == VoiClosure::kReachCoarse) {
     // Parents come before their children: one backward pass adds every ancestor.
     for (std::size_t i = applied.size(); i-- > 0;) {

@@ -22,6 +22,7 @@
 #include "topotet/features.h"
 #include "topotet/generate.h"
 #include "topotet/hierarchy.h"
+#include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/simplify.h"
@@ -267,6 +268,58 @@ TEST(Hierarchy, every_substructure_kind_survives_random_levels) {
     expect_valid_level(b.input, input_topology, extract(b.hierarchy, random_closed(b.hierarchy, p, rng)), "slab");
   EXPECT_TRUE(canonical(extract(b.hierarchy, select_prefix(b.hierarchy, b.hierarchy.collapse_count()))) ==
               canonical(b.base));
+}
+
+// With the field bounds tracked (engine/field_bounds.h), every collapse records the bound of its
+// new star, Hierarchy::error becomes their running maximum, and every level, uniform or VOI, has a
+// measured field error at the original vertices no larger than the largest bound of its applied
+// collapses: the levels' errors are guaranteed, not estimated.
+TEST(Hierarchy, levels_by_error_bound_keep_the_measured_error_below_the_bound) {
+  for (Engine engine : {Engine::kParallel, Engine::kSequential}) {
+    GenerateOptions g;
+    g.family = "cube-sphere";
+    g.target_tets = 4000;
+    TetMesh mesh = build_tet_mesh(generate_mesh(g));
+    const MeshData input = mesh.to_mesh_data();
+    ASSERT_FALSE(input.fields.empty());
+    SimplifyOptions options;
+    options.engine = engine;
+    options.target_vertex_ratio = 0.1;
+    options.track_field_bounds = true;
+    Hierarchy h;
+    const Report report = simplify_with_hierarchy(mesh, options, h);
+    ASSERT_TRUE(report.status == Status::kOk || report.status == Status::kStoppedEarly) << report.message;
+    ASSERT_GT(h.collapse_count(), 100u);
+    for (std::size_t i = 0; i < h.collapse_count(); ++i) {
+      ASSERT_FALSE(std::isnan(h.error_bound[i])) << "collapse " << i;
+      EXPECT_EQ(h.error[i], i == 0 ? static_cast<double>(h.error_bound[0])
+                                   : std::max(h.error[i - 1], static_cast<double>(h.error_bound[i])));
+    }
+    const auto check = [&](const std::vector<std::uint8_t>& applied, const std::string& what) {
+      double bound = 0.0;
+      for (std::size_t i = 0; i < applied.size(); ++i)
+        if (applied[i]) bound = std::max(bound, static_cast<double>(h.error_bound[i]));
+      const FieldError error = compare_fields(input, extract(h, applied));
+      for (const ComponentError& c : error.components)
+        EXPECT_LE(c.original_to_simplified.max_rel, bound + 1e-6) << what << ", " << c.field;
+    };
+    const double top = h.error.back();
+    for (double e : {top / 100.0, top / 10.0, top / 2.0, top}) {
+      check(select_prefix(h, prefix_for_error(h, e)), "prefix level, error <= " + std::to_string(e));
+      const std::vector<std::uint8_t> level = select_error(h, e);
+      check(level, "uniform level, error <= " + std::to_string(e));
+      double bound = 0.0;
+      for (std::size_t i = 0; i < level.size(); ++i)
+        if (level[i]) bound = std::max(bound, static_cast<double>(h.error_bound[i]));
+      EXPECT_LE(bound, e);
+      // It applies the prefix and more.
+      const std::size_t prefix = prefix_for_error(h, e);
+      EXPECT_TRUE(std::all_of(level.begin(), level.begin() + static_cast<std::ptrdiff_t>(prefix), [](std::uint8_t a) { return a != 0; }));
+    }
+    const Voi voi = parse_voi("sphere:0.5,0.5,0.5,0.3");
+    check(select_voi(h, voi, top / 100.0, top), "VOI level");
+    check(select_voi(h, voi, top / 100.0, top, VoiClosure::kReachCoarse), "coarse VOI level");
+  }
 }
 
 TEST(Hierarchy, cursor_moves_match_extraction_from_scratch) {

@@ -87,6 +87,13 @@ std::vector<std::uint8_t> select_prefix(const Hierarchy& hierarchy, std::size_t 
 std::size_t prefix_for_vertices(const Hierarchy& hierarchy, std::size_t vertices);
 // The longest prefix whose error (Hierarchy::error) is <= max_error.
 std::size_t prefix_for_error(const Hierarchy& hierarchy, double max_error);
+// A collapse's own error: its error_bound when the hierarchy has bounds, else its cost.
+double collapse_error(const Hierarchy& hierarchy, std::size_t i);
+// Uniform level by error: every collapse whose own error is <= max_error and whose parents are all
+// applied (the largest closed subset). With bounds, every tet of the level then has a field error
+// bound <= max_error; it applies at least the collapses of prefix_for_error's prefix, and usually
+// many more (the collapses' order follows their cost, not their bound).
+std::vector<std::uint8_t> select_error(const Hierarchy& hierarchy, double max_error);
 
 // A volume of interest: a box or a sphere.
 struct Voi {
@@ -101,7 +108,7 @@ struct Voi {
 // "box:x0,y0,z0,x1,y1,z1" or "sphere:x,y,z,r". Throws InputError with the text on bad syntax.
 Voi parse_voi(const std::string& text);
 
-// Selective level: collapse i is wanted iff its error is <= inside_error when it touches the VOI
+// Selective level: collapse i is wanted iff its own error (collapse_error) is <= inside_error when it touches the VOI
 // (u before, v, or u after inside it), else <= outside_error. The wanted set is rarely closed (a
 // coarse collapse outside may depend on a fine one inside), and `closure` decides which side
 // gives way:
