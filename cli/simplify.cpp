@@ -661,6 +661,7 @@ struct SimplifyArgs {
   double max_field_error = 0.0;
   double max_field_error_rel = 0.0;
   bool field_bounds = false;
+  bool no_field_bounds = false;  // --hierarchy without the bounds (cheaper; levels by cost)
   double feature_angle = SimplifyOptions{}.feature_angle;
   std::optional<std::int32_t> feature_ref;
   bool sequential = false;
@@ -730,7 +731,8 @@ int run_simplify(const SimplifyArgs& args) {
   job.hierarchy_path = args.hierarchy;
   // A hierarchy with fields records each collapse's field error bound (Hierarchy::error_bound), so
   // that `extract --max-error` and --levels-error select by a guaranteed error, not by a cost.
-  if (!job.hierarchy_path.empty() && !job.input.fields.empty()) job.options.track_field_bounds = true;
+  if (!job.hierarchy_path.empty() && !job.input.fields.empty() && !args.no_field_bounds)
+    job.options.track_field_bounds = true;
   if (!args.levels_error.empty() && job.hierarchy_path.empty())
     throw InputError("--levels-error needs --hierarchy H.tth (the levels are extracted from it)");
   job.binary = args.binary;
@@ -832,10 +834,16 @@ void add_simplify_command(CLI::App& app, CommandRunner& run) {
   levels->excludes(ratio)->excludes(target);
   // Each level simplifies the previous one's output: its bounds would be against that, not the input.
   for (CLI::Option* bounds_option : {max_field_error, max_field_error_rel, field_bounds}) levels->excludes(bounds_option);
-  cmd->add_option("--hierarchy", args->hierarchy,
-                  "Also record every collapse into this hierarchy file (.tth): `topotet extract` then gives any "
-                  "level, uniform or fine in a volume of interest")
-      ->excludes(levels);
+  auto* hierarchy = cmd->add_option("--hierarchy", args->hierarchy,
+                                    "Also record every collapse into this hierarchy file (.tth): `topotet extract` then "
+                                    "gives any level, uniform or fine in a volume of interest; with fields, each "
+                                    "collapse's field error bound too (levels by a guaranteed error)")
+                        ->excludes(levels);
+  cmd->add_flag("--no-field-bounds", args->no_field_bounds,
+                "With --hierarchy: record no field error bounds (recording then costs a few percent instead of "
+                "~20%; levels by error use the collapse cost)")
+      ->needs(hierarchy)
+      ->excludes(field_bounds);
   cmd->add_option("--levels-error", args->levels_error,
                   "With --hierarchy: also extract one uniform level per error threshold from it, written as OUT "
                   "with the threshold before the extension, with a table (the columns of --levels, the field "

@@ -219,6 +219,16 @@ expect 0 simplify_hierarchy -- "$topotet" simplify in.mesh -o hbase.mesh --ratio
 if grep -q '^hierarchy *h.tth: .* collapses' simplify_hierarchy.out; then pass "simplify reports the hierarchy"; else fail "no hierarchy line"; fi
 expect 0 simplify_hierarchy_1 -- "$topotet" simplify in.mesh -o hbase1.mesh --ratio 0.1 --threads 1 --no-metrics --hierarchy h1.tth
 if cmp -s h.tth h1.tth; then pass "hierarchy file identical for 1 and 2 threads"; else fail "hierarchy file differs between 1 and 2 threads"; fi
+# With fields the hierarchy records each collapse's field error bound; --no-field-bounds records none.
+expect 0 extract_bounded -- "$topotet" extract h.tth -o hb.mesh --levels-error 0.01
+expect 0 simplify_hierarchy_nb -- "$topotet" simplify in.mesh -o hnb.mesh --ratio 0.1 --no-metrics --hierarchy hnb.tth --no-field-bounds
+expect 0 extract_unbounded -- "$topotet" extract hnb.tth -o hnb_l.mesh --levels-error 1e-9
+if awk '$1 == "0.01" {exit !($8 + 0 <= 0.01 && $7 + 0 <= $8 + 0)}' extract_bounded.out &&
+  awk '$1 == "1e-09" {exit !($8 == "-")}' extract_unbounded.out; then
+  pass "levels by bound: error at the original vertices <= bound <= E; --no-field-bounds records none"
+else
+  fail "hierarchy bounds: $(cat extract_bounded.out extract_unbounded.out | head -c 600)"
+fi
 expect 0 extract_vertices -- "$topotet" extract h.tth -o hv.mesh --vertices 2000
 if grep -q '^output *hv.mesh: 2,000 vertices' extract_vertices.out && grep -q '^topology *PASS' extract_vertices.out; then
   pass "extract --vertices: the count asked for, topology PASS"
