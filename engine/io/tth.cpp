@@ -82,6 +82,7 @@ class Reader {
   template <class T>
   void raw(T* data, std::size_t count, const char* what) {
     need(count, sizeof(T), what);
+    if (count == 0) return;  // data() of an empty vector may be null, which memcpy must not get
     std::memcpy(data, bytes_.data() + offset_, count * sizeof(T));
     offset_ += count * sizeof(T);
   }
