@@ -169,7 +169,9 @@ class TetLocator {
     if (!(max_abs < 1e37)) throw InputError("compare_fields: vertex coordinates beyond the float range");
     slack_ = 8.0 * FLT_EPSILON * std::max(max_abs, 1e-30);
     compute_boxes();
-    device_ = rtcNewDevice(nullptr);
+    // One builder thread in the TSan build (parallel::kStdThreads), as in surface_tolerance.cpp:
+    // Embree's own TBB workers are invisible to TSan there.
+    device_ = rtcNewDevice(parallel::kStdThreads ? "threads=1" : nullptr);
     if (device_ == nullptr) throw std::runtime_error("Embree: cannot create a device");
     scene_ = rtcNewScene(device_);
     // A Morton-code build: several times faster to build than the default SAH one, and each

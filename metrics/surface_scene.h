@@ -19,6 +19,7 @@
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
 
+#include "parallel/for_range.h"
 #include "surface_primitives.h"
 
 namespace topotet::metrics::detail {
@@ -85,7 +86,8 @@ class SurfaceScene {
         }
     }
     slack_ = 8.0 * FLT_EPSILON * std::max(max_abs, 1e-30);
-    device_ = rtcNewDevice(nullptr);
+    // One builder thread in the TSan build (parallel::kStdThreads), as in surface_tolerance.cpp.
+    device_ = rtcNewDevice(parallel::kStdThreads ? "threads=1" : nullptr);
     if (device_ == nullptr) throw std::runtime_error("Embree: cannot create a device");
     scene_ = rtcNewScene(device_);
     for (int s = 0; s < 2; ++s) {
