@@ -191,6 +191,7 @@ void log_stage(const std::string& message) {
   std::fprintf(stderr, "topotet: [%s] %s\n", format_seconds(g_process_clock.seconds()).c_str(), message.c_str());
   std::fflush(stderr);
 }
+
 void send_report_to_stderr() { g_report_stream = stderr; }
 
 std::optional<MeshFormat> parse_format(const std::string& name) {
