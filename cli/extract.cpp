@@ -101,8 +101,7 @@ int print_error_levels(const Hierarchy& h, const std::string& output, std::vecto
     all_ok = all_ok && c.ok;
     const FieldError f = compare_fields(original, level);
     const double bound = max_error_bound(h, applied);
-    double at_original = 0.0;  // what the bound covers: the error at the original vertices
-    for (const ComponentError& k : f.components) at_original = std::max(at_original, k.original_to_simplified.max_rel);
+    const double at_original = f.worst_max_rel_at_original();  // what the bound covers
     char pct[32];
     std::snprintf(pct, sizeof pct, "%.1f", 100.0 * per(static_cast<double>(level.vertex_count()), original.vertex_count()));
     std::fprintf(out, "%10s %6s %10s %10s %9s %9s %9s %10s %18s %9s  %s\n", format_number(e).c_str(), pct,

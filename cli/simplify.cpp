@@ -94,13 +94,6 @@ Json field_error_json(const FieldError& f) {
           {"unmatched_fields", f.unmatched_fields}};
 }
 
-// The largest error measured at the original vertices (the samples the bounds cover), relative to
-// each component's range, worst component.
-double measured_at_original_vertices(const FieldError& f) {
-  double worst = 0.0;
-  for (const ComponentError& c : f.components) worst = std::max(worst, c.original_to_simplified.max_rel);
-  return worst;
-}
 
 Json field_bounds_json(const LevelResult& l) {
   const Report& r = l.report;
@@ -119,7 +112,7 @@ Json field_bounds_json(const LevelResult& l) {
   }
   return {{"max_bound_rel", r.field_bound_rel},
           {"components", components},
-          {"measured_max_rel", l.field_error ? Json(measured_at_original_vertices(*l.field_error)) : Json(nullptr)},
+          {"measured_max_rel", l.field_error ? Json(l.field_error->worst_max_rel_at_original()) : Json(nullptr)},
           // The bound covers these only up to the tet they were attached to (engine/field_bounds.h).
           {"original_vertices_outside",
            l.field_error ? Json(l.field_error->original_in_simplified.outside) : Json(nullptr)},
@@ -564,7 +557,7 @@ int run_simplify_job(SimplifyJob& job) {
         if (job.options.max_field_error_rel > 0)
           limit += (limit.empty() ? "" : " and ") + format_number(job.options.max_field_error_rel) + " of the range";
         row("bounds", "field error bound " + format_number(r.field_bound_rel) + " (relative to the range, worst component)" +
-                          (last.field_error ? ", measured " + format_number(measured_at_original_vertices(*last.field_error)) +
+                          (last.field_error ? ", measured " + format_number(last.field_error->worst_max_rel_at_original()) +
                                                   " at the original vertices"
                                             : "") +
                           (last.field_error && last.field_error->original_in_simplified.outside > 0

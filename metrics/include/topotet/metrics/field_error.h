@@ -72,6 +72,14 @@ struct FieldError {
   LocationStats simplified_in_original;       // simplified vertices located in the original mesh
   double worst_rms_rel = 0.0;  // max over components of rms_both_rel
   double worst_max_rel = 0.0;  // max over components and both directions of max_rel
+  // The largest error at the original vertices (original_to_simplified.max_rel, worst component):
+  // what the per-tet field error bounds (SimplifyOptions::track_field_bounds) cover.
+  double worst_max_rel_at_original() const {
+    double worst = 0.0;
+    for (const ComponentError& c : components)
+      if (c.original_to_simplified.max_rel > worst) worst = c.original_to_simplified.max_rel;
+    return worst;
+  }
   friend bool operator==(const FieldError&, const FieldError&) = default;
 };
 
