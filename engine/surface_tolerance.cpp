@@ -106,6 +106,9 @@ struct Query {
   double slack;
   bool stop_at_first;  // within(): any hit answers the question
   bool found = false;
+  // within_one(): the primitive must be within sqrt(best2) of each of these points, not of p.
+  const glm::dvec3* corners = nullptr;
+  int corner_count = 0;
 };
 
 float radius_for(double distance, double slack) {
@@ -117,6 +120,22 @@ bool on_primitive(RTCPointQueryFunctionArguments* args) {
   if (args->geomID != q->geometry) return false;  // another label: filtered out
   const std::uint32_t k = (*q->primitives)[q->geometry][args->primID];
   const auto& P = q->soup->positions;
+  if (q->corners != nullptr) {
+    for (int i = 0; i < q->corner_count; ++i) {
+      double d2;
+      if (q->is_segment) {
+        const auto& sg = q->soup->segments[k];
+        d2 = squared_distance_to_segment(q->corners[i], P[sg[0]], P[sg[1]]);
+      } else {
+        const auto& t = q->soup->triangles[k];
+        d2 = squared_distance_to_triangle(q->corners[i], P[t[0]], P[t[1]], P[t[2]]);
+      }
+      if (d2 > q->best2) return false;
+    }
+    q->found = true;
+    args->query->radius = 0.0f;
+    return true;
+  }
   double d2;
   if (q->is_segment) {
     const auto& s = q->soup->segments[k];
@@ -207,15 +226,18 @@ int SurfaceReference::polyline_label_id(std::int32_t ref) const {
 namespace {
 
 double run_query(const SurfaceSoup& soup, const std::vector<std::vector<std::uint32_t>>& primitives, RTCScene scene,
-                 const glm::dvec3& p, int label, double radius, double slack, bool stop_at_first, bool* found) {
+                 const glm::dvec3& p, int label, double radius, double slack, bool stop_at_first, bool* found,
+                 const glm::dvec3* corners = nullptr, int corner_count = 0, double search_radius = 0.0) {
   Query q{&soup, &primitives, static_cast<unsigned>(label), label >= static_cast<int>(soup.face_labels), p,
           radius * radius, slack, stop_at_first};
+  q.corners = corners;
+  q.corner_count = corner_count;
   RTCPointQuery query;
   query.x = static_cast<float>(p.x);
   query.y = static_cast<float>(p.y);
   query.z = static_cast<float>(p.z);
   query.time = 0.0f;
-  query.radius = radius_for(radius, slack);
+  query.radius = radius_for(corners != nullptr ? search_radius : radius, slack);
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
   rtcPointQuery(scene, &query, &context, on_primitive, &q);
@@ -229,6 +251,20 @@ bool SurfaceReference::within(const glm::dvec3& p, int label, double h) const {
   if (label < 0 || static_cast<std::size_t>(label) >= embree_->primitives.size()) return false;
   bool found = false;
   run_query(soup_, embree_->primitives, embree_->scene, p, label, h, slack_, true, &found);
+  return found;
+}
+
+bool SurfaceReference::within_one(const glm::dvec3* corners, int count, int label, double h) const {
+  if (label < 0 || static_cast<std::size_t>(label) >= embree_->primitives.size() || count <= 0) return false;
+  glm::dvec3 centre(0.0);
+  for (int i = 0; i < count; ++i) centre += corners[i];
+  centre /= static_cast<double>(count);
+  double r2 = 0.0;
+  for (int i = 0; i < count; ++i) r2 = std::max(r2, glm::dot(corners[i] - centre, corners[i] - centre));
+  // A primitive within h of every corner is within h + r of the centre.
+  bool found = false;
+  run_query(soup_, embree_->primitives, embree_->scene, centre, label, h, slack_, true, &found, corners, count,
+            h + std::sqrt(r2));
   return found;
 }
 
@@ -466,6 +502,59 @@ bool old_point_covered(const glm::dvec3& old, int label, double h2, const Prims&
   return !any;
 }
 
+// The forward check of a whole new triangle (segment): is EVERY point of it within h of the
+// original surface (polyline, border curve) of `label`? The distance to a fixed set is
+// 1-Lipschitz, so a piece whose centre c is within h - r, r the distance from c to the piece's
+// farthest corner, lies within h everywhere. A piece that fails this test is refused at once when
+// c itself is farther than h (a point of the new surface is out), and otherwise split (a triangle
+// in four at its edge midpoints, a segment in two), coarse pieces before fine ones. The split
+// stops at pieces of r < h / 8 (kFinestPiece) or after kPieceBudget pieces: the placement is then
+// refused. So "yes" is always a proof; the price is refusing a few placements whose surface comes
+// within h / 8 of the limit, and the work per triangle is bounded. Most triangles pass at once or
+// after one split: on coarse levels a triangle is a few h long and lies much closer than h.
+constexpr double kFinestPiece = 1.0 / 8.0;
+constexpr int kPieceBudget = 64;
+
+bool triangle_within(const SurfaceReference& reference, const glm::dvec3& a, const glm::dvec3& b,
+                     const glm::dvec3& c, int label, double h) {
+  std::array<std::array<glm::dvec3, 3>, kPieceBudget> pieces;  // a FIFO: coarse pieces first
+  int head = 0, tail = 0;
+  pieces[tail++] = {a, b, c};
+  while (head < tail) {
+    const auto [x, y, z] = pieces[head++];
+    const glm::dvec3 centre = (x + y + z) / 3.0;
+    const double r = std::sqrt(std::max({glm::dot(x - centre, x - centre), glm::dot(y - centre, y - centre),
+                                         glm::dot(z - centre, z - centre)}));
+    if (r < h && reference.within(centre, label, h - r)) continue;
+    if (reference.within_one(pieces[head - 1].data(), 3, label, h)) continue;
+    if (r < kFinestPiece * h || tail + 4 > kPieceBudget || !reference.within(centre, label, h)) return false;
+    const glm::dvec3 xy = 0.5 * (x + y), yz = 0.5 * (y + z), zx = 0.5 * (z + x);
+    pieces[tail++] = {x, xy, zx};
+    pieces[tail++] = {xy, y, yz};
+    pieces[tail++] = {zx, yz, z};
+    pieces[tail++] = {xy, yz, zx};
+  }
+  return true;
+}
+
+bool segment_within(const SurfaceReference& reference, const glm::dvec3& a, const glm::dvec3& b, int label,
+                    double h) {
+  std::array<std::array<glm::dvec3, 2>, kPieceBudget> pieces;
+  int head = 0, tail = 0;
+  pieces[tail++] = {a, b};
+  while (head < tail) {
+    const auto [x, y] = pieces[head++];
+    const glm::dvec3 centre = 0.5 * (x + y);
+    const double r = 0.5 * std::sqrt(glm::dot(y - x, y - x));
+    if (r < h && reference.within(centre, label, h - r)) continue;
+    if (reference.within_one(pieces[head - 1].data(), 2, label, h)) continue;
+    if (r < kFinestPiece * h || tail + 2 > kPieceBudget || !reference.within(centre, label, h)) return false;
+    pieces[tail++] = {x, centre};
+    pieces[tail++] = {centre, y};
+  }
+  return true;
+}
+
 }  // namespace
 
 bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& reference, double h, VertId u,
@@ -493,7 +582,8 @@ bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& ref
     s.new_edges.push_back({{p, P[e.v[0] == u || e.v[0] == v ? e.v[1] : e.v[0]]}, e.label});
   }
 
-  // Forward: the samples of the new surface near the original one. p first, once per label.
+  // Forward: every point of the new surface near the original one. p first, once per label: it
+  // refuses most placements with one query.
   int last_label = -1;
   for (const SurfaceStencil::NewFace& f : s.new_faces) {
     if (f.label != last_label && !reference.within(p, f.label, h)) return false;
@@ -501,24 +591,10 @@ bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& ref
   }
   for (const SurfaceStencil::NewEdge& e : s.new_edges)
     if (!reference.within(p, e.label, h)) return false;
-  for (const SurfaceStencil::NewFace& f : s.new_faces) {
-    const auto& q = f.pts;
-    if (!reference.within((q[0] + q[1] + q[2]) / 3.0, f.label, h)) return false;
-    // Barycentric grid of n subdivisions per edge, n = 2 (edge midpoints) for triangles up to 4h
-    // long, up to 4 for larger ones: the unchecked gap between samples shrinks with them. Points
-    // on the unmoved edge xy (checked when it was made) are skipped.
-    const double longest = std::sqrt(std::max({glm::dot(q[1] - q[0], q[1] - q[0]), glm::dot(q[2] - q[0], q[2] - q[0]),
-                                               glm::dot(q[2] - q[1], q[2] - q[1])}));
-    const int n = longest <= 4.0 * h ? 2 : (longest <= 8.0 * h ? 3 : 4);
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; i + j < n; ++j) {  // i + j == n is the edge xy
-        if (i == 0 && j == 0) continue;  // p itself, checked above
-        const glm::dvec3 x = q[0] + (q[1] - q[0]) * (double(i) / n) + (q[2] - q[0]) * (double(j) / n);
-        if (!reference.within(x, f.label, h)) return false;
-      }
-  }
+  for (const SurfaceStencil::NewFace& f : s.new_faces)
+    if (!triangle_within(reference, f.pts[0], f.pts[1], f.pts[2], f.label, h)) return false;
   for (const SurfaceStencil::NewEdge& e : s.new_edges)
-    if (!reference.within(0.5 * (e.pts[0] + e.pts[1]), e.label, h)) return false;
+    if (!segment_within(reference, e.pts[0], e.pts[1], e.label, h)) return false;
   // Border edges p-x: every face containing the new edge contains p, so all are in new_faces.
   for (const SurfaceStencil::NewFace& f : s.new_faces)
     for (int k = 0; k < 2; ++k) {
@@ -526,8 +602,7 @@ bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& ref
       for (const SurfaceStencil::NewFace& g : s.new_faces)
         count += g.label == f.label && (g.others[0] == f.others[k] || g.others[1] == f.others[k]) ? 1 : 0;
       if (count != 1) continue;
-      const int border = reference.border_label_id(f.label);
-      if (!reference.within(p, border, h) || !reference.within(0.5 * (p + f.pts[1 + k]), border, h)) return false;
+      if (!segment_within(reference, p, f.pts[1 + k], reference.border_label_id(f.label), h)) return false;
     }
 
   // Reverse: the points that leave the surface (u's and v's old positions) stay near the new one.

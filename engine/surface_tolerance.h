@@ -19,29 +19,27 @@
 // The kernel check (placement_within_tolerance, called by first_acceptable in collapse.cpp) for
 // v merged into u, u moved to p, with h the tolerance. For every special face (polyline edge) of
 // St(u) ∪ St(v) that survives the collapse and moves (contains exactly one of u, v):
-//   forward   these sample points of the new triangle p x y must be within h of the original
-//             surface of the face's label: p, the centroid, and the points of a barycentric grid
-//             of n subdivisions per edge off the unmoved edge xy (n = 2, the midpoints of px and
-//             py, for triangles up to 4h long; 3 up to 8h; 4 beyond); of a new segment p x: p and
-//             the midpoint; and when px is on the border of
-//             its label's surface (one face of that label: the rim of an open surface, or a seam
-//             between two labels), p and the midpoint must be within h of the original border;
+//   forward   EVERY point of the new triangle p x y must be within h of the original surface of
+//             the face's label: the distance to a fixed set is 1-Lipschitz, so a piece of the
+//             triangle whose centre is within h - r (r: centre to farthest corner) is within h
+//             everywhere; pieces that fail are split in four, down to r = h / 8 or 64 pieces,
+//             where the placement is refused (surface_tolerance.cpp, triangle_within). Likewise every point
+//             of a new segment p x, and, when px is on the border of its label's surface (one face
+//             of that label: the rim of an open surface, or a seam between two labels), every point
+//             of px against the original border;
 //   reverse   the old positions of u and v (when they differ from p) must be within h of the new
 //             triangles (segments) around p of every label they carried.
-// What this guarantees, by induction over the collapses:
-//   - every vertex, centroid and edge midpoint of the simplified boundary, interfaces and listed
-//     surfaces is within h of the original surface of its label (and likewise for polylines).
-//     (The corners and edge midpoints of a triangle are checked when its edges are made.) Other
-//     points of a triangle are within h + r, r their distance to the nearest sample (distance is
-//     1-Lipschitz): r <= longest edge / (n sqrt 3). On smooth surfaces the distance of a chord
-//     peaks near the centroid; on rough ones (the jittered generated interfaces) the measured
-//     simplified -> original distance exceeded h by up to ~20% before the grid was refined;
-//   - each removed vertex was within h of the surface around the vertex that replaced it, at the
-//     moment of its removal. It is not re-checked when that surface moves again later, so the
-//     original -> simplified direction is only bounded through the forward checks: a closed
-//     surface (or one whose rim is checked as a border curve) that stays within h of the original
-//     cannot leave part of the original uncovered by much more than h without changing topology,
-//     but this is not a proof; the metric (metrics/surface_distance.h) measures both directions.
+// What this guarantees, by induction over the collapses (every face a collapse changes contains p,
+// so every changed face is checked whole, and unchanged faces are original):
+//   - simplified -> original: every point of the simplified boundary, interfaces, listed surfaces,
+//     polylines and label borders is within h of the original of its label. This is a proof, not
+//     a sampling: an independent dense measurement can only find less;
+//   - original -> simplified: each removed vertex was within h of the surface around the vertex
+//     that replaced it, at the moment of its removal. It is not re-checked when that surface moves
+//     again later, so this direction is bounded only through the forward check: a closed surface
+//     (or one whose rim is checked as a border curve) that stays within h of the original cannot
+//     leave part of the original uncovered by much more than h without changing topology, but
+//     this is not a proof; the metric (metrics/surface_distance.h) measures both directions.
 // Faces whose label does not exist in the original (cannot happen with the link conditions on;
 // a safety net) are refused. An interior vertex may not absorb a surface vertex (the cost model
 // never proposes it: it keeps the vertex of higher order), so that the per-vertex "on a surface"
@@ -107,6 +105,9 @@ class SurfaceReference {
 
   // Is some primitive of `label` (a geometry id) within distance h of p? Stops at the first hit.
   bool within(const glm::dvec3& p, int label, double h) const;
+  // Is one primitive of `label` within h of every one of the `count` points? Then, the distance to
+  // a fixed triangle (segment) being convex, the whole triangle (segment) they span is within h.
+  bool within_one(const glm::dvec3* corners, int count, int label, double h) const;
   // Distance from p to the closest primitive of `label`, or +infinity if none is within max_distance.
   double distance(const glm::dvec3& p, int label, double max_distance) const;
 
