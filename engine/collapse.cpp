@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <span>
+#include <stdexcept>
 
 #include "orient.h"
 #include "prefetch.h"
@@ -253,7 +254,9 @@ bool within_tolerance(const TetMesh& mesh, const Placement& pl, const CollapseOp
     gather_surface_stencil(mesh, reference, pl.u, pl.v, s.star_u, s.star_v, s.star_uv, s.surface);
     surface_edge = edge;
   }
-  return placement_within_tolerance(mesh, reference, options.tolerance, pl.u, pl.v, pl.p, s.surface);
+  if (!placement_within_tolerance(mesh, reference, options.tolerance, pl.u, pl.v, pl.p, s.surface)) return false;
+  return options.coverage == nullptr ||
+         options.coverage->place(mesh, pl.u, pl.v, s.star_u, s.star_v, s.star_uv, s.surface, s.coverage);
 }
 
 // The new star as the field bounds see it (the tets that survive, with their moving corner).
@@ -363,8 +366,17 @@ void reserve_refs_headroom(TetMesh& mesh, std::uint32_t refs_used, std::size_t c
 }
 
 float collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
-               CollapseScratch& s, std::uint32_t& refs_used, FieldBounds* bounds) {
+               CollapseScratch& s, std::uint32_t& refs_used, FieldBounds* bounds, SurfaceCoverage* coverage) {
   gather_stars(mesh, u, v, s);
+  // The original surface items of the faces that move, placed on the new faces and stored now:
+  // they are keyed by tet ids and local faces, which the collapse keeps.
+  if (coverage != nullptr && coverage->reference().on_surface(u)) {
+    gather_surface_stencil(mesh, coverage->reference(), u, v, s.star_u, s.star_v, s.star_uv, s.surface);
+    if (!new_surface_around(mesh, u, v, p, s.surface) ||
+        !coverage->place(mesh, u, v, s.star_u, s.star_v, s.star_uv, s.surface, s.coverage))
+      throw std::logic_error("collapse: a placement the check accepted leaves the original surface uncovered");
+    coverage->commit(mesh, u, v, s.star_u, s.star_v, s.star_uv, s.coverage);
+  }
   // 0. The field bounds of the new star, from the mesh as it is (nothing written yet); stored at once:
   //    they are keyed by tet ids, which the collapse keeps.
   float star_bound = 0.0f;

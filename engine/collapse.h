@@ -19,6 +19,7 @@
 
 #include "field_bounds.h"
 #include "link_condition.h"
+#include "surface_coverage.h"
 #include "surface_tolerance.h"
 #include "topotet/tet_mesh.h"
 
@@ -45,6 +46,10 @@ struct CollapseOptions {
   // reference is immutable, so the check is thread-safe.
   const SurfaceReference* surfaces = nullptr;
   double tolerance = 0.0;
+  // With the reference, the original surfaces' items (surface_coverage.h): a placement must find
+  // a new face for each item it moves. Read by the check, updated by collapse(), which the
+  // engines give this same pointer.
+  SurfaceCoverage* coverage = nullptr;
   // Optional field error bounds (field_bounds.h): with them, a placement whose new star would have
   // a bound above its limit is refused (kFieldError). Checked after everything else (it locates
   // every sample of the stencil), and only when a limit is set; read-only here, updated by
@@ -98,6 +103,7 @@ struct CollapseScratch {
   std::vector<TetId> merged;
   std::vector<VertId> link_vertices;  // vertices of St(uv) other than u, v
   SurfaceStencil surface;  // the tolerance check's faces and edges at u, v
+  CoverageScratch coverage;
   FieldBoundsScratch bounds;
 };
 
@@ -138,8 +144,11 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
 // With `bounds`, the samples of the stencil move to the new star and its tets get their new
 // bounds (inside the stencil too); returns the largest of them relative to its component's range
 // (FieldBounds::commit), 0 without bounds.
+// With `coverage`, the original surface items held by faces through u or v move to the new faces
+// (surface_coverage.h); the check must have accepted the placement with the same coverage.
 float collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
-               CollapseScratch& scratch, std::uint32_t& refs_used, FieldBounds* bounds = nullptr);
+               CollapseScratch& scratch, std::uint32_t& refs_used, FieldBounds* bounds = nullptr,
+               SurfaceCoverage* coverage = nullptr);
 
 // Grows mesh.refs_table so that `count` more slots can be taken after `refs_used`.
 void reserve_refs_headroom(TetMesh& mesh, std::uint32_t refs_used, std::size_t count);

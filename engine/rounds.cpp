@@ -94,6 +94,7 @@ class Rounds {
          std::uint64_t target, Report& report, CollapseLog* log)
       : mesh_(mesh),
         bounds_(bounds),
+        coverage_(kernel.coverage),
         log_(log),
         options_(options),
         target_(target),
@@ -392,7 +393,7 @@ class Rounds {
         const CollapseCandidate& c = cands[chosen];
         cost_.fields_at(mesh_, c, s.fields.data());
         if (log_ != nullptr) log_->record(w, mesh_, c.u, c.v, c.p, s.fields.data(), c.cost);
-        const float star_bound = collapse(mesh_, c.u, c.v, c.p, s.fields.data(), kernel, refs_used_, bounds_);
+        const float star_bound = collapse(mesh_, c.u, c.v, c.p, s.fields.data(), kernel, refs_used_, bounds_, coverage_);
         if (log_ != nullptr) {
           log_->depend(w, kernel.star_u, kernel.star_v);
           if (bounds_ != nullptr) log_->bound(w, star_bound);
@@ -473,6 +474,7 @@ class Rounds {
 
   TetMesh& mesh_;
   FieldBounds* bounds_;  // nullptr = none; each collapse updates its own stencil's bounds
+  SurfaceCoverage* coverage_;  // nullptr = none; each collapse moves its own stencil's surface items
   CollapseLog* log_;     // nullptr unless simplify_with_hierarchy records the collapses
   const SimplifyOptions& options_;
   const std::uint64_t target_;

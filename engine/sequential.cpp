@@ -151,7 +151,7 @@ void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const Co
         log->begin_batch(1);
         log->record(0, mesh, c.u, c.v, c.p, fields.data(), c.cost);
       }
-      const float star_bound = collapse(mesh, c.u, c.v, c.p, fields.data(), scratch, refs_used, bounds);
+      const float star_bound = collapse(mesh, c.u, c.v, c.p, fields.data(), scratch, refs_used, bounds, kernel_options.coverage);
       if (log != nullptr) {
         log->depend(0, scratch.star_u, scratch.star_v);
         if (bounds != nullptr) log->bound(0, star_bound);

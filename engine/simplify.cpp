@@ -2,6 +2,7 @@
 // budget, compacts the result and fills the report. Never throws.
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -156,11 +157,16 @@ Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<
       kernel.quality_floor = options.min_quality;
       // The original surfaces, built before the first collapse and shared read-only by all threads.
       std::unique_ptr<SurfaceReference> surfaces;
+      std::unique_ptr<SurfaceCoverage> coverage;
       report.tolerance = options.tolerance > 0.0 ? options.tolerance : options.tolerance_rel * bounding_box_diagonal(mesh);
       if (report.tolerance > 0.0) {
         const auto setup_start = std::chrono::steady_clock::now();
         surfaces = SurfaceReference::from_mesh(mesh);
+        // Patches within h/4 of a plane: large new triangles over them are proved in one step.
+        surfaces->build_flat_patches(0.25 * report.tolerance);
+        coverage = std::make_unique<SurfaceCoverage>(mesh, *surfaces, report.tolerance);
         kernel.surfaces = surfaces.get();
+        if (!std::getenv("TT_NOCOV")) kernel.coverage = coverage.get();
         kernel.tolerance = report.tolerance;
         report.tolerance_setup_seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();

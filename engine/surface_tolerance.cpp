@@ -11,6 +11,7 @@
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
 
+#include "flat_patches.h"
 #include "parallel/for_range.h"
 
 namespace topotet {
@@ -73,7 +74,13 @@ struct SurfaceReference::Embree {
   std::vector<std::vector<std::uint32_t>> indices;    // [face label] triangle vertex triples
   std::vector<std::vector<std::uint32_t>> primitives; // [geometry] primID -> soup triangle/segment
   std::vector<SegmentGeometry> segment_data;          // [polyline label] user data
+  // Flat patches (build_flat_patches): their boundary edges as one user geometry in a scene of
+  // their own, filtered by patch in the callback.
+  RTCScene patch_scene = nullptr;
+  std::vector<std::vector<std::uint32_t>> patch_primitives;  // [0] primID -> boundary edge
+  std::vector<SegmentGeometry> patch_data;
   ~Embree() {
+    if (patch_scene != nullptr) rtcReleaseScene(patch_scene);
     if (scene != nullptr) rtcReleaseScene(scene);
     if (device != nullptr) rtcReleaseDevice(device);
   }
@@ -95,6 +102,32 @@ void segment_bounds(const RTCBoundsFunctionArguments* args) {
   o->upper_z = std::max(a[2], b[2]);
 }
 
+// The shadow of a piece of a new triangle on a patch plane, in 2D coordinates of the plane (see
+// SurfaceReference::within_by_patch): does a segment's shadow enter it deeper than eps?
+struct ShadowTriangle {
+  glm::dvec3 origin, e1, e2;              // the plane's frame
+  std::array<std::array<double, 2>, 3> t;  // the piece's corners, counter-clockwise
+  std::array<std::array<double, 3>, 3> edge;  // unit inward normal (x, y) and offset per edge
+  double eps;
+  std::array<double, 2> to2d(const glm::dvec3& x) const {
+    return {glm::dot(x - origin, e1), glm::dot(x - origin, e2)};
+  }
+  // Clips the segment to the triangle shrunk by eps (Cyrus-Beck): anything left enters it.
+  bool entered_by(const glm::dvec3& a3, const glm::dvec3& b3) const {
+    const auto a = to2d(a3), b = to2d(b3);
+    double lo = 0.0, hi = 1.0;
+    for (const auto& e : edge) {
+      const double da = e[0] * a[0] + e[1] * a[1] - e[2] - eps;  // >= 0 inside
+      const double db = e[0] * b[0] + e[1] * b[1] - e[2] - eps;
+      if (da < 0.0 && db < 0.0) return false;
+      if (da < 0.0) lo = std::max(lo, da / (da - db));
+      if (db < 0.0) hi = std::min(hi, da / (da - db));
+      if (lo > hi) return false;
+    }
+    return true;
+  }
+};
+
 // State of one query, on the caller's stack (this is what makes queries thread-safe).
 struct Query {
   const SurfaceSoup* soup;
@@ -106,6 +139,13 @@ struct Query {
   double slack;
   bool stop_at_first;  // within(): any hit answers the question
   bool found = false;
+  std::uint32_t best_primitive = kInvalid;  // soup triangle (segment) of the best hit
+  // Patch boundary queries: the segments are the patches' boundary edges, only those of `patch`.
+  const std::vector<std::array<VertId, 2>>* segments = nullptr;
+  const std::vector<std::uint32_t>* segment_patch = nullptr;
+  std::uint32_t patch = 0;
+  // within_by_patch: a boundary edge counts only if its shadow enters the piece's shadow.
+  const struct ShadowTriangle* shadow = nullptr;
   // within_one(): the primitive must be within sqrt(best2) of each of these points, not of p.
   const glm::dvec3* corners = nullptr;
   int corner_count = 0;
@@ -120,6 +160,14 @@ bool on_primitive(RTCPointQueryFunctionArguments* args) {
   if (args->geomID != q->geometry) return false;  // another label: filtered out
   const std::uint32_t k = (*q->primitives)[q->geometry][args->primID];
   const auto& P = q->soup->positions;
+  if (q->segment_patch != nullptr && (*q->segment_patch)[k] != q->patch) return false;
+  if (q->shadow != nullptr) {
+    const auto& sg = (*q->segments)[k];
+    if (!q->shadow->entered_by(P[sg[0]], P[sg[1]])) return false;
+    q->found = true;
+    args->query->radius = 0.0f;
+    return true;
+  }
   if (q->corners != nullptr) {
     for (int i = 0; i < q->corner_count; ++i) {
       double d2;
@@ -138,7 +186,7 @@ bool on_primitive(RTCPointQueryFunctionArguments* args) {
   }
   double d2;
   if (q->is_segment) {
-    const auto& s = q->soup->segments[k];
+    const auto& s = (q->segments != nullptr ? *q->segments : q->soup->segments)[k];
     d2 = squared_distance_to_segment(q->p, P[s[0]], P[s[1]]);
   } else {
     const auto& t = q->soup->triangles[k];
@@ -147,6 +195,7 @@ bool on_primitive(RTCPointQueryFunctionArguments* args) {
   if (d2 > q->best2 || (q->found && d2 == q->best2)) return false;
   q->best2 = d2;
   q->found = true;
+  q->best_primitive = k;
   args->query->radius = q->stop_at_first ? 0.0f : radius_for(std::sqrt(d2), q->slack);
   return true;
 }
@@ -276,6 +325,173 @@ double SurfaceReference::distance(const glm::dvec3& p, int label, double max_dis
   return found ? std::sqrt(d2) : std::numeric_limits<double>::infinity();
 }
 
+void SurfaceReference::build_flat_patches(double max_deviation) {
+  patches_ = std::make_unique<FlatPatches>(find_flat_patches(soup_, max_deviation));
+  Embree& e = *embree_;
+  if (e.patch_scene != nullptr) rtcReleaseScene(e.patch_scene);
+  e.patch_scene = rtcNewScene(e.device);
+  e.patch_primitives.assign(1, {});
+  e.patch_primitives[0].resize(patches_->boundary.size());
+  for (std::uint32_t i = 0; i < patches_->boundary.size(); ++i) e.patch_primitives[0][i] = i;
+  e.patch_data.assign(1, SegmentGeometry{&e.vertices, &patches_->boundary, &e.patch_primitives[0]});
+  RTCGeometry geom = rtcNewGeometry(e.device, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(geom, static_cast<unsigned>(patches_->boundary.size()));
+  rtcSetGeometryUserData(geom, &e.patch_data[0]);
+  rtcSetGeometryBoundsFunction(geom, segment_bounds, nullptr);
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(e.patch_scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(e.patch_scene);
+  if (rtcGetDeviceError(e.device) != RTC_ERROR_NONE) throw std::runtime_error("Embree: building the patch scene failed");
+}
+
+bool SurfaceReference::within_by_patch(const std::array<glm::dvec3, 3>& q, int label, double h) const {
+  if (!patches_ || label < 0 || static_cast<std::uint32_t>(label) >= soup_.face_labels) return false;
+  const glm::dvec3 c = (q[0] + q[1] + q[2]) / 3.0;
+  double r2 = 0.0;
+  for (const glm::dvec3& x : q) r2 = std::max(r2, glm::dot(x - c, x - c));
+  // The original triangle nearest to the centre gives the patch to project on.
+  Query near{&soup_, &embree_->primitives, static_cast<unsigned>(label), false, c, h * h, slack_, false};
+  {
+    RTCPointQuery query{static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z), 0.0f,
+                        radius_for(h, slack_)};
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    rtcPointQuery(embree_->scene, &query, &context, on_primitive, &near);
+  }
+  if (!near.found) return false;
+  const std::uint32_t pid = patches_->patch_of[near.best_primitive];
+  const FlatPatches::Patch& patch = patches_->patches[pid];
+  if (!(patch.deviation < h)) return false;
+  // The bound: distance to the plane (convex: its largest value is at a corner) plus deviation
+  // (plus the rim allowance below).
+  // The piece's shadow must lie in the patch's shadow. The patch does not fold (flat_patches.h),
+  // so the boundary of its shadow lies in the shadow of its boundary edges: it is enough that one
+  // point of the piece's shadow (the centre's) lies in the shadow of a patch triangle (the
+  // nearest one) and that no boundary edge's shadow enters the piece's shadow. "Enters" means
+  // deeper than eps: an edge that runs along the piece's own edge (a piece touching the rim of a
+  // box face) does not count, and the points this leaves unproved lie within eps / sin(a / 2)
+  // (a: the smallest angle of the shadow) of proved ones, which the bound pays for below.
+  ShadowTriangle shadow;
+  shadow.origin = c - (glm::dot(patch.normal, c) - patch.offset) * patch.normal;
+  shadow.e1 = glm::normalize(std::abs(patch.normal.x) < 0.9 ? glm::cross(patch.normal, glm::dvec3(1, 0, 0))
+                                                             : glm::cross(patch.normal, glm::dvec3(0, 1, 0)));
+  shadow.e2 = glm::cross(patch.normal, shadow.e1);
+  for (int k = 0; k < 3; ++k) shadow.t[k] = shadow.to2d(q[k]);
+  const double area2 = (shadow.t[1][0] - shadow.t[0][0]) * (shadow.t[2][1] - shadow.t[0][1]) -
+                       (shadow.t[2][0] - shadow.t[0][0]) * (shadow.t[1][1] - shadow.t[0][1]);
+  if (!(std::abs(area2) > 0.0)) return false;
+  if (area2 < 0.0) std::swap(shadow.t[1], shadow.t[2]);
+  double min_sin_half = 1.0, longest = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const auto& a = shadow.t[k];
+    const auto& b = shadow.t[(k + 1) % 3];
+    const double dx = b[0] - a[0], dy = b[1] - a[1], len = std::sqrt(dx * dx + dy * dy);
+    if (!(len > 0.0)) return false;
+    longest = std::max(longest, len);
+    shadow.edge[k] = {-dy / len, dx / len, (-dy * a[0] + dx * a[1]) / len};  // inward (left) normal
+  }
+  for (int k = 0; k < 3; ++k) {  // sin of half the angle at each corner
+    const auto& a = shadow.t[k];
+    const auto& b = shadow.t[(k + 1) % 3];
+    const auto& o = shadow.t[(k + 2) % 3];
+    const double ux = b[0] - a[0], uy = b[1] - a[1], vx = o[0] - a[0], vy = o[1] - a[1];
+    const double cosine = (ux * vx + uy * vy) / std::sqrt((ux * ux + uy * uy) * (vx * vx + vy * vy));
+    min_sin_half = std::min(min_sin_half, std::sqrt(std::max(0.0, 0.5 * (1.0 - cosine))));
+  }
+  shadow.eps = 1e-9 * std::max(h, longest);
+  const double unproved = shadow.eps / std::max(min_sin_half, 1e-300);
+  for (const glm::dvec3& x : q)
+    if (std::abs(glm::dot(patch.normal, x) - patch.offset) + patch.deviation + unproved > h) return false;
+  // The centre's shadow in the shadow of the nearest triangle.
+  const auto& t = soup_.triangles[near.best_primitive];
+  const auto& P = soup_.positions;
+  {
+    const auto c2 = shadow.to2d(c);
+    std::array<std::array<double, 2>, 3> tt{shadow.to2d(P[t[0]]), shadow.to2d(P[t[1]]), shadow.to2d(P[t[2]])};
+    double sign = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const auto& a = tt[k];
+      const auto& b = tt[(k + 1) % 3];
+      const double cr = (b[0] - a[0]) * (c2[1] - a[1]) - (b[1] - a[1]) * (c2[0] - a[0]);
+      if (cr == 0.0) continue;
+      if (sign == 0.0) sign = cr;
+      if ((cr > 0.0) != (sign > 0.0)) return false;
+    }
+  }
+  // Every boundary edge whose shadow could reach the piece's: within sqrt(r^2 + deviation^2).
+  const double radius = std::sqrt(r2 + patch.deviation * patch.deviation);
+  Query edge{&soup_, &embree_->patch_primitives, 0, true, shadow.origin, radius * radius, slack_, true};
+  edge.segments = &patches_->boundary;
+  edge.segment_patch = &patches_->boundary_patch;
+  edge.patch = pid;
+  edge.shadow = &shadow;
+  RTCPointQuery query{static_cast<float>(shadow.origin.x), static_cast<float>(shadow.origin.y),
+                      static_cast<float>(shadow.origin.z), 0.0f, radius_for(radius, slack_)};
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(embree_->patch_scene, &query, &context, on_primitive, &edge);
+  return !edge.found;
+}
+
+bool SurfaceReference::within_by_crease(const std::array<glm::dvec3, 3>& q, int label, double h) const {
+  if (!patches_ || label < 0 || static_cast<std::uint32_t>(label) >= soup_.face_labels) return false;
+  const glm::dvec3 c = (q[0] + q[1] + q[2]) / 3.0;
+  Query near{&soup_, &embree_->primitives, static_cast<unsigned>(label), false, c, h * h, slack_, false};
+  RTCPointQuery query{static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z), 0.0f,
+                      radius_for(h, slack_)};
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(embree_->scene, &query, &context, on_primitive, &near);
+  if (!near.found) return false;
+  const auto& P = soup_.positions;
+  const std::uint32_t t1 = near.best_primitive;
+  const auto& f1 = soup_.triangles[t1];
+  const double h2 = h * h;
+  auto within_facet = [&](const glm::dvec3& x, const std::array<VertId, 3>& f) {
+    return squared_distance_to_triangle(x, P[f[0]], P[f[1]], P[f[2]]) <= h2;
+  };
+  for (int k = 0; k < 3; ++k) {
+    const std::uint32_t t2 = patches_->neighbour[3 * std::size_t{t1} + k];
+    if (t2 == kInvalid) continue;
+    const auto& f2 = soup_.triangles[t2];
+    const glm::dvec3 a = P[f1[k]], b = P[f1[(k + 1) % 3]];
+    VertId o2 = f2[0];
+    for (VertId x : f2)
+      if (x != f1[k] && x != f1[(k + 1) % 3]) o2 = x;
+    const glm::dvec3 ab = b - a;
+    const double ab2 = glm::dot(ab, ab);
+    if (!(ab2 > 0.0)) continue;
+    // In-plane directions from the edge into each facet, orthogonal to the edge.
+    auto inward = [&](const glm::dvec3& o) {
+      const glm::dvec3 w = (o - a) - ab * (glm::dot(o - a, ab) / ab2);
+      const double l = glm::length(w);
+      return l > 0.0 ? w / l : glm::dvec3(0.0);
+    };
+    const glm::dvec3 w1 = inward(P[f1[(k + 2) % 3]]), w2 = inward(P[o2]);
+    // The cutting plane holds the edge and the bisector of w1 and w2: it separates the facets.
+    // Any plane would do for the proof (each side is checked against its facet); this one puts
+    // the cut where the nearest facet changes.
+    const glm::dvec3 nb = glm::cross(ab, w1 + w2);
+    const double side1 = glm::dot(nb, w1);
+    if (!(std::abs(side1) > 0.0)) continue;
+    auto side = [&](const glm::dvec3& x) { return glm::dot(nb, x - a) * (side1 > 0.0 ? 1.0 : -1.0); };
+    std::array<double, 3> s{side(q[0]), side(q[1]), side(q[2])};
+    bool ok = true;
+    for (int i = 0; i < 3 && ok; ++i) ok = within_facet(q[i], s[i] >= 0.0 ? f1 : f2);
+    // Where an edge of the piece crosses the plane, the crossing point belongs to both parts.
+    for (int i = 0; i < 3 && ok; ++i) {
+      const int j = (i + 1) % 3;
+      if ((s[i] > 0.0 && s[j] < 0.0) || (s[i] < 0.0 && s[j] > 0.0)) {
+        const glm::dvec3 x = q[i] + (q[j] - q[i]) * (s[i] / (s[i] - s[j]));
+        ok = within_facet(x, f1) && within_facet(x, f2);
+      }
+    }
+    if (ok) return true;
+  }
+  return false;
+}
+
 // ---------------------------------------------------------------- from a TetMesh
 
 namespace {
@@ -305,6 +521,8 @@ TetId across(const TetMesh& mesh, TetId t, int f) {
 struct LabelledFace {
   std::array<VertId, 3> v;
   SurfaceLabel label;
+  TetId tet;            // the tet the face was taken from, and its local index there
+  std::uint8_t local;
 };
 struct LabelledEdge {
   std::array<VertId, 2> v;
@@ -351,7 +569,8 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mes
           if (o != kInvalid && !flagged) continue;  // not special
           const std::int32_t m = mesh.material[t];
           std::array<VertId, 3> key{tv[kTetFaces[f][0]], tv[kTetFaces[f][1]], tv[kTetFaces[f][2]]};
-          block_faces[b].push_back({key, SurfaceLabel{ref, std::min(m, m_other), std::max(m, m_other)}});
+          block_faces[b].push_back(
+              {key, SurfaceLabel{ref, std::min(m, m_other), std::max(m, m_other)}, t, static_cast<std::uint8_t>(f)});
         }
         if (!(fl & tet_flag::kPolylineEdges)) continue;
         const SubstructureRefs& refs = mesh.refs_table[mesh.tet_refs_slot[t]];
@@ -384,9 +603,11 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mes
   // Polyline geometries, then one border geometry per face label.
   soup.polyline_labels = static_cast<std::uint32_t>(polyline_refs.size() + labels.size());
   std::vector<std::uint8_t> on_surface(mesh.vertex_capacity(), 0);
+  std::vector<FaceHolder> holders;
   for (const auto& bf : block_faces)
     for (const LabelledFace& f : bf) {
       soup.triangles.push_back(f.v);
+      holders.push_back({f.tet, f.local});
       soup.triangle_label.push_back(static_cast<std::uint32_t>(
           std::lower_bound(labels.begin(), labels.end(), f.label) - labels.begin()));
       for (VertId x : f.v) on_surface[x] = 1;
@@ -420,6 +641,7 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mes
   reference->face_labels_ = std::move(labels);
   reference->polyline_refs_ = std::move(polyline_refs);
   reference->on_surface_ = std::move(on_surface);
+  reference->holders_ = std::move(holders);
   return reference;
 }
 
@@ -472,7 +694,12 @@ void gather_surface_stencil(const TetMesh& mesh, const SurfaceReference& referen
     if (boundary || flagged) {
       const std::int32_t m0 = mesh.material[out.recs[i].tet];
       const std::int32_t m1 = boundary ? kOutsideMaterial : mesh.material[out.recs[i + 1].tet];
-      out.faces.push_back({out.recs[i].key, reference.face_label_id({ref, std::min(m0, m1), std::max(m0, m1)})});
+      FaceHolder holder{kInvalid, 0};  // a tet that keeps the face through the collapse
+      for (std::size_t k = i; k < j && holder.tet == kInvalid; ++k)
+        if (!std::binary_search(star_uv.begin(), star_uv.end(), out.recs[k].tet))
+          holder = {out.recs[k].tet, out.recs[k].local_face};
+      out.faces.push_back(
+          {out.recs[i].key, reference.face_label_id({ref, std::min(m0, m1), std::max(m0, m1)}), holder});
     }
     i = j;
   }
@@ -526,7 +753,9 @@ bool triangle_within(const SurfaceReference& reference, const glm::dvec3& a, con
     const double r = std::sqrt(std::max({glm::dot(x - centre, x - centre), glm::dot(y - centre, y - centre),
                                          glm::dot(z - centre, z - centre)}));
     if (r < h && reference.within(centre, label, h - r)) continue;
+    if (reference.within_by_patch(pieces[head - 1], label, h)) continue;
     if (reference.within_one(pieces[head - 1].data(), 3, label, h)) continue;
+    if (reference.within_by_crease(pieces[head - 1], label, h)) continue;
     if (r < kFinestPiece * h || tail + 4 > kPieceBudget || !reference.within(centre, label, h)) return false;
     const glm::dvec3 xy = 0.5 * (x + y), yz = 0.5 * (y + z), zx = 0.5 * (z + x);
     pieces[tail++] = {x, xy, zx};
@@ -557,8 +786,7 @@ bool segment_within(const SurfaceReference& reference, const glm::dvec3& a, cons
 
 }  // namespace
 
-bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& reference, double h, VertId u,
-                                VertId v, const glm::dvec3& p, SurfaceStencil& s) {
+bool new_surface_around(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, SurfaceStencil& s) {
   const auto& P = mesh.positions;
   s.new_faces.clear();
   s.new_edges.clear();
@@ -566,7 +794,7 @@ bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& ref
     const bool hu = contains(f.v, u), hv = contains(f.v, v);
     if (hu == hv) continue;  // vanishes with St(uv) (or does not move)
     if (f.label < 0) return false;
-    SurfaceStencil::NewFace nf{{p, p, p}, {kInvalid, kInvalid}, f.label};
+    SurfaceStencil::NewFace nf{{p, p, p}, {kInvalid, kInvalid}, f.label, f.holder};
     int k = 0;
     for (VertId x : f.v)
       if (x != u && x != v) {
@@ -581,6 +809,13 @@ bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& ref
     if (e.label < 0) return false;
     s.new_edges.push_back({{p, P[e.v[0] == u || e.v[0] == v ? e.v[1] : e.v[0]]}, e.label});
   }
+  return true;
+}
+
+bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& reference, double h, VertId u,
+                                VertId v, const glm::dvec3& p, SurfaceStencil& s) {
+  if (!new_surface_around(mesh, u, v, p, s)) return false;
+  const auto& P = mesh.positions;
 
   // Forward: every point of the new surface near the original one. p first, once per label: it
   // refuses most placements with one query.
@@ -591,19 +826,17 @@ bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& ref
   }
   for (const SurfaceStencil::NewEdge& e : s.new_edges)
     if (!reference.within(p, e.label, h)) return false;
-  for (const SurfaceStencil::NewFace& f : s.new_faces)
-    if (!triangle_within(reference, f.pts[0], f.pts[1], f.pts[2], f.label, h)) return false;
+  // A cheap screen before the proofs: a few points of each new triangle (centroid, midpoints of
+  // the edges at p) and of each new segment (midpoint). A point beyond h is a real violation, and
+  // most refused placements are refused here with a handful of queries.
+  for (const SurfaceStencil::NewFace& f : s.new_faces) {
+    const auto& q = f.pts;
+    if (!reference.within((q[0] + q[1] + q[2]) / 3.0, f.label, h) || !reference.within(0.5 * (q[0] + q[1]), f.label, h) ||
+        !reference.within(0.5 * (q[0] + q[2]), f.label, h))
+      return false;
+  }
   for (const SurfaceStencil::NewEdge& e : s.new_edges)
-    if (!segment_within(reference, e.pts[0], e.pts[1], e.label, h)) return false;
-  // Border edges p-x: every face containing the new edge contains p, so all are in new_faces.
-  for (const SurfaceStencil::NewFace& f : s.new_faces)
-    for (int k = 0; k < 2; ++k) {
-      int count = 0;
-      for (const SurfaceStencil::NewFace& g : s.new_faces)
-        count += g.label == f.label && (g.others[0] == f.others[k] || g.others[1] == f.others[k]) ? 1 : 0;
-      if (count != 1) continue;
-      if (!segment_within(reference, p, f.pts[1 + k], reference.border_label_id(f.label), h)) return false;
-    }
+    if (!reference.within(0.5 * (e.pts[0] + e.pts[1]), e.label, h)) return false;
 
   // Reverse: the points that leave the surface (u's and v's old positions) stay near the new one.
   const double h2 = h * h;
@@ -624,6 +857,28 @@ bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& ref
     for (const SurfaceStencil::Edge& e : s.edges)
       if (contains(e.v, w) && !old_point_covered(P[w], e.label, h2, s.new_edges, seg2)) return false;
   }
+
+  // The proofs (triangle_within, segment_within), most expensive last. A face (p x y) made by two
+  // merging faces (u x y and v x y) is listed twice: proved once.
+  for (std::size_t i = 0; i < s.new_faces.size(); ++i) {
+    const SurfaceStencil::NewFace& f = s.new_faces[i];
+    bool seen = false;
+    for (std::size_t j = 0; j < i && !seen; ++j)
+      seen = s.new_faces[j].label == f.label && s.new_faces[j].others == f.others;
+    if (!seen && !triangle_within(reference, f.pts[0], f.pts[1], f.pts[2], f.label, h)) return false;
+  }
+  for (const SurfaceStencil::NewEdge& e : s.new_edges)
+    if (!segment_within(reference, e.pts[0], e.pts[1], e.label, h)) return false;
+  // Border edges p-x: every face containing the new edge contains p, so all are in new_faces.
+  for (const SurfaceStencil::NewFace& f : s.new_faces)
+    for (int k = 0; k < 2; ++k) {
+      int count = 0;
+      for (const SurfaceStencil::NewFace& g : s.new_faces)
+        count += g.label == f.label && (g.others[0] == f.others[k] || g.others[1] == f.others[k]) ? 1 : 0;
+      if (count != 1) continue;
+      if (!segment_within(reference, p, f.pts[1 + k], reference.border_label_id(f.label), h)) return false;
+    }
+
   return true;
 }
 

@@ -57,6 +57,14 @@
 
 namespace topotet {
 
+struct FlatPatches;
+
+// A face of a tet: the tet and the face's local index (opposite that corner).
+struct FaceHolder {
+  TetId tet;
+  std::uint8_t local;
+};
+
 // Label of a special face: the same notion as LinkScratch::Label (link_condition.h).
 struct SurfaceLabel {
   std::int32_t ref, m0, m1;  // m0 <= m1
@@ -102,6 +110,9 @@ class SurfaceReference {
 
   // Was vertex v on a special face or polyline edge of the original? (ids of the input mesh)
   bool on_surface(VertId v) const { return v < on_surface_.size() && on_surface_[v] != 0; }
+  // Where each triangle of the soup was taken from (from_mesh only; empty otherwise).
+  const std::vector<FaceHolder>& triangle_holders() const { return holders_; }
+  const SurfaceSoup& soup() const { return soup_; }
 
   // Is some primitive of `label` (a geometry id) within distance h of p? Stops at the first hit.
   bool within(const glm::dvec3& p, int label, double h) const;
@@ -111,14 +122,29 @@ class SurfaceReference {
   // Distance from p to the closest primitive of `label`, or +infinity if none is within max_distance.
   double distance(const glm::dvec3& p, int label, double max_distance) const;
 
+  // Finds the nearly flat patches of the original surfaces (flat_patches.h), their vertices within
+  // max_deviation of their planes. Call before sharing the reference between threads.
+  void build_flat_patches(double max_deviation);
+  // Is every point of the triangle `corners` within h of the original surface of face label
+  // `label`, by projection onto one flat patch (flat_patches.h)? False when there are no patches,
+  // or when this argument does not apply (the caller then splits the triangle).
+  bool within_by_patch(const std::array<glm::dvec3, 3>& corners, int label, double h) const;
+  // The same question answered with two original triangles across one edge (a crease of a curved
+  // surface made of flat facets): the triangle is cut by the plane that bisects the crease, and
+  // each part is within h of its own facet (convexity, see surface_tolerance.cpp). Needs the
+  // patches (their triangle adjacency).
+  bool within_by_crease(const std::array<glm::dvec3, 3>& corners, int label, double h) const;
+
  private:
   struct Embree;
   SurfaceSoup soup_;
   std::vector<SurfaceLabel> face_labels_;       // sorted; index = geometry id
   std::vector<std::int32_t> polyline_refs_;     // sorted; index + face_labels_.size() = geometry id
   std::vector<std::uint8_t> on_surface_;
+  std::vector<FaceHolder> holders_;  // [soup triangle]
   double slack_ = 0.0;  // float rounding of the coordinates Embree prunes with
   std::unique_ptr<Embree> embree_;
+  std::unique_ptr<FlatPatches> patches_;
 };
 
 // The special faces and polyline edges at u or v of one edge's stencil, gathered once per edge.
@@ -126,6 +152,7 @@ struct SurfaceStencil {
   struct Face {
     std::array<VertId, 3> v;  // old vertex ids, sorted
     int label;                // face label id, -1 if absent from the reference
+    FaceHolder holder;        // a tet outside St(uv) that has it (kInvalid: none)
   };
   struct Edge {
     std::array<VertId, 2> v;
@@ -145,6 +172,7 @@ struct SurfaceStencil {
     std::array<glm::dvec3, 3> pts;  // p first
     std::array<VertId, 2> others;   // the vertices other than p
     int label;
+    FaceHolder holder;  // the tet (outside St(uv)) that has the face after the collapse; kInvalid: none
   };
   struct NewEdge {
     std::array<glm::dvec3, 2> pts;  // p first
@@ -158,6 +186,10 @@ struct SurfaceStencil {
 void gather_surface_stencil(const TetMesh& mesh, const SurfaceReference& reference, VertId u, VertId v,
                             const std::vector<TetId>& star_u, const std::vector<TetId>& star_v,
                             const std::vector<TetId>& star_uv, SurfaceStencil& out);
+
+// The new triangles and segments around p (stencil.new_faces, new_edges) for this placement.
+// False when one of their labels is absent from the reference (the placement is refused).
+bool new_surface_around(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, SurfaceStencil& stencil);
 
 // The kernel check (see the file comment). `stencil` must have been gathered for edge uv (either
 // direction). Returns true when p is acceptable.

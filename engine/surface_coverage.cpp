@@ -1,0 +1,218 @@
+// The original surfaces kept within h of the simplified ones (see surface_coverage.h).
+#include "surface_coverage.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+namespace topotet {
+
+namespace {
+
+bool face_has(const std::array<VertId, 4>& tet, std::uint8_t local, VertId x) {
+  for (int k = 0; k < 4; ++k)
+    if (k != local && tet[k] == x) return true;
+  return false;
+}
+
+// Is the item's face (local face `local` of tet t) through u or v? Those are the faces a collapse
+// u <- v changes; every other face keeps its vertices and positions.
+bool moves(const TetMesh& mesh, TetId t, std::uint8_t local, VertId u, VertId v) {
+  const auto& tv = mesh.tets[t];
+  return face_has(tv, local, u) || face_has(tv, local, v);
+}
+
+// Calls f(t) for every tet of St(u) ∪ St(v) once, in the stars' sorted order.
+template <class F>
+void for_each_stencil_tet(const std::vector<TetId>& star_u, const std::vector<TetId>& star_v,
+                          const std::vector<TetId>& star_uv, F&& f) {
+  for (TetId t : star_u) f(t);
+  for (TetId t : star_v)
+    if (!std::binary_search(star_uv.begin(), star_uv.end(), t)) f(t);
+}
+
+}  // namespace
+
+SurfaceCoverage::SurfaceCoverage(const TetMesh& mesh, const SurfaceReference& reference, double h)
+    : reference_(reference), h_(h), lists_(mesh.tet_capacity()) {
+  const auto& holders = reference.triangle_holders();
+  for (std::uint32_t k = 0; k < holders.size(); ++k) {
+    auto& list = lists_[holders[k].tet];
+    if (!list) list = std::make_unique<std::vector<CoverageItem>>();
+    const auto& t = reference.soup().triangles[k];
+    const auto& P = reference.soup().positions;
+    list->push_back({{P[t[0]], P[t[1]], P[t[2]]}, k, 0, holders[k].local});
+  }
+}
+
+namespace {
+
+// The plane through the edge a-b shared by two new faces, bisecting the angle between them (o1, o2
+// their third corners): it separates the faces, and on each side the points of a piece are
+// nearest to that side's face when the piece lies close to both. Returns the plane's normal,
+// oriented towards face 1, or zero when the faces are degenerate or folded flat onto each other.
+glm::dvec3 bisector_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& o1, const glm::dvec3& o2) {
+  const glm::dvec3 ab = b - a;
+  const double ab2 = glm::dot(ab, ab);
+  if (!(ab2 > 0.0)) return glm::dvec3(0.0);
+  auto inward = [&](const glm::dvec3& o) {
+    const glm::dvec3 w = (o - a) - ab * (glm::dot(o - a, ab) / ab2);
+    const double l = glm::length(w);
+    return l > 0.0 ? w / l : glm::dvec3(0.0);
+  };
+  const glm::dvec3 w1 = inward(o1), w2 = inward(o2);
+  glm::dvec3 n = glm::cross(ab, w1 + w2);
+  const double side1 = glm::dot(n, w1);
+  if (!(std::abs(side1) > 0.0)) return glm::dvec3(0.0);
+  return side1 > 0.0 ? n : -n;
+}
+
+}  // namespace
+
+// Splits an item no single new face holds. Preferably along the bisecting plane of two adjacent
+// new faces that separates its corners (the pair whose shared edge is closest to the item): the
+// two sides then usually each fit one face, as on a flat fan, where halving would need pieces
+// of about h. Without such a plane, at the midpoints of its edges (four pieces).
+void SurfaceCoverage::cut(const CoverageItem& item, int label, CoverageScratch& s) const {
+  const auto& q = item.corners;
+  const glm::dvec3 centre = (q[0] + q[1] + q[2]) / 3.0;
+  double best = std::numeric_limits<double>::infinity();
+  glm::dvec3 best_normal(0.0), best_point(0.0);
+  for (std::size_t i = 0; i < s.targets.size(); ++i)
+    for (std::size_t j = i + 1; j < s.targets.size(); ++j) {
+      const auto& f = s.targets[i];
+      const auto& g = s.targets[j];
+      if (f.label != label || g.label != label) continue;
+      // Shared edge p-x: one "other" vertex in common (new faces all contain p = pts[0]).
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) {
+          if (f.others[a] != g.others[b]) continue;
+          const glm::dvec3 p = f.pts[0], x = f.pts[1 + a];
+          const glm::dvec3 n = bisector_normal(p, x, f.pts[2 - a], g.pts[2 - b]);
+          if (n == glm::dvec3(0.0)) continue;
+          const double s0 = glm::dot(n, q[0] - p), s1 = glm::dot(n, q[1] - p), s2 = glm::dot(n, q[2] - p);
+          const bool pos = s0 > 0.0 || s1 > 0.0 || s2 > 0.0, neg = s0 < 0.0 || s1 < 0.0 || s2 < 0.0;
+          if (!pos || !neg) continue;
+          const double d = squared_distance_to_segment(centre, p, x);
+          if (d < best) {
+            best = d;
+            best_normal = n;
+            best_point = p;
+          }
+        }
+    }
+  const auto depth = static_cast<std::uint8_t>(item.depth + 1);
+  auto push = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    s.pending.push_back({{a, b, c}, item.triangle, depth, 0});
+  };
+  if (best < std::numeric_limits<double>::infinity()) {
+    std::array<double, 3> d{};
+    for (int k = 0; k < 3; ++k) d[k] = glm::dot(best_normal, q[k] - best_point);
+    // The corner alone on its side (k), and the crossing points on its two edges.
+    int k = 0;
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3, l = (i + 2) % 3;
+      if ((d[i] > 0.0) != (d[j] > 0.0) && (d[i] > 0.0) != (d[l] > 0.0)) k = i;
+    }
+    const int j = (k + 1) % 3, l = (k + 2) % 3;
+    auto cross = [&](int a, int b) { return q[a] + (q[b] - q[a]) * (d[a] / (d[a] - d[b])); };
+    if (d[j] != d[k] && d[l] != d[k] && (d[k] > 0.0) != (d[j] > 0.0) && (d[k] > 0.0) != (d[l] > 0.0)) {
+      const glm::dvec3 xj = cross(k, j), xl = cross(k, l);
+      push(q[k], xj, xl);
+      push(xj, q[j], q[l]);
+      push(xj, q[l], xl);
+      return;
+    }
+  }
+  const glm::dvec3 ab = 0.5 * (q[0] + q[1]), bc = 0.5 * (q[1] + q[2]), ca = 0.5 * (q[2] + q[0]);
+  push(q[0], ab, ca);
+  push(ab, q[1], bc);
+  push(ca, bc, q[2]);
+  push(ab, bc, ca);
+}
+
+bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+                            const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv,
+                            const SurfaceStencil& stencil, CoverageScratch& s) const {
+  // The distinct new faces with a tet that keeps them (a face made by two merging ones is listed
+  // twice; one of the two may be held only by tets of St(uv), which vanish).
+  s.targets.clear();
+  for (std::size_t i = 0; i < stencil.new_faces.size(); ++i) {
+    const SurfaceStencil::NewFace& f = stencil.new_faces[i];
+    if (f.holder.tet == kInvalid) continue;
+    bool seen = false;
+    for (const auto& g : s.targets) seen = seen || (g.label == f.label && g.others == f.others);
+    if (!seen) s.targets.push_back({f.pts, f.others, f.label, f.holder});
+  }
+  s.pending.clear();
+  s.placed.clear();
+  const SurfaceSoup& soup = reference_.soup();
+  for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
+    if (!lists_[t]) return;
+    for (const CoverageItem& item : *lists_[t])
+      if (moves(mesh, t, item.local, u, v)) s.pending.push_back(item);
+  });
+  const double h2 = h_ * h_;
+  auto near = [&](const glm::dvec3& x, const CoverageScratch::Target& f) {
+    return squared_distance_to_triangle(x, f.pts[0], f.pts[1], f.pts[2]) <= h2;
+  };
+  for (std::size_t i = 0; i < s.pending.size(); ++i) {  // pieces are appended: a FIFO
+    if (s.pending.size() > kMaxPieces) return false;
+    const CoverageItem item = s.pending[i];
+    const int label = static_cast<int>(soup.triangle_label[item.triangle]);
+    const auto& q = item.corners;
+    int found = -1;
+    for (std::size_t k = 0; k < s.targets.size() && found < 0; ++k) {
+      const auto& f = s.targets[k];
+      if (f.label == label && near(q[0], f) && near(q[1], f) && near(q[2], f)) found = static_cast<int>(k);
+    }
+    if (found >= 0) {
+      s.placed.push_back({q, item.triangle, item.depth, static_cast<std::uint8_t>(found)});
+      continue;
+    }
+    if (item.depth >= kMaxDepth) return false;
+    // A corner no new face holds stays a corner of some piece: cutting cannot help.
+    for (const glm::dvec3& x : q) {
+      bool any = false;
+      for (const auto& f : s.targets) any = any || (f.label == label && near(x, f));
+      if (!any) return false;
+    }
+    cut(item, label, s);
+  }
+  return true;
+}
+
+void SurfaceCoverage::commit(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+                             const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, CoverageScratch& s) {
+  for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
+    if (!lists_[t]) return;
+    auto& list = *lists_[t];
+    list.erase(std::remove_if(list.begin(), list.end(),
+                              [&](const CoverageItem& item) { return moves(mesh, t, item.local, u, v); }),
+               list.end());
+  });
+  for (const CoverageItem& item : s.placed) {
+    const FaceHolder holder = s.targets[item.local].holder;
+    auto& list = lists_[holder.tet];
+    if (!list) list = std::make_unique<std::vector<CoverageItem>>();
+    list->push_back({item.corners, item.triangle, item.depth, holder.local});
+  }
+}
+
+std::size_t SurfaceCoverage::item_count() const {
+  std::size_t n = 0;
+  for (const auto& list : lists_)
+    if (list) n += list->size();
+  return n;
+}
+
+std::size_t SurfaceCoverage::memory_bytes() const {
+  std::size_t bytes = lists_.capacity() * sizeof(lists_[0]);
+  for (const auto& list : lists_)
+    if (list) bytes += sizeof(*list) + list->capacity() * sizeof(CoverageItem);
+  return bytes;
+}
+
+}  // namespace topotet
