@@ -2,7 +2,6 @@
 // budget, compacts the result and fills the report. Never throws.
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -161,12 +160,10 @@ Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<
       report.tolerance = options.tolerance > 0.0 ? options.tolerance : options.tolerance_rel * bounding_box_diagonal(mesh);
       if (report.tolerance > 0.0) {
         const auto setup_start = std::chrono::steady_clock::now();
-        surfaces = SurfaceReference::from_mesh(mesh);
-        // Patches within h/4 of a plane: large new triangles over them are proved in one step.
-        surfaces->build_flat_patches(0.25 * report.tolerance);
+        surfaces = SurfaceReference::from_mesh(mesh, report.tolerance);
         coverage = std::make_unique<SurfaceCoverage>(mesh, *surfaces, report.tolerance);
         kernel.surfaces = surfaces.get();
-        if (!std::getenv("TT_NOCOV")) kernel.coverage = coverage.get();
+        kernel.coverage = coverage.get();
         kernel.tolerance = report.tolerance;
         report.tolerance_setup_seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();

@@ -62,11 +62,10 @@ glm::dvec3 bisector_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::
     const double l = glm::length(w);
     return l > 0.0 ? w / l : glm::dvec3(0.0);
   };
-  const glm::dvec3 w1 = inward(o1), w2 = inward(o2);
-  glm::dvec3 n = glm::cross(ab, w1 + w2);
-  const double side1 = glm::dot(n, w1);
-  if (!(std::abs(side1) > 0.0)) return glm::dvec3(0.0);
-  return side1 > 0.0 ? n : -n;
+  // w1 - w2 (unit vectors) is orthogonal to the edge and to the bisecting direction w1 + w2, and
+  // stays well defined when the faces are coplanar (w2 = -w1), where w1 + w2 vanishes.
+  const glm::dvec3 n = inward(o1) - inward(o2);
+  return glm::dot(n, n) > 1e-12 ? n : glm::dvec3(0.0);
 }
 
 }  // namespace
@@ -78,6 +77,8 @@ glm::dvec3 bisector_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::
 void SurfaceCoverage::cut(const CoverageItem& item, int label, CoverageScratch& s) const {
   const auto& q = item.corners;
   const glm::dvec3 centre = (q[0] + q[1] + q[2]) / 3.0;
+  const double size = std::sqrt(std::max({glm::dot(q[1] - q[0], q[1] - q[0]), glm::dot(q[2] - q[1], q[2] - q[1]),
+                                          glm::dot(q[0] - q[2], q[0] - q[2])}));
   double best = std::numeric_limits<double>::infinity();
   glm::dvec3 best_normal(0.0), best_point(0.0);
   for (std::size_t i = 0; i < s.targets.size(); ++i)
@@ -92,8 +93,11 @@ void SurfaceCoverage::cut(const CoverageItem& item, int label, CoverageScratch& 
           const glm::dvec3 p = f.pts[0], x = f.pts[1 + a];
           const glm::dvec3 n = bisector_normal(p, x, f.pts[2 - a], g.pts[2 - b]);
           if (n == glm::dvec3(0.0)) continue;
+          // Corners within a rounding margin of the plane are on it: a piece cut there is not cut
+          // again by the same plane because its cut points came out a few ulps off.
+          const double eps = 1e-9 * size * glm::length(n);
           const double s0 = glm::dot(n, q[0] - p), s1 = glm::dot(n, q[1] - p), s2 = glm::dot(n, q[2] - p);
-          const bool pos = s0 > 0.0 || s1 > 0.0 || s2 > 0.0, neg = s0 < 0.0 || s1 < 0.0 || s2 < 0.0;
+          const bool pos = s0 > eps || s1 > eps || s2 > eps, neg = s0 < -eps || s1 < -eps || s2 < -eps;
           if (!pos || !neg) continue;
           const double d = squared_distance_to_segment(centre, p, x);
           if (d < best) {
@@ -158,6 +162,39 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
   auto near = [&](const glm::dvec3& x, const CoverageScratch::Target& f) {
     return squared_distance_to_triangle(x, f.pts[0], f.pts[1], f.pts[2]) <= h2;
   };
+  // Pieces heal: a piece whose whole original triangle one new face holds goes back to being the
+  // whole triangle, once per triangle (pieces of it held elsewhere stay: a part covered twice is
+  // harmless). Without this, every re-placement could cut items further and the lists would only
+  // grow.
+  std::sort(s.pending.begin(), s.pending.end(), [](const CoverageItem& a, const CoverageItem& b) {
+    return a.triangle != b.triangle ? a.triangle < b.triangle : a.depth < b.depth;
+  });
+  {
+    const auto& P = soup.positions;
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < s.pending.size();) {
+      std::size_t j = i + 1;
+      while (j < s.pending.size() && s.pending[j].triangle == s.pending[i].triangle) ++j;
+      const std::uint32_t tri = s.pending[i].triangle;
+      const auto& t = soup.triangles[tri];
+      const std::array<glm::dvec3, 3> whole{P[t[0]], P[t[1]], P[t[2]]};
+      const int label = static_cast<int>(soup.triangle_label[tri]);
+      bool healed = false;
+      if (s.pending[i].depth > 0 || j - i > 1)
+        for (const auto& f : s.targets)
+          if (f.label == label && near(whole[0], f) && near(whole[1], f) && near(whole[2], f)) {
+            healed = true;
+            break;
+          }
+      if (healed) {
+        s.pending[out++] = {whole, tri, 0, 0};
+      } else {
+        for (std::size_t k = i; k < j; ++k) s.pending[out++] = s.pending[k];
+      }
+      i = j;
+    }
+    s.pending.resize(out);
+  }
   for (std::size_t i = 0; i < s.pending.size(); ++i) {  // pieces are appended: a FIFO
     if (s.pending.size() > kMaxPieces) return false;
     const CoverageItem item = s.pending[i];
@@ -173,8 +210,11 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
       continue;
     }
     if (item.depth >= kMaxDepth) return false;
-    // A corner no new face holds stays a corner of some piece: cutting cannot help.
-    for (const glm::dvec3& x : q) {
+    // Every point of the item must be within h of some new face for any cut to succeed: a corner,
+    // the centre or an edge midpoint that no new face holds refuses the placement at once.
+    const std::array<glm::dvec3, 7> probes{q[0], q[1], q[2], (q[0] + q[1] + q[2]) / 3.0, 0.5 * (q[0] + q[1]),
+                                           0.5 * (q[1] + q[2]), 0.5 * (q[2] + q[0])};
+    for (const glm::dvec3& x : probes) {
       bool any = false;
       for (const auto& f : s.targets) any = any || (f.label == label && near(x, f));
       if (!any) return false;

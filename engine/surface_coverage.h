@@ -89,8 +89,8 @@ class SurfaceCoverage {
   }
 
   // Cuts of one item in one re-placement, and pieces per re-placement, before it is refused.
-  static constexpr int kMaxDepth = 6;
-  static constexpr std::size_t kMaxPieces = 4096;
+  static constexpr int kMaxDepth = 16;
+  static constexpr std::size_t kMaxPieces = 2048;
 
  private:
   void cut(const CoverageItem& item, int label, CoverageScratch& s) const;

@@ -472,10 +472,11 @@ bool SurfaceReference::within_by_crease(const std::array<glm::dvec3, 3>& q, int 
     // The cutting plane holds the edge and the bisector of w1 and w2: it separates the facets.
     // Any plane would do for the proof (each side is checked against its facet); this one puts
     // the cut where the nearest facet changes.
-    const glm::dvec3 nb = glm::cross(ab, w1 + w2);
-    const double side1 = glm::dot(nb, w1);
-    if (!(std::abs(side1) > 0.0)) continue;
-    auto side = [&](const glm::dvec3& x) { return glm::dot(nb, x - a) * (side1 > 0.0 ? 1.0 : -1.0); };
+    // w1 - w2 is orthogonal to the edge and to the bisector w1 + w2 (and defined for coplanar
+    // facets, where w1 + w2 vanishes): the plane's normal, towards facet 1.
+    const glm::dvec3 nb = w1 - w2;
+    if (!(glm::dot(nb, nb) > 1e-12)) continue;
+    auto side = [&](const glm::dvec3& x) { return glm::dot(nb, x - a); };
     std::array<double, 3> s{side(q[0]), side(q[1]), side(q[2])};
     bool ok = true;
     for (int i = 0; i < 3 && ok; ++i) ok = within_facet(q[i], s[i] >= 0.0 ? f1 : f2);
@@ -533,7 +534,7 @@ struct LabelledEdge {
 
 }  // namespace
 
-std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mesh) {
+std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mesh, double tolerance) {
   // Blocks of tets in parallel; block results are concatenated in block order (deterministic).
   constexpr std::size_t kBlock = 8192;
   const std::size_t nt = mesh.tet_capacity();
@@ -642,6 +643,9 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mes
   reference->polyline_refs_ = std::move(polyline_refs);
   reference->on_surface_ = std::move(on_surface);
   reference->holders_ = std::move(holders);
+  // Patches within h / 4 of a plane: a large new triangle over one is proved in one step, at the
+  // price of a quarter of h for the patch's own curvature.
+  if (tolerance > 0.0) reference->build_flat_patches(0.25 * tolerance);
   return reference;
 }
 

@@ -88,8 +88,10 @@ struct SurfaceSoup {
 
 class SurfaceReference {
  public:
-  // The special faces and polyline edges of the live part of `mesh` (see the file comment).
-  static std::unique_ptr<SurfaceReference> from_mesh(const TetMesh& mesh);
+  // The special faces and polyline edges of the live part of `mesh` (see the file comment). With a
+  // tolerance h > 0, also the flat patches the check proves large triangles with (vertices within
+  // h / 4 of their planes: build_flat_patches).
+  static std::unique_ptr<SurfaceReference> from_mesh(const TetMesh& mesh, double tolerance = 0.0);
   // From raw primitives (benchmarks, tests): geometry ids are the soup's label ids; there are no
   // label values to look up and no border geometries.
   explicit SurfaceReference(SurfaceSoup soup);

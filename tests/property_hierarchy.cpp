@@ -184,9 +184,13 @@ void expect_kernel_replay(const Built& b, const std::vector<std::uint8_t>& appli
   detect_features(mesh, SimplifyOptions{}.feature_angle);
   CollapseOptions kernel;
   kernel.quality_floor = SimplifyOptions{}.min_quality;
-  const auto surfaces = SurfaceReference::from_mesh(mesh);
+  const auto surfaces = SurfaceReference::from_mesh(mesh, b.report.tolerance);
   kernel.surfaces = surfaces.get();
   kernel.tolerance = b.report.tolerance;
+  // The items of the original surfaces a face holds come from the collapses that made the face,
+  // which a downward-closed set contains: the replay holds the same items as the run did.
+  SurfaceCoverage coverage(mesh, *surfaces, b.report.tolerance);
+  kernel.coverage = &coverage;
   CollapseScratch scratch;
   std::uint32_t refs_used = static_cast<std::uint32_t>(mesh.refs_table.size());
   for (std::size_t i = 0; i < applied.size(); ++i) {
@@ -194,7 +198,8 @@ void expect_kernel_replay(const Built& b, const std::vector<std::uint8_t>& appli
     const CollapseReason reason = may_collapse(mesh, h.u[i], h.v[i], h.u_after[i], kernel, scratch);
     ASSERT_EQ(reason, CollapseReason::kOk) << "collapse " << i << ": " << to_string(reason);
     reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
-    collapse(mesh, h.u[i], h.v[i], h.u_after[i], h.fields_after.data() + i * h.field_stride, scratch, refs_used);
+    collapse(mesh, h.u[i], h.v[i], h.u_after[i], h.fields_after.data() + i * h.field_stride, scratch, refs_used,
+             nullptr, &coverage);
   }
   EXPECT_TRUE(canonical(mesh.to_mesh_data()) == canonical(extract(h, applied)));
 }
