@@ -24,6 +24,12 @@ bool moves(const TetMesh& mesh, TetId t, std::uint8_t local, VertId u, VertId v)
   return face_has(tv, local, u) || face_has(tv, local, v);
 }
 
+// The same for a polyline edge (local edge `local` of tet t).
+bool edge_moves(const TetMesh& mesh, TetId t, std::uint8_t local, VertId u, VertId v) {
+  const VertId a = mesh.tets[t][kTetEdges[local][0]], b = mesh.tets[t][kTetEdges[local][1]];
+  return a == u || a == v || b == u || b == v;
+}
+
 // Calls f(t) for every tet of St(u) ∪ St(v) once, in the stars' sorted order.
 template <class F>
 void for_each_stencil_tet(const std::vector<TetId>& star_u, const std::vector<TetId>& star_v,
@@ -44,6 +50,15 @@ SurfaceCoverage::SurfaceCoverage(const TetMesh& mesh, const SurfaceReference& re
     const auto& t = reference.soup().triangles[k];
     const auto& P = reference.soup().positions;
     list->push_back({{P[t[0]], P[t[1]], P[t[2]]}, k, 0, holders[k].local});
+  }
+  segment_lists_.resize(mesh.tet_capacity());
+  const auto& segment_holders = reference.segment_holders();
+  for (std::uint32_t k = 0; k < segment_holders.size(); ++k) {
+    auto& list = segment_lists_[segment_holders[k].tet];
+    if (!list) list = std::make_unique<std::vector<CoverageSegment>>();
+    const auto& e = reference.soup().segments[k];
+    const auto& P = reference.soup().positions;
+    list->push_back({{P[e[0]], P[e[1]]}, k, 0, segment_holders[k].local});
   }
 }
 
@@ -221,7 +236,109 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
     }
     cut(item, label, s);
   }
+  return place_segments(mesh, u, v, star_u, star_v, star_uv, stencil, s);
+}
+
+bool SurfaceCoverage::place_segments(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+                                     const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv,
+                                     const SurfaceStencil& stencil, CoverageScratch& s) const {
+  s.segment_targets.clear();
+  for (const SurfaceStencil::NewEdge& e : stencil.new_edges) {
+    if (e.holder.tet == kInvalid) continue;
+    bool seen = false;
+    for (const auto& g : s.segment_targets) seen = seen || (g.label == e.label && g.other == e.other);
+    if (!seen) s.segment_targets.push_back({e.pts, e.other, e.label, e.holder});
+  }
+  s.segment_pending.clear();
+  s.segment_placed.clear();
+  for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
+    if (!segment_lists_[t]) return;
+    for (const CoverageSegment& item : *segment_lists_[t])
+      if (edge_moves(mesh, t, item.local, u, v)) s.segment_pending.push_back(item);
+  });
+  if (s.segment_pending.empty()) return true;
+  const SurfaceSoup& soup = reference_.soup();
+  const double h2 = h_ * h_;
+  auto near = [&](const glm::dvec3& x, const CoverageScratch::SegmentTarget& e) {
+    return squared_distance_to_segment(x, e.pts[0], e.pts[1]) <= h2;
+  };
+  auto label_of = [&](std::uint32_t segment) { return static_cast<int>(soup.face_labels + soup.segment_label[segment]); };
+  // Pieces heal, as for triangles.
+  std::sort(s.segment_pending.begin(), s.segment_pending.end(), [](const auto& a, const auto& b) {
+    return a.segment != b.segment ? a.segment < b.segment : a.depth < b.depth;
+  });
+  {
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < s.segment_pending.size();) {
+      std::size_t j = i + 1;
+      while (j < s.segment_pending.size() && s.segment_pending[j].segment == s.segment_pending[i].segment) ++j;
+      const std::uint32_t seg = s.segment_pending[i].segment;
+      const auto& e = soup.segments[seg];
+      const std::array<glm::dvec3, 2> whole{soup.positions[e[0]], soup.positions[e[1]]};
+      bool healed = false;
+      if (s.segment_pending[i].depth > 0 || j - i > 1)
+        for (const auto& g : s.segment_targets)
+          healed = healed || (g.label == label_of(seg) && near(whole[0], g) && near(whole[1], g));
+      if (healed) {
+        s.segment_pending[out++] = {whole, seg, 0, 0};
+      } else {
+        for (std::size_t k = i; k < j; ++k) s.segment_pending[out++] = s.segment_pending[k];
+      }
+      i = j;
+    }
+    s.segment_pending.resize(out);
+  }
+  for (std::size_t i = 0; i < s.segment_pending.size(); ++i) {
+    if (s.segment_pending.size() > kMaxPieces) return false;
+    const CoverageSegment item = s.segment_pending[i];
+    const int label = label_of(item.segment);
+    int found = -1;
+    for (std::size_t k = 0; k < s.segment_targets.size() && found < 0; ++k) {
+      const auto& g = s.segment_targets[k];
+      if (g.label == label && near(item.ends[0], g) && near(item.ends[1], g)) found = static_cast<int>(k);
+    }
+    if (found >= 0) {
+      s.segment_placed.push_back({item.ends, item.segment, item.depth, static_cast<std::uint8_t>(found)});
+      continue;
+    }
+    if (item.depth >= kMaxDepth) return false;
+    for (const glm::dvec3& x : {item.ends[0], item.ends[1], 0.5 * (item.ends[0] + item.ends[1])}) {
+      bool any = false;
+      for (const auto& g : s.segment_targets) any = any || (g.label == label && near(x, g));
+      if (!any) return false;
+    }
+    cut(item, label, s);
+  }
   return true;
+}
+
+// A segment piece no single new edge holds: cut where the plane through p bisecting two new
+// edges p-x and p-y separates its ends, else at its midpoint.
+void SurfaceCoverage::cut(const CoverageSegment& item, int label, CoverageScratch& s) const {
+  const auto& q = item.ends;
+  const double size = glm::length(q[1] - q[0]);
+  const auto depth = static_cast<std::uint8_t>(item.depth + 1);
+  for (std::size_t i = 0; i < s.segment_targets.size(); ++i)
+    for (std::size_t j = i + 1; j < s.segment_targets.size(); ++j) {
+      const auto& f = s.segment_targets[i];
+      const auto& g = s.segment_targets[j];
+      if (f.label != label || g.label != label) continue;
+      const glm::dvec3 p = f.pts[0];
+      const glm::dvec3 a = f.pts[1] - p, b = g.pts[1] - p;
+      const double la = glm::length(a), lb = glm::length(b);
+      if (!(la > 0.0) || !(lb > 0.0)) continue;
+      const glm::dvec3 n = a / la - b / lb;
+      const double eps = 1e-9 * size * glm::length(n);
+      const double d0 = glm::dot(n, q[0] - p), d1 = glm::dot(n, q[1] - p);
+      if (!((d0 > eps && d1 < -eps) || (d0 < -eps && d1 > eps))) continue;
+      const glm::dvec3 x = q[0] + (q[1] - q[0]) * (d0 / (d0 - d1));
+      s.segment_pending.push_back({{q[0], x}, item.segment, depth, 0});
+      s.segment_pending.push_back({{x, q[1]}, item.segment, depth, 0});
+      return;
+    }
+  const glm::dvec3 m = 0.5 * (q[0] + q[1]);
+  s.segment_pending.push_back({{q[0], m}, item.segment, depth, 0});
+  s.segment_pending.push_back({{m, q[1]}, item.segment, depth, 0});
 }
 
 void SurfaceCoverage::commit(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
@@ -239,11 +356,26 @@ void SurfaceCoverage::commit(const TetMesh& mesh, VertId u, VertId v, const std:
     if (!list) list = std::make_unique<std::vector<CoverageItem>>();
     list->push_back({item.corners, item.triangle, item.depth, holder.local});
   }
+  for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
+    if (!segment_lists_[t]) return;
+    auto& list = *segment_lists_[t];
+    list.erase(std::remove_if(list.begin(), list.end(),
+                              [&](const CoverageSegment& item) { return edge_moves(mesh, t, item.local, u, v); }),
+               list.end());
+  });
+  for (const CoverageSegment& item : s.segment_placed) {
+    const FaceHolder holder = s.segment_targets[item.local].holder;
+    auto& list = segment_lists_[holder.tet];
+    if (!list) list = std::make_unique<std::vector<CoverageSegment>>();
+    list->push_back({item.ends, item.segment, item.depth, holder.local});
+  }
 }
 
 std::size_t SurfaceCoverage::item_count() const {
   std::size_t n = 0;
   for (const auto& list : lists_)
+    if (list) n += list->size();
+  for (const auto& list : segment_lists_)
     if (list) n += list->size();
   return n;
 }
@@ -252,6 +384,9 @@ std::size_t SurfaceCoverage::memory_bytes() const {
   std::size_t bytes = lists_.capacity() * sizeof(lists_[0]);
   for (const auto& list : lists_)
     if (list) bytes += sizeof(*list) + list->capacity() * sizeof(CoverageItem);
+  bytes += segment_lists_.capacity() * sizeof(segment_lists_[0]);
+  for (const auto& list : segment_lists_)
+    if (list) bytes += sizeof(*list) + list->capacity() * sizeof(CoverageSegment);
   return bytes;
 }
 

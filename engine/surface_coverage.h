@@ -3,6 +3,11 @@
 // the moment a vertex is removed (issue #12: "the drift of vertices absorbed by earlier
 // collapses").
 //
+// Polylines (listed ones and detected feature curves) are kept the same way: every original
+// polyline segment, or a piece of one, is held by a polyline edge of its label within h of both
+// its ends (the distance to a segment is convex too); pieces are cut where the plane through p
+// that bisects two new edges at p separates their ends.
+//
 // Invariant. Every original special triangle (a triangle of SurfaceReference's soup), or a piece
 // of one, is an *item* held by exactly one live face of the same label (a tet and a local face),
 // and all three corners of the item are within h of that face. The distance to a triangle is
@@ -46,6 +51,14 @@ struct CoverageItem {
   std::uint8_t local;      // the local face of the holding tet
 };
 
+// The same for a polyline segment of the original (or a piece of one), held by a polyline edge.
+struct CoverageSegment {
+  std::array<glm::dvec3, 2> ends;
+  std::uint32_t segment;  // the soup segment it is (part of): its label
+  std::uint8_t depth;
+  std::uint8_t local;     // the local edge (kTetEdges) of the holding tet
+};
+
 // Per-thread working memory; keeps capacity between calls.
 struct CoverageScratch {
   struct Target {  // a distinct new face with a tet that keeps it
@@ -57,6 +70,14 @@ struct CoverageScratch {
   std::vector<Target> targets;
   std::vector<CoverageItem> pending;  // items and pieces to place
   std::vector<CoverageItem> placed;   // placed items; `local` indexes `targets` until commit
+  struct SegmentTarget {
+    std::array<glm::dvec3, 2> pts;
+    VertId other;
+    int label;
+    FaceHolder holder;
+  };
+  std::vector<SegmentTarget> segment_targets;
+  std::vector<CoverageSegment> segment_pending, segment_placed;
 };
 
 class SurfaceCoverage {
@@ -81,7 +102,7 @@ class SurfaceCoverage {
   std::size_t item_count() const;
   std::size_t memory_bytes() const;
 
-  // For the tests: calls f(item) for every item held by tet t.
+  // For the tests: calls f(item) for every item (triangle piece) held by tet t.
   template <class F>
   void for_each_item(TetId t, F&& f) const {
     if (lists_[t])
@@ -94,10 +115,15 @@ class SurfaceCoverage {
 
  private:
   void cut(const CoverageItem& item, int label, CoverageScratch& s) const;
+  void cut(const CoverageSegment& item, int label, CoverageScratch& s) const;
+  bool place_segments(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+                      const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv,
+                      const SurfaceStencil& stencil, CoverageScratch& s) const;
 
   const SurfaceReference& reference_;
   double h_;
-  std::vector<std::unique_ptr<std::vector<CoverageItem>>> lists_;  // [tet]
+  std::vector<std::unique_ptr<std::vector<CoverageItem>>> lists_;             // [tet]
+  std::vector<std::unique_ptr<std::vector<CoverageSegment>>> segment_lists_;  // [tet]
 };
 
 }  // namespace topotet

@@ -528,8 +528,13 @@ struct LabelledFace {
 struct LabelledEdge {
   std::array<VertId, 2> v;
   std::int32_t ref;
-  bool operator<(const LabelledEdge& o) const { return v != o.v ? v < o.v : ref < o.ref; }
-  bool operator==(const LabelledEdge&) const = default;
+  TetId tet;  // a tet that has the edge, and the edge's local index there (the smallest such tet)
+  std::uint8_t local;
+  bool operator<(const LabelledEdge& o) const {
+    if (v != o.v) return v < o.v;
+    return ref != o.ref ? ref < o.ref : tet < o.tet;
+  }
+  bool operator==(const LabelledEdge& o) const { return v == o.v && ref == o.ref; }
 };
 
 }  // namespace
@@ -578,7 +583,7 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mes
         for (int e = 0; e < 6; ++e) {
           if (!is_polyline_edge(fl, e)) continue;
           const VertId x = tv[kTetEdges[e][0]], y = tv[kTetEdges[e][1]];
-          block_edges[b].push_back({{std::min(x, y), std::max(x, y)}, refs.edge[e]});
+          block_edges[b].push_back({{std::min(x, y), std::max(x, y)}, refs.edge[e], t, static_cast<std::uint8_t>(e)});
         }
       }
     }
@@ -613,8 +618,10 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mes
           std::lower_bound(labels.begin(), labels.end(), f.label) - labels.begin()));
       for (VertId x : f.v) on_surface[x] = 1;
     }
+  std::vector<FaceHolder> segment_holders;
   for (const LabelledEdge& e : edges) {
     soup.segments.push_back(e.v);
+    segment_holders.push_back({e.tet, e.local});
     soup.segment_label.push_back(static_cast<std::uint32_t>(
         std::lower_bound(polyline_refs.begin(), polyline_refs.end(), e.ref) - polyline_refs.begin()));
     for (VertId x : e.v) on_surface[x] = 1;
@@ -643,6 +650,7 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mes
   reference->polyline_refs_ = std::move(polyline_refs);
   reference->on_surface_ = std::move(on_surface);
   reference->holders_ = std::move(holders);
+  reference->segment_holders_ = std::move(segment_holders);
   // Patches within h / 4 of a plane: a large new triangle over one is proved in one step, at the
   // price of a quarter of h for the patch's own curvature.
   if (tolerance > 0.0) reference->build_flat_patches(0.25 * tolerance);
@@ -674,7 +682,9 @@ void gather_surface_stencil(const TetMesh& mesh, const SurfaceReference& referen
       const int a = kTetEdges[e][0], b = kTetEdges[e][1];
       if (a != iu && b != iu && a != iv && b != iv) continue;
       const VertId x = tv[a], y = tv[b];
-      out.edges.push_back({{std::min(x, y), std::max(x, y)}, reference.polyline_label_id(refs.edge[e])});
+      const bool keeps = !std::binary_search(star_uv.begin(), star_uv.end(), t);
+      out.edges.push_back({{std::min(x, y), std::max(x, y)}, reference.polyline_label_id(refs.edge[e]),
+                           keeps ? FaceHolder{t, static_cast<std::uint8_t>(e)} : FaceHolder{kInvalid, 0}});
     }
   };
   for (TetId t : star_u) add(t);
@@ -707,8 +717,10 @@ void gather_surface_stencil(const TetMesh& mesh, const SurfaceReference& referen
     }
     i = j;
   }
+  // Equal edges: the first one kept has a holder if any has (kInvalid sorts last).
   std::sort(out.edges.begin(), out.edges.end(), [](const auto& a, const auto& b) {
-    return a.v != b.v ? a.v < b.v : a.label < b.label;
+    if (a.v != b.v) return a.v < b.v;
+    return a.label != b.label ? a.label < b.label : a.holder.tet < b.holder.tet;
   });
   out.edges.erase(std::unique(out.edges.begin(), out.edges.end(),
                               [](const auto& a, const auto& b) { return a.v == b.v && a.label == b.label; }),
@@ -811,7 +823,8 @@ bool new_surface_around(const TetMesh& mesh, VertId u, VertId v, const glm::dvec
     const bool hu = contains(e.v, u), hv = contains(e.v, v);
     if (hu == hv) continue;
     if (e.label < 0) return false;
-    s.new_edges.push_back({{p, P[e.v[0] == u || e.v[0] == v ? e.v[1] : e.v[0]]}, e.label});
+    const VertId other = e.v[0] == u || e.v[0] == v ? e.v[1] : e.v[0];
+    s.new_edges.push_back({{p, P[other]}, e.label, other, e.holder});
   }
   return true;
 }

@@ -114,6 +114,8 @@ class SurfaceReference {
   bool on_surface(VertId v) const { return v < on_surface_.size() && on_surface_[v] != 0; }
   // Where each triangle of the soup was taken from (from_mesh only; empty otherwise).
   const std::vector<FaceHolder>& triangle_holders() const { return holders_; }
+  // The same for the polyline segments (the first ones of the soup; local = tet edge index).
+  const std::vector<FaceHolder>& segment_holders() const { return segment_holders_; }
   const SurfaceSoup& soup() const { return soup_; }
 
   // Is some primitive of `label` (a geometry id) within distance h of p? Stops at the first hit.
@@ -143,7 +145,8 @@ class SurfaceReference {
   std::vector<SurfaceLabel> face_labels_;       // sorted; index = geometry id
   std::vector<std::int32_t> polyline_refs_;     // sorted; index + face_labels_.size() = geometry id
   std::vector<std::uint8_t> on_surface_;
-  std::vector<FaceHolder> holders_;  // [soup triangle]
+  std::vector<FaceHolder> holders_;          // [soup triangle]
+  std::vector<FaceHolder> segment_holders_;  // [soup polyline segment]
   double slack_ = 0.0;  // float rounding of the coordinates Embree prunes with
   std::unique_ptr<Embree> embree_;
   std::unique_ptr<FlatPatches> patches_;
@@ -159,6 +162,7 @@ struct SurfaceStencil {
   struct Edge {
     std::array<VertId, 2> v;
     int label;
+    FaceHolder holder;  // a tet outside St(uv) that has it, local = edge index (kInvalid: none)
   };
   struct FaceRec {
     std::array<VertId, 3> key;
@@ -179,6 +183,8 @@ struct SurfaceStencil {
   struct NewEdge {
     std::array<glm::dvec3, 2> pts;  // p first
     int label;
+    VertId other;       // the vertex other than p
+    FaceHolder holder;  // the tet that has the edge after the collapse (local: edge index)
   };
   std::vector<NewFace> new_faces;
   std::vector<NewEdge> new_edges;

@@ -110,7 +110,11 @@ TEST(FieldAccuracy, LinearFieldIsReproducedOnFeatureVerticesAndWithSeveralFields
   input.fields.push_back(vector);
   for (double ratio : {0.3, 0.1}) {
     const Simplified run = simplify_data(input, ratio);
-    ASSERT_EQ(run.report.status, Status::kOk) << run.report.message;
+    // The default tolerance may stop the run near the target (on this jittered sphere, at ~10.5%):
+    // the field must be exact wherever the run stops.
+    ASSERT_TRUE(run.report.status == Status::kOk ||
+                (run.report.status == Status::kStoppedEarly && run.report.tolerance_limited))
+        << run.report.message;
     EXPECT_LE(max_vertex_error(run.output, 0, kLinear), 1e-11) << "ratio " << ratio;
     const FieldError e = compare_fields(input, run.output);
     ASSERT_EQ(e.components.size(), 5u);
@@ -198,7 +202,11 @@ TEST(FieldAccuracy, FeatureVerticesAreAsAccurateAsInteriorOnes) {
   set_field(input, "f", f);
   for (double ratio : {0.3, 0.1}) {
     const Simplified run = simplify_data(input, ratio);
-    ASSERT_EQ(run.report.status, Status::kOk) << run.report.message;
+    // The default tolerance may stop the run near the target (on this jittered sphere, at ~10.5%):
+    // the field must be exact wherever the run stops.
+    ASSERT_TRUE(run.report.status == Status::kOk ||
+                (run.report.status == Status::kStoppedEarly && run.report.tolerance_limited))
+        << run.report.message;
     const std::vector<char> feature = feature_vertices(run.output);
     double sum2[2] = {0, 0}, sum[2] = {0, 0};
     std::size_t count[2] = {0, 0};
