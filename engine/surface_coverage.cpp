@@ -11,6 +11,8 @@ namespace topotet {
 
 namespace {
 
+constexpr std::uint8_t kNoGuess = 0xFF;
+
 bool face_has(const std::array<VertId, 4>& tet, std::uint8_t local, VertId x) {
   for (int k = 0; k < 4; ++k)
     if (k != local && tet[k] == x) return true;
@@ -124,7 +126,7 @@ void SurfaceCoverage::cut(const CoverageItem& item, int label, CoverageScratch& 
     }
   const auto depth = static_cast<std::uint8_t>(item.depth + 1);
   auto push = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-    s.pending.push_back({{a, b, c}, item.triangle, depth, 0});
+    s.pending.push_back({{a, b, c}, item.triangle, depth, kNoGuess});
   };
   if (best < std::numeric_limits<double>::infinity()) {
     std::array<double, 3> d{};
@@ -165,13 +167,30 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
     for (const auto& g : s.targets) seen = seen || (g.label == f.label && g.others == f.others);
     if (!seen) s.targets.push_back({f.pts, f.others, f.label, f.holder});
   }
+  if (s.targets.size() >= kNoGuess) return false;  // item indices are bytes: refuse a fan that large
   s.pending.clear();
   s.placed.clear();
   const SurfaceSoup& soup = reference_.soup();
+  // Each item's first guess (in `local` while pending): the new face its face becomes, the one
+  // with the same two vertices other than u and v. Most items stay on it: one test instead of a
+  // scan of the fan.
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
     if (!lists_[t]) return;
-    for (const CoverageItem& item : *lists_[t])
-      if (moves(mesh, t, item.local, u, v)) s.pending.push_back(item);
+    const auto& tv = mesh.tets[t];
+    for (const CoverageItem& item : *lists_[t]) {
+      if (!moves(mesh, t, item.local, u, v)) continue;
+      VertId others[3];
+      int n = 0;
+      for (int k = 0; k < 4; ++k)
+        if (k != item.local && tv[k] != u && tv[k] != v) others[n++] = tv[k];
+      std::uint8_t guess = kNoGuess;
+      if (n == 2) {
+        const std::array<VertId, 2> key{std::min(others[0], others[1]), std::max(others[0], others[1])};
+        for (std::size_t k = 0; k < s.targets.size() && guess == kNoGuess; ++k)
+          if (s.targets[k].others == key) guess = static_cast<std::uint8_t>(k);
+      }
+      s.pending.push_back({item.corners, item.triangle, item.depth, guess});
+    }
   });
   const double h2 = h_ * h_;
   auto near = [&](const glm::dvec3& x, const CoverageScratch::Target& f) {
@@ -181,10 +200,12 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
   // whole triangle, once per triangle (pieces of it held elsewhere stay: a part covered twice is
   // harmless). Without this, every re-placement could cut items further and the lists would only
   // grow.
-  std::sort(s.pending.begin(), s.pending.end(), [](const CoverageItem& a, const CoverageItem& b) {
-    return a.triangle != b.triangle ? a.triangle < b.triangle : a.depth < b.depth;
-  });
-  {
+  const bool any_piece =
+      std::any_of(s.pending.begin(), s.pending.end(), [](const CoverageItem& item) { return item.depth > 0; });
+  if (any_piece) {
+    std::sort(s.pending.begin(), s.pending.end(), [](const CoverageItem& a, const CoverageItem& b) {
+      return a.triangle != b.triangle ? a.triangle < b.triangle : a.depth < b.depth;
+    });
     const auto& P = soup.positions;
     std::size_t out = 0;
     for (std::size_t i = 0; i < s.pending.size();) {
@@ -202,7 +223,7 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
             break;
           }
       if (healed) {
-        s.pending[out++] = {whole, tri, 0, 0};
+        s.pending[out++] = {whole, tri, 0, kNoGuess};
       } else {
         for (std::size_t k = i; k < j; ++k) s.pending[out++] = s.pending[k];
       }
@@ -216,6 +237,10 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
     const int label = static_cast<int>(soup.triangle_label[item.triangle]);
     const auto& q = item.corners;
     int found = -1;
+    if (item.local != kNoGuess) {
+      const auto& f = s.targets[item.local];
+      if (f.label == label && near(q[0], f) && near(q[1], f) && near(q[2], f)) found = item.local;
+    }
     for (std::size_t k = 0; k < s.targets.size() && found < 0; ++k) {
       const auto& f = s.targets[k];
       if (f.label == label && near(q[0], f) && near(q[1], f) && near(q[2], f)) found = static_cast<int>(k);
@@ -249,6 +274,7 @@ bool SurfaceCoverage::place_segments(const TetMesh& mesh, VertId u, VertId v, co
     for (const auto& g : s.segment_targets) seen = seen || (g.label == e.label && g.other == e.other);
     if (!seen) s.segment_targets.push_back({e.pts, e.other, e.label, e.holder});
   }
+  if (s.segment_targets.size() >= kNoGuess) return false;
   s.segment_pending.clear();
   s.segment_placed.clear();
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {

@@ -19,27 +19,40 @@
 // The kernel check (placement_within_tolerance, called by first_acceptable in collapse.cpp) for
 // v merged into u, u moved to p, with h the tolerance. For every special face (polyline edge) of
 // St(u) ∪ St(v) that survives the collapse and moves (contains exactly one of u, v):
-//   forward   EVERY point of the new triangle p x y must be within h of the original surface of
-//             the face's label: the distance to a fixed set is 1-Lipschitz, so a piece of the
-//             triangle whose centre is within h - r (r: centre to farthest corner) is within h
-//             everywhere; pieces that fail are split in four, down to r = h / 8 or 64 pieces,
-//             where the placement is refused (surface_tolerance.cpp, triangle_within). Likewise every point
-//             of a new segment p x, and, when px is on the border of its label's surface (one face
-//             of that label: the rim of an open surface, or a seam between two labels), every point
-//             of px against the original border;
-//   reverse   the old positions of u and v (when they differ from p) must be within h of the new
-//             triangles (segments) around p of every label they carried.
+//   screen    p, the centroid and the midpoints of the edges at p of each new triangle (the
+//             midpoint of each new segment) within h: a point beyond h is a real violation, and
+//             most refusals take only these few queries;
+//   reverse   the old positions of u and v (when they differ from p) within h of the new
+//             triangles (segments) around p of every label they carried (cheap, exact);
+//   forward   a proof that EVERY point of each new triangle p x y is within h of the original
+//             surface of its label (surface_tolerance.cpp, triangle_within). A piece of the
+//             triangle (the whole at first) is accepted by the first of these that holds:
+//               - Lipschitz: its centre within h - r, r the centre's distance to its farthest
+//                 corner (the distance to a fixed set is 1-Lipschitz);
+//               - flat patch: its shadow on a nearly flat patch of the original (flat_patches.h)
+//                 lies in the patch's shadow, and its corners' distances to the patch plane plus
+//                 the patch's deviation are within h (one step for a large triangle over many
+//                 small coplanar ones: boxes, CAD faces);
+//               - one primitive: one original triangle within h of all its corners (the distance
+//                 to a triangle is convex);
+//               - crease: two original triangles across an edge, the piece cut by the plane
+//                 bisecting them, each part within h of its own triangle (curved surfaces made of
+//                 flat facets, where pieces straddle facet edges);
+//             otherwise it is split in four, down to r = h / 8 or 64 pieces, where the placement
+//             is refused. Likewise every point of a new segment p x, and, when px is on the
+//             border of its label's surface (one face of that label: the rim of an open surface,
+//             or a seam between two labels), every point of px against the original border;
+//   coverage  (surface_coverage.h, called after this check by collapse.cpp) the original
+//             triangles and polyline segments that the moving faces (edges) held find a new face
+//             (edge) within h of all their corners, cut where needed.
 // What this guarantees, by induction over the collapses (every face a collapse changes contains p,
-// so every changed face is checked whole, and unchanged faces are original):
+// so every changed face is checked whole, and unchanged faces keep their position):
 //   - simplified -> original: every point of the simplified boundary, interfaces, listed surfaces,
-//     polylines and label borders is within h of the original of its label. This is a proof, not
-//     a sampling: an independent dense measurement can only find less;
-//   - original -> simplified: each removed vertex was within h of the surface around the vertex
-//     that replaced it, at the moment of its removal. It is not re-checked when that surface moves
-//     again later, so this direction is bounded only through the forward check: a closed surface
-//     (or one whose rim is checked as a border curve) that stays within h of the original cannot
-//     leave part of the original uncovered by much more than h without changing topology, but
-//     this is not a proof; the metric (metrics/surface_distance.h) measures both directions.
+//     polylines and label borders is within h of the original of its label;
+//   - original -> simplified: every point of the original boundary, interfaces, listed surfaces
+//     and polylines (feature curves included) is within h of the simplified one of its label.
+// Both are proofs, not samplings: an independent dense measurement can only find less (up to the
+// rounding of double arithmetic, ~1e-9 h).
 // Faces whose label does not exist in the original (cannot happen with the link conditions on;
 // a safety net) are refused. An interior vertex may not absorb a surface vertex (the cost model
 // never proposes it: it keeps the vertex of higher order), so that the per-vertex "on a surface"

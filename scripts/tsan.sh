@@ -8,7 +8,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTOPOTET_SANITIZE=thread \
   -DTOPOTET_BUILD_BENCH=OFF -DTOPOTET_BUILD_CLI=OFF
 tests=(unit_simplify unit_vertex_map unit_tet_mesh unit_generate property_hierarchy)
-cmake --build build-tsan -j "$(nproc)" --target "${tests[@]}" unit_field_bounds
+cmake --build build-tsan -j "$(nproc)" --target "${tests[@]}" unit_field_bounds unit_surface_tolerance
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
 for t in "${tests[@]}"; do
   echo "--- TSan: $t"
@@ -19,4 +19,7 @@ done
 # is built by Embree's own threads (invisible to TSan, which then reports races inside Embree).
 echo "--- TSan: unit_field_bounds (parallel engine with bounds)"
 build-tsan/tests/unit_field_bounds --gtest_brief=1 --gtest_filter='FieldBounds.SameOutputAndBoundsForAnyThreadCount'
+# The tolerance's surface items (engine/surface_coverage.h) move in the parallel apply phase.
+echo "--- TSan: unit_surface_tolerance (parallel engine with the tolerance, 1/2/4 threads)"
+build-tsan/tests/unit_surface_tolerance --gtest_brief=1 --gtest_filter='SimplifyTolerance.ParallelOutputIsIdenticalForEveryThreadCount'
 echo "TSan: no data race reported"
