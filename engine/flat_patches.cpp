@@ -78,7 +78,23 @@ FlatPatches find_flat_patches(const SurfaceSoup& soup, double max_deviation) {
   out.patch_of.assign(n, kInvalid);
   std::vector<std::uint8_t> flipped(n, 0);
   std::vector<std::uint32_t> queue, members;
-  for (std::uint32_t seed = 0; seed < n; ++seed) {
+  // Seeds in the order of their centroids, not of their ids: the patches (and so every decision
+  // of the tolerance check) must not depend on how the mesh is numbered.
+  std::vector<std::uint32_t> seeds(n);
+  std::vector<glm::dvec3> centroid(n);
+  for (std::uint32_t t = 0; t < n; ++t) {
+    seeds[t] = t;
+    const auto& v = soup.triangles[t];
+    centroid[t] = (P[v[0]] + P[v[1]] + P[v[2]]) / 3.0;
+  }
+  std::sort(seeds.begin(), seeds.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const glm::dvec3 &x = centroid[a], &y = centroid[b];
+    if (x.x != y.x) return x.x < y.x;
+    if (x.y != y.y) return x.y < y.y;
+    if (x.z != y.z) return x.z < y.z;
+    return a < b;
+  });
+  for (const std::uint32_t seed : seeds) {
     if (out.patch_of[seed] != kInvalid) continue;
     const auto id = static_cast<std::uint32_t>(out.patches.size());
     const glm::dvec3 raw = raw_normal(seed);

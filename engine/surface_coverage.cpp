@@ -13,6 +13,36 @@ namespace {
 
 constexpr std::uint8_t kNoGuess = 0xFF;
 
+// Geometric order of points and of faces through p (by their other two corners, as a set): ties
+// between equally good faces are broken by geometry, never by ids, so that the result does not
+// depend on the numbering.
+bool less(const glm::dvec3& a, const glm::dvec3& b) {
+  if (a.x != b.x) return a.x < b.x;
+  if (a.y != b.y) return a.y < b.y;
+  return a.z < b.z;
+}
+bool face_less(const std::array<glm::dvec3, 3>& f, const std::array<glm::dvec3, 3>& g) {
+  const glm::dvec3& f0 = less(f[1], f[2]) ? f[1] : f[2];
+  const glm::dvec3& f1 = less(f[1], f[2]) ? f[2] : f[1];
+  const glm::dvec3& g0 = less(g[1], g[2]) ? g[1] : g[2];
+  const glm::dvec3& g1 = less(g[1], g[2]) ? g[2] : g[1];
+  if (f0 != g0) return less(f0, g0);
+  return less(f1, g1);
+}
+
+// Corners in geometric order: how a piece is cut (the diagonal of the quadrilateral side) follows
+// its corner order, which must not come from the numbering either.
+std::array<glm::dvec3, 3> sorted(std::array<glm::dvec3, 3> q) {
+  std::sort(q.begin(), q.end(), less);
+  return q;
+}
+
+// A float not below x (bounds are stored as floats and must stay upper bounds).
+float round_up(double x) {
+  const auto f = static_cast<float>(x);
+  return static_cast<double>(f) >= x ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
+}
+
 bool face_has(const std::array<VertId, 4>& tet, std::uint8_t local, VertId x) {
   for (int k = 0; k < 4; ++k)
     if (k != local && tet[k] == x) return true;
@@ -51,7 +81,7 @@ SurfaceCoverage::SurfaceCoverage(const TetMesh& mesh, const SurfaceReference& re
     if (!list) list = std::make_unique<std::vector<CoverageItem>>();
     const auto& t = reference.soup().triangles[k];
     const auto& P = reference.soup().positions;
-    list->push_back({{P[t[0]], P[t[1]], P[t[2]]}, k, 0, holders[k].local});
+    list->push_back({sorted({P[t[0]], P[t[1]], P[t[2]]}), k, 0.0f, 0, holders[k].local});
   }
   segment_lists_.resize(mesh.tet_capacity());
   const auto& segment_holders = reference.segment_holders();
@@ -60,7 +90,9 @@ SurfaceCoverage::SurfaceCoverage(const TetMesh& mesh, const SurfaceReference& re
     if (!list) list = std::make_unique<std::vector<CoverageSegment>>();
     const auto& e = reference.soup().segments[k];
     const auto& P = reference.soup().positions;
-    list->push_back({{P[e[0]], P[e[1]]}, k, 0, segment_holders[k].local});
+    list->push_back({less(P[e[1]], P[e[0]]) ? std::array<glm::dvec3, 2>{P[e[1]], P[e[0]]}
+                                            : std::array<glm::dvec3, 2>{P[e[0]], P[e[1]]},
+                     k, 0, segment_holders[k].local});
   }
 }
 
@@ -98,6 +130,8 @@ void SurfaceCoverage::cut(const CoverageItem& item, int label, CoverageScratch& 
                                           glm::dot(q[0] - q[2], q[0] - q[2])}));
   double best = std::numeric_limits<double>::infinity();
   glm::dvec3 best_normal(0.0), best_point(0.0);
+  std::uint8_t side_pos = kNoGuess, side_neg = kNoGuess;  // the faces on either side of the cut
+  glm::dvec3 best_edge(0.0);
   for (std::size_t i = 0; i < s.targets.size(); ++i)
     for (std::size_t j = i + 1; j < s.targets.size(); ++j) {
       const auto& f = s.targets[i];
@@ -117,16 +151,19 @@ void SurfaceCoverage::cut(const CoverageItem& item, int label, CoverageScratch& 
           const bool pos = s0 > eps || s1 > eps || s2 > eps, neg = s0 < -eps || s1 < -eps || s2 < -eps;
           if (!pos || !neg) continue;
           const double d = squared_distance_to_segment(centre, p, x);
-          if (d < best) {
+          if (d < best || (d == best && less(x, best_edge))) {
+            best_edge = x;
             best = d;
             best_normal = n;
             best_point = p;
+            side_pos = static_cast<std::uint8_t>(i);
+            side_neg = static_cast<std::uint8_t>(j);
           }
         }
     }
   const auto depth = static_cast<std::uint8_t>(item.depth + 1);
-  auto push = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-    s.pending.push_back({{a, b, c}, item.triangle, depth, kNoGuess});
+  auto push = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, std::uint8_t guess = kNoGuess) {
+    s.pending.push_back({sorted({a, b, c}), item.triangle, std::numeric_limits<float>::infinity(), depth, guess});
   };
   if (best < std::numeric_limits<double>::infinity()) {
     std::array<double, 3> d{};
@@ -141,9 +178,10 @@ void SurfaceCoverage::cut(const CoverageItem& item, int label, CoverageScratch& 
     auto cross = [&](int a, int b) { return q[a] + (q[b] - q[a]) * (d[a] / (d[a] - d[b])); };
     if (d[j] != d[k] && d[l] != d[k] && (d[k] > 0.0) != (d[j] > 0.0) && (d[k] > 0.0) != (d[l] > 0.0)) {
       const glm::dvec3 xj = cross(k, j), xl = cross(k, l);
-      push(q[k], xj, xl);
-      push(xj, q[j], q[l]);
-      push(xj, q[l], xl);
+      const std::uint8_t alone = d[k] > 0.0 ? side_pos : side_neg, pair = d[k] > 0.0 ? side_neg : side_pos;
+      push(q[k], xj, xl, alone);
+      push(xj, q[j], q[l], pair);
+      push(xj, q[l], xl, pair);
       return;
     }
   }
@@ -172,8 +210,10 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
   s.placed.clear();
   const SurfaceSoup& soup = reference_.soup();
   // Each item's first guess (in `local` while pending): the new face its face becomes, the one
-  // with the same two vertices other than u and v. Most items stay on it: one test instead of a
-  // scan of the fan.
+  // with the same two vertices other than u and v (its corner at u or v moved to p). Most items
+  // stay on it, and most of those need no distance at all: `bound` plus the corner's move.
+  const glm::dvec3 p = stencil.new_faces.empty() ? glm::dvec3(0.0) : stencil.new_faces.front().pts[0];
+  const double move_u = glm::length(p - mesh.positions[u]), move_v = glm::length(p - mesh.positions[v]);
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
     if (!lists_[t]) return;
     const auto& tv = mesh.tets[t];
@@ -181,53 +221,75 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
       if (!moves(mesh, t, item.local, u, v)) continue;
       VertId others[3];
       int n = 0;
-      for (int k = 0; k < 4; ++k)
-        if (k != item.local && tv[k] != u && tv[k] != v) others[n++] = tv[k];
+      bool at_u = false;
+      for (int k = 0; k < 4; ++k) {
+        if (k == item.local) continue;
+        if (tv[k] == u) at_u = true;
+        if (tv[k] != u && tv[k] != v) others[n++] = tv[k];
+      }
       std::uint8_t guess = kNoGuess;
       if (n == 2) {
         const std::array<VertId, 2> key{std::min(others[0], others[1]), std::max(others[0], others[1])};
         for (std::size_t k = 0; k < s.targets.size() && guess == kNoGuess; ++k)
           if (s.targets[k].others == key) guess = static_cast<std::uint8_t>(k);
       }
-      s.pending.push_back({item.corners, item.triangle, item.depth, guess});
+      // While pending, `bound` is the bound on the guessed face (infinite without a guess).
+      const double moved = static_cast<double>(item.bound) + (at_u ? move_u : move_v);
+      const float bound = guess == kNoGuess ? std::numeric_limits<float>::infinity() : round_up(moved);
+      s.pending.push_back({item.corners, item.triangle, bound, item.depth, guess});
     }
   });
   const double h2 = h_ * h_;
-  auto near = [&](const glm::dvec3& x, const CoverageScratch::Target& f) {
-    return squared_distance_to_triangle(x, f.pts[0], f.pts[1], f.pts[2]) <= h2;
+  auto dist2 = [&](const glm::dvec3& x, const CoverageScratch::Target& f) {
+    return squared_distance_to_triangle(x, f.pts[0], f.pts[1], f.pts[2]);
   };
-  // Pieces heal: a piece whose whole original triangle one new face holds goes back to being the
-  // whole triangle, once per triangle (pieces of it held elsewhere stay: a part covered twice is
-  // harmless). Without this, every re-placement could cut items further and the lists would only
-  // grow.
-  const bool any_piece =
-      std::any_of(s.pending.begin(), s.pending.end(), [](const CoverageItem& item) { return item.depth > 0; });
-  if (any_piece) {
-    std::sort(s.pending.begin(), s.pending.end(), [](const CoverageItem& a, const CoverageItem& b) {
-      return a.triangle != b.triangle ? a.triangle < b.triangle : a.depth < b.depth;
-    });
+  auto near = [&](const glm::dvec3& x, const CoverageScratch::Target& f) { return dist2(x, f) <= h2; };
+  // The largest distance of the corners to f, if all are within h; negative otherwise.
+  auto holds = [&](const std::array<glm::dvec3, 3>& q, const CoverageScratch::Target& f) {
+    double worst = 0.0;
+    for (const glm::dvec3& x : q) {
+      const double d2 = dist2(x, f);
+      if (d2 > h2) return -1.0;
+      worst = std::max(worst, d2);
+    }
+    return std::sqrt(worst);
+  };
+  // A canonical order (by geometry, not by ids): the result must not depend on how the mesh is
+  // numbered, so that a replay of the same collapses on the input numbering (the hierarchy's
+  // downward-closed sets) holds the same items as the run did.
+  std::sort(s.pending.begin(), s.pending.end(), [&](const CoverageItem& a, const CoverageItem& b) {
+    if (a.depth != b.depth) return a.depth < b.depth;
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c)
+        if (a.corners[k][c] != b.corners[k][c]) return a.corners[k][c] < b.corners[k][c];
+    // The same piece twice (held twice after a heal elsewhere): by bound, then by the geometry
+    // of the face it would go to.
+    if (a.bound != b.bound) return a.bound < b.bound;
+    if (a.local == kNoGuess || b.local == kNoGuess) return a.local != kNoGuess && b.local == kNoGuess;
+    return face_less(s.targets[a.local].pts, s.targets[b.local].pts);
+  });
+  // Pieces heal: a piece whose whole original triangle its guessed face holds goes back to being
+  // the whole triangle, and the other pieces of that triangle here are dropped (pieces of it held
+  // elsewhere stay: a part covered twice is harmless). Without this, re-placements would keep
+  // cutting items and the lists would only grow.
+  s.healed.clear();
+  {
     const auto& P = soup.positions;
     std::size_t out = 0;
-    for (std::size_t i = 0; i < s.pending.size();) {
-      std::size_t j = i + 1;
-      while (j < s.pending.size() && s.pending[j].triangle == s.pending[i].triangle) ++j;
-      const std::uint32_t tri = s.pending[i].triangle;
-      const auto& t = soup.triangles[tri];
-      const std::array<glm::dvec3, 3> whole{P[t[0]], P[t[1]], P[t[2]]};
-      const int label = static_cast<int>(soup.triangle_label[tri]);
-      bool healed = false;
-      if (s.pending[i].depth > 0 || j - i > 1)
-        for (const auto& f : s.targets)
-          if (f.label == label && near(whole[0], f) && near(whole[1], f) && near(whole[2], f)) {
-            healed = true;
-            break;
-          }
-      if (healed) {
-        s.pending[out++] = {whole, tri, 0, kNoGuess};
-      } else {
-        for (std::size_t k = i; k < j; ++k) s.pending[out++] = s.pending[k];
+    for (std::size_t i = 0; i < s.pending.size(); ++i) {
+      CoverageItem item = s.pending[i];
+      if (std::find(s.healed.begin(), s.healed.end(), item.triangle) != s.healed.end()) continue;
+      if (item.depth > 0 && item.local != kNoGuess) {
+        const auto& t = soup.triangles[item.triangle];
+        const std::array<glm::dvec3, 3> whole = sorted({P[t[0]], P[t[1]], P[t[2]]});
+        const auto& f = s.targets[item.local];
+        const double d = f.label == static_cast<int>(soup.triangle_label[item.triangle]) ? holds(whole, f) : -1.0;
+        if (d >= 0.0) {
+          item = {whole, item.triangle, round_up(d), 0, item.local};
+          s.healed.push_back(item.triangle);
+        }
       }
-      i = j;
+      s.pending[out++] = item;
     }
     s.pending.resize(out);
   }
@@ -236,17 +298,29 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
     const CoverageItem item = s.pending[i];
     const int label = static_cast<int>(soup.triangle_label[item.triangle]);
     const auto& q = item.corners;
-    int found = -1;
-    if (item.local != kNoGuess) {
-      const auto& f = s.targets[item.local];
-      if (f.label == label && near(q[0], f) && near(q[1], f) && near(q[2], f)) found = item.local;
+    if (item.local != kNoGuess && static_cast<double>(item.bound) <= h_ && s.targets[item.local].label == label) {
+      s.placed.push_back(item);  // the bound proves it: no distance computed
+      continue;
     }
-    for (std::size_t k = 0; k < s.targets.size() && found < 0; ++k) {
-      const auto& f = s.targets[k];
-      if (f.label == label && near(q[0], f) && near(q[1], f) && near(q[2], f)) found = static_cast<int>(k);
+    int found = -1;
+    double found_bound = 0.0;
+    if (item.local != kNoGuess && s.targets[item.local].label == label) {
+      found_bound = holds(q, s.targets[item.local]);
+      if (found_bound >= 0.0) found = item.local;
+    }
+    // Else the face that holds it closest (geometric, so independent of the numbering).
+    const bool guessed = found >= 0;
+    for (std::size_t k = 0; k < s.targets.size() && !guessed; ++k) {
+      if (s.targets[k].label != label) continue;
+      const double d = holds(q, s.targets[k]);
+      if (d >= 0.0 && (found < 0 || d < found_bound ||
+                       (d == found_bound && face_less(s.targets[k].pts, s.targets[found].pts)))) {
+        found = static_cast<int>(k);
+        found_bound = d;
+      }
     }
     if (found >= 0) {
-      s.placed.push_back({q, item.triangle, item.depth, static_cast<std::uint8_t>(found)});
+      s.placed.push_back({q, item.triangle, round_up(found_bound), item.depth, static_cast<std::uint8_t>(found)});
       continue;
     }
     if (item.depth >= kMaxDepth) return false;
@@ -300,7 +374,8 @@ bool SurfaceCoverage::place_segments(const TetMesh& mesh, VertId u, VertId v, co
       while (j < s.segment_pending.size() && s.segment_pending[j].segment == s.segment_pending[i].segment) ++j;
       const std::uint32_t seg = s.segment_pending[i].segment;
       const auto& e = soup.segments[seg];
-      const std::array<glm::dvec3, 2> whole{soup.positions[e[0]], soup.positions[e[1]]};
+      const glm::dvec3 &e0 = soup.positions[e[0]], &e1 = soup.positions[e[1]];
+      const std::array<glm::dvec3, 2> whole = less(e1, e0) ? std::array<glm::dvec3, 2>{e1, e0} : std::array<glm::dvec3, 2>{e0, e1};
       bool healed = false;
       if (s.segment_pending[i].depth > 0 || j - i > 1)
         for (const auto& g : s.segment_targets)
@@ -314,14 +389,30 @@ bool SurfaceCoverage::place_segments(const TetMesh& mesh, VertId u, VertId v, co
     }
     s.segment_pending.resize(out);
   }
+  // A geometric order and the closest edge: independent of the numbering, as for triangles.
+  std::sort(s.segment_pending.begin(), s.segment_pending.end(), [](const auto& a, const auto& b) {
+    if (a.depth != b.depth) return a.depth < b.depth;
+    for (int k = 0; k < 2; ++k)
+      for (int c = 0; c < 3; ++c)
+        if (a.ends[k][c] != b.ends[k][c]) return a.ends[k][c] < b.ends[k][c];
+    return false;
+  });
   for (std::size_t i = 0; i < s.segment_pending.size(); ++i) {
     if (s.segment_pending.size() > kMaxPieces) return false;
     const CoverageSegment item = s.segment_pending[i];
     const int label = label_of(item.segment);
     int found = -1;
-    for (std::size_t k = 0; k < s.segment_targets.size() && found < 0; ++k) {
+    double found_d2 = 0.0;
+    for (std::size_t k = 0; k < s.segment_targets.size(); ++k) {
       const auto& g = s.segment_targets[k];
-      if (g.label == label && near(item.ends[0], g) && near(item.ends[1], g)) found = static_cast<int>(k);
+      if (g.label != label) continue;
+      const double d2 = std::max(squared_distance_to_segment(item.ends[0], g.pts[0], g.pts[1]),
+                                 squared_distance_to_segment(item.ends[1], g.pts[0], g.pts[1]));
+      if (d2 <= h2 && (found < 0 || d2 < found_d2 ||
+                       (d2 == found_d2 && less(g.pts[1], s.segment_targets[found].pts[1])))) {
+        found = static_cast<int>(k);
+        found_d2 = d2;
+      }
     }
     if (found >= 0) {
       s.segment_placed.push_back({item.ends, item.segment, item.depth, static_cast<std::uint8_t>(found)});
@@ -380,7 +471,7 @@ void SurfaceCoverage::commit(const TetMesh& mesh, VertId u, VertId v, const std:
     const FaceHolder holder = s.targets[item.local].holder;
     auto& list = lists_[holder.tet];
     if (!list) list = std::make_unique<std::vector<CoverageItem>>();
-    list->push_back({item.corners, item.triangle, item.depth, holder.local});
+    list->push_back({item.corners, item.triangle, item.bound, item.depth, holder.local});
   }
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
     if (!segment_lists_[t]) return;
@@ -395,6 +486,19 @@ void SurfaceCoverage::commit(const TetMesh& mesh, VertId u, VertId v, const std:
     if (!list) list = std::make_unique<std::vector<CoverageSegment>>();
     list->push_back({item.ends, item.segment, item.depth, holder.local});
   }
+  // Lists only grow in capacity otherwise: free the empty ones (dead tets, faces that left the
+  // surface) and trim the slack of the others.
+  auto trim = [](auto& list) {
+    if (!list) return;
+    if (list->empty())
+      list.reset();
+    else if (list->capacity() > list->size() + list->size() / 2 + 4)
+      list->shrink_to_fit();
+  };
+  for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
+    trim(lists_[t]);
+    trim(segment_lists_[t]);
+  });
 }
 
 std::size_t SurfaceCoverage::item_count() const {

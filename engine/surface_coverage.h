@@ -47,6 +47,10 @@ namespace topotet {
 struct CoverageItem {
   std::array<glm::dvec3, 3> corners;
   std::uint32_t triangle;  // the soup triangle it is (part of): its label
+  // An upper bound of the distance from its corners to the face that holds it (rounded up). When
+  // that face only has one corner moved by d, bound + d still bounds it (every point of the face
+  // moves by at most d): most re-placements then need no distance at all.
+  float bound;
   std::uint8_t depth;      // cuts from the whole triangle
   std::uint8_t local;      // the local face of the holding tet
 };
@@ -70,6 +74,7 @@ struct CoverageScratch {
   std::vector<Target> targets;
   std::vector<CoverageItem> pending;  // items and pieces to place
   std::vector<CoverageItem> placed;   // placed items; `local` indexes `targets` until commit
+  std::vector<std::uint32_t> healed;  // triangles made whole again in this placement
   struct SegmentTarget {
     std::array<glm::dvec3, 2> pts;
     VertId other;
