@@ -2,8 +2,6 @@
 // budget, compacts the result and fills the report. Never throws.
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -187,7 +185,6 @@ Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<
         detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report, log);
       else
         detail::simplify_parallel(mesh, options, kernel, bounds.get(), target, report, log);
-      if (coverage && std::getenv("TT_DBG")) std::fprintf(stderr, "items %zu bytes %zu triangles %zu\n", coverage->item_count(), coverage->memory_bytes(), surfaces->triangle_count());
       if (bounds != nullptr) {
         report.field_bound = bounds->max_bounds(mesh);
         report.field_bound_rel = bounds->max_bound_rel(mesh);
