@@ -12,6 +12,7 @@ namespace topotet {
 namespace {
 
 constexpr std::uint8_t kNoGuess = 0xFF;
+constexpr std::uint8_t kDropped = 0xFF;  // depth of a pending piece replaced by its whole triangle
 
 // Geometric order of points and of faces through p (by their other two corners, as a set): ties
 // between equally good faces are broken by geometry, never by ids, so that the result does not
@@ -203,7 +204,11 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
     if (f.holder.tet == kInvalid) continue;
     bool seen = false;
     for (const auto& g : s.targets) seen = seen || (g.label == f.label && g.others == f.others);
-    if (!seen) s.targets.push_back({f.pts, f.others, f.label, f.holder});
+    if (seen) continue;
+    const glm::dvec3 c = (f.pts[0] + f.pts[1] + f.pts[2]) / 3.0;
+    const double r = std::sqrt(std::max({glm::dot(f.pts[0] - c, f.pts[0] - c), glm::dot(f.pts[1] - c, f.pts[1] - c),
+                                         glm::dot(f.pts[2] - c, f.pts[2] - c)}));
+    s.targets.push_back({f.pts, f.others, f.label, f.holder, c, r});
   }
   if (s.targets.size() >= kNoGuess) return false;  // item indices are bytes: refuse a fan that large
   s.pending.clear();
@@ -240,7 +245,11 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
     }
   });
   const double h2 = h_ * h_;
+  // The exact squared distance, or any value above h^2 when the bounding sphere shows it is.
   auto dist2 = [&](const glm::dvec3& x, const CoverageScratch::Target& f) {
+    const double reach = h_ + f.radius;
+    const glm::dvec3 d = x - f.centre;
+    if (glm::dot(d, d) > reach * reach * (1.0 + 1e-12)) return std::numeric_limits<double>::infinity();
     return squared_distance_to_triangle(x, f.pts[0], f.pts[1], f.pts[2]);
   };
   auto near = [&](const glm::dvec3& x, const CoverageScratch::Target& f) { return dist2(x, f) <= h2; };
@@ -254,44 +263,53 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
     }
     return std::sqrt(worst);
   };
-  // A canonical order (by geometry, not by ids): the result must not depend on how the mesh is
-  // numbered, so that a replay of the same collapses on the input numbering (the hierarchy's
-  // downward-closed sets) holds the same items as the run did.
-  std::sort(s.pending.begin(), s.pending.end(), [&](const CoverageItem& a, const CoverageItem& b) {
-    if (a.depth != b.depth) return a.depth < b.depth;
-    for (int k = 0; k < 3; ++k)
-      for (int c = 0; c < 3; ++c)
-        if (a.corners[k][c] != b.corners[k][c]) return a.corners[k][c] < b.corners[k][c];
-    // The same piece twice (held twice after a heal elsewhere): by bound, then by the geometry
-    // of the face it would go to.
-    if (a.bound != b.bound) return a.bound < b.bound;
-    if (a.local == kNoGuess || b.local == kNoGuess) return a.local != kNoGuess && b.local == kNoGuess;
-    return face_less(s.targets[a.local].pts, s.targets[b.local].pts);
-  });
-  // Pieces heal: a piece whose whole original triangle its guessed face holds goes back to being
-  // the whole triangle, and the other pieces of that triangle here are dropped (pieces of it held
-  // elsewhere stay: a part covered twice is harmless). Without this, re-placements would keep
-  // cutting items and the lists would only grow.
-  s.healed.clear();
-  {
+  // Pieces heal: when a new face holds the whole original triangle of a piece (of the faces the
+  // triangle's pieces here would go to, the closest), its pieces here are replaced by the whole
+  // triangle (pieces of it held elsewhere stay: a part covered twice is harmless). Without this,
+  // re-placements would keep cutting items and the lists would only grow. Grouped by triangle;
+  // every choice is geometric, so that the result does not depend on how the mesh is numbered
+  // (a replay of the same collapses on the input numbering, as the hierarchy's downward-closed
+  // sets do, must hold the same items as the run did).
+  const bool any_piece =
+      std::any_of(s.pending.begin(), s.pending.end(), [](const CoverageItem& item) { return item.depth > 0; });
+  if (any_piece) {
+    s.order.clear();
+    for (std::uint32_t i = 0; i < s.pending.size(); ++i) s.order.push_back({s.pending[i].triangle, i});
+    std::sort(s.order.begin(), s.order.end());
     const auto& P = soup.positions;
-    std::size_t out = 0;
-    for (std::size_t i = 0; i < s.pending.size(); ++i) {
-      CoverageItem item = s.pending[i];
-      if (std::find(s.healed.begin(), s.healed.end(), item.triangle) != s.healed.end()) continue;
-      if (item.depth > 0 && item.local != kNoGuess) {
-        const auto& t = soup.triangles[item.triangle];
-        const std::array<glm::dvec3, 3> whole = sorted({P[t[0]], P[t[1]], P[t[2]]});
-        const auto& f = s.targets[item.local];
-        const double d = f.label == static_cast<int>(soup.triangle_label[item.triangle]) ? holds(whole, f) : -1.0;
-        if (d >= 0.0) {
-          item = {whole, item.triangle, round_up(d), 0, item.local};
-          s.healed.push_back(item.triangle);
+    s.healed_items.clear();
+    for (std::size_t i = 0; i < s.order.size();) {
+      std::size_t j = i + 1;
+      while (j < s.order.size() && s.order[j].first == s.order[i].first) ++j;
+      bool pieces = false;
+      for (std::size_t k = i; k < j; ++k) pieces = pieces || s.pending[s.order[k].second].depth > 0;
+      int heal = -1;
+      double heal_d = 0.0;
+      const std::uint32_t tri = s.order[i].first;
+      const auto& t = soup.triangles[tri];
+      const std::array<glm::dvec3, 3> whole = sorted({P[t[0]], P[t[1]], P[t[2]]});
+      if (pieces) {
+        const int label = static_cast<int>(soup.triangle_label[tri]);
+        for (std::size_t k = i; k < j; ++k) {
+          const std::uint8_t g = s.pending[s.order[k].second].local;
+          if (g == kNoGuess || g == heal || s.targets[g].label != label) continue;
+          const double d = holds(whole, s.targets[g]);
+          if (d >= 0.0 && (heal < 0 || d < heal_d || (d == heal_d && face_less(s.targets[g].pts, s.targets[heal].pts)))) {
+            heal = g;
+            heal_d = d;
+          }
         }
       }
-      s.pending[out++] = item;
+      if (heal >= 0) {
+        s.healed_items.push_back({whole, tri, round_up(heal_d), 0, static_cast<std::uint8_t>(heal)});
+        for (std::size_t k = i; k < j; ++k) s.pending[s.order[k].second].depth = kDropped;
+      }
+      i = j;
     }
-    s.pending.resize(out);
+    s.pending.erase(std::remove_if(s.pending.begin(), s.pending.end(),
+                                   [](const CoverageItem& item) { return item.depth == kDropped; }),
+                    s.pending.end());
+    s.pending.insert(s.pending.end(), s.healed_items.begin(), s.healed_items.end());
   }
   for (std::size_t i = 0; i < s.pending.size(); ++i) {  // pieces are appended: a FIFO
     if (s.pending.size() > kMaxPieces) return false;
@@ -325,13 +343,16 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
     }
     if (item.depth >= kMaxDepth) return false;
     // Every point of the item must be within h of some new face for any cut to succeed: a corner,
-    // the centre or an edge midpoint that no new face holds refuses the placement at once.
-    const std::array<glm::dvec3, 7> probes{q[0], q[1], q[2], (q[0] + q[1] + q[2]) / 3.0, 0.5 * (q[0] + q[1]),
-                                           0.5 * (q[1] + q[2]), 0.5 * (q[2] + q[0])};
-    for (const glm::dvec3& x : probes) {
-      bool any = false;
-      for (const auto& f : s.targets) any = any || (f.label == label && near(x, f));
-      if (!any) return false;
+    // the centre or an edge midpoint that no new face holds refuses the placement at once. (Whole
+    // items only: pieces are bounded by the depth and piece limits.)
+    if (item.depth == 0) {
+      const std::array<glm::dvec3, 7> probes{q[0], q[1], q[2], (q[0] + q[1] + q[2]) / 3.0, 0.5 * (q[0] + q[1]),
+                                             0.5 * (q[1] + q[2]), 0.5 * (q[2] + q[0])};
+      for (const glm::dvec3& x : probes) {
+        bool any = false;
+        for (const auto& f : s.targets) any = any || (f.label == label && near(x, f));
+        if (!any) return false;
+      }
     }
     cut(item, label, s);
   }

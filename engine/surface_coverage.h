@@ -70,11 +70,14 @@ struct CoverageScratch {
     std::array<VertId, 2> others;
     int label;
     FaceHolder holder;
+    glm::dvec3 centre;  // a bounding sphere, to skip the exact distance for faces far away
+    double radius;
   };
   std::vector<Target> targets;
   std::vector<CoverageItem> pending;  // items and pieces to place
   std::vector<CoverageItem> placed;   // placed items; `local` indexes `targets` until commit
-  std::vector<std::uint32_t> healed;  // triangles made whole again in this placement
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> order;  // (triangle, pending index)
+  std::vector<CoverageItem> healed_items;  // triangles made whole again in this placement
   struct SegmentTarget {
     std::array<glm::dvec3, 2> pts;
     VertId other;
