@@ -255,8 +255,11 @@ bool within_tolerance(const TetMesh& mesh, const Placement& pl, const CollapseOp
     surface_edge = edge;
   }
   if (!placement_within_tolerance(mesh, reference, options.tolerance, pl.u, pl.v, pl.p, s.surface)) return false;
-  return options.coverage == nullptr ||
-         options.coverage->place(mesh, pl.u, pl.v, s.star_u, s.star_v, s.star_uv, s.surface, s.coverage);
+  if (options.coverage == nullptr) return true;
+  s.coverage_for.u = kInvalid;
+  if (!options.coverage->place(mesh, pl.u, pl.v, s.star_u, s.star_v, s.star_uv, s.surface, s.coverage)) return false;
+  s.coverage_for = {pl.u, pl.v, pl.p};
+  return true;
 }
 
 // The new star as the field bounds see it (the tets that survive, with their moving corner).
@@ -371,11 +374,15 @@ float collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const dou
   // The original surface items of the faces that move, placed on the new faces and stored now:
   // they are keyed by tet ids and local faces, which the collapse keeps.
   if (coverage != nullptr && coverage->reference().on_surface(u)) {
-    gather_surface_stencil(mesh, coverage->reference(), u, v, s.star_u, s.star_v, s.star_uv, s.surface);
-    if (!new_surface_around(mesh, u, v, p, s.surface) ||
-        !coverage->place(mesh, u, v, s.star_u, s.star_v, s.star_uv, s.surface, s.coverage))
-      throw std::logic_error("collapse: a placement the check accepted leaves the original surface uncovered");
+    const bool checked = s.coverage_for.u == u && s.coverage_for.v == v && s.coverage_for.p == p;
+    if (!checked) {
+      gather_surface_stencil(mesh, coverage->reference(), u, v, s.star_u, s.star_v, s.star_uv, s.surface);
+      if (!new_surface_around(mesh, u, v, p, s.surface) ||
+          !coverage->place(mesh, u, v, s.star_u, s.star_v, s.star_uv, s.surface, s.coverage))
+        throw std::logic_error("collapse: a placement the check accepted leaves the original surface uncovered");
+    }
     coverage->commit(mesh, u, v, s.star_u, s.star_v, s.star_uv, s.coverage);
+    s.coverage_for.u = kInvalid;
   }
   // 0. The field bounds of the new star, from the mesh as it is (nothing written yet); stored at once:
   //    they are keyed by tet ids, which the collapse keeps.

@@ -104,6 +104,14 @@ struct CollapseScratch {
   std::vector<VertId> link_vertices;  // vertices of St(uv) other than u, v
   SurfaceStencil surface;  // the tolerance check's faces and edges at u, v
   CoverageScratch coverage;
+  // The placement the last successful coverage check was for (u = kInvalid: none): collapse()
+  // commits that result instead of computing it again when it applies the same placement. Valid
+  // only while the stencil is unchanged: the sequential engine applies right after the check, and
+  // the parallel engine clears it at every round (rounds.cpp), whose winners were checked in it.
+  struct CoverageFor {
+    VertId u = kInvalid, v = kInvalid;
+    glm::dvec3 p{0.0};
+  } coverage_for;
   FieldBoundsScratch bounds;
 };
 

@@ -121,6 +121,8 @@ class Rounds {
     bool refreshed_since_collapse = false;
     while (live_ > target_) {
       ++round_;
+      // Coverage results kept for the apply phase are valid within a round only (collapse.h).
+      for (ThreadScratch& s : scratch_) s.proposal.collapse.coverage_for.u = kInvalid;
       RoundStats stats;
       auto t0 = Clock::now();
       evaluate(stats);
