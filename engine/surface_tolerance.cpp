@@ -717,6 +717,45 @@ void gather_surface_stencil(const TetMesh& mesh, const SurfaceReference& referen
     }
     i = j;
   }
+  // A face through u (v) whose only tets die with St(uv) lives on in the face it merges with: the
+  // same face through v (u), in a tet that survives (a boundary face uxy of a removed tet uvxy
+  // becomes the face vxy of its neighbour, renamed). That tet holds it after the collapse.
+  for (SurfaceStencil::Face& f : out.faces) {
+    if (f.holder.tet != kInvalid) continue;
+    const bool has_u = f.v[0] == u || f.v[1] == u || f.v[2] == u;
+    const bool has_v = f.v[0] == v || f.v[1] == v || f.v[2] == v;
+    if (has_u == has_v) continue;
+    std::array<VertId, 3> partner = f.v;
+    for (VertId& x : partner)
+      if (x == (has_u ? u : v)) x = has_u ? v : u;
+    std::sort(partner.begin(), partner.end());
+    auto it = std::lower_bound(out.recs.begin(), out.recs.end(), SurfaceStencil::FaceRec{partner, 0, 0});
+    for (; it != out.recs.end() && it->key == partner; ++it)
+      if (!std::binary_search(star_uv.begin(), star_uv.end(), it->tet)) {
+        f.holder = {it->tet, it->local_face};
+        break;
+      }
+  }
+  // The same for polyline edges: the edge ux (vx) lives on in vx (ux) of a surviving tet.
+  for (SurfaceStencil::Edge& e : out.edges) {
+    if (e.holder.tet != kInvalid) continue;
+    const bool has_u = e.v[0] == u || e.v[1] == u, has_v = e.v[0] == v || e.v[1] == v;
+    if (has_u == has_v) continue;
+    const VertId other = e.v[0] == (has_u ? u : v) ? e.v[1] : e.v[0];
+    const VertId partner = has_u ? v : u;
+    auto find_in = [&](const std::vector<TetId>& star) {
+      for (TetId t : star) {
+        if (std::binary_search(star_uv.begin(), star_uv.end(), t)) continue;
+        const int a = local_of(mesh.tets[t], partner), b = local_of(mesh.tets[t], other);
+        if (a >= 0 && b >= 0) {
+          e.holder = {t, static_cast<std::uint8_t>(local_edge_index(a, b))};
+          return true;
+        }
+      }
+      return false;
+    };
+    if (!find_in(star_u)) find_in(star_v);
+  }
   // Equal edges: the first one kept has a holder if any has (kInvalid sorts last).
   std::sort(out.edges.begin(), out.edges.end(), [](const auto& a, const auto& b) {
     if (a.v != b.v) return a.v < b.v;
