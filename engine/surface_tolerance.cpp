@@ -345,21 +345,40 @@ void SurfaceReference::build_flat_patches(double max_deviation) {
   if (rtcGetDeviceError(e.device) != RTC_ERROR_NONE) throw std::runtime_error("Embree: building the patch scene failed");
 }
 
-bool SurfaceReference::within_by_patch(const std::array<glm::dvec3, 3>& q, int label, double h) const {
-  if (!patches_ || label < 0 || static_cast<std::uint32_t>(label) >= soup_.face_labels) return false;
+std::uint32_t SurfaceReference::nearest_triangle(const glm::dvec3& p, int label, double max_distance,
+                                                double* distance) const {
+  if (label < 0 || static_cast<std::uint32_t>(label) >= soup_.face_labels) return kInvalid;
+  Query near{&soup_, &embree_->primitives, static_cast<unsigned>(label), false, p, max_distance * max_distance, slack_,
+             false};
+  RTCPointQuery query{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z), 0.0f,
+                      radius_for(max_distance, slack_)};
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(embree_->scene, &query, &context, on_primitive, &near);
+  if (!near.found) return kInvalid;
+  if (distance != nullptr) *distance = std::sqrt(near.best2);
+  return near.best_primitive;
+}
+
+bool SurfaceReference::triangle_holds(std::uint32_t k, const std::array<glm::dvec3, 3>& q, double h) const {
+  const auto& t = soup_.triangles[k];
+  const auto& P = soup_.positions;
+  for (const glm::dvec3& x : q)
+    if (squared_distance_to_triangle(x, P[t[0]], P[t[1]], P[t[2]]) > h * h) return false;
+  return true;
+}
+
+bool SurfaceReference::within_by_patch(const std::array<glm::dvec3, 3>& q, int label, double h,
+                                       std::uint32_t nearest) const {
+  if (!patches_ || label < 0 || static_cast<std::uint32_t>(label) >= soup_.face_labels || nearest == kInvalid)
+    return false;
   const glm::dvec3 c = (q[0] + q[1] + q[2]) / 3.0;
   double r2 = 0.0;
   for (const glm::dvec3& x : q) r2 = std::max(r2, glm::dot(x - c, x - c));
   // The original triangle nearest to the centre gives the patch to project on.
-  Query near{&soup_, &embree_->primitives, static_cast<unsigned>(label), false, c, h * h, slack_, false};
-  {
-    RTCPointQuery query{static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z), 0.0f,
-                        radius_for(h, slack_)};
-    RTCPointQueryContext context;
-    rtcInitPointQueryContext(&context);
-    rtcPointQuery(embree_->scene, &query, &context, on_primitive, &near);
-  }
-  if (!near.found) return false;
+  struct {
+    std::uint32_t best_primitive;
+  } near{nearest};
   const std::uint32_t pid = patches_->patch_of[near.best_primitive];
   const FlatPatches::Patch& patch = patches_->patches[pid];
   if (!(patch.deviation < h)) return false;
@@ -434,18 +453,12 @@ bool SurfaceReference::within_by_patch(const std::array<glm::dvec3, 3>& q, int l
   return !edge.found;
 }
 
-bool SurfaceReference::within_by_crease(const std::array<glm::dvec3, 3>& q, int label, double h) const {
-  if (!patches_ || label < 0 || static_cast<std::uint32_t>(label) >= soup_.face_labels) return false;
-  const glm::dvec3 c = (q[0] + q[1] + q[2]) / 3.0;
-  Query near{&soup_, &embree_->primitives, static_cast<unsigned>(label), false, c, h * h, slack_, false};
-  RTCPointQuery query{static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z), 0.0f,
-                      radius_for(h, slack_)};
-  RTCPointQueryContext context;
-  rtcInitPointQueryContext(&context);
-  rtcPointQuery(embree_->scene, &query, &context, on_primitive, &near);
-  if (!near.found) return false;
+bool SurfaceReference::within_by_crease(const std::array<glm::dvec3, 3>& q, int label, double h,
+                                        std::uint32_t nearest) const {
+  if (!patches_ || label < 0 || static_cast<std::uint32_t>(label) >= soup_.face_labels || nearest == kInvalid)
+    return false;
   const auto& P = soup_.positions;
-  const std::uint32_t t1 = near.best_primitive;
+  const std::uint32_t t1 = nearest;
   const auto& f1 = soup_.triangles[t1];
   const double h2 = h * h;
   auto within_facet = [&](const glm::dvec3& x, const std::array<VertId, 3>& f) {
@@ -807,11 +820,19 @@ bool triangle_within(const SurfaceReference& reference, const glm::dvec3& a, con
     const glm::dvec3 centre = (x + y + z) / 3.0;
     const double r = std::sqrt(std::max({glm::dot(x - centre, x - centre), glm::dot(y - centre, y - centre),
                                          glm::dot(z - centre, z - centre)}));
-    if (r < h && reference.within(centre, label, h - r)) continue;
-    if (reference.within_by_patch(pieces[head - 1], label, h)) continue;
-    if (reference.within_one(pieces[head - 1].data(), 3, label, h)) continue;
-    if (reference.within_by_crease(pieces[head - 1], label, h)) continue;
-    if (r < kFinestPiece * h || tail + 4 > kPieceBudget || !reference.within(centre, label, h)) return false;
+    // One query for the nearest original triangle to the centre serves every test: none within h
+    // is a violation (refused); within h - r proves the piece by Lipschitz; else that triangle
+    // alone (convexity), with a neighbour across a crease, or its flat patch may prove it.
+    double d = 0.0;
+    const std::uint32_t nearest = reference.nearest_triangle(centre, label, h, &d);
+    if (nearest == kInvalid) return false;
+    if (d <= h - r) continue;
+    const auto& piece = pieces[head - 1];
+    if (reference.triangle_holds(nearest, piece, h)) continue;
+    if (reference.within_by_crease(piece, label, h, nearest)) continue;
+    if (reference.within_by_patch(piece, label, h, nearest)) continue;
+    if (reference.within_one(piece.data(), 3, label, h)) continue;  // another original triangle
+    if (r < kFinestPiece * h || tail + 4 > kPieceBudget) return false;
     const glm::dvec3 xy = 0.5 * (x + y), yz = 0.5 * (y + z), zx = 0.5 * (z + x);
     pieces[tail++] = {x, xy, zx};
     pieces[tail++] = {xy, y, yz};

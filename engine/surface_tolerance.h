@@ -145,12 +145,17 @@ class SurfaceReference {
   // Is every point of the triangle `corners` within h of the original surface of face label
   // `label`, by projection onto one flat patch (flat_patches.h)? False when there are no patches,
   // or when this argument does not apply (the caller then splits the triangle).
-  bool within_by_patch(const std::array<glm::dvec3, 3>& corners, int label, double h) const;
+  bool within_by_patch(const std::array<glm::dvec3, 3>& corners, int label, double h, std::uint32_t nearest) const;
   // The same question answered with two original triangles across one edge (a crease of a curved
   // surface made of flat facets): the triangle is cut by the plane that bisects the crease, and
   // each part is within h of its own facet (convexity, see surface_tolerance.cpp). Needs the
   // patches (their triangle adjacency).
-  bool within_by_crease(const std::array<glm::dvec3, 3>& corners, int label, double h) const;
+  bool within_by_crease(const std::array<glm::dvec3, 3>& corners, int label, double h, std::uint32_t nearest) const;
+  // The soup triangle of face label `label` nearest to p within max_distance (kInvalid: none),
+  // and its distance. `nearest` above is this triangle for the piece's centre.
+  std::uint32_t nearest_triangle(const glm::dvec3& p, int label, double max_distance, double* distance) const;
+  // Is every corner of q within h of soup triangle k (so all of q, by convexity)?
+  bool triangle_holds(std::uint32_t k, const std::array<glm::dvec3, 3>& q, double h) const;
 
  private:
   struct Embree;
