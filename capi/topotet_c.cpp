@@ -37,6 +37,7 @@ struct topotet_mesh {
 namespace {
 
 using topotet::Status;
+using topotet::TetId;
 using topotet::VertId;
 
 thread_local std::string last_error;
@@ -375,32 +376,26 @@ int64_t topotet_mesh_tet_count(const topotet_mesh* mesh) {
   return mesh != nullptr ? static_cast<std::int64_t>(mesh->mesh.tet_capacity()) : 0;
 }
 int topotet_mesh_field_count(const topotet_mesh* mesh) {
-  return mesh != nullptr ? static_cast<int>(mesh->mesh.fields.size()) : 0;
+  return mesh != nullptr ? static_cast<int>(mesh->mesh.fields().size()) : 0;
 }
 int64_t topotet_mesh_vertex_map_size(const topotet_mesh* mesh) {
   return mesh != nullptr ? static_cast<std::int64_t>(mesh->vertex_map.size()) : 0;
 }
 
 topotet_status topotet_mesh_field_info(const topotet_mesh* mesh, int i, const char** name, int* components) {
-  if (mesh == nullptr || i < 0 || i >= static_cast<int>(mesh->mesh.fields.size()))
+  if (mesh == nullptr || i < 0 || i >= static_cast<int>(mesh->mesh.fields().size()))
     return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_field_info: no field " + std::to_string(i));
-  if (name != nullptr) *name = mesh->mesh.fields[i].name.c_str();
-  if (components != nullptr) *components = mesh->mesh.fields[i].components;
+  if (name != nullptr) *name = mesh->mesh.fields()[i].name.c_str();
+  if (components != nullptr) *components = mesh->mesh.fields()[i].components;
   return TOPOTET_OK;
 }
 
-// glm::dvec3 is three packed doubles and std::array<uint32_t, 4> four packed ids.
-static_assert(sizeof(glm::dvec3) == 3 * sizeof(double));
-static_assert(sizeof(std::array<VertId, 4>) == 4 * sizeof(std::uint32_t));
-
 const double* topotet_mesh_positions(const topotet_mesh* mesh) {
-  return mesh != nullptr && !mesh->mesh.positions.empty() ? &mesh->mesh.positions[0].x : nullptr;
+  return mesh != nullptr ? mesh->mesh.positions_data() : nullptr;
 }
-const uint32_t* topotet_mesh_tets(const topotet_mesh* mesh) {
-  return mesh != nullptr && !mesh->mesh.tets.empty() ? mesh->mesh.tets[0].data() : nullptr;
-}
+const uint32_t* topotet_mesh_tets(const topotet_mesh* mesh) { return mesh != nullptr ? mesh->mesh.tets_data() : nullptr; }
 const int32_t* topotet_mesh_materials(const topotet_mesh* mesh) {
-  return mesh != nullptr && !mesh->mesh.material.empty() ? mesh->mesh.material.data() : nullptr;
+  return mesh != nullptr ? mesh->mesh.materials_data() : nullptr;
 }
 const uint32_t* topotet_mesh_vertex_map(const topotet_mesh* mesh) {
   return mesh != nullptr && !mesh->vertex_map.empty() ? mesh->vertex_map.data() : nullptr;
@@ -408,31 +403,31 @@ const uint32_t* topotet_mesh_vertex_map(const topotet_mesh* mesh) {
 
 topotet_status topotet_mesh_copy_positions(const topotet_mesh* mesh, topotet_out_view out) {
   if (const topotet_status s = check_out(mesh, out, false, "positions"); s != TOPOTET_OK) return s;
-  const auto& p = mesh->mesh.positions;
-  for (std::size_t v = 0; v < p.size(); ++v)
-    for (int c = 0; c < 3; ++c) write_real(out, static_cast<std::int64_t>(v), c, 3, p[v][c]);
+  const double* p = mesh->mesh.positions_data();
+  for (std::size_t v = 0; v < mesh->mesh.vertex_capacity(); ++v)
+    for (int c = 0; c < 3; ++c) write_real(out, static_cast<std::int64_t>(v), c, 3, p[3 * v + c]);
   return TOPOTET_OK;
 }
 
 topotet_status topotet_mesh_copy_tets(const topotet_mesh* mesh, topotet_out_view out, int index_base) {
   if (const topotet_status s = check_out(mesh, out, true, "tets"); s != TOPOTET_OK) return s;
   if (index_base != 0 && index_base != 1) return fail(TOPOTET_INVALID_INPUT, "index_base must be 0 or 1");
-  const auto& t = mesh->mesh.tets;
-  for (std::size_t i = 0; i < t.size(); ++i)
-    for (int c = 0; c < 4; ++c) write_int(out, static_cast<std::int64_t>(i), c, 4, std::int64_t{t[i][c]} + index_base);
+  const VertId* t = mesh->mesh.tets_data();
+  for (std::size_t i = 0; i < mesh->mesh.tet_capacity(); ++i)
+    for (int c = 0; c < 4; ++c) write_int(out, static_cast<std::int64_t>(i), c, 4, std::int64_t{t[4 * i + c]} + index_base);
   return TOPOTET_OK;
 }
 
 topotet_status topotet_mesh_copy_materials(const topotet_mesh* mesh, topotet_out_view out) {
   if (const topotet_status s = check_out(mesh, out, true, "materials"); s != TOPOTET_OK) return s;
-  const auto& m = mesh->mesh.material;
-  for (std::size_t i = 0; i < m.size(); ++i) write_int(out, static_cast<std::int64_t>(i), 0, 1, m[i]);
+  for (std::size_t i = 0; i < mesh->mesh.tet_capacity(); ++i)
+    write_int(out, static_cast<std::int64_t>(i), 0, 1, mesh->mesh.material(static_cast<TetId>(i)));
   return TOPOTET_OK;
 }
 
 topotet_status topotet_mesh_copy_field(const topotet_mesh* mesh, int i, topotet_out_view out) {
   if (const topotet_status s = check_out(mesh, out, false, "field"); s != TOPOTET_OK) return s;
-  const auto& fields = mesh->mesh.fields;
+  const auto& fields = mesh->mesh.fields();
   if (i < 0 || i >= static_cast<int>(fields.size()))
     return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_copy_field: no field " + std::to_string(i));
   int offset = 0;
@@ -440,7 +435,7 @@ topotet_status topotet_mesh_copy_field(const topotet_mesh* mesh, int i, topotet_
   const int stride = mesh->mesh.field_stride(), n = fields[i].components;
   for (std::size_t v = 0; v < mesh->mesh.vertex_capacity(); ++v)
     for (int c = 0; c < n; ++c)
-      write_real(out, static_cast<std::int64_t>(v), c, n, mesh->mesh.field_values[v * stride + offset + c]);
+      write_real(out, static_cast<std::int64_t>(v), c, n, mesh->mesh.field_values_data()[v * stride + offset + c]);
   return TOPOTET_OK;
 }
 

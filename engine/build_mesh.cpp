@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "mesh_model.h"
 #include "orient.h"
 #include "parallel/for_range.h"
 #include "topotet/error.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -105,7 +105,7 @@ void check_vertices_and_tets(const MeshData& d) {
 }
 
 // Fills mesh.tets/material, flipping all tets if all are inverted and the option allows it.
-void orient_tets(const MeshData& d, const BuildOptions& options, TetMesh& m) {
+void orient_tets(const MeshData& d, const BuildOptions& options, MeshModel& m) {
   const std::size_t nt = d.tets.size();
   std::vector<std::int8_t> sign(nt);
   parallel::for_range<std::size_t>(0, nt, 1u << 12, "orient", [&](std::size_t b, std::size_t e) {
@@ -143,7 +143,7 @@ int local_index(const std::array<VertId, 4>& v, VertId x) {
 enum FaceKind : std::uint8_t { kBoundary = 0, kInterior = 1, kInterface = 2 };
 
 // Classifies every tet face; fails on faces with more than two tets and on duplicate tets.
-std::vector<std::uint8_t> classify_faces(const TetMesh& m) {
+std::vector<std::uint8_t> classify_faces(const MeshModel& m) {
   const std::size_t nv = m.positions.size();
   std::vector<std::uint8_t> kind(4 * m.tets.size(), kBoundary);
   struct FaceRec {
@@ -231,7 +231,7 @@ struct PlacedRef {
 
 // Finds every tet having all `n` vertices; calls f(tet, local indices).
 template <class F>
-void for_each_tet_with(const TetMesh& m, const VertId* v, int n, F&& f) {
+void for_each_tet_with(const MeshModel& m, const VertId* v, int n, F&& f) {
   m.for_each_tet_of(v[0], [&](TetId t) {
     int loc[3] = {-1, -1, -1};
     for (int k = 0; k < n; ++k)
@@ -325,7 +325,7 @@ void handle_detached(std::vector<std::uint32_t>& detached, bool skip, std::vecto
   if (noted) *noted = std::move(detached);
 }
 
-std::vector<PlacedRef> place_triangles(const MeshData& d, const TetMesh& m, const BuildOptions& options,
+std::vector<PlacedRef> place_triangles(const MeshData& d, const MeshModel& m, const BuildOptions& options,
                                        BuildNotes* notes, std::vector<SharedRefs>& shared) {
   const std::size_t nv = d.positions.size();
   std::vector<ListedKey<3>> keys(d.triangles.size());
@@ -362,7 +362,7 @@ std::vector<PlacedRef> place_triangles(const MeshData& d, const TetMesh& m, cons
   return placed;
 }
 
-std::vector<PlacedRef> place_segments(const MeshData& d, const TetMesh& m, const BuildOptions& options,
+std::vector<PlacedRef> place_segments(const MeshData& d, const MeshModel& m, const BuildOptions& options,
                                       BuildNotes* notes, std::vector<SharedRefs>& shared) {
   const std::size_t nv = d.positions.size();
   std::vector<char> is_ridge(d.segments.size(), 0);
@@ -406,7 +406,7 @@ std::vector<PlacedRef> place_segments(const MeshData& d, const TetMesh& m, const
   return placed;
 }
 
-void copy_fields(const MeshData& d, TetMesh& m) {
+void copy_fields(const MeshData& d, MeshModel& m) {
   int stride = 0;
   for (const VertexField& f : d.fields) {
     m.fields.push_back({f.name, f.components});
@@ -423,7 +423,7 @@ void copy_fields(const MeshData& d, TetMesh& m) {
   }
 }
 
-void mark_pinned(const MeshData& d, TetMesh& m) {
+void mark_pinned(const MeshData& d, MeshModel& m) {
   const std::size_t nv = d.positions.size();
   auto mark = [&](const std::vector<VertId>& list, const char* what, std::uint8_t bit) {
     for (std::size_t i = 0; i < list.size(); ++i) {
@@ -439,12 +439,12 @@ void mark_pinned(const MeshData& d, TetMesh& m) {
 
 }  // namespace
 
-TetMesh build_tet_mesh(const MeshData& d, const BuildOptions& options, BuildNotes* notes) {
+MeshModel build_mesh_model(const MeshData& d, const BuildOptions& options, BuildNotes* notes) {
   if (notes) *notes = {};
   check_sizes(d);
   check_vertices_and_tets(d);
 
-  TetMesh m;
+  MeshModel m;
   m.positions = d.positions;
   m.vertex_refs = d.vertex_refs.empty() ? std::vector<std::int32_t>(d.positions.size(), 0) : d.vertex_refs;
   m.vertex_states.assign(d.positions.size(), 0);

@@ -19,8 +19,8 @@
 
 #include "field_bounds.h"
 #include "link_condition.h"
+#include "mesh_model.h"
 #include "surface_tolerance.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 
@@ -110,14 +110,14 @@ struct Placement {
 };
 
 // Fills scratch.star_u, star_v, star_uv. Returns false if uv is not an edge.
-bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& scratch);
+bool gather_stars(const MeshModel& mesh, VertId u, VertId v, CollapseScratch& scratch);
 
 // May v be merged into u, with u moved to p? Pure: reads the mesh only. Checks, cheapest first:
 // pinned, inversion and quality (one pass over the tets that move), the link conditions of K and
 // K~, then the tolerance (options.surfaces). When both inversion and a link condition fail, the
 // reason is inversion.
 // On success scratch.star_u/star_v/star_uv hold the stars for collapse().
-CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
+CollapseReason may_collapse(const MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p,
                             const CollapseOptions& options, CollapseScratch& scratch);
 
 // Tries `count` placements of ONE edge in order and returns the index of the first acceptable
@@ -125,7 +125,7 @@ CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::
 // once. Each rejected placement adds one to (*rejected)[reason] when `rejected` is given.
 // With check_topology = false the link conditions are skipped: a cheap geometric pre-filter for
 // callers that re-check the chosen placement in full before applying it.
-int first_acceptable(const TetMesh& mesh, const Placement* placements, int count, const CollapseOptions& options,
+int first_acceptable(const MeshModel& mesh, const Placement* placements, int count, const CollapseOptions& options,
                      CollapseScratch& scratch, std::array<std::uint64_t, kCollapseReasonCount>* rejected,
                      bool check_topology = true);
 
@@ -138,10 +138,10 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
 // With `bounds`, the samples of the stencil move to the new star and its tets get their new
 // bounds (inside the stencil too); returns the largest of them relative to its component's range
 // (FieldBounds::commit), 0 without bounds.
-float collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
+float collapse(MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
                CollapseScratch& scratch, std::uint32_t& refs_used, FieldBounds* bounds = nullptr);
 
 // Grows mesh.refs_table so that `count` more slots can be taken after `refs_used`.
-void reserve_refs_headroom(TetMesh& mesh, std::uint32_t refs_used, std::size_t count);
+void reserve_refs_headroom(MeshModel& mesh, std::uint32_t refs_used, std::size_t count);
 
 }  // namespace topotet

@@ -43,7 +43,7 @@ void CollapseLog::begin_batch(std::size_t slots) {
   slot_fields_.resize(slots * 2 * static_cast<std::size_t>(stride_));
 }
 
-void CollapseLog::record(std::size_t slot, const TetMesh& mesh, VertId cu, VertId cv, const glm::dvec3& p,
+void CollapseLog::record(std::size_t slot, const MeshModel& mesh, VertId cu, VertId cv, const glm::dvec3& p,
                          const double* fields_after_p, double collapse_cost) {
   Slot& s = slots_[slot];
   s.u = cu;
@@ -109,7 +109,7 @@ void CollapseLog::end_batch() {
 
 }  // namespace detail
 
-Report simplify_with_hierarchy(TetMesh& mesh, const SimplifyOptions& options, Hierarchy& hierarchy) noexcept {
+Report simplify_with_hierarchy(MeshModel& mesh, const SimplifyOptions& options, Hierarchy& hierarchy) noexcept {
   Report report;
   try {
     hierarchy = Hierarchy{};

@@ -37,7 +37,7 @@ bool touches(const Hierarchy& h, std::size_t i, const Voi& voi) {
 
 // Keeps the first of each group of elements with the same key, in their order. Keys are the
 // sorted vertex ids and the ref: a face (edge) that two collapses merged is listed once per ref,
-// as TetMesh::to_mesh_data lists it.
+// as MeshModel::to_mesh_data lists it.
 template <class Element, std::size_t N>
 std::vector<std::uint8_t> first_occurrences(const std::vector<Element>& elements) {
   using Key = std::pair<std::array<VertId, N>, std::int32_t>;

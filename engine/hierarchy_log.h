@@ -17,7 +17,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "topotet/tet_mesh.h"
+#include "mesh_model.h"
 
 namespace topotet {
 struct Hierarchy;
@@ -33,7 +33,7 @@ class CollapseLog {
   CollapseLog(std::size_t tet_capacity, int field_stride);
 
   void begin_batch(std::size_t slots);
-  void record(std::size_t slot, const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
+  void record(std::size_t slot, const MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p,
               const double* fields_after, double cost);
   void depend(std::size_t slot, const std::vector<TetId>& star_u, const std::vector<TetId>& star_v);
   // The field error bound of the slot's new star (collapse()'s return value with FieldBounds).

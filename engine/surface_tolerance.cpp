@@ -240,7 +240,7 @@ double SurfaceReference::distance(const glm::dvec3& p, int label, double max_dis
   return found ? std::sqrt(d2) : std::numeric_limits<double>::infinity();
 }
 
-// ---------------------------------------------------------------- from a TetMesh
+// ---------------------------------------------------------------- from a MeshModel
 
 namespace {
 
@@ -254,7 +254,7 @@ std::int32_t normalised_ref(std::int32_t ref) { return ref == kImplicitInterface
 
 // The tet other than t sharing face f of t, or kInvalid (boundary). Scans the star of the face's
 // first vertex: no face adjacency is stored.
-TetId across(const TetMesh& mesh, TetId t, int f) {
+TetId across(const MeshModel& mesh, TetId t, int f) {
   const auto& tv = mesh.tets[t];
   const VertId a = tv[kTetFaces[f][0]], b = tv[kTetFaces[f][1]], c = tv[kTetFaces[f][2]];
   TetId other = kInvalid;
@@ -279,7 +279,7 @@ struct LabelledEdge {
 
 }  // namespace
 
-std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mesh) {
+std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const MeshModel& mesh) {
   // Blocks of tets in parallel; block results are concatenated in block order (deterministic).
   constexpr std::size_t kBlock = 8192;
   const std::size_t nt = mesh.tet_capacity();
@@ -389,7 +389,7 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mes
 
 // ---------------------------------------------------------------- the kernel check
 
-void gather_surface_stencil(const TetMesh& mesh, const SurfaceReference& reference, VertId u, VertId v,
+void gather_surface_stencil(const MeshModel& mesh, const SurfaceReference& reference, VertId u, VertId v,
                             const std::vector<TetId>& star_u, const std::vector<TetId>& star_v,
                             const std::vector<TetId>& star_uv, SurfaceStencil& out) {
   out.recs.clear();
@@ -468,7 +468,7 @@ bool old_point_covered(const glm::dvec3& old, int label, double h2, const Prims&
 
 }  // namespace
 
-bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& reference, double h, VertId u,
+bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& reference, double h, VertId u,
                                 VertId v, const glm::dvec3& p, SurfaceStencil& s) {
   const auto& P = mesh.positions;
   s.new_faces.clear();

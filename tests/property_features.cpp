@@ -14,11 +14,11 @@
 
 #include <glm/geometric.hpp>
 
+#include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/features.h"
 #include "topotet/generate.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -178,7 +178,7 @@ class FeaturesKept : public ::testing::TestWithParam<std::tuple<std::size_t, Eng
 
 TEST_P(FeaturesKept, CornersStayAndSharpEdgesStayStraightChains) {
   const Shape shape = shapes()[std::get<0>(GetParam())];
-  TetMesh mesh = build_tet_mesh(shape.grid.data);
+  MeshModel mesh = build_mesh_model(shape.grid.data);
   SimplifyOptions options;  // the default feature angle
   options.engine = std::get<1>(GetParam());
   options.target_vertex_ratio = 0.1;
@@ -216,7 +216,7 @@ TEST(Features, TheCheckFindsMovedCornersAndChamfers) {
 
 TEST(Features, DetectionFindsTheBoxEdgesAndCorners) {
   const Shape shape = box();  // 7 x 6 x 5 cubes: 4 * (7 + 6 + 5) grid edges on the box edges
-  TetMesh mesh = build_tet_mesh(shape.grid.data);
+  MeshModel mesh = build_mesh_model(shape.grid.data);
   const FeatureStats found = detect_features(mesh, 45.0);
   EXPECT_EQ(found.edges, 4u * (7 + 6 + 5));
   EXPECT_EQ(found.corners, 8u);
@@ -243,12 +243,12 @@ TEST(Features, DetectionFindsTheBoxEdgesAndCorners) {
 TEST(Features, AngleThresholds) {
   // The box edges turn by 90 degrees: found below that, not above; 180 turns detection off.
   for (const auto& [angle, expected] : {std::pair{89.0, 4u * 18}, std::pair{91.0, 0u}, std::pair{180.0, 0u}}) {
-    TetMesh mesh = build_tet_mesh(box().grid.data);
+    MeshModel mesh = build_mesh_model(box().grid.data);
     EXPECT_EQ(detect_features(mesh, angle).edges, expected) << angle;
   }
   SimplifyOptions bad;
   bad.feature_angle = 181.0;
-  TetMesh mesh = build_tet_mesh(box().grid.data);
+  MeshModel mesh = build_mesh_model(box().grid.data);
   EXPECT_EQ(simplify(mesh, bad).status, Status::kInvalidInput);
 }
 
@@ -256,7 +256,7 @@ TEST(Features, ListedPolylinesAreNotFeatures) {
   // A box edge listed as a polyline keeps its ref; detection adds the other eleven edges only.
   Shape shape = box();
   testing::add_polyline(shape.grid, testing::grid_line({0, 0, 0}, {7, 0, 0}), 5);
-  TetMesh mesh = build_tet_mesh(shape.grid.data);
+  MeshModel mesh = build_mesh_model(shape.grid.data);
   EXPECT_EQ(detect_features(mesh, 45.0).edges, 4u * 18 - 7);
   const MeshData d = mesh.to_mesh_data();
   EXPECT_EQ(d.segments.size(), 7u);
@@ -266,7 +266,7 @@ TEST(Features, ParallelOutputIsIdenticalForEveryThreadCount) {
   const Shape shape = multi_material();
   MeshData first;
   for (int threads : {1, 2, 3}) {
-    TetMesh mesh = build_tet_mesh(shape.grid.data);
+    MeshModel mesh = build_mesh_model(shape.grid.data);
     SimplifyOptions options;
     options.num_threads = threads;
     options.target_vertex_ratio = 0.1;
@@ -286,7 +286,7 @@ TEST(Features, ParallelOutputIsIdenticalForEveryThreadCount) {
 TEST(Defaults, ToleranceIsOnAndARunItStopsSaysSo) {
   const MeshData input = generate_mesh({"cube-sphere", 8000, 1});
   {
-    TetMesh mesh = build_tet_mesh(input);
+    MeshModel mesh = build_mesh_model(input);
     SimplifyOptions options;
     EXPECT_EQ(options.tolerance_rel, kDefaultToleranceRel);
     EXPECT_GT(kDefaultToleranceRel, 0.0);
@@ -295,7 +295,7 @@ TEST(Defaults, ToleranceIsOnAndARunItStopsSaysSo) {
     EXPECT_GT(report.tolerance, 0.0);
   }
   {
-    TetMesh mesh = build_tet_mesh(input);
+    MeshModel mesh = build_mesh_model(input);
     SimplifyOptions options;
     options.tolerance_rel = 1e-5;  // far below the surfaces' own jitter: hardly anything on them moves
     options.target_vertex_ratio = 0.02;
@@ -305,7 +305,7 @@ TEST(Defaults, ToleranceIsOnAndARunItStopsSaysSo) {
     EXPECT_NE(report.message.find("tolerance"), std::string::npos) << report.message;
   }
   {
-    TetMesh mesh = build_tet_mesh(input);
+    MeshModel mesh = build_mesh_model(input);
     SimplifyOptions options;
     options.tolerance_rel = 0.0;
     options.target_vertex_ratio = 0.02;

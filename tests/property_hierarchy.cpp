@@ -17,6 +17,7 @@
 #include <glm/common.hpp>
 
 #include "collapse.h"
+#include "mesh_model.h"
 #include "surface_tolerance.h"
 #include "topotet/error.h"
 #include "topotet/features.h"
@@ -41,7 +42,7 @@ Built build(const std::string& family, std::uint64_t tets, Engine engine, int th
   GenerateOptions g;
   g.family = family;
   g.target_tets = tets;
-  TetMesh mesh = build_tet_mesh(generate_mesh(g));
+  MeshModel mesh = build_mesh_model(generate_mesh(g));
   Built b;
   b.input = mesh.to_mesh_data();
   SimplifyOptions options;
@@ -120,7 +121,7 @@ std::vector<std::uint8_t> random_closed(const Hierarchy& h, double p, std::mt199
 void expect_valid_level(const MeshData& input, const metrics::TopologyReport& input_topology, const MeshData& level,
                         const std::string& what) {
   SCOPED_TRACE(what);
-  EXPECT_NO_THROW(build_tet_mesh(level, BuildOptions{.reorient_inverted = false}));
+  EXPECT_NO_THROW(build_mesh_model(level, BuildOptions{.reorient_inverted = false}));
   const QualityStats q = compute_quality(level);
   EXPECT_EQ(q.inverted, 0u);
   EXPECT_EQ(q.zero_volume, 0u);
@@ -180,7 +181,7 @@ TEST(Hierarchy, nothing_applied_gives_the_input_and_everything_the_base_mesh) {
 void expect_kernel_replay(const Built& b, const std::vector<std::uint8_t>& applied, const std::string& what) {
   SCOPED_TRACE(what);
   const Hierarchy& h = b.hierarchy;
-  TetMesh mesh = build_tet_mesh(h.original);
+  MeshModel mesh = build_mesh_model(h.original);
   detect_features(mesh, SimplifyOptions{}.feature_angle);
   CollapseOptions kernel;
   kernel.quality_floor = SimplifyOptions{}.min_quality;
@@ -279,7 +280,7 @@ TEST(Hierarchy, levels_by_error_bound_keep_the_measured_error_below_the_bound) {
     GenerateOptions g;
     g.family = "cube-sphere";
     g.target_tets = 4000;
-    TetMesh mesh = build_tet_mesh(generate_mesh(g));
+    MeshModel mesh = build_mesh_model(generate_mesh(g));
     const MeshData input = mesh.to_mesh_data();
     ASSERT_FALSE(input.fields.empty());
     SimplifyOptions options;

@@ -21,12 +21,12 @@
 #include <string>
 #include <vector>
 
+#include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -62,7 +62,7 @@ struct Simplified {
 };
 
 Simplified simplify_data(const MeshData& input, double ratio, Engine engine = Engine::kParallel, SimplifyOptions options = {}) {
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   options.target_vertex_ratio = ratio;
   options.engine = engine;
   Simplified run;
@@ -225,11 +225,11 @@ TEST(FieldAccuracy, FeatureVerticesAreAsAccurateAsInteriorOnes) {
 TEST(FieldWeights, UnknownNamesAndBadWeightsAreInvalidInput) {
   MeshData input = plain_box();
   set_field(input, "f", kQuadratic);
-  const TetMesh original = build_tet_mesh(input);
+  const MeshModel original = build_mesh_model(input);
   for (const auto& [name, weight] : std::vector<std::pair<std::string, double>>{
            {"no such field", 1.0}, {"f", -1.0}, {"f", std::numeric_limits<double>::quiet_NaN()},
            {"f", std::numeric_limits<double>::infinity()}}) {
-    TetMesh mesh = original;
+    MeshModel mesh = original;
     SimplifyOptions options;
     options.field_weights[name] = weight;
     const Report report = simplify(mesh, options);

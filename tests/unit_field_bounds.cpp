@@ -29,11 +29,11 @@
 
 #include <glm/geometric.hpp>
 
+#include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -76,7 +76,7 @@ struct Outcome {
 };
 
 Outcome run(const MeshData& input, Engine engine, SimplifyOptions options, double ratio = 0.15) {
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   options.target_vertex_ratio = ratio;
   options.engine = engine;
   if (options.max_field_error == 0.0 && options.max_field_error_rel == 0.0) options.track_field_bounds = true;
@@ -292,14 +292,14 @@ TEST(FieldBounds, SameOutputAndBoundsForAnyThreadCount) {
 TEST(FieldBounds, OffByDefaultAndRefusesBadLimits) {
   MeshData input = box();
   set_field(input, kQuadratic);
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   const Report r = simplify(mesh, {});
   EXPECT_FALSE(r.field_bounds);
   EXPECT_TRUE(r.field_bound.empty() && r.tet_field_bound.empty());
   EXPECT_EQ(r.field_bounds_bytes, 0u);
   SimplifyOptions bad;
   bad.max_field_error = -1.0;
-  TetMesh other = build_tet_mesh(input);
+  MeshModel other = build_mesh_model(input);
   EXPECT_EQ(simplify(other, bad).status, Status::kInvalidInput);
   EXPECT_STREQ(to_string(RejectReason::kFieldError), "field_error");
 }

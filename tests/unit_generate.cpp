@@ -18,11 +18,11 @@
 
 #include "generate/freudenthal_grid.h"
 #include "generate/tet_neighbourhood.h"
+#include "mesh_model.h"
 #include "region_manifold.h"
 #include "topotet/error.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/topology.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -655,7 +655,7 @@ TEST_P(Polycrystal, CellsAreBallsListedInterfacesDiscsAndCurvesTripleJunctions) 
   const PolycrystalCase& c = GetParam();
   const MeshData mesh = generate_mesh({"polycrystal", c.target, c.seed, c.cells});
   EXPECT_NEAR(static_cast<double>(mesh.tet_count()) / c.target, 1.0, 0.1);
-  EXPECT_NO_THROW(build_tet_mesh(mesh));  // orientation, conformity, listed elements are mesh faces/edges
+  EXPECT_NO_THROW(build_mesh_model(mesh));  // orientation, conformity, listed elements are mesh faces/edges
   EXPECT_GT(dihedral_angles(mesh).min, 25.0);
   ASSERT_EQ(mesh.fields.size(), 1u);
   EXPECT_EQ(mesh.fields[0].name, "f");

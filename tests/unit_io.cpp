@@ -20,9 +20,9 @@
 
 #include "io/atomic_file.h"
 #include "io/line_reader.h"
+#include "mesh_model.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -785,7 +785,7 @@ TEST(TetgenFiles, RegionsAndMarkersFromDebianTetgen) {
     EXPECT_EQ(std::set<std::int32_t>(m.tet_material.begin(), m.tet_material.end()), (std::set<std::int32_t>{10, 20}));
     EXPECT_EQ(ref_set(m.triangles), (std::set<std::int32_t>{1, 2, 3}));
     EXPECT_FALSE(m.segments.empty());
-    const TetMesh model = build_tet_mesh(m);  // a valid mesh: every face and edge is on a tet
+    const MeshModel model = build_mesh_model(m);  // a valid mesh: every face and edge is on a tet
     EXPECT_EQ(model.live_tet_count(), m.tet_count());
   }
   // The -g MEDIT file of the same run reads too (its Corners are input points), with the same tets.

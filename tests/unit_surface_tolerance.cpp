@@ -9,12 +9,12 @@
 
 #include <glm/geometric.hpp>
 
+#include "mesh_model.h"
 #include "surface_tolerance.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/surface_distance.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -64,7 +64,7 @@ TEST(SurfaceReference, QueriesMatchBruteForce) {
 TEST(SurfaceReference, LabelsOfCubeSphere) {
   GenerateOptions g;
   g.target_tets = 3000;
-  const TetMesh mesh = build_tet_mesh(generate_mesh(g));
+  const MeshModel mesh = build_mesh_model(generate_mesh(g));
   const auto reference = SurfaceReference::from_mesh(mesh);
   // boundary (listed ref 10), the sphere interface (ref 1, materials 1|2), the patch (ref 2 in 1).
   EXPECT_EQ(reference->face_label_count(), 3u);
@@ -185,7 +185,7 @@ std::pair<std::size_t, std::size_t> surface_and_free_vertices(const MeshData& m,
 
 TEST(SimplifyTolerance, TightToleranceFreezesTheCurvedInterfaceButNotTheInterior) {
   const MeshData input = cube_sphere(20000);
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   SimplifyOptions options;
   options.target_vertex_ratio = 0.2;
   options.tolerance_rel = 1e-6;
@@ -213,7 +213,7 @@ TEST(SimplifyTolerance, TightToleranceFreezesTheCurvedInterfaceButNotTheInterior
 // sampling error. (On the 1M-tet cube-sphere at h = 0.001 diagonal, the excess is 0.)
 void expect_within_tolerance(Engine engine, double tolerance_rel) {
   const MeshData input = cube_sphere(20000);
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   SimplifyOptions options;
   options.engine = engine;
   options.target_vertex_ratio = 0.1;
@@ -240,10 +240,10 @@ TEST(SimplifyTolerance, HausdorffStaysWithinTheToleranceSequential) {
 }
 
 TEST(SimplifyTolerance, ParallelOutputIsIdenticalForEveryThreadCount) {
-  const TetMesh input = build_tet_mesh(cube_sphere(8000));
+  const MeshModel input = build_mesh_model(cube_sphere(8000));
   MeshData reference;
   for (int threads : {1, 2, 4}) {
-    TetMesh mesh = input;
+    MeshModel mesh = input;
     SimplifyOptions options;
     options.num_threads = threads;
     options.target_vertex_ratio = 0.15;
@@ -260,7 +260,7 @@ TEST(SimplifyTolerance, ParallelOutputIsIdenticalForEveryThreadCount) {
 }
 
 TEST(SimplifyTolerance, NegativeToleranceIsInvalid) {
-  TetMesh mesh = build_tet_mesh(cube_sphere(3000));
+  MeshModel mesh = build_mesh_model(cube_sphere(3000));
   SimplifyOptions options;
   options.tolerance = -1.0;
   EXPECT_EQ(simplify(mesh, options).status, Status::kInvalidInput);
