@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "glm_convert.h"
 #include "mesh_model.h"
 #include "orient.h"
 #include "parallel/for_range.h"
@@ -77,8 +78,8 @@ void check_sizes(const MeshData& d) {
 void check_vertices_and_tets(const MeshData& d) {
   const std::uint64_t nv = d.positions.size();
   std::uint64_t i = first_where(nv, [&](std::uint64_t v) {
-    const glm::dvec3& p = d.positions[v];
-    return !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+    const std::array<double, 3>& p = d.positions[v];
+    return !(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]));
   });
   if (i != kNone) fail("vertex " + one_based(i) + ": coordinate is not finite (NaN or infinity)");
   for (const VertexField& f : d.fields) {
@@ -112,7 +113,8 @@ void orient_tets(const MeshData& d, const BuildOptions& options, MeshModel& m) {
     for (std::size_t t = b; t < e; ++t) {
       const auto& v = d.tets[t];
       sign[t] = static_cast<std::int8_t>(
-          orient3d_sign(d.positions[v[0]], d.positions[v[1]], d.positions[v[2]], d.positions[v[3]]));
+          orient3d_sign(to_glm(d.positions[v[0]]), to_glm(d.positions[v[1]]), to_glm(d.positions[v[2]]),
+                        to_glm(d.positions[v[3]])));
     }
   });
   std::uint64_t i = first_where(nt, [&](std::uint64_t t) { return sign[t] == 0; });
@@ -445,7 +447,8 @@ MeshModel build_mesh_model(const MeshData& d, const BuildOptions& options, Build
   check_vertices_and_tets(d);
 
   MeshModel m;
-  m.positions = d.positions;
+  m.positions.resize(d.positions.size());
+  std::transform(d.positions.begin(), d.positions.end(), m.positions.begin(), to_glm);
   m.vertex_refs = d.vertex_refs.empty() ? std::vector<std::int32_t>(d.positions.size(), 0) : d.vertex_refs;
   m.vertex_states.assign(d.positions.size(), 0);
   copy_fields(d, m);

@@ -27,6 +27,7 @@
 #include <new>
 
 #include "engines.h"
+#include "glm_convert.h"
 #include "hierarchy_log.h"
 #include "topotet/error.h"
 #include "topotet/hierarchy.h"
@@ -48,9 +49,9 @@ void CollapseLog::record(std::size_t slot, const MeshModel& mesh, VertId cu, Ver
   Slot& s = slots_[slot];
   s.u = cu;
   s.v = cv;
-  s.u_before = mesh.positions[cu];
-  s.u_after = p;
-  s.v_position = mesh.positions[cv];
+  s.u_before = from_glm(mesh.positions[cu]);
+  s.u_after = from_glm(p);
+  s.v_position = from_glm(mesh.positions[cv]);
   s.cost = collapse_cost;
   s.bound = std::numeric_limits<float>::quiet_NaN();
   const std::size_t stride = static_cast<std::size_t>(stride_);

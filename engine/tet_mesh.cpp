@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "glm_convert.h"
 #include "mesh_model.h"
 #include "parallel/for_range.h"
 #include "prefetch.h"
@@ -134,7 +135,7 @@ MeshData MeshModel::to_mesh_data(const MeshExportOptions& options) const {
   for (std::size_t v = 0; v < nv; ++v) {
     if (is_dead_vertex(static_cast<VertId>(v))) continue;
     vmap[v] = static_cast<VertId>(d.positions.size());
-    d.positions.push_back(positions[v]);
+    d.positions.push_back(from_glm(positions[v]));
     d.vertex_refs.push_back(vertex_refs[v]);
     if ((vertex_states[v] & vertex_state::kCorner) ||
         (options.feature_edges && (vertex_states[v] & vertex_state::kFeatureCorner)))

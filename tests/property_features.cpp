@@ -14,6 +14,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "glm_convert.h"
 #include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/features.h"
@@ -120,9 +121,9 @@ std::map<std::int32_t, double> volume_by_material(const MeshData& d) {
   std::map<std::int32_t, double> out;
   for (std::size_t t = 0; t < d.tets.size(); ++t) {
     const auto& v = d.tets[t];
-    const glm::dvec3 p0 = d.positions[v[0]];
-    out[d.tet_material[t]] += std::fabs(glm::dot(d.positions[v[1]] - p0, glm::cross(d.positions[v[2]] - p0,
-                                                                                      d.positions[v[3]] - p0))) / 6.0;
+    const glm::dvec3 p0 = to_glm(d.positions[v[0]]);
+    out[d.tet_material[t]] += std::fabs(glm::dot(to_glm(d.positions[v[1]]) - p0, glm::cross(to_glm(d.positions[v[2]]) - p0,
+                                                                                              to_glm(d.positions[v[3]]) - p0))) / 6.0;
   }
   return out;
 }
@@ -132,7 +133,7 @@ std::map<std::int32_t, double> volume_by_material(const MeshData& d) {
 int check_features_kept(const Shape& shape, const MeshData& out, bool expect) {
   int failures = 0;
   std::set<std::array<double, 3>> positions;
-  for (const glm::dvec3& p : out.positions) positions.insert({p.x, p.y, p.z});
+  for (const auto& p : out.positions) positions.insert({p[0], p[1], p[2]});
   for (const Point& c : shape.corners) {
     if (positions.count({double(c[0]), double(c[1]), double(c[2])})) continue;
     ++failures;
@@ -146,14 +147,14 @@ int check_features_kept(const Shape& shape, const MeshData& out, bool expect) {
     // The output vertices on segment pq, by their parameter along it.
     std::vector<std::pair<double, VertId>> on_line;
     for (VertId v = 0; v < out.positions.size(); ++v) {
-      const glm::dvec3 d = out.positions[v] - a;
+      const glm::dvec3 d = to_glm(out.positions[v]) - a;
       const double t = glm::dot(d, ab) / glm::dot(ab, ab);
       if (t < -1e-12 || t > 1 + 1e-12 || glm::length(d - t * ab) > 1e-9) continue;
       on_line.push_back({t, v});
     }
     std::sort(on_line.begin(), on_line.end());
-    bool ok = on_line.size() >= 2 && out.positions[on_line.front().second] == a &&
-              out.positions[on_line.back().second] == b;
+    bool ok = on_line.size() >= 2 && to_glm(out.positions[on_line.front().second]) == a &&
+              to_glm(out.positions[on_line.back().second]) == b;
     for (std::size_t i = 0; ok && i + 1 < on_line.size(); ++i)
       ok = edges.count(std::minmax(on_line[i].second, on_line[i + 1].second)) != 0;
     if (ok) continue;
@@ -207,10 +208,11 @@ TEST(Features, TheCheckFindsMovedCornersAndChamfers) {
   const Shape shape = box();
   EXPECT_EQ(check_features_kept(shape, shape.grid.data, /*expect=*/false), 0);
   MeshData moved = shape.grid.data;
-  moved.positions[shape.grid.vid(7, 6, 5)] -= glm::dvec3(0.1, 0.0, 0.0);  // a corner slides along an edge
+  moved.positions[shape.grid.vid(7, 6, 5)][0] -= 0.1;  // a corner slides along an edge
   EXPECT_GT(check_features_kept(shape, moved, /*expect=*/false), 0);
   MeshData lost = shape.grid.data;
-  lost.positions[shape.grid.vid(3, 0, 0)] += glm::dvec3(0.0, 0.05, 0.05);  // an edge vertex leaves the edge
+  lost.positions[shape.grid.vid(3, 0, 0)][1] += 0.05;
+  lost.positions[shape.grid.vid(3, 0, 0)][2] += 0.05;  // an edge vertex leaves the edge
   EXPECT_GT(check_features_kept(shape, lost, /*expect=*/false), 0);
 }
 

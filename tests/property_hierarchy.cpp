@@ -17,6 +17,7 @@
 #include <glm/common.hpp>
 
 #include "collapse.h"
+#include "glm_convert.h"
 #include "mesh_model.h"
 #include "surface_tolerance.h"
 #include "topotet/error.h"
@@ -77,7 +78,7 @@ Canonical canonical(const MeshData& m) {
     std::vector<double> f;
     for (const VertexField& field : m.fields)
       for (int k = 0; k < field.components; ++k) f.push_back(field.values[x * field.components + k]);
-    c.vertices.emplace_back(m.positions[x].x, m.positions[x].y, m.positions[x].z, f,
+    c.vertices.emplace_back(m.positions[x][0], m.positions[x][1], m.positions[x][2], f,
                             m.vertex_refs.empty() ? 0 : m.vertex_refs[x]);
   }
   std::vector<VertId> order(n);
@@ -192,10 +193,10 @@ void expect_kernel_replay(const Built& b, const std::vector<std::uint8_t>& appli
   std::uint32_t refs_used = static_cast<std::uint32_t>(mesh.refs_table.size());
   for (std::size_t i = 0; i < applied.size(); ++i) {
     if (!applied[i]) continue;
-    const CollapseReason reason = may_collapse(mesh, h.u[i], h.v[i], h.u_after[i], kernel, scratch);
+    const CollapseReason reason = may_collapse(mesh, h.u[i], h.v[i], to_glm(h.u_after[i]), kernel, scratch);
     ASSERT_EQ(reason, CollapseReason::kOk) << "collapse " << i << ": " << to_string(reason);
     reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
-    collapse(mesh, h.u[i], h.v[i], h.u_after[i], h.fields_after.data() + i * h.field_stride, scratch, refs_used);
+    collapse(mesh, h.u[i], h.v[i], to_glm(h.u_after[i]), h.fields_after.data() + i * h.field_stride, scratch, refs_used);
   }
   EXPECT_TRUE(canonical(mesh.to_mesh_data()) == canonical(extract(h, applied)));
 }
@@ -232,8 +233,8 @@ TEST(Hierarchy, uniform_and_selective_levels_keep_the_topology) {
     if (trial % 2 == 0) {
       voi.kind = Voi::Kind::kBox;
       const glm::dvec3 a(unit(rng), unit(rng), unit(rng)), c(unit(rng), unit(rng), unit(rng));
-      voi.lo = glm::min(a, c);
-      voi.hi = glm::max(a, c);
+      voi.lo = from_glm(glm::min(a, c));
+      voi.hi = from_glm(glm::max(a, c));
     } else {
       voi.kind = Voi::Kind::kSphere;
       voi.centre = {unit(rng), unit(rng), unit(rng)};

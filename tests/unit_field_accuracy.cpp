@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "glm_convert.h"
 #include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/generate.h"
@@ -52,7 +53,7 @@ MeshData featured_box() {
 
 void set_field(MeshData& m, const std::string& name, const Field& f) {
   VertexField field{name, 1, {}};
-  for (const glm::dvec3& p : m.positions) field.values.push_back(f(p));
+  for (const auto& p : m.positions) field.values.push_back(f(to_glm(p)));
   m.fields.push_back(std::move(field));
 }
 
@@ -75,7 +76,7 @@ Simplified simplify_data(const MeshData& input, double ratio, Engine engine = En
 double max_vertex_error(const MeshData& out, std::size_t index, const Field& exact) {
   double worst = 0.0;
   for (std::size_t v = 0; v < out.vertex_count(); ++v)
-    worst = std::max(worst, std::fabs(out.fields[index].values[v] - exact(out.positions[v])));
+    worst = std::max(worst, std::fabs(out.fields[index].values[v] - exact(to_glm(out.positions[v]))));
   return worst;
 }
 
@@ -106,7 +107,7 @@ TEST(FieldAccuracy, LinearFieldIsReproducedOnFeatureVerticesAndWithSeveralFields
   set_field(input, "linear", kLinear);
   set_field(input, "other", [](const glm::dvec3& p) { return -p.x + 4.0 * p.z; });
   VertexField vector{"vector", 3, {}};
-  for (const glm::dvec3& p : input.positions) vector.values.insert(vector.values.end(), {p.y, p.x - p.z, 7.0});
+  for (const auto& p : input.positions) vector.values.insert(vector.values.end(), {p[1], p[0] - p[2], 7.0});
   input.fields.push_back(vector);
   for (double ratio : {0.3, 0.1}) {
     const Simplified run = simplify_data(input, ratio);
@@ -203,7 +204,7 @@ TEST(FieldAccuracy, FeatureVerticesAreAsAccurateAsInteriorOnes) {
     double sum2[2] = {0, 0}, sum[2] = {0, 0};
     std::size_t count[2] = {0, 0};
     for (std::size_t v = 0; v < run.output.vertex_count(); ++v) {
-      const double e = run.output.fields[0].values[v] - f(run.output.positions[v]);
+      const double e = run.output.fields[0].values[v] - f(to_glm(run.output.positions[v]));
       const int group = feature[v] ? 1 : 0;
       sum2[group] += e * e;
       sum[group] += e;
@@ -218,7 +219,7 @@ TEST(FieldAccuracy, FeatureVerticesAreAsAccurateAsInteriorOnes) {
     EXPECT_LE(rms_feature, 1.25 * rms_interior) << "ratio " << ratio;
     EXPECT_LE(std::fabs(bias_feature), 0.25 * rms_feature) << "ratio " << ratio;
     // Pinned vertices keep their input values exactly.
-    for (VertId c : run.output.corners) EXPECT_EQ(run.output.fields[0].values[c], f(run.output.positions[c]));
+    for (VertId c : run.output.corners) EXPECT_EQ(run.output.fields[0].values[c], f(to_glm(run.output.positions[c])));
   }
 }
 

@@ -517,7 +517,7 @@ TEST(Medit, KeywordsCommentsAndSkippedSections) {
              "anything after End is ignored\n");
   const MeshData m = read_mesh(dir.file("a.mesh"));
   EXPECT_EQ(m.vertex_count(), 4u);
-  EXPECT_EQ(m.positions[1], glm::dvec3(1, 0, 0));
+  EXPECT_EQ(m.positions[1], (std::array<double, 3>{1, 0, 0}));
   EXPECT_TRUE(m.vertex_refs.empty());  // all zero
   ASSERT_EQ(m.tet_count(), 1u);
   EXPECT_EQ(m.tet_material[0], -3);
@@ -639,7 +639,7 @@ TEST(Gmsh, Msh41SparseTagsEntitiesUnknownSectionsAndIgnoredElements) {
   EXPECT_EQ(notes.volume_cells(), 1u);
   EXPECT_EQ(m.group_names, (std::vector<GroupName>{{3, 5, "solid part"}}));
   ASSERT_EQ(m.vertex_count(), 5u);
-  EXPECT_EQ(m.positions[4], glm::dvec3(1, 1, 1));
+  EXPECT_EQ(m.positions[4], (std::array<double, 3>{1, 1, 1}));
   EXPECT_EQ(m.tets, (std::vector<std::array<VertId, 4>>{{0, 1, 2, 3}, {1, 2, 3, 4}}));
   EXPECT_EQ(m.tet_material, (std::vector<std::int32_t>{5, 5}));  // physical tag of volume 3
   ASSERT_EQ(m.triangles.size(), 1u);

@@ -1,18 +1,38 @@
 // The public header's library-facing forms: the non-throwing read/build/write (status + message),
 // TetMesh's accessors (its arrays are private), the named rejection reasons and phase times, and
-// the generated version.
+// the generated version; and that no public header brings glm into a user's program.
+//
+// Every installed C++ header first, alone: if one of them included glm, GLM_VERSION would be set.
+#include "topotet/error.h"
+#include "topotet/features.h"
+#include "topotet/generate.h"
+#include "topotet/hierarchy.h"
+#include "topotet/io.h"
+#include "topotet/mesh_data.h"
+#include "topotet/metrics/field_error.h"
+#include "topotet/metrics/quality.h"
+#include "topotet/metrics/surface_distance.h"
+#include "topotet/metrics/topology.h"
+#include "topotet/nothrow.h"
+#include "topotet/round_log.h"
+#include "topotet/simplify.h"
+#include "topotet/tet_mesh.h"
+#include "topotet/threads.h"
+#include "topotet/version.h"
+#if defined(GLM_VERSION)
+#error "a public topotet header includes glm: positions in the public API are std::array<double, 3>"
+#endif
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "test_meshes.h"
-#include "topotet/nothrow.h"
-#include "topotet/simplify.h"
-#include "topotet/version.h"
 
 namespace topotet {
 namespace {
@@ -50,6 +70,10 @@ template <class M>
 concept ExposesArrays = requires(M m) { m.positions; } || requires(M m) { m.tets; } ||
                         requires(M m) { m.v2t; } || requires(M m) { m.vertex_states; };
 static_assert(!ExposesArrays<TetMesh>);
+// Plain arrays in the public API: a caller's double[n][3] has this layout.
+static_assert(std::is_same_v<decltype(MeshData::positions)::value_type, std::array<double, 3>>);
+static_assert(std::is_same_v<decltype(Voi::centre), std::array<double, 3>>);
+static_assert(sizeof(std::array<double, 3>) == 3 * sizeof(double));
 
 TEST(PublicTetMesh, AccessorsReadTheBuiltModel) {
   const testing::Grid g = testing::make_grid(2, 2, 2, [](int i, int, int) { return i == 0 ? 3 : 4; });

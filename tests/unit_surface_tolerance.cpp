@@ -9,6 +9,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "glm_convert.h"
 #include "mesh_model.h"
 #include "surface_tolerance.h"
 #include "topotet/generate.h"
@@ -105,7 +106,7 @@ MeshData icosphere(int level, double r, std::int32_t ref) {
     f = std::move(next);
   }
   MeshData m;
-  for (const glm::dvec3& p : v) m.positions.push_back(r * p / std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z));
+  for (const glm::dvec3& p : v) m.positions.push_back(from_glm(r * p / std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z)));
   for (const auto& x : f) m.triangles.push_back({x, ref});
   return m;
 }
@@ -114,7 +115,7 @@ MeshData icosphere(int level, double r, std::int32_t ref) {
 double inradius(const MeshData& m) {
   double r = std::numeric_limits<double>::infinity();
   for (const Triangle& t : m.triangles) {
-    const glm::dvec3 a = m.positions[t.v[0]], b = m.positions[t.v[1]], c = m.positions[t.v[2]];
+    const glm::dvec3 a = to_glm(m.positions[t.v[0]]), b = to_glm(m.positions[t.v[1]]), c = to_glm(m.positions[t.v[2]]);
     glm::dvec3 n = glm::cross(b - a, c - a);
     n /= std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
     r = std::min(r, std::abs(n.x * a.x + n.y * a.y + n.z * a.z));

@@ -6,6 +6,7 @@
 #include <set>
 #include <string>
 
+#include "glm_convert.h"
 #include "mesh_model.h"
 #include "reorder.h"
 #include "test_meshes.h"
@@ -116,7 +117,7 @@ TEST(MeshModel, ReorientsConsistentlyInvertedInput) {
 
 TEST(TetMeshShouldFail, NaNCoordinate) {
   MeshData d = one_tet();
-  d.positions[2].y = std::nan("");
+  d.positions[2][1] = std::nan("");
   EXPECT_NE(build_error(d).find("vertex 3: coordinate is not finite"), std::string::npos);
 }
 
@@ -210,7 +211,7 @@ struct GeometricView {
   bool operator==(const GeometricView&) const = default;
 };
 
-std::array<double, 3> at(const MeshData& d, VertId v) { return {d.positions[v].x, d.positions[v].y, d.positions[v].z}; }
+std::array<double, 3> at(const MeshData& d, VertId v) { return d.positions[v]; }
 
 GeometricView view(const MeshData& d) {
   GeometricView g;

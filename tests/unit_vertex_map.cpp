@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "glm_convert.h"
 #include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/simplify.h"
@@ -141,7 +142,7 @@ TEST_P(VertexMap, FrozenVerticesAreNeitherRemovedNorKept) {
   MeshModel mesh = build_mesh_model(input);
   std::vector<bool> frozen(input.vertex_count());
   for (VertId v = 0; v < input.vertex_count(); ++v) {
-    frozen[v] = input.positions[v].x < 0.45 * input.positions[input.vertex_count() - 1].x;
+    frozen[v] = input.positions[v][0] < 0.45 * input.positions[input.vertex_count() - 1][0];
     if (frozen[v]) mesh.vertex_states[v] |= vertex_state::kFrozen | vertex_state::kPinned;
   }
   SimplifyOptions options;
