@@ -24,6 +24,9 @@
 #include <string>
 #include <vector>
 
+#include <glm/common.hpp>
+
+#include "glm_convert.h"
 #include "topotet/generate.h"
 #include "topotet/hierarchy.h"
 #include "topotet/io.h"
@@ -148,16 +151,16 @@ int main(int argc, char** argv) {
 
     // VOI sweep, with each closure (topotet/hierarchy.h, select_voi).
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-    for (const glm::dvec3& p : h.original.positions) {
-      lo = glm::dvec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
-      hi = glm::dvec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
+    for (const auto& p : h.original.positions) {
+      lo = glm::min(lo, to_glm(p));
+      hi = glm::max(hi, to_glm(p));
     }
     const glm::dvec3 d = hi - lo;
     for (VoiClosure closure : {VoiClosure::kKeepFine, VoiClosure::kReachCoarse}) {
       Voi voi;
       voi.kind = Voi::Kind::kSphere;
       voi.radius = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z) / 8.0;
-      voi.centre = lo + 0.5 * d - glm::dvec3(5 * voi.size() / 10, 0, 0);
+      voi.centre = from_glm(lo + 0.5 * d - glm::dvec3(5 * voi.size() / 10, 0, 0));
       HierarchyCursor cursor(h);
       cursor.move_to(select_voi(h, voi, 0.0, top, closure));
       std::vector<double> move_seconds, mesh_seconds;

@@ -11,15 +11,15 @@
 
 #include "collapse.h"
 #include "link_condition.h"
+#include "mesh_model.h"
 #include "topotet/generate.h"
-#include "topotet/tet_mesh.h"
 
 namespace {
 
 using namespace topotet;
 
 struct Fixture {
-  TetMesh mesh;
+  MeshModel mesh;
   std::vector<std::pair<VertId, VertId>> interior, feature;
 };
 
@@ -30,7 +30,7 @@ const Fixture& fixture() {
     g.family = "cube-sphere";
     g.target_tets = std::getenv("TOPOTET_BENCH_TETS") ? std::strtoull(std::getenv("TOPOTET_BENCH_TETS"), nullptr, 10)
                                                       : 1000000;
-    fx->mesh = build_tet_mesh(generate_mesh(g));
+    fx->mesh = build_mesh_model(generate_mesh(g));
     LinkScratch scratch;
     std::mt19937_64 rng(7);
     while (fx->interior.size() < 20000 || fx->feature.size() < 20000) {

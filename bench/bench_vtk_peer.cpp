@@ -50,6 +50,7 @@
 #include <nlohmann/json.hpp>
 #include <vtkUnstructuredGridQuadricDecimation.h>
 
+#include "glm_convert.h"
 #include "material_transfer.h"
 #include "raw_volume.h"
 #include "topotet/generate.h"
@@ -360,8 +361,8 @@ int main(int argc, char** argv) {
   if (scale <= 0.0) {  // auto: the mean tet gets 6V = 1
     double sum = 0.0;
     for (const auto& t : input.tets) {
-      const glm::dvec3 &p0 = input.positions[t[0]], &p1 = input.positions[t[1]], &p2 = input.positions[t[2]],
-                       &p3 = input.positions[t[3]];
+      const glm::dvec3 p0 = to_glm(input.positions[t[0]]), p1 = to_glm(input.positions[t[1]]),
+                       p2 = to_glm(input.positions[t[2]]), p3 = to_glm(input.positions[t[3]]);
       sum += std::abs(glm::dot(p1 - p0, glm::cross(p2 - p0, p3 - p0)));
     }
     scale = std::cbrt(static_cast<double>(input.tet_count()) / std::max(sum, 1e-300));

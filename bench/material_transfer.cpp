@@ -7,6 +7,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "glm_convert.h"
+
 namespace topotet::bench {
 namespace {
 
@@ -18,7 +20,7 @@ double volume6(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, co
 // outside. Ratios of signed volumes, so the tet's orientation does not matter.
 double min_barycentric(const MeshData& mesh, TetId t, const glm::dvec3& p) {
   std::array<glm::dvec3, 4> v;
-  for (int k = 0; k < 4; ++k) v[k] = mesh.positions[mesh.tets[t][k]];
+  for (int k = 0; k < 4; ++k) v[k] = to_glm(mesh.positions[mesh.tets[t][k]]);
   const double whole = volume6(v[0], v[1], v[2], v[3]);
   if (whole == 0.0) return -std::numeric_limits<double>::infinity();
   double smallest = std::numeric_limits<double>::infinity();
@@ -50,10 +52,10 @@ struct TetGrid {
 
 template <typename Visit>
 void for_each_cell_of_tet(const TetGrid& grid, const MeshData& mesh, TetId t, Visit visit) {
-  glm::dvec3 lo = mesh.positions[mesh.tets[t][0]], hi = lo;
+  glm::dvec3 lo = to_glm(mesh.positions[mesh.tets[t][0]]), hi = lo;
   for (int k = 1; k < 4; ++k) {
-    lo = glm::min(lo, mesh.positions[mesh.tets[t][k]]);
-    hi = glm::max(hi, mesh.positions[mesh.tets[t][k]]);
+    lo = glm::min(lo, to_glm(mesh.positions[mesh.tets[t][k]]));
+    hi = glm::max(hi, to_glm(mesh.positions[mesh.tets[t][k]]));
   }
   const auto a = grid.cell_of(lo), b = grid.cell_of(hi);
   for (int z = a[2]; z <= b[2]; ++z)
@@ -64,7 +66,7 @@ void for_each_cell_of_tet(const TetGrid& grid, const MeshData& mesh, TetId t, Vi
 TetGrid build_grid(const MeshData& mesh) {
   TetGrid grid;
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
-  for (const glm::dvec3& p : mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  for (const auto& p : mesh.positions) lo = glm::min(lo, to_glm(p)), hi = glm::max(hi, to_glm(p));
   const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(1e-300));
   const double tets = std::max<double>(1.0, static_cast<double>(mesh.tet_count()));
   grid.lo = lo;
@@ -117,7 +119,7 @@ MaterialTransfer transfer_materials(const MeshData& source, const MeshData& targ
 
   for (std::size_t t = 0; t < target.tet_count(); ++t) {
     std::array<glm::dvec3, 4> v;
-    for (int k = 0; k < 4; ++k) v[k] = target.positions[target.tets[t][k]];
+    for (int k = 0; k < 4; ++k) v[k] = to_glm(target.positions[target.tets[t][k]]);
     const glm::dvec3 centroid = (v[0] + v[1] + v[2] + v[3]) / 4.0;
     bool inside = true;
     const std::int32_t material = locate(centroid, inside);

@@ -32,7 +32,7 @@ MeshData read_raw_volume(const std::string& path, std::array<std::uint32_t, 3> d
   mesh.positions.resize(grid.vertex_count());
   for (std::uint32_t k = 0; k < dims[2]; ++k)
     for (std::uint32_t j = 0; j < dims[1]; ++j)
-      for (std::uint32_t i = 0; i < dims[0]; ++i) mesh.positions[grid.vertex(i, j, k)] = glm::dvec3(i, j, k);
+      for (std::uint32_t i = 0; i < dims[0]; ++i) mesh.positions[grid.vertex(i, j, k)] = {double(i), double(j), double(k)};
   gen::build_tets(grid, [](const glm::dvec3&) { return 0; }, mesh);
   // The grid numbers vertices x fastest, as the file stores its samples.
   mesh.fields.push_back({field_name, 1, std::vector<double>(bytes.begin(), bytes.end())});

@@ -22,8 +22,8 @@ vtkSmartPointer<vtkUnstructuredGrid> to_vtk_grid(const MeshData& mesh, const std
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(vertex_count);
   for (vtkIdType v = 0; v < vertex_count; ++v) {
-    const glm::dvec3& p = mesh.positions[static_cast<std::size_t>(v)];
-    points->SetPoint(v, p.x * scale, p.y * scale, p.z * scale);
+    const std::array<double, 3>& p = mesh.positions[static_cast<std::size_t>(v)];
+    points->SetPoint(v, p[0] * scale, p[1] * scale, p[2] * scale);
   }
 
   // Offsets + connectivity in one go: inserting 1M cells one by one costs more than the copy.

@@ -13,9 +13,12 @@
 #include <tuple>
 #include <vector>
 
+#include "mesh_view.h"
+#include "topotet/error.h"
 #include "topotet/nothrow.h"
 #include "topotet/simplify.h"
 #include "topotet/tet_mesh.h"
+#include "topotet/threads.h"
 
 struct topotet_mesh {
   topotet::TetMesh mesh;
@@ -37,6 +40,7 @@ struct topotet_mesh {
 namespace {
 
 using topotet::Status;
+using topotet::TetId;
 using topotet::VertId;
 
 thread_local std::string last_error;
@@ -89,18 +93,6 @@ std::int64_t read_int(const topotet_view& v, std::int64_t row, int col, int widt
   return x;
 }
 
-double read_real(const topotet_view& v, std::int64_t row, int col, int width) {
-  const char* p = at(v, row, col, width);
-  if (v.type == TOPOTET_FLOAT32) {
-    float x;
-    std::memcpy(&x, p, sizeof x);
-    return x;
-  }
-  double x;
-  std::memcpy(&x, p, sizeof x);
-  return x;
-}
-
 // A vertex index of the caller's numbering -> 0-based; the mesh builder checks the upper bound.
 VertId vertex_index(const topotet_view& v, std::int64_t row, int col, int width, int base, const char* what) {
   const std::int64_t x = read_int(v, row, col, width) - base;
@@ -136,7 +128,18 @@ std::vector<std::int32_t> read_refs(const topotet_view& v, std::int64_t count, c
   return out;
 }
 
-topotet::MeshData to_mesh_data(const topotet_mesh_arrays& a) {
+topotet::StridedArray strided(const topotet_view& v) {
+  static constexpr topotet::StridedArray::Type kTypes[] = {
+      topotet::StridedArray::Type::kFloat64, topotet::StridedArray::Type::kFloat32,
+      topotet::StridedArray::Type::kInt32, topotet::StridedArray::Type::kInt64};
+  const bool known = type_size(v.type) != 0;  // an unknown type was refused or is never read
+  return {v.data, known ? kTypes[v.type] : topotet::StridedArray::Type::kFloat64, v.stride, 0};
+}
+
+// The caller's arrays as the engine's views: positions, tets, materials, vertex refs and fields are
+// read in place by the builder, straight into the model (no intermediate MeshData). The listed
+// triangles, segments and corners, small next to the volume, are converted here.
+topotet::MeshView to_mesh_view(const topotet_mesh_arrays& a) {
   if (a.index_base != 0 && a.index_base != 1) throw ArgumentError{"index_base must be 0 or 1"};
   if (a.vertex_count < 0 || a.tet_count < 0 || a.triangle_count < 0 || a.segment_count < 0 || a.corner_count < 0 ||
       a.field_count < 0)
@@ -149,15 +152,22 @@ topotet::MeshData to_mesh_data(const topotet_mesh_arrays& a) {
   needs(a.triangle_count, a.triangles, "triangles");
   needs(a.segment_count, a.segments, "segments");
   needs(a.corner_count, a.corners, "corners");
-  topotet::MeshData d;
+  topotet::MeshView d;
   check_view(a.positions, false, "positions");
-  d.positions.resize(static_cast<std::size_t>(a.vertex_count));
-  for (std::int64_t v = 0; v < a.vertex_count; ++v)
-    d.positions[v] = {read_real(a.positions, v, 0, 3), read_real(a.positions, v, 1, 3), read_real(a.positions, v, 2, 3)};
-  d.tets = read_cells<4>(a.tets, a.tet_count, a.index_base, "tet");
-  d.tet_material = read_refs(a.materials, a.tet_count, "material of tet");
-  if (d.tet_material.empty()) d.tet_material.assign(d.tets.size(), 0);
-  d.vertex_refs = read_refs(a.vertex_refs, a.vertex_count, "ref of vertex");
+  d.vertex_count = static_cast<std::size_t>(a.vertex_count);
+  d.positions = strided(a.positions);
+  if (a.tet_count > 0) check_view(a.tets, true, "tet");
+  d.tet_count = static_cast<std::size_t>(a.tet_count);
+  d.tets = strided(a.tets);
+  d.index_base = a.index_base;
+  if (a.materials.data != nullptr && a.tet_count > 0) {
+    check_view(a.materials, true, "material of tet");
+    d.materials = strided(a.materials);
+  }
+  if (a.vertex_refs.data != nullptr && a.vertex_count > 0) {
+    check_view(a.vertex_refs, true, "ref of vertex");
+    d.vertex_refs = strided(a.vertex_refs);
+  }
   const auto triangles = read_cells<3>(a.triangles, a.triangle_count, a.index_base, "triangle");
   const auto triangle_refs = read_refs(a.triangle_refs, a.triangle_count, "ref of triangle");
   for (std::size_t i = 0; i < triangles.size(); ++i)
@@ -174,11 +184,7 @@ topotet::MeshData to_mesh_data(const topotet_mesh_arrays& a) {
     if (fv.components < 1) throw ArgumentError{"field " + name + ": components must be >= 1"};
     if (fv.values.data == nullptr) throw ArgumentError{"field " + name + ": values not given"};
     check_view(fv.values, false, "field values");
-    topotet::VertexField out{name, fv.components, {}};
-    out.values.resize(static_cast<std::size_t>(a.vertex_count) * fv.components);
-    for (std::int64_t v = 0; v < a.vertex_count; ++v)
-      for (int c = 0; c < fv.components; ++c) out.values[v * fv.components + c] = read_real(fv.values, v, c, fv.components);
-    d.fields.push_back(std::move(out));
+    d.fields.push_back({name, fv.components, strided(fv.values)});
   }
   return d;
 }
@@ -190,6 +196,8 @@ topotet_status guarded(F&& body) noexcept {
     return body();
   } catch (const ArgumentError& e) {
     return fail(TOPOTET_INVALID_INPUT, e.message);
+  } catch (const topotet::InputError& e) {
+    return fail(TOPOTET_INVALID_INPUT, e.what());
   } catch (const std::bad_alloc&) {
     return fail(TOPOTET_OUT_OF_MEMORY, "out of memory");
   } catch (const std::exception& e) {
@@ -281,11 +289,12 @@ topotet_status topotet_mesh_build(const topotet_mesh_arrays* arrays, int num_thr
   return guarded([&] {
     if (arrays == nullptr || mesh == nullptr) return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_build: NULL argument");
     *mesh = nullptr;
-    const topotet::MeshData data = to_mesh_data(*arrays);
+    if (num_threads < 0) return fail(TOPOTET_INVALID_INPUT, "num_threads must be >= 0");
+    const topotet::MeshView view = to_mesh_view(*arrays);
     auto result = std::make_unique<topotet_mesh>();
-    std::string message;
-    const Status s = topotet::try_build_tet_mesh(data, result->mesh, message, {}, num_threads);
-    if (s != Status::kOk) return fail(to_c(s), message);
+    topotet::run_with_thread_limit(num_threads, [&] {
+      result->mesh = topotet::TetMesh(std::make_unique<topotet::MeshModel>(topotet::build_mesh_model(view)));
+    });
     *mesh = result.release();
     return TOPOTET_OK;
   });
@@ -375,32 +384,26 @@ int64_t topotet_mesh_tet_count(const topotet_mesh* mesh) {
   return mesh != nullptr ? static_cast<std::int64_t>(mesh->mesh.tet_capacity()) : 0;
 }
 int topotet_mesh_field_count(const topotet_mesh* mesh) {
-  return mesh != nullptr ? static_cast<int>(mesh->mesh.fields.size()) : 0;
+  return mesh != nullptr ? static_cast<int>(mesh->mesh.fields().size()) : 0;
 }
 int64_t topotet_mesh_vertex_map_size(const topotet_mesh* mesh) {
   return mesh != nullptr ? static_cast<std::int64_t>(mesh->vertex_map.size()) : 0;
 }
 
 topotet_status topotet_mesh_field_info(const topotet_mesh* mesh, int i, const char** name, int* components) {
-  if (mesh == nullptr || i < 0 || i >= static_cast<int>(mesh->mesh.fields.size()))
+  if (mesh == nullptr || i < 0 || i >= static_cast<int>(mesh->mesh.fields().size()))
     return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_field_info: no field " + std::to_string(i));
-  if (name != nullptr) *name = mesh->mesh.fields[i].name.c_str();
-  if (components != nullptr) *components = mesh->mesh.fields[i].components;
+  if (name != nullptr) *name = mesh->mesh.fields()[i].name.c_str();
+  if (components != nullptr) *components = mesh->mesh.fields()[i].components;
   return TOPOTET_OK;
 }
 
-// glm::dvec3 is three packed doubles and std::array<uint32_t, 4> four packed ids.
-static_assert(sizeof(glm::dvec3) == 3 * sizeof(double));
-static_assert(sizeof(std::array<VertId, 4>) == 4 * sizeof(std::uint32_t));
-
 const double* topotet_mesh_positions(const topotet_mesh* mesh) {
-  return mesh != nullptr && !mesh->mesh.positions.empty() ? &mesh->mesh.positions[0].x : nullptr;
+  return mesh != nullptr ? mesh->mesh.positions_data() : nullptr;
 }
-const uint32_t* topotet_mesh_tets(const topotet_mesh* mesh) {
-  return mesh != nullptr && !mesh->mesh.tets.empty() ? mesh->mesh.tets[0].data() : nullptr;
-}
+const uint32_t* topotet_mesh_tets(const topotet_mesh* mesh) { return mesh != nullptr ? mesh->mesh.tets_data() : nullptr; }
 const int32_t* topotet_mesh_materials(const topotet_mesh* mesh) {
-  return mesh != nullptr && !mesh->mesh.material.empty() ? mesh->mesh.material.data() : nullptr;
+  return mesh != nullptr ? mesh->mesh.materials_data() : nullptr;
 }
 const uint32_t* topotet_mesh_vertex_map(const topotet_mesh* mesh) {
   return mesh != nullptr && !mesh->vertex_map.empty() ? mesh->vertex_map.data() : nullptr;
@@ -408,31 +411,31 @@ const uint32_t* topotet_mesh_vertex_map(const topotet_mesh* mesh) {
 
 topotet_status topotet_mesh_copy_positions(const topotet_mesh* mesh, topotet_out_view out) {
   if (const topotet_status s = check_out(mesh, out, false, "positions"); s != TOPOTET_OK) return s;
-  const auto& p = mesh->mesh.positions;
-  for (std::size_t v = 0; v < p.size(); ++v)
-    for (int c = 0; c < 3; ++c) write_real(out, static_cast<std::int64_t>(v), c, 3, p[v][c]);
+  const double* p = mesh->mesh.positions_data();
+  for (std::size_t v = 0; v < mesh->mesh.vertex_capacity(); ++v)
+    for (int c = 0; c < 3; ++c) write_real(out, static_cast<std::int64_t>(v), c, 3, p[3 * v + c]);
   return TOPOTET_OK;
 }
 
 topotet_status topotet_mesh_copy_tets(const topotet_mesh* mesh, topotet_out_view out, int index_base) {
   if (const topotet_status s = check_out(mesh, out, true, "tets"); s != TOPOTET_OK) return s;
   if (index_base != 0 && index_base != 1) return fail(TOPOTET_INVALID_INPUT, "index_base must be 0 or 1");
-  const auto& t = mesh->mesh.tets;
-  for (std::size_t i = 0; i < t.size(); ++i)
-    for (int c = 0; c < 4; ++c) write_int(out, static_cast<std::int64_t>(i), c, 4, std::int64_t{t[i][c]} + index_base);
+  const VertId* t = mesh->mesh.tets_data();
+  for (std::size_t i = 0; i < mesh->mesh.tet_capacity(); ++i)
+    for (int c = 0; c < 4; ++c) write_int(out, static_cast<std::int64_t>(i), c, 4, std::int64_t{t[4 * i + c]} + index_base);
   return TOPOTET_OK;
 }
 
 topotet_status topotet_mesh_copy_materials(const topotet_mesh* mesh, topotet_out_view out) {
   if (const topotet_status s = check_out(mesh, out, true, "materials"); s != TOPOTET_OK) return s;
-  const auto& m = mesh->mesh.material;
-  for (std::size_t i = 0; i < m.size(); ++i) write_int(out, static_cast<std::int64_t>(i), 0, 1, m[i]);
+  for (std::size_t i = 0; i < mesh->mesh.tet_capacity(); ++i)
+    write_int(out, static_cast<std::int64_t>(i), 0, 1, mesh->mesh.material(static_cast<TetId>(i)));
   return TOPOTET_OK;
 }
 
 topotet_status topotet_mesh_copy_field(const topotet_mesh* mesh, int i, topotet_out_view out) {
   if (const topotet_status s = check_out(mesh, out, false, "field"); s != TOPOTET_OK) return s;
-  const auto& fields = mesh->mesh.fields;
+  const auto& fields = mesh->mesh.fields();
   if (i < 0 || i >= static_cast<int>(fields.size()))
     return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_copy_field: no field " + std::to_string(i));
   int offset = 0;
@@ -440,7 +443,7 @@ topotet_status topotet_mesh_copy_field(const topotet_mesh* mesh, int i, topotet_
   const int stride = mesh->mesh.field_stride(), n = fields[i].components;
   for (std::size_t v = 0; v < mesh->mesh.vertex_capacity(); ++v)
     for (int c = 0; c < n; ++c)
-      write_real(out, static_cast<std::int64_t>(v), c, n, mesh->mesh.field_values[v * stride + offset + c]);
+      write_real(out, static_cast<std::int64_t>(v), c, n, mesh->mesh.field_values_data()[v * stride + offset + c]);
   return TOPOTET_OK;
 }
 

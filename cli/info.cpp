@@ -76,11 +76,14 @@ int run_info(const InfoArgs& args) {
   std::set<VertId> pinned(data.corners.begin(), data.corners.end());
   pinned.insert(data.required_vertices.begin(), data.required_vertices.end());
 
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  for (const glm::dvec3& p : data.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
+  std::array<double, 3> lo, hi;
+  lo.fill(std::numeric_limits<double>::infinity());
+  hi.fill(-std::numeric_limits<double>::infinity());
+  for (const std::array<double, 3>& p : data.positions)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+    }
 
   // Topology first (it never throws on bad input), then validation by building the model.
   const Stopwatch topology_clock;
@@ -136,9 +139,9 @@ int run_info(const InfoArgs& args) {
   }
   row("fields", field_text);
   if (!data.positions.empty())
-    row("bounding box", "[" + format_number(lo.x, 6) + ", " + format_number(hi.x, 6) + "] x [" +
-                            format_number(lo.y, 6) + ", " + format_number(hi.y, 6) + "] x [" +
-                            format_number(lo.z, 6) + ", " + format_number(hi.z, 6) + "]");
+    row("bounding box", "[" + format_number(lo[0], 6) + ", " + format_number(hi[0], 6) + "] x [" +
+                            format_number(lo[1], 6) + ", " + format_number(hi[1], 6) + "] x [" +
+                            format_number(lo[2], 6) + ", " + format_number(hi[2], 6) + "]");
   row("euler", "mesh " + std::to_string(topology.mesh.euler_characteristic) + ", boundary " +
                    std::to_string(topology.boundary.euler_characteristic) + "; " +
                    std::to_string(topology.mesh.betti[0]) + " connected component" +
@@ -181,7 +184,7 @@ int run_info(const InfoArgs& args) {
     in["fields"] = Json::array();
     for (const VertexField& f : data.fields) in["fields"].push_back({{"name", f.name}, {"components", f.components}});
     if (!data.positions.empty()) {
-      in["bounding_box"] = {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}};
+      in["bounding_box"] = {{"min", lo}, {"max", hi}};
     } else {
       in["bounding_box"] = nullptr;
     }

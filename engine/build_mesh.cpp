@@ -1,5 +1,10 @@
 // build_tet_mesh: validate raw input, then build the model (incidence, flags, side table).
 //
+// The input's large arrays (positions, tets, materials, vertex refs, fields) are first loaded into
+// the model's own arrays, from a MeshData here or straight from a caller's strided arrays
+// (build_from_view.cpp); every check then runs on the model, so both sources share one validation
+// code path and the same messages, and neither keeps a second copy of the mesh.
+//
 // Every check runs in parallel and reports the FIRST offending element in index order, so the
 // message is the same for every thread count. Faces are matched per vertex: the faces whose
 // smallest vertex is a are found in St(a), sorted and paired there, so each face is seen by exactly
@@ -13,10 +18,12 @@
 #include <string>
 #include <vector>
 
+#include "glm_convert.h"
+#include "mesh_model.h"
+#include "mesh_view.h"
 #include "orient.h"
 #include "parallel/for_range.h"
 #include "topotet/error.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -74,20 +81,24 @@ void check_sizes(const MeshData& d) {
   }
 }
 
-void check_vertices_and_tets(const MeshData& d) {
-  const std::uint64_t nv = d.positions.size();
+void check_vertices_and_tets(const MeshModel& m) {
+  const std::uint64_t nv = m.positions.size();
   std::uint64_t i = first_where(nv, [&](std::uint64_t v) {
-    const glm::dvec3& p = d.positions[v];
+    const glm::dvec3& p = m.positions[v];
     return !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
   });
   if (i != kNone) fail("vertex " + one_based(i) + ": coordinate is not finite (NaN or infinity)");
-  for (const VertexField& f : d.fields) {
-    i = first_where(f.values.size(), [&](std::uint64_t k) { return !std::isfinite(f.values[k]); });
+  const std::uint64_t stride = static_cast<std::uint64_t>(m.field_stride());
+  std::uint64_t offset = 0;
+  for (const FieldInfo& f : m.fields) {
+    const std::uint64_t n = static_cast<std::uint64_t>(f.components);
+    i = first_where(nv * n, [&](std::uint64_t k) { return !std::isfinite(m.field_values[k / n * stride + offset + k % n]); });
     if (i != kNone)
-      fail("field '" + f.name + "', vertex " + one_based(i / f.components) + ": value is not finite");
+      fail("field '" + f.name + "', vertex " + one_based(i / n) + ": value is not finite");
+    offset += n;
   }
-  i = first_where(d.tets.size(), [&](std::uint64_t t) {
-    const auto& v = d.tets[t];
+  i = first_where(m.tets.size(), [&](std::uint64_t t) {
+    const auto& v = m.tets[t];
     for (int k = 0; k < 4; ++k) {
       if (v[k] >= nv) return true;
       for (int l = 0; l < k; ++l)
@@ -96,7 +107,7 @@ void check_vertices_and_tets(const MeshData& d) {
     return false;
   });
   if (i != kNone) {
-    const auto& v = d.tets[i];
+    const auto& v = m.tets[i];
     for (int k = 0; k < 4; ++k)
       if (v[k] >= nv)
         fail("tet " + one_based(i) + ": vertex index " + one_based(v[k]) + " out of range [1, " + std::to_string(nv) + "]");
@@ -104,33 +115,31 @@ void check_vertices_and_tets(const MeshData& d) {
   }
 }
 
-// Fills mesh.tets/material, flipping all tets if all are inverted and the option allows it.
-void orient_tets(const MeshData& d, const BuildOptions& options, TetMesh& m) {
-  const std::size_t nt = d.tets.size();
+// Checks the orientation of m.tets, flipping all of them if all are inverted and the option allows it.
+void orient_tets(const BuildOptions& options, MeshModel& m) {
+  const std::size_t nt = m.tets.size();
   std::vector<std::int8_t> sign(nt);
   parallel::for_range<std::size_t>(0, nt, 1u << 12, "orient", [&](std::size_t b, std::size_t e) {
     for (std::size_t t = b; t < e; ++t) {
-      const auto& v = d.tets[t];
+      const auto& v = m.tets[t];
       sign[t] = static_cast<std::int8_t>(
-          orient3d_sign(d.positions[v[0]], d.positions[v[1]], d.positions[v[2]], d.positions[v[3]]));
+          orient3d_sign(m.positions[v[0]], m.positions[v[1]], m.positions[v[2]], m.positions[v[3]]));
     }
   });
   std::uint64_t i = first_where(nt, [&](std::uint64_t t) { return sign[t] == 0; });
   if (i != kNone)
-    fail("tet " + one_based(i) + ": zero or near-zero volume (vertices " + verts_str(d.tets[i].data(), 4) +
+    fail("tet " + one_based(i) + ": zero or near-zero volume (vertices " + verts_str(m.tets[i].data(), 4) +
          " are coplanar)");
   const bool flip = sign[0] < 0 && options.reorient_inverted &&
                     first_where(nt, [&](std::uint64_t t) { return sign[t] > 0; }) == kNone;
   if (!flip) {
     i = first_where(nt, [&](std::uint64_t t) { return sign[t] < 0; });
     if (i != kNone)
-      fail("tet " + one_based(i) + ": inverted (negative volume; vertices " + verts_str(d.tets[i].data(), 4) +
+      fail("tet " + one_based(i) + ": inverted (negative volume; vertices " + verts_str(m.tets[i].data(), 4) +
            ")" + (sign[0] < 0 ? ", and not all tets are inverted, so the mesh cannot be reoriented" : ""));
   }
-  m.tets = d.tets;
   if (flip)
     for (auto& v : m.tets) std::swap(v[2], v[3]);
-  m.material = d.tet_material;
 }
 
 // Finds the local index (0..3) of vertex x in tet t, or -1.
@@ -143,7 +152,7 @@ int local_index(const std::array<VertId, 4>& v, VertId x) {
 enum FaceKind : std::uint8_t { kBoundary = 0, kInterior = 1, kInterface = 2 };
 
 // Classifies every tet face; fails on faces with more than two tets and on duplicate tets.
-std::vector<std::uint8_t> classify_faces(const TetMesh& m) {
+std::vector<std::uint8_t> classify_faces(const MeshModel& m) {
   const std::size_t nv = m.positions.size();
   std::vector<std::uint8_t> kind(4 * m.tets.size(), kBoundary);
   struct FaceRec {
@@ -231,7 +240,7 @@ struct PlacedRef {
 
 // Finds every tet having all `n` vertices; calls f(tet, local indices).
 template <class F>
-void for_each_tet_with(const TetMesh& m, const VertId* v, int n, F&& f) {
+void for_each_tet_with(const MeshModel& m, const VertId* v, int n, F&& f) {
   m.for_each_tet_of(v[0], [&](TetId t) {
     int loc[3] = {-1, -1, -1};
     for (int k = 0; k < n; ++k)
@@ -325,9 +334,9 @@ void handle_detached(std::vector<std::uint32_t>& detached, bool skip, std::vecto
   if (noted) *noted = std::move(detached);
 }
 
-std::vector<PlacedRef> place_triangles(const MeshData& d, const TetMesh& m, const BuildOptions& options,
+std::vector<PlacedRef> place_triangles(const detail::ListedSubstructures& d, const MeshModel& m, const BuildOptions& options,
                                        BuildNotes* notes, std::vector<SharedRefs>& shared) {
-  const std::size_t nv = d.positions.size();
+  const std::size_t nv = m.positions.size();
   std::vector<ListedKey<3>> keys(d.triangles.size());
   for (std::size_t i = 0; i < d.triangles.size(); ++i) {
     const Triangle& tri = d.triangles[i];
@@ -362,9 +371,9 @@ std::vector<PlacedRef> place_triangles(const MeshData& d, const TetMesh& m, cons
   return placed;
 }
 
-std::vector<PlacedRef> place_segments(const MeshData& d, const TetMesh& m, const BuildOptions& options,
+std::vector<PlacedRef> place_segments(const detail::ListedSubstructures& d, const MeshModel& m, const BuildOptions& options,
                                       BuildNotes* notes, std::vector<SharedRefs>& shared) {
-  const std::size_t nv = d.positions.size();
+  const std::size_t nv = m.positions.size();
   std::vector<char> is_ridge(d.segments.size(), 0);
   for (std::size_t i = 0; i < d.ridges.size(); ++i) {
     if (d.ridges[i] >= d.segments.size())
@@ -406,7 +415,7 @@ std::vector<PlacedRef> place_segments(const MeshData& d, const TetMesh& m, const
   return placed;
 }
 
-void copy_fields(const MeshData& d, TetMesh& m) {
+void copy_fields(const MeshData& d, MeshModel& m) {
   int stride = 0;
   for (const VertexField& f : d.fields) {
     m.fields.push_back({f.name, f.components});
@@ -423,8 +432,8 @@ void copy_fields(const MeshData& d, TetMesh& m) {
   }
 }
 
-void mark_pinned(const MeshData& d, TetMesh& m) {
-  const std::size_t nv = d.positions.size();
+void mark_pinned(const detail::ListedSubstructures& d, MeshModel& m) {
+  const std::size_t nv = m.positions.size();
   auto mark = [&](const std::vector<VertId>& list, const char* what, std::uint8_t bit) {
     for (std::size_t i = 0; i < list.size(); ++i) {
       if (list[i] >= nv)
@@ -439,18 +448,26 @@ void mark_pinned(const MeshData& d, TetMesh& m) {
 
 }  // namespace
 
-TetMesh build_tet_mesh(const MeshData& d, const BuildOptions& options, BuildNotes* notes) {
-  if (notes) *notes = {};
+MeshModel build_mesh_model(const MeshData& d, const BuildOptions& options, BuildNotes* notes) {
   check_sizes(d);
-  check_vertices_and_tets(d);
-
-  TetMesh m;
-  m.positions = d.positions;
+  MeshModel m;
+  m.positions.resize(d.positions.size());
+  std::transform(d.positions.begin(), d.positions.end(), m.positions.begin(), to_glm);
+  m.tets = d.tets;
+  m.material = d.tet_material;
   m.vertex_refs = d.vertex_refs.empty() ? std::vector<std::int32_t>(d.positions.size(), 0) : d.vertex_refs;
-  m.vertex_states.assign(d.positions.size(), 0);
   copy_fields(d, m);
   m.group_names = d.group_names;
-  orient_tets(d, options, m);
+  return detail::build_loaded_model(std::move(m), {d.triangles, d.segments, d.ridges, d.corners, d.required_vertices},
+                                    options, notes);
+}
+
+MeshModel detail::build_loaded_model(MeshModel m, const ListedSubstructures& d, const BuildOptions& options,
+                                     BuildNotes* notes) {
+  if (notes) *notes = {};
+  check_vertices_and_tets(m);
+  m.vertex_states.assign(m.positions.size(), 0);
+  orient_tets(options, m);
   m.flags.assign(m.tets.size(), 0);
   m.tet_refs_slot.assign(m.tets.size(), kInvalid);
   rebuild_incidence(m);

@@ -30,7 +30,7 @@ const char* to_string(CollapseReason reason) {
 
 namespace {
 
-void star_of(const TetMesh& mesh, VertId x, std::vector<TetId>& out) {
+void star_of(const MeshModel& mesh, VertId x, std::vector<TetId>& out) {
   out.clear();
   mesh.for_each_tet_of(x, [&](TetId t) { out.push_back(t); });
   // Chains are kept sorted by tet id (rebuild_incidence fills them in tet order, collapse() writes
@@ -50,7 +50,7 @@ std::array<VertId, 4> renamed(const std::array<VertId, 4>& v, VertId from, VertI
 }
 
 // Writes `tets` (sorted) as the incidence list of x, packed along x's chain.
-void write_incidence(TetMesh& mesh, VertId x, const std::vector<TetId>& tets) {
+void write_incidence(MeshModel& mesh, VertId x, const std::vector<TetId>& tets) {
   std::size_t i = 0;
   for (std::uint32_t c = x; i < tets.size(); c = mesh.v2t_next[c]) {
     assert(c != kInvalid && "incidence chain capacity exceeded");
@@ -63,7 +63,7 @@ void write_incidence(TetMesh& mesh, VertId x, const std::vector<TetId>& tets) {
 // Removes the tets of `removed` (sorted; the tets a collapse just killed) from x's incidence
 // list, in place and in order. Chains hold only live tets, so those are the only dead ones there;
 // looking them up in the short list spares a flag load (a cache miss) per tet of St(x).
-void drop_dead_tets(TetMesh& mesh, VertId x, const std::vector<TetId>& removed) {
+void drop_dead_tets(MeshModel& mesh, VertId x, const std::vector<TetId>& removed) {
   std::uint32_t remaining = mesh.v2t_count[x], kept = 0;
   std::uint32_t wc = x, wi = 0;  // write cursor: chunk, index within chunk
   for (std::uint32_t c = x; remaining != 0; c = mesh.v2t_next[c]) {
@@ -101,7 +101,7 @@ void reset_stars(CollapseScratch& s) {
 // Gathers St(x) (x = u or v of the edge, `other` the other end) into `star`: a tet with `other`
 // is in St(uv) (listed from the first star gathered: the chains are sorted, so St(uv) is too),
 // any other one survives the collapse with x's corner moving.
-void gather_star(const TetMesh& mesh, VertId x, VertId other, std::vector<TetId>& star, CollapseScratch& s) {
+void gather_star(const MeshModel& mesh, VertId x, VertId other, std::vector<TetId>& star, CollapseScratch& s) {
   const bool first = !s.have_u && !s.have_v;
   star_of(mesh, x, star);
   for (TetId t : star) prefetch(&mesh.tets[t]);
@@ -122,7 +122,7 @@ void gather_star(const TetMesh& mesh, VertId x, VertId other, std::vector<TetId>
 
 // Makes sure the stars asked for are gathered (u, v: the edge in the scratch's current
 // orientation). False when uv is not an edge.
-bool need_stars(const TetMesh& mesh, VertId u, VertId v, bool need_u, bool need_v, CollapseScratch& s) {
+bool need_stars(const MeshModel& mesh, VertId u, VertId v, bool need_u, bool need_v, CollapseScratch& s) {
   if (need_v && !s.have_v) {
     gather_star(mesh, v, u, s.star_v, s);
     s.have_v = true;
@@ -136,7 +136,7 @@ bool need_stars(const TetMesh& mesh, VertId u, VertId v, bool need_u, bool need_
 
 }  // namespace
 
-bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& s) {
+bool gather_stars(const MeshModel& mesh, VertId u, VertId v, CollapseScratch& s) {
   reset_stars(s);
   return need_stars(mesh, u, v, true, true, s);
 }
@@ -156,7 +156,7 @@ double mean_ratio_cubed(const glm::dvec3& a, const glm::dvec3& b, const glm::dve
 }
 
 // Worst (cubed) mean ratio of St(u) ∪ St(v) before the collapse.
-double old_star_quality(const TetMesh& mesh, const CollapseScratch& s) {
+double old_star_quality(const MeshModel& mesh, const CollapseScratch& s) {
   const auto& P = mesh.positions;
   double worst = 1.0;
   for (TetId t : s.star_u) {
@@ -178,7 +178,7 @@ double old_star_quality(const TetMesh& mesh, const CollapseScratch& s) {
 // which is orient3d_sign(a, p, c, d) term by term: the cross product and the permanent's matching
 // terms are the same for every placement and are computed once per edge. The certified sign is
 // therefore exactly orient3d_sign's. Quality needs the six squared edge lengths, three of them fixed.
-void prepare_moved_tet(const TetMesh& mesh, CollapseScratch& s, std::size_t i) {
+void prepare_moved_tet(const MeshModel& mesh, CollapseScratch& s, std::size_t i) {
   const auto& P = mesh.positions;
   const auto& [t, corner, at] = s.new_star[i];
   const auto& tv = mesh.tets[t];
@@ -201,7 +201,7 @@ void prepare_moved_tet(const TetMesh& mesh, CollapseScratch& s, std::size_t i) {
 // lengths): monotone in the mean ratio and free of the cube root.
 // Most placements fail on one of the first tets, so the per-tet data is prepared lazily: tet i
 // is prepared the first time a placement of this edge gets that far.
-bool new_star_geometry(const TetMesh& mesh, CollapseScratch& s, const glm::dvec3& p, VertId staying, double& worst_q3) {
+bool new_star_geometry(const MeshModel& mesh, CollapseScratch& s, const glm::dvec3& p, VertId staying, double& worst_q3) {
   constexpr double eps = std::numeric_limits<double>::epsilon() * 0.5;
   constexpr double bound = 4.0 * (7.0 + 56.0 * eps) * eps;  // orient3d_sign's (orient.cpp)
   double worst = 1.0;
@@ -243,7 +243,7 @@ bool new_star_geometry(const TetMesh& mesh, CollapseScratch& s, const glm::dvec3
 // polyline of the original) return at once. An interior vertex may not absorb a surface vertex:
 // that keeps SurfaceReference::on_surface an exact early out for the whole run (see
 // surface_tolerance.h). The surface stencil is gathered once per edge, for either direction.
-bool within_tolerance(const TetMesh& mesh, const Placement& pl, const CollapseOptions& options, CollapseScratch& s,
+bool within_tolerance(const MeshModel& mesh, const Placement& pl, const CollapseOptions& options, CollapseScratch& s,
                       std::array<VertId, 2>& surface_edge) {
   const SurfaceReference& reference = *options.surfaces;
   const bool surface_u = reference.on_surface(pl.u), surface_v = reference.on_surface(pl.v);
@@ -269,14 +269,14 @@ void bound_star(const CollapseScratch& s, FieldBoundsScratch& b) {
 }
 
 // The field error check of one placement (both stars gathered).
-bool within_field_bounds(const TetMesh& mesh, const Placement& pl, const FieldBounds& bounds, CollapseScratch& s) {
+bool within_field_bounds(const MeshModel& mesh, const Placement& pl, const FieldBounds& bounds, CollapseScratch& s) {
   bound_star(s, s.bounds);
   return bounds.evaluate(mesh, s.star_uv, pl.u, pl.p, pl.fields, s.bounds, true);
 }
 
 }  // namespace
 
-int first_acceptable(const TetMesh& mesh, const Placement* placements, int count, const CollapseOptions& options,
+int first_acceptable(const MeshModel& mesh, const Placement* placements, int count, const CollapseOptions& options,
                      CollapseScratch& s, std::array<std::uint64_t, kCollapseReasonCount>* rejected,
                      bool check_topology) {
   auto reject = [&](CollapseReason r) {
@@ -353,7 +353,7 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
   return -1;
 }
 
-CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
+CollapseReason may_collapse(const MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p,
                             const CollapseOptions& options, CollapseScratch& s) {
   std::array<std::uint64_t, kCollapseReasonCount> rejected{};
   const Placement placement{u, v, p};
@@ -363,12 +363,12 @@ CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::
   return CollapseReason::kLinkK;
 }
 
-void reserve_refs_headroom(TetMesh& mesh, std::uint32_t refs_used, std::size_t count) {
+void reserve_refs_headroom(MeshModel& mesh, std::uint32_t refs_used, std::size_t count) {
   if (mesh.refs_table.size() < refs_used + count)
     mesh.refs_table.resize(std::max<std::size_t>(refs_used + count, mesh.refs_table.size() * 3 / 2));
 }
 
-float collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
+float collapse(MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
                CollapseScratch& s, std::uint32_t& refs_used, FieldBounds* bounds, SurfaceCoverage* coverage) {
   gather_stars(mesh, u, v, s);
   // The original surface items of the faces that move, placed on the new faces and stored now:

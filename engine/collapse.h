@@ -21,7 +21,7 @@
 #include "link_condition.h"
 #include "surface_coverage.h"
 #include "surface_tolerance.h"
-#include "topotet/tet_mesh.h"
+#include "mesh_model.h"
 
 namespace topotet {
 
@@ -124,14 +124,14 @@ struct Placement {
 };
 
 // Fills scratch.star_u, star_v, star_uv. Returns false if uv is not an edge.
-bool gather_stars(const TetMesh& mesh, VertId u, VertId v, CollapseScratch& scratch);
+bool gather_stars(const MeshModel& mesh, VertId u, VertId v, CollapseScratch& scratch);
 
 // May v be merged into u, with u moved to p? Pure: reads the mesh only. Checks, cheapest first:
 // pinned, inversion and quality (one pass over the tets that move), the link conditions of K and
 // K~, then the tolerance (options.surfaces). When both inversion and a link condition fail, the
 // reason is inversion.
 // On success scratch.star_u/star_v/star_uv hold the stars for collapse().
-CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
+CollapseReason may_collapse(const MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p,
                             const CollapseOptions& options, CollapseScratch& scratch);
 
 // Tries `count` placements of ONE edge in order and returns the index of the first acceptable
@@ -139,7 +139,7 @@ CollapseReason may_collapse(const TetMesh& mesh, VertId u, VertId v, const glm::
 // once. Each rejected placement adds one to (*rejected)[reason] when `rejected` is given.
 // With check_topology = false the link conditions are skipped: a cheap geometric pre-filter for
 // callers that re-check the chosen placement in full before applying it.
-int first_acceptable(const TetMesh& mesh, const Placement* placements, int count, const CollapseOptions& options,
+int first_acceptable(const MeshModel& mesh, const Placement* placements, int count, const CollapseOptions& options,
                      CollapseScratch& scratch, std::array<std::uint64_t, kCollapseReasonCount>* rejected,
                      bool check_topology = true);
 
@@ -154,11 +154,11 @@ int first_acceptable(const TetMesh& mesh, const Placement* placements, int count
 // (FieldBounds::commit), 0 without bounds.
 // With `coverage`, the original surface items held by faces through u or v move to the new faces
 // (surface_coverage.h); the check must have accepted the placement with the same coverage.
-float collapse(TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
+float collapse(MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p, const double* fields_at_p,
                CollapseScratch& scratch, std::uint32_t& refs_used, FieldBounds* bounds = nullptr,
                SurfaceCoverage* coverage = nullptr);
 
 // Grows mesh.refs_table so that `count` more slots can be taken after `refs_used`.
-void reserve_refs_headroom(TetMesh& mesh, std::uint32_t refs_used, std::size_t count);
+void reserve_refs_headroom(MeshModel& mesh, std::uint32_t refs_used, std::size_t count);
 
 }  // namespace topotet

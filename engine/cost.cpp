@@ -26,7 +26,7 @@ enum Placement : int { kAtU = 0, kMidpoint = 1, kOptimum = 2 };
 
 }  // namespace
 
-CostModel::CostModel(const TetMesh& mesh, const SimplifyOptions& options)
+CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options)
     : stride_(mesh.field_stride()), vertex_count_(mesh.positions.size()) {
   // The quadric's field coordinates: every component of a field with a positive weight, in mesh
   // order, at most kMaxQuadricDim - 3 of them.
@@ -198,7 +198,7 @@ CostModel::CostModel(const TetMesh& mesh, const SimplifyOptions& options)
   });
 }
 
-void CostModel::normalise(const TetMesh& mesh, VertId v, double* x) const {
+void CostModel::normalise(const MeshModel& mesh, VertId v, double* x) const {
   const glm::dvec3 p = (mesh.positions[v] - origin_) * inv_diag_;
   x[0] = p.x;
   x[1] = p.y;
@@ -207,7 +207,7 @@ void CostModel::normalise(const TetMesh& mesh, VertId v, double* x) const {
   for (int c = 0; c < n_ - 3; ++c) x[3 + c] = (f[component_[c]] - field_min_[c]) * field_scale_[c];
 }
 
-std::uint8_t CostModel::order(const TetMesh& mesh, VertId v, LinkScratch& scratch) {
+std::uint8_t CostModel::order(const MeshModel& mesh, VertId v, LinkScratch& scratch) {
   std::uint8_t o = orders_[v].load(std::memory_order_relaxed);
   if (o == kStale || o == kStaleFeature) {
     o = o == kStale && is_interior_vertex(mesh, v) ? 0 : classify_vertex(mesh, v, scratch.b, scratch).ktilde;
@@ -217,7 +217,7 @@ std::uint8_t CostModel::order(const TetMesh& mesh, VertId v, LinkScratch& scratc
   return o;
 }
 
-int CostModel::candidates(const TetMesh& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch) {
+int CostModel::candidates(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch) {
   // The hot path of both engines: the quadric arithmetic is instantiated for the common
   // dimensions (positions plus up to 4 field components) so that its loops unroll.
   switch (n_) {
@@ -230,7 +230,7 @@ int CostModel::candidates(const TetMesh& mesh, VertId a, VertId b, CollapseCandi
   }
 }
 
-double CostModel::edge_cost(const TetMesh& mesh, VertId a, VertId b, LinkScratch& scratch) {
+double CostModel::edge_cost(const MeshModel& mesh, VertId a, VertId b, LinkScratch& scratch) {
   switch (n_) {
     case 3: return edge_cost_n<3>(mesh, a, b, scratch);
     case 4: return edge_cost_n<4>(mesh, a, b, scratch);
@@ -289,7 +289,7 @@ struct CostModel::EdgeQuadric {
 };
 
 template <int kN>
-int CostModel::candidates_n(const TetMesh& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch) {
+int CostModel::candidates_n(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch) {
   if (mesh.is_frozen(a) || mesh.is_frozen(b)) return 0;  // no collapse touches a frozen vertex
   const std::uint8_t oa = order(mesh, a, scratch), ob = order(mesh, b, scratch);
   if (oa == 3 && ob == 3) return 0;  // link condition (I); pinned vertices have order 3
@@ -342,7 +342,7 @@ int CostModel::candidates_n(const TetMesh& mesh, VertId a, VertId b, CollapseCan
 }
 
 template <int kN>
-double CostModel::edge_cost_n(const TetMesh& mesh, VertId a, VertId b, LinkScratch& scratch) {
+double CostModel::edge_cost_n(const MeshModel& mesh, VertId a, VertId b, LinkScratch& scratch) {
   constexpr double kForbidden = std::numeric_limits<double>::infinity();
   if (mesh.is_frozen(a) || mesh.is_frozen(b)) return kForbidden;  // no collapse touches a frozen vertex
   const std::uint8_t oa = order(mesh, a, scratch), ob = order(mesh, b, scratch);
@@ -370,7 +370,7 @@ double CostModel::edge_cost_n(const TetMesh& mesh, VertId a, VertId b, LinkScrat
   return best;
 }
 
-void CostModel::fields_at(const TetMesh& mesh, const CollapseCandidate& c, double* out) const {
+void CostModel::fields_at(const MeshModel& mesh, const CollapseCandidate& c, double* out) const {
   if (stride_ == 0) return;
   const double* fu = mesh.field_values.data() + static_cast<std::size_t>(c.u) * stride_;
   if (c.placement == kAtU && mesh.is_pinned(c.u)) {  // a pinned vertex keeps its own values
@@ -435,7 +435,7 @@ void CostModel::prefetch(VertId v) const {
   topotet::prefetch(&orders_[v]);
 }
 
-void CostModel::on_collapse(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_uv) {
+void CostModel::on_collapse(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_uv) {
   quadric_add(quadric(u), quadric(v), n_);
   normalise(mesh, u, coordinates(u));  // u moved and took new field values
   // Which orders can change? u's star changed wholesale. A vertex x outside the removed tets St(uv)
@@ -467,7 +467,7 @@ std::size_t CostModel::memory_bytes() const {
          (field_min_.capacity() + field_scale_.capacity()) * sizeof(double);
 }
 
-void set_placement_fields(const TetMesh& mesh, const CostModel& cost, const CollapseCandidate* cands, int n,
+void set_placement_fields(const MeshModel& mesh, const CostModel& cost, const CollapseCandidate* cands, int n,
                           topotet::Placement* placements, std::vector<double>& storage) {
   const std::size_t stride = static_cast<std::size_t>(mesh.field_stride());
   storage.resize(stride * static_cast<std::size_t>(n));

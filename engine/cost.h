@@ -87,9 +87,9 @@
 
 #include "collapse.h"
 #include "link_condition.h"
+#include "mesh_model.h"
 #include "quadric.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 
@@ -104,21 +104,21 @@ struct CollapseCandidate {
 class CostModel {
  public:
   // Builds every vertex's quadric and order (parallel over vertices, deterministic).
-  CostModel(const TetMesh& mesh, const SimplifyOptions& options);
+  CostModel(const MeshModel& mesh, const SimplifyOptions& options);
 
   int dimension() const { return n_; }
 
   // Placements for edge ab, cheapest first (at most 4). Returns 0 when the orders forbid the
   // collapse outright (both ends order 3, or a pinned end that would have to move).
-  int candidates(const TetMesh& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch);
+  int candidates(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch);
 
   // The cost of edge ab's cheapest placement (candidates()[0].cost, up to rounding: the optimum,
   // when it is a candidate, is taken as the cheapest without evaluating the others); infinity
   // when the orders forbid the collapse. For ranking edges; candidates() for checking them.
-  double edge_cost(const TetMesh& mesh, VertId a, VertId b, LinkScratch& scratch);
+  double edge_cost(const MeshModel& mesh, VertId a, VertId b, LinkScratch& scratch);
 
   // Field values (mesh units, field_stride() of them) for u after collapsing with candidate c.
-  void fields_at(const TetMesh& mesh, const CollapseCandidate& c, double* out) const;
+  void fields_at(const MeshModel& mesh, const CollapseCandidate& c, double* out) const;
 
   // Asks the memory system for what edge_cost / candidates will read about v (see prefetch.h).
   void prefetch(VertId v) const;
@@ -126,11 +126,11 @@ class CostModel {
   // Bookkeeping after mesh collapse(u <- v): Q_u += Q_v, and the orders of u and of the vertices
   // of the removed tets `star_uv` are recomputed on demand. Writes only u's quadric and the order
   // bytes of vertices of St(uv), all inside the collapse's stencil.
-  void on_collapse(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_uv);
+  void on_collapse(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_uv);
 
   // Order of v in the substructure filtration (cached; thread-safe for distinct or equal v:
   // concurrent recomputations write the same value).
-  std::uint8_t order(const TetMesh& mesh, VertId v, LinkScratch& scratch);
+  std::uint8_t order(const MeshModel& mesh, VertId v, LinkScratch& scratch);
 
   // True when v is known to be of order 0 (interior: on no feature). Interior stays interior
   // through every legal collapse, so the answer never goes stale.
@@ -149,10 +149,10 @@ class CostModel {
   template <int kN>
   struct EdgeQuadric;
   template <int kN>
-  int candidates_n(const TetMesh& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch);
+  int candidates_n(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch);
   template <int kN>
-  double edge_cost_n(const TetMesh& mesh, VertId a, VertId b, LinkScratch& scratch);
-  void normalise(const TetMesh& mesh, VertId v, double* x) const;
+  double edge_cost_n(const MeshModel& mesh, VertId a, VertId b, LinkScratch& scratch);
+  void normalise(const MeshModel& mesh, VertId v, double* x) const;
 
   int n_ = 3;             // quadric dimension
   int stride_ = 0;        // mesh field stride
@@ -174,7 +174,7 @@ class CostModel {
 
 // Points placements[i].fields at fields_at(cands[i]) (stored in `storage`), for the kernel's field
 // error check (CollapseOptions::field_bounds): it must see the values collapse() will write.
-void set_placement_fields(const TetMesh& mesh, const CostModel& cost, const CollapseCandidate* cands, int n,
+void set_placement_fields(const MeshModel& mesh, const CostModel& cost, const CollapseCandidate* cands, int n,
                           Placement* placements, std::vector<double>& storage);
 
 }  // namespace topotet

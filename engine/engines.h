@@ -8,8 +8,8 @@
 
 #include "collapse.h"
 #include "hierarchy_log.h"
+#include "mesh_model.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet::detail {
 
@@ -34,15 +34,15 @@ class Progress {
 // field bound limits); `bounds` (kernel.field_bounds, writable; nullptr = none) is updated by
 // every applied collapse. `log`, when given, records every accepted collapse (hierarchy_log.h),
 // with the field bound of its new star when `bounds` is given.
-void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
+void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
                          FieldBounds* bounds, std::uint64_t target_vertices, Report& report,
                          CollapseLog* log = nullptr);
-void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
+void simplify_parallel(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
                        FieldBounds* bounds, std::uint64_t target_vertices, Report& report, CollapseLog* log = nullptr);
 
 // simplify() with a collapse log (topotet::simplify_with_hierarchy). new2old receives the
 // locality renumbering (reorder.h) that the log's vertex ids are in (old = the mesh as passed).
-Report simplify_recorded(TetMesh& mesh, const SimplifyOptions& options, CollapseLog& log,
+Report simplify_recorded(MeshModel& mesh, const SimplifyOptions& options, CollapseLog& log,
                          std::vector<VertId>& new2old) noexcept;
 
 }  // namespace topotet::detail

@@ -38,7 +38,7 @@ bool is_sharp(const glm::dvec3& a, const glm::dvec3& x, const glm::dvec3& y1, co
 }
 
 // The edges (a, x), a < x, of St(a) that are sharp inner edges of one surface.
-void sharp_edges_at(const TetMesh& mesh, VertId a, double minus_cos_theta, LinkScratch& scratch,
+void sharp_edges_at(const MeshModel& mesh, VertId a, double minus_cos_theta, LinkScratch& scratch,
                     std::vector<std::pair<VertId, VertId>>& out) {
   LinkScratch::VertexData& d = scratch.a;
   classify_vertex(mesh, a, d, scratch);
@@ -59,7 +59,7 @@ void sharp_edges_at(const TetMesh& mesh, VertId a, double minus_cos_theta, LinkS
 
 // Flags edge ab as a feature curve in every tet that has it (a side table slot is added to tets
 // that had none).
-void flag_edge(TetMesh& mesh, VertId a, VertId b) {
+void flag_edge(MeshModel& mesh, VertId a, VertId b) {
   mesh.for_each_tet_of(a, [&](TetId t) {
     const auto& v = mesh.tets[t];
     int la = -1, lb = -1;
@@ -82,7 +82,7 @@ void flag_edge(TetMesh& mesh, VertId a, VertId b) {
 
 }  // namespace
 
-FeatureStats detect_features(TetMesh& mesh, double angle_degrees) {
+FeatureStats detect_features(MeshModel& mesh, double angle_degrees) {
   FeatureStats stats;
   if (!(angle_degrees < 180.0)) return stats;
   const double minus_cos_theta = -std::cos(std::max(angle_degrees, 0.0) * std::numbers::pi / 180.0);

@@ -144,7 +144,7 @@ std::uint32_t locate(const FieldBoundsScratch& s, const glm::dvec3& q, std::uint
 
 }  // namespace
 
-FieldBounds::FieldBounds(const TetMesh& mesh, double max_abs, double max_rel) : k_(mesh.field_stride()) {
+FieldBounds::FieldBounds(const MeshModel& mesh, double max_abs, double max_rel) : k_(mesh.field_stride()) {
   const std::size_t nv = mesh.vertex_capacity(), nt = mesh.tets.size(), k = static_cast<std::size_t>(k_);
   head_.assign(nt, kInvalid);
   next_.assign(nv, kInvalid);
@@ -190,7 +190,7 @@ FieldBounds::FieldBounds(const TetMesh& mesh, double max_abs, double max_rel) : 
   }
 }
 
-bool FieldBounds::evaluate(const TetMesh& mesh, std::span<const TetId> removed, VertId u, const glm::dvec3& p,
+bool FieldBounds::evaluate(const MeshModel& mesh, std::span<const TetId> removed, VertId u, const glm::dvec3& p,
                            const double* fields_at_p, FieldBoundsScratch& s, bool stop_at_limit) const {
   if (k_ == 0) return true;
   const std::size_t n = s.star.size(), k = static_cast<std::size_t>(k_);
@@ -263,7 +263,7 @@ float FieldBounds::commit(std::span<const TetId> removed, FieldBoundsScratch& s)
   return worst_rel;
 }
 
-std::vector<double> FieldBounds::max_bounds(const TetMesh& mesh) const {
+std::vector<double> FieldBounds::max_bounds(const MeshModel& mesh) const {
   const std::size_t k = static_cast<std::size_t>(k_);
   std::vector<double> out(k, 0.0);
   for (TetId t = 0; t < mesh.tets.size(); ++t) {
@@ -273,7 +273,7 @@ std::vector<double> FieldBounds::max_bounds(const TetMesh& mesh) const {
   return out;
 }
 
-double FieldBounds::max_bound_rel(const TetMesh& mesh) const {
+double FieldBounds::max_bound_rel(const MeshModel& mesh) const {
   const std::vector<double> b = max_bounds(mesh);
   double worst = 0.0;
   for (std::size_t c = 0; c < b.size(); ++c) worst = std::max(worst, b[c] / range_[c]);

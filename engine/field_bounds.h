@@ -51,7 +51,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "topotet/tet_mesh.h"
+#include "mesh_model.h"
 
 namespace topotet {
 
@@ -77,7 +77,7 @@ class FieldBounds {
   // Takes the samples (every vertex used by a live tet: bound 0 in the first tet of its star).
   // Limits per component: max_abs (field units) and max_rel (times the component's range); 0 =
   // none, both given = the smaller. A mesh without fields has nothing to bound.
-  FieldBounds(const TetMesh& mesh, double max_abs, double max_rel);
+  FieldBounds(const MeshModel& mesh, double max_abs, double max_rel);
 
   int components() const { return k_; }
   // Range (max - min over the samples) of component c; 1 for a constant component.
@@ -93,7 +93,7 @@ class FieldBounds {
   // new values (nullptr: u's current values). Pure (reads the mesh and the bounds). With
   // `stop_at_limit`, returns false as soon as one bound would exceed its limit or one sample would
   // end up outside the new star; otherwise always true. The result is left in `s` for commit().
-  bool evaluate(const TetMesh& mesh, std::span<const TetId> removed, VertId u, const glm::dvec3& p,
+  bool evaluate(const MeshModel& mesh, std::span<const TetId> removed, VertId u, const glm::dvec3& p,
                 const double* fields_at_p, FieldBoundsScratch& s, bool stop_at_limit) const;
 
   // Stores what the last full evaluate() (stop_at_limit = false) left in `s`: the samples'
@@ -103,8 +103,8 @@ class FieldBounds {
   float commit(std::span<const TetId> removed, FieldBoundsScratch& s);
 
   // Largest bound over the live tets, per component (field units), and relative to the range.
-  std::vector<double> max_bounds(const TetMesh& mesh) const;
-  double max_bound_rel(const TetMesh& mesh) const;
+  std::vector<double> max_bounds(const MeshModel& mesh) const;
+  double max_bound_rel(const MeshModel& mesh) const;
 
   // Which tet holds each sample, for the tests: samples of tet t.
   template <class F>

@@ -27,6 +27,7 @@
 #include <new>
 
 #include "engines.h"
+#include "glm_convert.h"
 #include "hierarchy_log.h"
 #include "topotet/error.h"
 #include "topotet/hierarchy.h"
@@ -43,14 +44,14 @@ void CollapseLog::begin_batch(std::size_t slots) {
   slot_fields_.resize(slots * 2 * static_cast<std::size_t>(stride_));
 }
 
-void CollapseLog::record(std::size_t slot, const TetMesh& mesh, VertId cu, VertId cv, const glm::dvec3& p,
+void CollapseLog::record(std::size_t slot, const MeshModel& mesh, VertId cu, VertId cv, const glm::dvec3& p,
                          const double* fields_after_p, double collapse_cost) {
   Slot& s = slots_[slot];
   s.u = cu;
   s.v = cv;
-  s.u_before = mesh.positions[cu];
-  s.u_after = p;
-  s.v_position = mesh.positions[cv];
+  s.u_before = from_glm(mesh.positions[cu]);
+  s.u_after = from_glm(p);
+  s.v_position = from_glm(mesh.positions[cv]);
   s.cost = collapse_cost;
   s.bound = std::numeric_limits<float>::quiet_NaN();
   const std::size_t stride = static_cast<std::size_t>(stride_);
@@ -109,7 +110,7 @@ void CollapseLog::end_batch() {
 
 }  // namespace detail
 
-Report simplify_with_hierarchy(TetMesh& mesh, const SimplifyOptions& options, Hierarchy& hierarchy) noexcept {
+Report simplify_with_hierarchy(MeshModel& mesh, const SimplifyOptions& options, Hierarchy& hierarchy) noexcept {
   Report report;
   try {
     hierarchy = Hierarchy{};

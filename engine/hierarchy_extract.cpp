@@ -12,6 +12,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "glm_convert.h"
 #include "topotet/error.h"
 #include "topotet/hierarchy.h"
 
@@ -37,7 +38,7 @@ bool touches(const Hierarchy& h, std::size_t i, const Voi& voi) {
 
 // Keeps the first of each group of elements with the same key, in their order. Keys are the
 // sorted vertex ids and the ref: a face (edge) that two collapses merged is listed once per ref,
-// as TetMesh::to_mesh_data lists it.
+// as MeshModel::to_mesh_data lists it.
 template <class Element, std::size_t N>
 std::vector<std::uint8_t> first_occurrences(const std::vector<Element>& elements) {
   using Key = std::pair<std::array<VertId, N>, std::int32_t>;
@@ -125,24 +126,24 @@ std::vector<std::uint8_t> select_voi(const Hierarchy& h, const Voi& voi, double 
 
 // ---- volumes of interest ----
 
-bool Voi::contains(const glm::dvec3& p) const {
+bool Voi::contains(const std::array<double, 3>& p) const {
   if (kind == Kind::kBox)
-    return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
-  const glm::dvec3 d = p - centre;
+    return p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1] && p[2] >= lo[2] && p[2] <= hi[2];
+  const glm::dvec3 d = to_glm(p) - to_glm(centre);
   return d.x * d.x + d.y * d.y + d.z * d.z <= radius * radius;
 }
 
-Voi Voi::moved(const glm::dvec3& by) const {
+Voi Voi::moved(const std::array<double, 3>& by) const {
   Voi m = *this;
-  m.lo += by;
-  m.hi += by;
-  m.centre += by;
+  m.lo = from_glm(to_glm(lo) + to_glm(by));
+  m.hi = from_glm(to_glm(hi) + to_glm(by));
+  m.centre = from_glm(to_glm(centre) + to_glm(by));
   return m;
 }
 
 double Voi::size() const {
   if (kind == Kind::kSphere) return 2.0 * radius;
-  const glm::dvec3 d = hi - lo;
+  const glm::dvec3 d = to_glm(hi) - to_glm(lo);
   return std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
 }
 
@@ -173,7 +174,7 @@ Voi parse_voi(const std::string& text) {
     voi.kind = Voi::Kind::kBox;
     voi.lo = {values[0], values[1], values[2]};
     voi.hi = {values[3], values[4], values[5]};
-    if (voi.lo.x > voi.hi.x || voi.lo.y > voi.hi.y || voi.lo.z > voi.hi.z) fail("the low corner is above the high one");
+    if (voi.lo[0] > voi.hi[0] || voi.lo[1] > voi.hi[1] || voi.lo[2] > voi.hi[2]) fail("the low corner is above the high one");
   } else if (kind == "sphere") {
     if (values.size() != 4) fail("a sphere takes 4 numbers");
     voi.kind = Voi::Kind::kSphere;

@@ -17,7 +17,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "topotet/tet_mesh.h"
+#include "glm_convert.h"
+#include "mesh_model.h"
 
 namespace topotet {
 struct Hierarchy;
@@ -33,7 +34,7 @@ class CollapseLog {
   CollapseLog(std::size_t tet_capacity, int field_stride);
 
   void begin_batch(std::size_t slots);
-  void record(std::size_t slot, const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p,
+  void record(std::size_t slot, const MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p,
               const double* fields_after, double cost);
   void depend(std::size_t slot, const std::vector<TetId>& star_u, const std::vector<TetId>& star_v);
   // The field error bound of the slot's new star (collapse()'s return value with FieldBounds).
@@ -44,7 +45,7 @@ class CollapseLog {
 
   // The records (engine ids), in recording order.
   std::vector<VertId> u, v;
-  std::vector<glm::dvec3> u_before, u_after, v_position;
+  std::vector<std::array<double, 3>> u_before, u_after, v_position;  // as Hierarchy holds them
   std::vector<double> fields_before, fields_after, cost;
   std::vector<float> error_bound;  // NaN where bound() was not called
   std::vector<std::uint32_t> parent_offsets{0}, parents;
@@ -52,7 +53,7 @@ class CollapseLog {
  private:
   struct Slot {
     VertId u = kInvalid, v = kInvalid;
-    glm::dvec3 u_before{0.0}, u_after{0.0}, v_position{0.0};
+    std::array<double, 3> u_before{}, u_after{}, v_position{};
     double cost = 0.0;
     float bound = 0.0f;
     std::vector<std::uint32_t> parents;  // capacity kept between batches: no allocation per collapse

@@ -125,7 +125,7 @@ void face_labels_at(const VertexData& d, VertId x, std::vector<LinkScratch::Labe
   std::sort(out.begin(), out.end());
 }
 
-std::uint8_t vertex_order(const TetMesh& mesh, VertId a, const VertexData& d, int f, LinkScratch& scratch) {
+std::uint8_t vertex_order(const MeshModel& mesh, VertId a, const VertexData& d, int f, LinkScratch& scratch) {
   if (d.non_manifold) return 3;
   if (f == kFiltrationKtilde && mesh.is_pinned(a)) return 3;
   const Neighbour* c2[2] = {nullptr, nullptr};
@@ -173,7 +173,7 @@ bool all_common(It1 b1, It1 e1, It2 b2, It2 e2, Key1 k1, Key2 k2, F&& ok) {
 }
 
 // For a vertex known to be of order 0: only the neighbour list (for test (A)) is needed.
-void interior_neighbours(const TetMesh& mesh, VertId a, VertexData& d, LinkScratch& scratch) {
+void interior_neighbours(const MeshModel& mesh, VertId a, VertexData& d, LinkScratch& scratch) {
   d.recs.clear();
   d.special.clear();
   d.neighbours.clear();
@@ -194,7 +194,7 @@ void interior_neighbours(const TetMesh& mesh, VertId a, VertexData& d, LinkScrat
 //   (C) a triple of C that is a face of Lk(a) and of Lk(b).
 // With (A) passed the common neighbours are exactly C, which is the domain the general tests
 // range over, so the answers agree.
-char interior_link_test(const TetMesh& mesh, VertId a, VertId b, const std::vector<TetId>& stab, LinkScratch& s) {
+char interior_link_test(const MeshModel& mesh, VertId a, VertId b, const std::vector<TetId>& stab, LinkScratch& s) {
   auto& c = s.common;
   c.clear();
   for (TetId t : stab)
@@ -268,7 +268,7 @@ char interior_link_test(const TetMesh& mesh, VertId a, VertId b, const std::vect
 
 }  // namespace
 
-VertexOrders classify_vertex(const TetMesh& mesh, VertId a, VertexData& d, LinkScratch& scratch) {
+VertexOrders classify_vertex(const MeshModel& mesh, VertId a, VertexData& d, LinkScratch& scratch) {
   d.recs.clear();
   d.special.clear();
   d.neighbours.clear();
@@ -365,7 +365,7 @@ VertexOrders classify_vertex(const TetMesh& mesh, VertId a, VertexData& d, LinkS
   return d.orders;
 }
 
-bool is_interior_vertex(const TetMesh& mesh, VertId a) {
+bool is_interior_vertex(const MeshModel& mesh, VertId a) {
   if (mesh.is_pinned(a)) return false;
   // Faces through a, keyed by their two other vertices, counted in a probe set on the stack (3
   // faces per tet; stars of more than 170 tets take the classification instead).
@@ -402,11 +402,11 @@ bool is_interior_vertex(const TetMesh& mesh, VertId a) {
   return !special && 2 * distinct == items;
 }
 
-VertexOrders vertex_orders(const TetMesh& mesh, VertId a, LinkScratch& scratch) {
+VertexOrders vertex_orders(const MeshModel& mesh, VertId a, LinkScratch& scratch) {
   return classify_vertex(mesh, a, scratch.a, scratch);
 }
 
-LinkResult check_link_conditions(const TetMesh& mesh, VertId a, VertId b, const std::vector<TetId>& stab,
+LinkResult check_link_conditions(const MeshModel& mesh, VertId a, VertId b, const std::vector<TetId>& stab,
                                  LinkScratch& scratch) {
   VertexData& da = scratch.a;
   VertexData& db = scratch.b;

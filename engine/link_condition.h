@@ -35,7 +35,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "topotet/tet_mesh.h"
+#include "mesh_model.h"
 
 namespace topotet {
 
@@ -108,20 +108,20 @@ struct LinkScratch {
 };
 
 // Classifies vertex a from its star (fills scratch data; returns its orders).
-VertexOrders classify_vertex(const TetMesh& mesh, VertId a, LinkScratch::VertexData& data, LinkScratch& scratch);
+VertexOrders classify_vertex(const MeshModel& mesh, VertId a, LinkScratch::VertexData& data, LinkScratch& scratch);
 
 // True when a has order 0 in both filtrations, decided without building its link: a is not
 // pinned, no face or edge of St(a) through a is flagged, and every face through a has exactly two
 // tets (none on the boundary, none non-manifold). Equivalent to vertex_orders(a).ktilde == 0 (the
 // classification gives order 0 exactly when a has no special face, no polyline edge and is not
 // pinned), at a fraction of the cost; used to skip the classification of the many interior vertices.
-bool is_interior_vertex(const TetMesh& mesh, VertId a);
+bool is_interior_vertex(const MeshModel& mesh, VertId a);
 
 // Orders of vertex a, for callers outside the kernel (cost, placement, tests).
-VertexOrders vertex_orders(const TetMesh& mesh, VertId a, LinkScratch& scratch);
+VertexOrders vertex_orders(const MeshModel& mesh, VertId a, LinkScratch& scratch);
 
 // Evaluates (A)-(I) for edge ab. `stab` must be St(a) ∩ St(b) (the tets containing ab, non-empty).
-LinkResult check_link_conditions(const TetMesh& mesh, VertId a, VertId b, const std::vector<TetId>& stab,
+LinkResult check_link_conditions(const MeshModel& mesh, VertId a, VertId b, const std::vector<TetId>& stab,
                                  LinkScratch& scratch);
 
 }  // namespace topotet

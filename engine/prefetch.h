@@ -6,14 +6,14 @@
 // cube-sphere: the cost model spent half of its time waiting for the other end's record).
 #pragma once
 
-#include "topotet/tet_mesh.h"
+#include "mesh_model.h"
 
 namespace topotet {
 
 inline void prefetch(const void* address) { __builtin_prefetch(address, 0, 3); }
 
 // The tets of St(v) (read only).
-inline void prefetch_star(const TetMesh& mesh, VertId v) {
+inline void prefetch_star(const MeshModel& mesh, VertId v) {
   mesh.for_each_tet_of(v, [&](TetId t) { prefetch(&mesh.tets[t]); });
 }
 

@@ -26,14 +26,14 @@ void insert_edge(double c, VertId b, double& best_cost, VertId& best, double& se
 }
 
 // The neighbours b > a: the edges a owns.
-void neighbours_above(const TetMesh& mesh, VertId a, std::vector<VertId>& out) {
+void neighbours_above(const MeshModel& mesh, VertId a, std::vector<VertId>& out) {
   mesh.neighbours(a, out);
   out.erase(out.begin(), std::upper_bound(out.begin(), out.end(), a));
 }
 
 }  // namespace
 
-Proposals::Proposals(const TetMesh& mesh, CostModel& cost, const CollapseOptions& kernel)
+Proposals::Proposals(const MeshModel& mesh, CostModel& cost, const CollapseOptions& kernel)
     : mesh_(mesh),
       cost_(cost),
       kernel_(kernel),

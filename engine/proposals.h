@@ -20,7 +20,7 @@
 
 #include "collapse.h"
 #include "cost.h"
-#include "topotet/tet_mesh.h"
+#include "mesh_model.h"
 
 namespace topotet::detail {
 
@@ -52,7 +52,7 @@ struct ProposalScratch {
 
 class Proposals {
  public:
-  Proposals(const TetMesh& mesh, CostModel& cost, const CollapseOptions& kernel);
+  Proposals(const MeshModel& mesh, CostModel& cost, const CollapseOptions& kernel);
 
   // --- costs ---
   // a's best and runner-up edges, from scratch.
@@ -108,7 +108,7 @@ class Proposals {
   bool try_edge(VertId a, VertId b, const Ranked& threshold, std::uint32_t round, ProposalScratch& s);
   void set(VertId a, const Proposal& p);
 
-  const TetMesh& mesh_;
+  const MeshModel& mesh_;
   CostModel& cost_;
   const CollapseOptions& kernel_;
   std::vector<Proposal> proposals_;

@@ -28,7 +28,7 @@ std::uint64_t spread_bits(std::uint32_t x) {
 // Points of the bounding box quantised to 21 bits per axis, interleaved.
 class MortonFrame {
  public:
-  explicit MortonFrame(const TetMesh& m) {
+  explicit MortonFrame(const MeshModel& m) {
     glm::dvec3 hi(-std::numeric_limits<double>::infinity());
     lo_ = glm::dvec3(std::numeric_limits<double>::infinity());
     for (VertId v = 0; v < m.vertex_capacity(); ++v) {
@@ -63,7 +63,7 @@ void permute(std::vector<T>& values, const std::vector<std::pair<std::uint64_t, 
 
 }  // namespace
 
-void reorder_for_locality(TetMesh& m, std::vector<VertId>* new2old) {
+void reorder_for_locality(MeshModel& m, std::vector<VertId>* new2old) {
   const MortonFrame frame(m);
   using Keyed = std::pair<std::uint64_t, std::uint32_t>;  // (Morton key, old id): a total order
 

@@ -1,4 +1,4 @@
-// Renumbering a TetMesh for memory locality before it is simplified.
+// Renumbering a MeshModel for memory locality before it is simplified.
 //
 // Every kernel of the engines walks stars: a vertex's tets through the incidence chains, then
 // their vertices' positions, flags and quadrics. On a large mesh those reads miss the cache unless
@@ -12,11 +12,11 @@
 
 #include <vector>
 
-#include "topotet/tet_mesh.h"
+#include "mesh_model.h"
 
 namespace topotet {
 
 // new2old, when given, receives the old id of every new vertex id.
-void reorder_for_locality(TetMesh& mesh, std::vector<VertId>* new2old = nullptr);
+void reorder_for_locality(MeshModel& mesh, std::vector<VertId>* new2old = nullptr);
 
 }  // namespace topotet

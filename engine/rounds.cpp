@@ -65,7 +65,7 @@ struct ThreadScratch {
 // the tets list them. Repeats are dropped with a probe set on the stack: a per-vertex mark array
 // would cost a cache miss per vertex on large meshes.
 template <class Tets>
-void stencil_vertices(const TetMesh& mesh, const Tets& tets, std::size_t tet_count, std::vector<VertId>& out,
+void stencil_vertices(const MeshModel& mesh, const Tets& tets, std::size_t tet_count, std::vector<VertId>& out,
                       std::vector<VertId>& slots) {
   slots.resize(probe_slots_for(4 * tet_count));
   ProbeSet<VertId> seen(slots);
@@ -75,7 +75,7 @@ void stencil_vertices(const TetMesh& mesh, const Tets& tets, std::size_t tet_cou
   });
 }
 
-void stencil_of(const TetMesh& mesh, VertId a, VertId b, std::vector<VertId>& out, std::vector<VertId>& slots) {
+void stencil_of(const MeshModel& mesh, VertId a, VertId b, std::vector<VertId>& out, std::vector<VertId>& slots) {
   out.clear();
   prefetch_star(mesh, a);
   prefetch_star(mesh, b);
@@ -90,7 +90,7 @@ void stencil_of(const TetMesh& mesh, VertId a, VertId b, std::vector<VertId>& ou
 
 class Rounds {
  public:
-  Rounds(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel, FieldBounds* bounds,
+  Rounds(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel, FieldBounds* bounds,
          std::uint64_t target, Report& report, CollapseLog* log)
       : mesh_(mesh),
         bounds_(bounds),
@@ -474,7 +474,7 @@ class Rounds {
     for (VertId v : dirty_list_) dirty_[v] = Dirty::kPropose;
   }
 
-  TetMesh& mesh_;
+  MeshModel& mesh_;
   FieldBounds* bounds_;  // nullptr = none; each collapse updates its own stencil's bounds
   SurfaceCoverage* coverage_;  // nullptr = none; each collapse moves its own stencil's surface items
   CollapseLog* log_;     // nullptr unless simplify_with_hierarchy records the collapses
@@ -512,7 +512,7 @@ class Rounds {
 
 }  // namespace
 
-void simplify_parallel(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
+void simplify_parallel(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
                        FieldBounds* bounds, std::uint64_t target, Report& report, CollapseLog* log) {
   Rounds rounds(mesh, options, kernel, bounds, target, report, log);
   rounds.run();

@@ -45,7 +45,7 @@ struct Entry {
 
 }  // namespace
 
-void simplify_sequential(TetMesh& mesh, const SimplifyOptions& options, const CollapseOptions& kernel_options,
+void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel_options,
                          FieldBounds* bounds, std::uint64_t target, Report& report, CollapseLog* log) {
   CostModel cost(mesh, options);
   CollapseScratch scratch;

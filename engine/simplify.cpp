@@ -64,7 +64,7 @@ std::string check_options(const SimplifyOptions& o) {
   return {};
 }
 
-std::string check_field_names(const SimplifyOptions& o, const TetMesh& mesh) {
+std::string check_field_names(const SimplifyOptions& o, const MeshModel& mesh) {
   for (const auto& entry : o.field_weights) {
     const std::string& name = entry.first;
     if (std::none_of(mesh.fields.begin(), mesh.fields.end(), [&](const FieldInfo& f) { return f.name == name; }))
@@ -73,7 +73,7 @@ std::string check_field_names(const SimplifyOptions& o, const TetMesh& mesh) {
   return {};
 }
 
-double bounding_box_diagonal(const TetMesh& mesh) {
+double bounding_box_diagonal(const MeshModel& mesh) {
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (VertId v = 0; v < mesh.vertex_capacity(); ++v) {
     if (mesh.is_dead_vertex(v)) continue;
@@ -87,7 +87,7 @@ double bounding_box_diagonal(const TetMesh& mesh) {
 // of the compacted output (`compacted`) or of the mesh as it stands. new2old is the renumbering
 // reorder_for_locality made (empty: none yet). A merge chain v -> u -> w ends at a live vertex:
 // collapse() kills only v and keeps u.
-void resolve_vertex_map(const TetMesh& mesh, std::size_t input_count, const std::vector<VertId>& new2old,
+void resolve_vertex_map(const MeshModel& mesh, std::size_t input_count, const std::vector<VertId>& new2old,
                         bool compacted, std::vector<VertId>& vertex_map) {
   const std::size_t nv = mesh.vertex_capacity();
   // root[v]: the output id of the live vertex at the end of v's merge chain. Chains are walked
@@ -118,7 +118,7 @@ void resolve_vertex_map(const TetMesh& mesh, std::size_t input_count, const std:
 
 // `log` (simplify_with_hierarchy) records the collapses in the renumbered ids; new2old_out then
 // receives the renumbering.
-Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<VertId>* vertex_map,
+Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vector<VertId>* vertex_map,
                      detail::CollapseLog* log = nullptr, std::vector<VertId>* new2old_out = nullptr) noexcept {
   Report report;
   const auto start = std::chrono::steady_clock::now();
@@ -244,14 +244,14 @@ Report simplify_impl(TetMesh& mesh, const SimplifyOptions& options, std::vector<
 
 }  // namespace
 
-Report detail::simplify_recorded(TetMesh& mesh, const SimplifyOptions& options, CollapseLog& log,
+Report detail::simplify_recorded(MeshModel& mesh, const SimplifyOptions& options, CollapseLog& log,
                                  std::vector<VertId>& new2old) noexcept {
   return simplify_impl(mesh, options, nullptr, &log, &new2old);
 }
 
-Report simplify(TetMesh& mesh, const SimplifyOptions& options) noexcept { return simplify_impl(mesh, options, nullptr); }
+Report simplify(MeshModel& mesh, const SimplifyOptions& options) noexcept { return simplify_impl(mesh, options, nullptr); }
 
-Report simplify(TetMesh& mesh, const SimplifyOptions& options, std::vector<VertId>& vertex_map) noexcept {
+Report simplify(MeshModel& mesh, const SimplifyOptions& options, std::vector<VertId>& vertex_map) noexcept {
   return simplify_impl(mesh, options, &vertex_map);
 }
 

@@ -52,13 +52,13 @@ bool face_has(const std::array<VertId, 4>& tet, std::uint8_t local, VertId x) {
 
 // Is the item's face (local face `local` of tet t) through u or v? Those are the faces a collapse
 // u <- v changes; every other face keeps its vertices and positions.
-bool moves(const TetMesh& mesh, TetId t, std::uint8_t local, VertId u, VertId v) {
+bool moves(const MeshModel& mesh, TetId t, std::uint8_t local, VertId u, VertId v) {
   const auto& tv = mesh.tets[t];
   return face_has(tv, local, u) || face_has(tv, local, v);
 }
 
 // The same for a polyline edge (local edge `local` of tet t).
-bool edge_moves(const TetMesh& mesh, TetId t, std::uint8_t local, VertId u, VertId v) {
+bool edge_moves(const MeshModel& mesh, TetId t, std::uint8_t local, VertId u, VertId v) {
   const VertId a = mesh.tets[t][kTetEdges[local][0]], b = mesh.tets[t][kTetEdges[local][1]];
   return a == u || a == v || b == u || b == v;
 }
@@ -74,7 +74,7 @@ void for_each_stencil_tet(const std::vector<TetId>& star_u, const std::vector<Te
 
 }  // namespace
 
-SurfaceCoverage::SurfaceCoverage(const TetMesh& mesh, const SurfaceReference& reference, double h)
+SurfaceCoverage::SurfaceCoverage(const MeshModel& mesh, const SurfaceReference& reference, double h)
     : reference_(reference), h_(h), lists_(mesh.tet_capacity()) {
   const auto& holders = reference.triangle_holders();
   for (std::uint32_t k = 0; k < holders.size(); ++k) {
@@ -193,7 +193,7 @@ void SurfaceCoverage::cut(const CoverageItem& item, int label, CoverageScratch& 
   push(ab, bc, ca);
 }
 
-bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
                             const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv,
                             const SurfaceStencil& stencil, CoverageScratch& s) const {
   // The distinct new faces with a tet that keeps them (a face made by two merging ones is listed
@@ -359,7 +359,7 @@ bool SurfaceCoverage::place(const TetMesh& mesh, VertId u, VertId v, const std::
   return place_segments(mesh, u, v, star_u, star_v, star_uv, stencil, s);
 }
 
-bool SurfaceCoverage::place_segments(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+bool SurfaceCoverage::place_segments(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
                                      const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv,
                                      const SurfaceStencil& stencil, CoverageScratch& s) const {
   s.segment_targets.clear();
@@ -479,7 +479,7 @@ void SurfaceCoverage::cut(const CoverageSegment& item, int label, CoverageScratc
   s.segment_pending.push_back({{m, q[1]}, item.segment, depth, 0});
 }
 
-void SurfaceCoverage::commit(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
                              const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, CoverageScratch& s) {
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
     if (!lists_[t]) return;

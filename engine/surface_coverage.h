@@ -38,7 +38,7 @@
 #include <glm/vec3.hpp>
 
 #include "surface_tolerance.h"
-#include "topotet/tet_mesh.h"
+#include "mesh_model.h"
 
 namespace topotet {
 
@@ -91,19 +91,19 @@ struct CoverageScratch {
 class SurfaceCoverage {
  public:
   // Every original triangle held by the face it was taken from (reference.triangle_holders()).
-  SurfaceCoverage(const TetMesh& mesh, const SurfaceReference& reference, double h);
+  SurfaceCoverage(const MeshModel& mesh, const SurfaceReference& reference, double h);
   double tolerance() const { return h_; }
   const SurfaceReference& reference() const { return reference_; }
 
   // Can every item held by a face through u or v be placed on the new faces of `stencil` (filled by
   // placement_within_tolerance for this placement)? Pure; the placement is left in `s` for commit().
-  bool place(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+  bool place(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
              const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, const SurfaceStencil& stencil,
              CoverageScratch& s) const;
 
   // Stores what the last successful place() left in `s`: removes the re-placed items from the
   // stencil's lists and appends them to their new faces' tets. Call before the mesh changes.
-  void commit(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+  void commit(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
               const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, CoverageScratch& s);
 
   // Items and pieces held now, and the bytes their lists take.
@@ -124,7 +124,7 @@ class SurfaceCoverage {
  private:
   void cut(const CoverageItem& item, int label, CoverageScratch& s) const;
   void cut(const CoverageSegment& item, int label, CoverageScratch& s) const;
-  bool place_segments(const TetMesh& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+  bool place_segments(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
                       const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv,
                       const SurfaceStencil& stencil, CoverageScratch& s) const;
 

@@ -506,7 +506,7 @@ bool SurfaceReference::within_by_crease(const std::array<glm::dvec3, 3>& q, int 
   return false;
 }
 
-// ---------------------------------------------------------------- from a TetMesh
+// ---------------------------------------------------------------- from a MeshModel
 
 namespace {
 
@@ -520,7 +520,7 @@ std::int32_t normalised_ref(std::int32_t ref) { return ref == kImplicitInterface
 
 // The tet other than t sharing face f of t, or kInvalid (boundary). Scans the star of the face's
 // first vertex: no face adjacency is stored.
-TetId across(const TetMesh& mesh, TetId t, int f) {
+TetId across(const MeshModel& mesh, TetId t, int f) {
   const auto& tv = mesh.tets[t];
   const VertId a = tv[kTetFaces[f][0]], b = tv[kTetFaces[f][1]], c = tv[kTetFaces[f][2]];
   TetId other = kInvalid;
@@ -552,7 +552,7 @@ struct LabelledEdge {
 
 }  // namespace
 
-std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mesh, double tolerance) {
+std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const MeshModel& mesh, double tolerance) {
   // Blocks of tets in parallel; block results are concatenated in block order (deterministic).
   constexpr std::size_t kBlock = 8192;
   const std::size_t nt = mesh.tet_capacity();
@@ -672,7 +672,7 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const TetMesh& mes
 
 // ---------------------------------------------------------------- the kernel check
 
-void gather_surface_stencil(const TetMesh& mesh, const SurfaceReference& reference, VertId u, VertId v,
+void gather_surface_stencil(const MeshModel& mesh, const SurfaceReference& reference, VertId u, VertId v,
                             const std::vector<TetId>& star_u, const std::vector<TetId>& star_v,
                             const std::vector<TetId>& star_uv, SurfaceStencil& out) {
   out.recs.clear();
@@ -862,7 +862,7 @@ bool segment_within(const SurfaceReference& reference, const glm::dvec3& a, cons
 
 }  // namespace
 
-bool new_surface_around(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, SurfaceStencil& s) {
+bool new_surface_around(const MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p, SurfaceStencil& s) {
   const auto& P = mesh.positions;
   s.new_faces.clear();
   s.new_edges.clear();
@@ -889,7 +889,7 @@ bool new_surface_around(const TetMesh& mesh, VertId u, VertId v, const glm::dvec
   return true;
 }
 
-bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& reference, double h, VertId u,
+bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& reference, double h, VertId u,
                                 VertId v, const glm::dvec3& p, SurfaceStencil& s) {
   if (!new_surface_around(mesh, u, v, p, s)) return false;
   const auto& P = mesh.positions;

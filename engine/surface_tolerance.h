@@ -66,7 +66,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "topotet/tet_mesh.h"
+#include "mesh_model.h"
 
 namespace topotet {
 
@@ -88,7 +88,7 @@ inline constexpr std::int32_t kUnlistedRef = INT32_MIN + 1;  // special face wit
 inline constexpr std::int32_t kOutsideMaterial = INT32_MIN;  // the outer side of a boundary face
 
 // Raw input of a reference: positions plus labelled triangles and segments (geometry ids dense,
-// triangles first). SurfaceReference::from_mesh fills it from a TetMesh; benchmarks fill it
+// triangles first). SurfaceReference::from_mesh fills it from a MeshModel; benchmarks fill it
 // directly.
 struct SurfaceSoup {
   std::vector<glm::dvec3> positions;
@@ -104,7 +104,7 @@ class SurfaceReference {
   // The special faces and polyline edges of the live part of `mesh` (see the file comment). With a
   // tolerance h > 0, also the flat patches the check proves large triangles with (vertices within
   // h / 4 of their planes: build_flat_patches).
-  static std::unique_ptr<SurfaceReference> from_mesh(const TetMesh& mesh, double tolerance = 0.0);
+  static std::unique_ptr<SurfaceReference> from_mesh(const MeshModel& mesh, double tolerance = 0.0);
   // From raw primitives (benchmarks, tests): geometry ids are the soup's label ids; there are no
   // label values to look up and no border geometries.
   explicit SurfaceReference(SurfaceSoup soup);
@@ -209,17 +209,17 @@ struct SurfaceStencil {
 };
 
 // Fills `out` from St(u) ∪ St(v) (sorted tet ids; star_uv = their intersection).
-void gather_surface_stencil(const TetMesh& mesh, const SurfaceReference& reference, VertId u, VertId v,
+void gather_surface_stencil(const MeshModel& mesh, const SurfaceReference& reference, VertId u, VertId v,
                             const std::vector<TetId>& star_u, const std::vector<TetId>& star_v,
                             const std::vector<TetId>& star_uv, SurfaceStencil& out);
 
 // The new triangles and segments around p (stencil.new_faces, new_edges) for this placement.
 // False when one of their labels is absent from the reference (the placement is refused).
-bool new_surface_around(const TetMesh& mesh, VertId u, VertId v, const glm::dvec3& p, SurfaceStencil& stencil);
+bool new_surface_around(const MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p, SurfaceStencil& stencil);
 
 // The kernel check (see the file comment). `stencil` must have been gathered for edge uv (either
 // direction). Returns true when p is acceptable.
-bool placement_within_tolerance(const TetMesh& mesh, const SurfaceReference& reference, double h, VertId u,
+bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& reference, double h, VertId u,
                                 VertId v, const glm::dvec3& p, SurfaceStencil& stencil);
 
 // Exact squared distances (double precision), shared by the reference and the kernel check.

@@ -1,33 +1,34 @@
-// TetMesh bookkeeping: counts, memory, incidence rebuild, compaction, export to MeshData.
+// MeshModel bookkeeping: counts, memory, incidence rebuild, compaction, export to MeshData.
 #include <algorithm>
 #include <numeric>
 
+#include "glm_convert.h"
+#include "mesh_model.h"
 #include "parallel/for_range.h"
 #include "prefetch.h"
 #include "probe_set.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 
-std::size_t TetMesh::live_vertex_count() const {
+std::size_t MeshModel::live_vertex_count() const {
   std::size_t n = 0;
   for (std::uint8_t s : vertex_states) n += (s & vertex_state::kDead) ? 0 : 1;
   return n;
 }
 
-std::size_t TetMesh::live_tet_count() const {
+std::size_t MeshModel::live_tet_count() const {
   std::size_t n = 0;
   for (TetFlags f : flags) n += (f & tet_flag::kDead) ? 0 : 1;
   return n;
 }
 
-int TetMesh::field_stride() const {
+int MeshModel::field_stride() const {
   int s = 0;
   for (const FieldInfo& f : fields) s += f.components;
   return s;
 }
 
-void TetMesh::neighbours(VertId v, std::vector<VertId>& out) const {
+void MeshModel::neighbours(VertId v, std::vector<VertId>& out) const {
   out.clear();
   // Every neighbour appears in several tets of the star (about 5 times in the interior): a probe
   // set drops the repeats, so only the distinct ones are sorted. This runs for every candidate edge.
@@ -44,14 +45,14 @@ void TetMesh::neighbours(VertId v, std::vector<VertId>& out) const {
   std::sort(out.begin(), out.end());
 }
 
-std::size_t TetMesh::memory_bytes() const {
+std::size_t MeshModel::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   return bytes(positions) + bytes(field_values) + bytes(vertex_refs) + bytes(vertex_states) + bytes(tets) +
          bytes(material) + bytes(flags) + bytes(tet_refs_slot) + bytes(refs_table) + bytes(v2t_offsets) +
          bytes(v2t_next) + bytes(v2t_count) + bytes(v2t);
 }
 
-void rebuild_incidence(TetMesh& m) {
+void rebuild_incidence(MeshModel& m) {
   const std::size_t nv = m.positions.size(), nt = m.tets.size();
   m.v2t_count.assign(nv, 0);
   for (std::size_t t = 0; t < nt; ++t)
@@ -68,7 +69,7 @@ void rebuild_incidence(TetMesh& m) {
       for (VertId v : m.tets[t]) m.v2t[fill[v]++] = static_cast<TetId>(t);
 }
 
-void compact(TetMesh& m) {
+void compact(MeshModel& m) {
   const std::size_t nv = m.positions.size(), nt = m.tets.size();
   std::vector<VertId> vmap(nv, kInvalid);
   VertId nv_new = 0;
@@ -127,14 +128,14 @@ struct KeyedItem {
 
 }  // namespace
 
-MeshData TetMesh::to_mesh_data(const MeshExportOptions& options) const {
+MeshData MeshModel::to_mesh_data(const MeshExportOptions& options) const {
   MeshData d;
   const std::size_t nv = positions.size(), nt = tets.size();
   std::vector<VertId> vmap(nv, kInvalid);
   for (std::size_t v = 0; v < nv; ++v) {
     if (is_dead_vertex(static_cast<VertId>(v))) continue;
     vmap[v] = static_cast<VertId>(d.positions.size());
-    d.positions.push_back(positions[v]);
+    d.positions.push_back(from_glm(positions[v]));
     d.vertex_refs.push_back(vertex_refs[v]);
     if ((vertex_states[v] & vertex_state::kCorner) ||
         (options.feature_edges && (vertex_states[v] & vertex_state::kFeatureCorner)))

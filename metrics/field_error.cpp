@@ -27,6 +27,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "engine/glm_convert.h"
 #include "parallel/for_range.h"
 #include "parallel/scratch.h"
 #include "topotet/error.h"
@@ -164,7 +165,7 @@ class TetLocator {
  public:
   explicit TetLocator(const MeshData& mesh) : mesh_(mesh) {
     double max_abs = 0.0;
-    for (const auto& p : mesh.positions) max_abs = std::max({max_abs, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    for (const auto& p : mesh.positions) max_abs = std::max({max_abs, std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
     // Coordinates of about 1e38 or more have no float: no box could hold them.
     if (!(max_abs < 1e37)) throw InputError("compare_fields: vertex coordinates beyond the float range");
     slack_ = 8.0 * FLT_EPSILON * std::max(max_abs, 1e-30);
@@ -229,7 +230,7 @@ class TetLocator {
   std::array<glm::dvec3, 4> points(TetId t) const {
     const auto& tv = mesh_.tets[t];
     const auto& P = mesh_.positions;
-    return {P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]};
+    return {to_glm(P[tv[0]]), to_glm(P[tv[1]]), to_glm(P[tv[2]]), to_glm(P[tv[3]])};
   }
 
   void query(Search& search, float radius, RTCPointQueryFunction callback) const {
@@ -308,7 +309,7 @@ void check_tets(const MeshData& m, const char* which) {
                          std::to_string(v) + " out of range [0, " + std::to_string(nv) + ")");
   for (const auto& tet : m.tets)
     for (const VertId v : tet)
-      if (!std::isfinite(m.positions[v].x) || !std::isfinite(m.positions[v].y) || !std::isfinite(m.positions[v].z))
+      if (!std::isfinite(m.positions[v][0]) || !std::isfinite(m.positions[v][1]) || !std::isfinite(m.positions[v][2]))
         throw InputError("compare_fields: a tet has a non-finite vertex coordinate");
 }
 
@@ -334,7 +335,7 @@ std::vector<VertId> used_vertices(const MeshData& m) {
 std::vector<Location> locate_all(const MeshData& from, const std::vector<VertId>& queries, const TetLocator& locator) {
   std::vector<Location> loc(queries.size());
   parallel::for_range<std::size_t>(0, queries.size(), 512, "locate", [&](std::size_t q0, std::size_t q1) {
-    for (std::size_t q = q0; q < q1; ++q) loc[q] = locator.locate(from.positions[queries[q]]);
+    for (std::size_t q = q0; q < q1; ++q) loc[q] = locator.locate(to_glm(from.positions[queries[q]]));
   });
   return loc;
 }
@@ -353,7 +354,7 @@ std::vector<Location> locate_by_sweep(const MeshData& from, const std::vector<Ve
                                       Fallback&& fallback) {
   const std::size_t nq = queries.size();
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  for (const VertId v : queries) lo = glm::min(lo, from.positions[v]), hi = glm::max(hi, from.positions[v]);
+  for (const VertId v : queries) lo = glm::min(lo, to_glm(from.positions[v])), hi = glm::max(hi, to_glm(from.positions[v]));
   const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(0.0));
   const double longest = std::max({extent.x, extent.y, extent.z});
   // About one point per cell (cells of side h), at most 1024 cells per axis.
@@ -381,7 +382,7 @@ std::vector<Location> locate_by_sweep(const MeshData& from, const std::vector<Ve
   std::vector<std::uint32_t> start(cell_count + 1, 0), points(nq);
   std::vector<std::size_t> point_cell(nq);
   for (std::size_t q = 0; q < nq; ++q) {
-    const glm::dvec3& x = from.positions[queries[q]];
+    const glm::dvec3 x = to_glm(from.positions[queries[q]]);
     point_cell[q] = cell_index(cell_of(x.x, 0), cell_of(x.y, 1), cell_of(x.z, 2));
     ++start[point_cell[q] + 1];
   }
@@ -402,7 +403,7 @@ std::vector<Location> locate_by_sweep(const MeshData& from, const std::vector<Ve
     std::vector<Best>& best = per_thread.local();
     for (std::size_t t = t0; t < t1; ++t) {
       const auto& tv = in.tets[t];
-      const std::array<glm::dvec3, 4> p = {P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]};
+      const std::array<glm::dvec3, 4> p = {to_glm(P[tv[0]]), to_glm(P[tv[1]]), to_glm(P[tv[2]]), to_glm(P[tv[3]])};
       glm::dvec3 blo = p[0], bhi = p[0];
       for (int i = 1; i < 4; ++i) blo = glm::min(blo, p[i]), bhi = glm::max(bhi, p[i]);
       const glm::dvec3 size = bhi - blo;
@@ -416,7 +417,7 @@ std::vector<Location> locate_by_sweep(const MeshData& from, const std::vector<Ve
             const std::size_t c = cell_index(i, j, k);
             for (std::uint32_t s = start[c]; s < start[c + 1]; ++s) {
               const std::uint32_t q = points[s];
-              const glm::dvec3& x = from.positions[queries[q]];
+              const glm::dvec3 x = to_glm(from.positions[queries[q]]);
               if (x.x < blo.x || x.y < blo.y || x.z < blo.z || x.x > bhi.x || x.y > bhi.y || x.z > bhi.z) continue;
               Bary l;
               if (!barycentric(p, x, l)) continue;
@@ -435,7 +436,7 @@ std::vector<Location> locate_by_sweep(const MeshData& from, const std::vector<Ve
   std::vector<Location> loc(nq);
   for (std::size_t q = 0; q < nq; ++q) {
     if (merged[q].tet == kInvalid || merged[q].m < -kInsideTolerance) {
-      loc[q] = fallback().locate(from.positions[queries[q]]);  // outside the mesh: the closest tet
+      loc[q] = fallback().locate(to_glm(from.positions[queries[q]]));  // outside the mesh: the closest tet
       continue;
     }
     loc[q].tet = merged[q].tet;

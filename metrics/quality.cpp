@@ -20,6 +20,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "engine/glm_convert.h"
 #include "fast_angle.h"
 #include "parallel/reduce.h"
 #include "topotet/error.h"
@@ -228,7 +229,9 @@ QualityStats compute_quality(const MeshData& mesh) {
         BlockSums s;
         for (std::size_t t = begin; t < end; ++t) {
           const auto& tv = mesh.tets[t];
-          add_tet({mesh.positions[tv[0]], mesh.positions[tv[1]], mesh.positions[tv[2]], mesh.positions[tv[3]]}, s);
+          add_tet({to_glm(mesh.positions[tv[0]]), to_glm(mesh.positions[tv[1]]), to_glm(mesh.positions[tv[2]]),
+                   to_glm(mesh.positions[tv[3]])},
+                  s);
         }
         return BlockSummary::of(s);
       },

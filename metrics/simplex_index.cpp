@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include <glm/vec3.hpp>
+
 #include "parallel/for_range.h"
 #include "parallel/reduce.h"
 #include "radix_sort.h"
@@ -68,7 +70,7 @@ std::uint64_t spread_bits(std::uint64_t x) {
 }
 
 // mesh vertex -> rank along the Morton curve of the bounding box (non-finite points go first).
-std::vector<VertId> spatial_vertex_order(const std::vector<glm::dvec3>& positions) {
+std::vector<VertId> spatial_vertex_order(const std::vector<std::array<double, 3>>& positions) {
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
   for (const auto& p : positions)
     for (int k = 0; k < 3; ++k)

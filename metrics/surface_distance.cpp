@@ -162,7 +162,7 @@ Directional one_side(const Scene& scene, const Side& from, int to_side, const st
         const auto g = static_cast<std::uint32_t>(keys[k] >> 32);
         Refiner r{scene, to_side, g, is_polyline[g], spacing, 0.0};
         const bool has_seed = k > b * kCornerBlock && (keys[k - 1] >> 32) == g;
-        corner[k] = r.at(from.positions[static_cast<VertId>(keys[k])], has_seed ? &corner[k - 1] : nullptr,
+        corner[k] = r.at(to_glm(from.positions[static_cast<VertId>(keys[k])]), has_seed ? &corner[k - 1] : nullptr,
                          has_seed ? 1 : 0);
       }
   });
@@ -243,26 +243,28 @@ Directional one_side(const Scene& scene, const Side& from, int to_side, const st
   return d;
 }
 
-double diagonal_of(const std::vector<glm::dvec3>& positions) {
+double diagonal_of(const std::vector<std::array<double, 3>>& positions) {
   if (positions.empty()) return 0.0;
-  glm::dvec3 lo = positions[0], hi = positions[0];
-  for (const glm::dvec3& p : positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
+  glm::dvec3 lo = to_glm(positions[0]), hi = lo;
+  for (const std::array<double, 3>& p : positions) {
+    lo = glm::min(lo, to_glm(p));
+    hi = glm::max(hi, to_glm(p));
   }
   return glm::length(hi - lo);
 }
 
 // The spacing: sample_spacing_rel x diagonal, and with pieces_per_triangle > 0 at least the side
 // of a square of 1 / pieces_per_triangle of the original's mean special-triangle area.
-double sample_spacing(const SurfacePrimitives& original, const std::vector<glm::dvec3>& positions, double diagonal,
+double sample_spacing(const SurfacePrimitives& original, const std::vector<std::array<double, 3>>& positions, double diagonal,
                       const SurfaceDistanceOptions& options) {
   double spacing = options.sample_spacing_rel * diagonal;
   if (!(spacing > 0.0)) spacing = 1.0;
   if (!(options.pieces_per_triangle > 0.0) || original.triangles.empty()) return spacing;
   double area = 0.0;
-  for (const auto& t : original.triangles)
-    area += 0.5 * glm::length(glm::cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]]));
+  for (const auto& t : original.triangles) {
+    const glm::dvec3 a = to_glm(positions[t[0]]), b = to_glm(positions[t[1]]), c = to_glm(positions[t[2]]);
+    area += 0.5 * glm::length(glm::cross(b - a, c - a));
+  }
   const double mean_area = area / static_cast<double>(original.triangles.size());
   const double resolution = std::sqrt(mean_area / options.pieces_per_triangle);
   return std::isfinite(resolution) ? std::max(spacing, resolution) : spacing;

@@ -19,6 +19,7 @@
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
 
+#include "engine/glm_convert.h"
 #include "parallel/for_range.h"
 #include "surface_primitives.h"
 
@@ -62,7 +63,7 @@ inline double squared_distance_to_triangle(const glm::dvec3& p, const glm::dvec3
 // One side of the comparison: its primitives and, for each, the index of its label in the run's
 // sorted label list (shared by both sides).
 struct SurfaceSide {
-  const std::vector<glm::dvec3>& positions;
+  const std::vector<std::array<double, 3>>& positions;
   SurfacePrimitives prims;
   std::vector<std::uint32_t> triangle_label, segment_label;
   std::vector<std::size_t> label_primitives;  // [label] primitive count
@@ -156,10 +157,10 @@ class SurfaceScene {
     const auto& P = sides_[s]->positions;
     if (polyline) {
       const auto& e = sides_[s]->prims.segments[index];
-      return squared_distance_to_segment(p, P[e[0]], P[e[1]]);
+      return squared_distance_to_segment(p, to_glm(P[e[0]]), to_glm(P[e[1]]));
     }
     const auto& t = sides_[s]->prims.triangles[index];
-    return squared_distance_to_triangle(p, P[t[0]], P[t[1]], P[t[2]]);
+    return squared_distance_to_triangle(p, to_glm(P[t[0]]), to_glm(P[t[1]]), to_glm(P[t[2]]));
   }
 
  private:

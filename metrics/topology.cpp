@@ -10,6 +10,7 @@
 #include "parallel/for_range.h"
 #include "parallel/reduce.h"
 #include "parallel/scratch.h"
+#include "engine/glm_convert.h"
 #include "manifold_betti.h"
 #include "robust_orient.h"
 #include "simplex_index.h"
@@ -82,8 +83,8 @@ void count_tet_faults(const MeshData& mesh, TopologyReport& report) {
           const bool has_repeat = tet[0] == tet[1] || tet[0] == tet[2] || tet[0] == tet[3] || tet[1] == tet[2] ||
                                   tet[1] == tet[3] || tet[2] == tet[3];
           const int sign = has_repeat ? 0
-                                      : detail::orient3d_sign(mesh.positions[tet[0]], mesh.positions[tet[1]],
-                                                              mesh.positions[tet[2]], mesh.positions[tet[3]]);
+                                      : detail::orient3d_sign(to_glm(mesh.positions[tet[0]]), to_glm(mesh.positions[tet[1]]),
+                                                              to_glm(mesh.positions[tet[2]]), to_glm(mesh.positions[tet[3]]));
           c[0] += sign < 0;
           c[1] += sign == 0;
         }

@@ -80,7 +80,7 @@ MeshData gather(MPI_Comm comm, const DistributedMesh& mesh, int root, std::vecto
 
   struct Vertex {
     GlobalId id;
-    glm::dvec3 x;
+    std::array<double, 3> x;
     std::int32_t ref;
     std::uint8_t mark;
     std::vector<double> values;
@@ -99,7 +99,7 @@ MeshData gather(MPI_Comm comm, const DistributedMesh& mesh, int root, std::vecto
     for (std::uint64_t i = 0; i < nv; ++i) {
       Vertex v;
       v.id = u.get<GlobalId>();
-      v.x = u.get<glm::dvec3>();
+      v.x = u.get<std::array<double, 3>>();
       v.ref = u.get<std::int32_t>();
       v.mark = u.get<std::uint8_t>();
       v.values.resize(stride);

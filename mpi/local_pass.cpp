@@ -2,7 +2,7 @@
 
 #include <numeric>
 
-#include "topotet/tet_mesh.h"
+#include "mesh_model.h"
 
 namespace topotet::mpi::detail {
 
@@ -21,7 +21,7 @@ LocalPass simplify_part(DistributedMesh& mesh, const std::vector<std::uint8_t>& 
   // tet belongs to another rank's tets (a code may list it on every rank holding its vertices).
   BuildOptions build;
   build.skip_detached_substructures = true;
-  TetMesh part = build_tet_mesh(data, build);
+  MeshModel part = build_mesh_model(data, build);
   data = MeshData{};
   for (VertId v = 0; v < n; ++v)
     if (shared[v]) part.vertex_states[v] |= vertex_state::kFrozen | vertex_state::kPinned;
@@ -30,7 +30,7 @@ LocalPass simplify_part(DistributedMesh& mesh, const std::vector<std::uint8_t>& 
   std::vector<VertId> map;
   pass.report = simplify(part, options, map);
   MeshData out = part.to_mesh_data();
-  part = TetMesh{};
+  part = MeshModel{};
   pass.origin.resize(out.vertex_count());
   for (VertId o = 0; o < out.vertex_count(); ++o)
     pass.origin[o] = out.vertex_refs.empty() ? 0 : static_cast<VertId>(out.vertex_refs[o]);

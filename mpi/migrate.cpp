@@ -253,7 +253,7 @@ std::uint64_t migrate(MPI_Comm comm, DistributedMesh& mesh, std::vector<std::uin
     here.assign(vertex_count, kInvalid);
     for (std::uint64_t i = 0; i < vertex_count; ++i) {
       const auto g = u.get<GlobalId>();
-      const auto x = u.get<glm::dvec3>();
+      const auto x = u.get<std::array<double, 3>>();
       const auto ref = u.get<std::int32_t>();
       const auto mark = u.get<std::uint8_t>();
       const auto pend = u.get<std::uint8_t>();

@@ -7,16 +7,21 @@
 //
 // A mesh is a dict of arrays: points (n, 3) float64, tets (m, 4) int64 (0-based), materials (m,)
 // int32, triangles (k, 3) / triangle_refs (k,), segments (s, 2) / segment_refs (s,), corners (c,),
-// fields {name: (n,) or (n, components) float64}. Inputs may be any numeric dtype and any strides
-// (they are read in place when already float64 / integer). Bad input raises ValueError with the
-// library's one-line message; the GIL is released while the library works.
+// fields {name: (n,) or (n, components) float64}. Inputs may be any numeric dtype and any strides;
+// simplify() builds the model straight from points, tets, materials and fields when they are
+// float64/float32 and int32/int64 (engine/mesh_view.h: no copy besides the model), and converts
+// other dtypes once. Bad input raises ValueError with the library's one-line message; the GIL is
+// released while the library works.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <vector>
 
+#include "mesh_view.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
 #include "topotet/simplify.h"
@@ -111,6 +116,72 @@ topotet::MeshData to_mesh_data(const py::object& points, const py::object& tets,
   return d;
 }
 
+// A numpy array that the builder reads in place when its dtype is one it reads (float64 or
+// float32, int32 or int64, native byte order), with any strides; another dtype is converted once.
+py::array readable(const py::object& obj, bool integer) {
+  py::array a = py::array::ensure(obj);
+  if (!a) throw py::value_error("expected an array");
+  const py::dtype k = a.dtype();
+  const bool in_place = integer ? k.is(py::dtype::of<std::int32_t>()) || k.is(py::dtype::of<std::int64_t>())
+                                : k.is(py::dtype::of<double>()) || k.is(py::dtype::of<float>());
+  if (in_place) return a;
+  return integer ? py::array(obj.cast<Ints>()) : py::array(obj.cast<Reals>());
+}
+
+topotet::StridedArray strided(const py::array& a) {
+  using Type = topotet::StridedArray::Type;
+  const py::dtype k = a.dtype();
+  const Type type = k.is(py::dtype::of<double>())         ? Type::kFloat64
+                    : k.is(py::dtype::of<float>())        ? Type::kFloat32
+                    : k.is(py::dtype::of<std::int32_t>()) ? Type::kInt32
+                                                          : Type::kInt64;
+  return {a.data(), type, a.ndim() > 0 ? a.strides(0) : 0, a.ndim() > 1 ? a.strides(1) : 0};
+}
+
+// simplify()'s input: the points, tets, materials and fields are read in place by the builder,
+// straight into the model (no MeshData in between); `keep` holds the arrays read.
+topotet::MeshView to_mesh_view(const py::object& points, const py::object& tets, const py::object& materials,
+                               const py::object& triangles, const py::object& triangle_refs,
+                               const py::object& segments, const py::object& segment_refs, const py::object& corners,
+                               const py::object& fields, std::vector<py::array>& keep) {
+  topotet::MeshView d;
+  const py::array& p = keep.emplace_back(readable(points, false));
+  require_shape(p, 3, "points");
+  d.vertex_count = static_cast<std::size_t>(p.shape(0));
+  d.positions = strided(p);
+  const py::array& t = keep.emplace_back(readable(tets, true));
+  require_shape(t, 4, "tets");
+  d.tet_count = static_cast<std::size_t>(t.shape(0));
+  d.tets = strided(t);
+  if (!materials.is_none()) {
+    const py::array& m = keep.emplace_back(readable(materials, true));
+    if (m.ndim() != 1 || static_cast<std::size_t>(m.shape(0)) != d.tet_count)
+      throw py::value_error("materials must have shape (" + std::to_string(d.tet_count) + ",)");
+    d.materials = strided(m);
+  }
+  const auto tri = cells<3>(triangles, "triangle");
+  const auto tri_refs = labels(triangle_refs, tri.size(), "triangle_refs");
+  for (std::size_t i = 0; i < tri.size(); ++i) d.triangles.push_back({tri[i], tri_refs.empty() ? 0 : tri_refs[i]});
+  const auto seg = cells<2>(segments, "segment");
+  const auto seg_refs = labels(segment_refs, seg.size(), "segment_refs");
+  for (std::size_t i = 0; i < seg.size(); ++i) d.segments.push_back({seg[i], seg_refs.empty() ? 0 : seg_refs[i]});
+  if (!corners.is_none()) {
+    Ints c = corners.cast<Ints>();
+    for (const auto& x : cells<1>(c.reshape({c.size(), py::ssize_t{1}}), "corner")) d.corners.push_back(x[0]);
+  }
+  if (!fields.is_none()) {
+    for (const auto& [key, value] : fields.cast<py::dict>()) {
+      const std::string name = py::str(key);
+      py::array a = readable(py::reinterpret_borrow<py::object>(value), false);
+      if (a.ndim() == 1) a = a.reshape({a.shape(0), py::ssize_t{1}});
+      if (a.ndim() != 2 || static_cast<std::size_t>(a.shape(0)) != d.vertex_count)
+        throw py::value_error("field " + name + " must have shape (n,) or (n, components) with n = number of points");
+      d.fields.push_back({name, static_cast<int>(a.shape(1)), strided(keep.emplace_back(std::move(a)))});
+    }
+  }
+  return d;
+}
+
 template <class T, std::size_t N>
 py::array_t<T> rows(const std::vector<std::array<VertId, N>>& cells) {
   py::array_t<T> out({static_cast<py::ssize_t>(cells.size()), static_cast<py::ssize_t>(N)});
@@ -185,8 +256,10 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
                   double tolerance, double min_quality, double max_cost, int threads, const std::string& engine,
                   const py::object& triangles, const py::object& triangle_refs, const py::object& segments,
                   const py::object& segment_refs, const py::object& corners) {
-  const topotet::MeshData input =
-      to_mesh_data(points, tets, materials, triangles, triangle_refs, segments, segment_refs, corners, fields);
+  std::vector<py::array> keep;
+  keep.reserve(4 + (fields.is_none() ? 0 : py::len(fields)));  // the views point into these arrays
+  const topotet::MeshView input =
+      to_mesh_view(points, tets, materials, triangles, triangle_refs, segments, segment_refs, corners, fields, keep);
   topotet::SimplifyOptions options;
   options.target_vertex_ratio = ratio;
   options.target_vertices = target_vertices;
@@ -210,7 +283,7 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
     topotet::TetMesh mesh;
     // The whole call, mesh build included, runs inside the thread limit.
     topotet::run_with_thread_limit(threads, [&] {
-      mesh = topotet::build_tet_mesh(input);
+      mesh = topotet::TetMesh(std::make_unique<topotet::MeshModel>(topotet::build_mesh_model(input)));
       report = topotet::simplify(mesh, options, map);
     });
     output = mesh.to_mesh_data();

@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTOPOTET_SANITIZE=thread \
   -DTOPOTET_BUILD_BENCH=OFF -DTOPOTET_BUILD_CLI=OFF
-tests=(unit_simplify unit_vertex_map unit_tet_mesh unit_generate property_hierarchy)
+tests=(unit_simplify unit_vertex_map unit_tet_mesh unit_mesh_view unit_generate property_hierarchy)
 cmake --build build-tsan -j "$(nproc)" --target "${tests[@]}" unit_field_bounds unit_surface_tolerance
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
 for t in "${tests[@]}"; do

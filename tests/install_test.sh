@@ -23,8 +23,10 @@ echo "--- installed: $(cd "$prefix" && find . -type f | sort | tr '\n' ' ')"
 echo "--- find_package(topotet CONFIG)"
 generator=()
 if command -v ninja >/dev/null; then generator=(-G Ninja); fi
-cmake -S "$src/examples" -B "$work/consumer" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release \
-  -DCMAKE_PREFIX_PATH="$prefix" >"$work/configure.log" || { cat "$work/configure.log"; exit 1; }
+# glm is internal: the package must configure with find_package(glm) made to fail (it is never
+# even called, hence --no-warn-unused-cli).
+cmake -S "$src/examples" -B "$work/consumer" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release --no-warn-unused-cli \
+  -DCMAKE_DISABLE_FIND_PACKAGE_glm=ON -DCMAKE_PREFIX_PATH="$prefix" >"$work/configure.log" || { cat "$work/configure.log"; exit 1; }
 cmake --build "$work/consumer" -j2 >"$work/build.log" || { cat "$work/build.log"; exit 1; }
 "$work/consumer/simplify_cpp"
 mkdir -p "$work/c" "$work/f90"
@@ -48,6 +50,16 @@ fi
 
 echo "--- pkg-config"
 export PKG_CONFIG_PATH=$(dirname "$pc")
+
+echo "--- no glm for consumers"
+if grep -rl glm "$prefix/include" "$pc" "$(dirname "$pc")/../cmake/topotet"; then
+  echo "the installed headers or package files above name glm"; exit 1
+fi
+# What the C++ example really includes (the compiler's own list): no glm header among them.
+if c++ -std=c++20 -M "$src/examples/cpp/simplify.cpp" $(pkg-config --cflags topotet) | grep /glm/; then
+  echo "the C++ example includes glm through topotet's headers"; exit 1
+fi
+echo "no installed header, CMake file or topotet.pc needs glm"
 # (-rpath: a shared topotet in a prefix the loader does not search.)
 rpath=-Wl,-rpath,$(pkg-config --variable=libdir topotet)
 c++ -std=c++20 -O1 "$src/examples/cpp/simplify.cpp" -o "$work/pc_cpp" $(pkg-config --cflags --libs --static topotet) "$rpath"

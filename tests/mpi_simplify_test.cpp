@@ -51,13 +51,13 @@ DistributedMesh slab_part(const MeshData& whole) {
   };
   double lo = 1e300, hi = -1e300;
   for (const auto& p : whole.positions) {
-    lo = std::min(lo, p.y);
-    hi = std::max(hi, p.y);
+    lo = std::min(lo, p[1]);
+    hi = std::max(hi, p[1]);
   }
   for (std::size_t t = 0; t < whole.tet_count(); ++t) {
     const auto& v = whole.tets[t];
     double y = 0;
-    for (VertId x : v) y += 0.25 * whole.positions[x].y;
+    for (VertId x : v) y += 0.25 * whole.positions[x][1];
     if (std::min(ranks() - 1, static_cast<int>((y - lo) / (hi - lo) * ranks())) != rank()) continue;
     d.tets.push_back({local(v[0]), local(v[1]), local(v[2]), local(v[3])});
     d.tet_material.push_back(whole.tet_material[t]);

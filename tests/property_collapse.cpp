@@ -20,9 +20,9 @@
 #include <glm/geometric.hpp>
 
 #include "collapse.h"
+#include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/metrics/topology.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -36,7 +36,7 @@ std::uint64_t env_u64(const char* name, std::uint64_t fallback) {
 }
 
 // Incidence lists must equal the live tets holding each vertex.
-::testing::AssertionResult incidence_is_consistent(const TetMesh& m) {
+::testing::AssertionResult incidence_is_consistent(const MeshModel& m) {
   std::vector<std::vector<TetId>> expected(m.positions.size());
   for (TetId t = 0; t < m.tets.size(); ++t)
     if (!m.is_dead_tet(t))
@@ -65,12 +65,12 @@ void run_random_collapses(const testing::PlantedMesh& planted, std::uint64_t see
                           PropertyStats& stats) {
   SCOPED_TRACE(std::string(planted.name) + ", seed " + std::to_string(seed));
   const testing::Grid grid = planted.make();
-  const TetMesh input = build_tet_mesh(grid.data);
+  const MeshModel input = build_mesh_model(grid.data);
   const topotet::TopologyReport baseline = compute_topology(input.to_mesh_data());
   ASSERT_TRUE(same_topology(baseline, baseline));
 
   std::mt19937_64 rng(seed);
-  TetMesh m = input;
+  MeshModel m = input;
   CollapseScratch scratch;
   std::uint32_t refs_used = static_cast<std::uint32_t>(m.refs_table.size());
   std::uint64_t accepted_here = 0, failures_in_a_row = 0;
@@ -93,7 +93,7 @@ void run_random_collapses(const testing::PlantedMesh& planted, std::uint64_t see
       ++failures_in_a_row;
       // Brute force on a sample of link rejections: apply anyway and ask the checker.
       if ((reason == CollapseReason::kLinkK || reason == CollapseReason::kLinkKtilde) && rng() % 8 == 0) {
-        TetMesh copy = m;
+        MeshModel copy = m;
         std::uint32_t copy_used = refs_used;
         CollapseScratch s2;
         gather_stars(copy, u, v, s2);

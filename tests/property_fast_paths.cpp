@@ -25,10 +25,10 @@
 #include "collapse.h"
 #include "cost.h"
 #include "link_condition.h"
+#include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -40,7 +40,7 @@ std::uint64_t env_u64(const char* name, std::uint64_t fallback) {
 
 // Every face must carry the same flag and ref in both of its tets, every edge the same polyline
 // flag, ref and ridge bit in all of its tets.
-::testing::AssertionResult flags_are_consistent(const TetMesh& m) {
+::testing::AssertionResult flags_are_consistent(const MeshModel& m) {
   std::map<std::array<VertId, 3>, std::tuple<bool, std::int32_t, TetId>> faces;
   std::map<std::array<VertId, 2>, std::tuple<bool, std::int32_t, bool, TetId>> edges;
   for (TetId t = 0; t < m.tets.size(); ++t) {
@@ -82,9 +82,9 @@ struct FastPathStats {
 void run(const testing::PlantedMesh& planted, std::uint64_t seed, std::uint64_t target, FastPathStats& stats) {
   SCOPED_TRACE(std::string(planted.name) + ", seed " + std::to_string(seed));
   const testing::Grid grid = planted.make();
-  const TetMesh input = build_tet_mesh(grid.data);
+  const MeshModel input = build_mesh_model(grid.data);
   const topotet::TopologyReport baseline = topotet::compute_topology(input.to_mesh_data());
-  TetMesh m = input;
+  MeshModel m = input;
   SimplifyOptions options;
   CostModel cost(m, options);
   CollapseScratch scratch, general;

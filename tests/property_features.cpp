@@ -14,11 +14,12 @@
 
 #include <glm/geometric.hpp>
 
+#include "glm_convert.h"
+#include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/features.h"
 #include "topotet/generate.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -120,9 +121,9 @@ std::map<std::int32_t, double> volume_by_material(const MeshData& d) {
   std::map<std::int32_t, double> out;
   for (std::size_t t = 0; t < d.tets.size(); ++t) {
     const auto& v = d.tets[t];
-    const glm::dvec3 p0 = d.positions[v[0]];
-    out[d.tet_material[t]] += std::fabs(glm::dot(d.positions[v[1]] - p0, glm::cross(d.positions[v[2]] - p0,
-                                                                                      d.positions[v[3]] - p0))) / 6.0;
+    const glm::dvec3 p0 = to_glm(d.positions[v[0]]);
+    out[d.tet_material[t]] += std::fabs(glm::dot(to_glm(d.positions[v[1]]) - p0, glm::cross(to_glm(d.positions[v[2]]) - p0,
+                                                                                              to_glm(d.positions[v[3]]) - p0))) / 6.0;
   }
   return out;
 }
@@ -132,7 +133,7 @@ std::map<std::int32_t, double> volume_by_material(const MeshData& d) {
 int check_features_kept(const Shape& shape, const MeshData& out, bool expect) {
   int failures = 0;
   std::set<std::array<double, 3>> positions;
-  for (const glm::dvec3& p : out.positions) positions.insert({p.x, p.y, p.z});
+  for (const auto& p : out.positions) positions.insert({p[0], p[1], p[2]});
   for (const Point& c : shape.corners) {
     if (positions.count({double(c[0]), double(c[1]), double(c[2])})) continue;
     ++failures;
@@ -146,14 +147,14 @@ int check_features_kept(const Shape& shape, const MeshData& out, bool expect) {
     // The output vertices on segment pq, by their parameter along it.
     std::vector<std::pair<double, VertId>> on_line;
     for (VertId v = 0; v < out.positions.size(); ++v) {
-      const glm::dvec3 d = out.positions[v] - a;
+      const glm::dvec3 d = to_glm(out.positions[v]) - a;
       const double t = glm::dot(d, ab) / glm::dot(ab, ab);
       if (t < -1e-12 || t > 1 + 1e-12 || glm::length(d - t * ab) > 1e-9) continue;
       on_line.push_back({t, v});
     }
     std::sort(on_line.begin(), on_line.end());
-    bool ok = on_line.size() >= 2 && out.positions[on_line.front().second] == a &&
-              out.positions[on_line.back().second] == b;
+    bool ok = on_line.size() >= 2 && to_glm(out.positions[on_line.front().second]) == a &&
+              to_glm(out.positions[on_line.back().second]) == b;
     for (std::size_t i = 0; ok && i + 1 < on_line.size(); ++i)
       ok = edges.count(std::minmax(on_line[i].second, on_line[i + 1].second)) != 0;
     if (ok) continue;
@@ -178,7 +179,7 @@ class FeaturesKept : public ::testing::TestWithParam<std::tuple<std::size_t, Eng
 
 TEST_P(FeaturesKept, CornersStayAndSharpEdgesStayStraightChains) {
   const Shape shape = shapes()[std::get<0>(GetParam())];
-  TetMesh mesh = build_tet_mesh(shape.grid.data);
+  MeshModel mesh = build_mesh_model(shape.grid.data);
   SimplifyOptions options;  // the default feature angle
   options.engine = std::get<1>(GetParam());
   options.target_vertex_ratio = 0.1;
@@ -207,16 +208,17 @@ TEST(Features, TheCheckFindsMovedCornersAndChamfers) {
   const Shape shape = box();
   EXPECT_EQ(check_features_kept(shape, shape.grid.data, /*expect=*/false), 0);
   MeshData moved = shape.grid.data;
-  moved.positions[shape.grid.vid(7, 6, 5)] -= glm::dvec3(0.1, 0.0, 0.0);  // a corner slides along an edge
+  moved.positions[shape.grid.vid(7, 6, 5)][0] -= 0.1;  // a corner slides along an edge
   EXPECT_GT(check_features_kept(shape, moved, /*expect=*/false), 0);
   MeshData lost = shape.grid.data;
-  lost.positions[shape.grid.vid(3, 0, 0)] += glm::dvec3(0.0, 0.05, 0.05);  // an edge vertex leaves the edge
+  lost.positions[shape.grid.vid(3, 0, 0)][1] += 0.05;
+  lost.positions[shape.grid.vid(3, 0, 0)][2] += 0.05;  // an edge vertex leaves the edge
   EXPECT_GT(check_features_kept(shape, lost, /*expect=*/false), 0);
 }
 
 TEST(Features, DetectionFindsTheBoxEdgesAndCorners) {
   const Shape shape = box();  // 7 x 6 x 5 cubes: 4 * (7 + 6 + 5) grid edges on the box edges
-  TetMesh mesh = build_tet_mesh(shape.grid.data);
+  MeshModel mesh = build_mesh_model(shape.grid.data);
   const FeatureStats found = detect_features(mesh, 45.0);
   EXPECT_EQ(found.edges, 4u * (7 + 6 + 5));
   EXPECT_EQ(found.corners, 8u);
@@ -243,12 +245,12 @@ TEST(Features, DetectionFindsTheBoxEdgesAndCorners) {
 TEST(Features, AngleThresholds) {
   // The box edges turn by 90 degrees: found below that, not above; 180 turns detection off.
   for (const auto& [angle, expected] : {std::pair{89.0, 4u * 18}, std::pair{91.0, 0u}, std::pair{180.0, 0u}}) {
-    TetMesh mesh = build_tet_mesh(box().grid.data);
+    MeshModel mesh = build_mesh_model(box().grid.data);
     EXPECT_EQ(detect_features(mesh, angle).edges, expected) << angle;
   }
   SimplifyOptions bad;
   bad.feature_angle = 181.0;
-  TetMesh mesh = build_tet_mesh(box().grid.data);
+  MeshModel mesh = build_mesh_model(box().grid.data);
   EXPECT_EQ(simplify(mesh, bad).status, Status::kInvalidInput);
 }
 
@@ -256,7 +258,7 @@ TEST(Features, ListedPolylinesAreNotFeatures) {
   // A box edge listed as a polyline keeps its ref; detection adds the other eleven edges only.
   Shape shape = box();
   testing::add_polyline(shape.grid, testing::grid_line({0, 0, 0}, {7, 0, 0}), 5);
-  TetMesh mesh = build_tet_mesh(shape.grid.data);
+  MeshModel mesh = build_mesh_model(shape.grid.data);
   EXPECT_EQ(detect_features(mesh, 45.0).edges, 4u * 18 - 7);
   const MeshData d = mesh.to_mesh_data();
   EXPECT_EQ(d.segments.size(), 7u);
@@ -266,7 +268,7 @@ TEST(Features, ParallelOutputIsIdenticalForEveryThreadCount) {
   const Shape shape = multi_material();
   MeshData first;
   for (int threads : {1, 2, 3}) {
-    TetMesh mesh = build_tet_mesh(shape.grid.data);
+    MeshModel mesh = build_mesh_model(shape.grid.data);
     SimplifyOptions options;
     options.num_threads = threads;
     options.target_vertex_ratio = 0.1;
@@ -286,7 +288,7 @@ TEST(Features, ParallelOutputIsIdenticalForEveryThreadCount) {
 TEST(Defaults, ToleranceIsOnAndARunItStopsSaysSo) {
   const MeshData input = generate_mesh({"cube-sphere", 8000, 1});
   {
-    TetMesh mesh = build_tet_mesh(input);
+    MeshModel mesh = build_mesh_model(input);
     SimplifyOptions options;
     EXPECT_EQ(options.tolerance_rel, kDefaultToleranceRel);
     EXPECT_GT(kDefaultToleranceRel, 0.0);
@@ -295,7 +297,7 @@ TEST(Defaults, ToleranceIsOnAndARunItStopsSaysSo) {
     EXPECT_GT(report.tolerance, 0.0);
   }
   {
-    TetMesh mesh = build_tet_mesh(input);
+    MeshModel mesh = build_mesh_model(input);
     SimplifyOptions options;
     options.tolerance_rel = 1e-5;  // far below the surfaces' own jitter: hardly anything on them moves
     options.target_vertex_ratio = 0.02;
@@ -305,7 +307,7 @@ TEST(Defaults, ToleranceIsOnAndARunItStopsSaysSo) {
     EXPECT_NE(report.message.find("tolerance"), std::string::npos) << report.message;
   }
   {
-    TetMesh mesh = build_tet_mesh(input);
+    MeshModel mesh = build_mesh_model(input);
     SimplifyOptions options;
     options.tolerance_rel = 0.0;
     options.target_vertex_ratio = 0.02;

@@ -17,6 +17,8 @@
 #include <glm/common.hpp>
 
 #include "collapse.h"
+#include "glm_convert.h"
+#include "mesh_model.h"
 #include "surface_tolerance.h"
 #include "topotet/error.h"
 #include "topotet/features.h"
@@ -41,7 +43,7 @@ Built build(const std::string& family, std::uint64_t tets, Engine engine, int th
   GenerateOptions g;
   g.family = family;
   g.target_tets = tets;
-  TetMesh mesh = build_tet_mesh(generate_mesh(g));
+  MeshModel mesh = build_mesh_model(generate_mesh(g));
   Built b;
   b.input = mesh.to_mesh_data();
   SimplifyOptions options;
@@ -76,7 +78,7 @@ Canonical canonical(const MeshData& m) {
     std::vector<double> f;
     for (const VertexField& field : m.fields)
       for (int k = 0; k < field.components; ++k) f.push_back(field.values[x * field.components + k]);
-    c.vertices.emplace_back(m.positions[x].x, m.positions[x].y, m.positions[x].z, f,
+    c.vertices.emplace_back(m.positions[x][0], m.positions[x][1], m.positions[x][2], f,
                             m.vertex_refs.empty() ? 0 : m.vertex_refs[x]);
   }
   std::vector<VertId> order(n);
@@ -120,7 +122,7 @@ std::vector<std::uint8_t> random_closed(const Hierarchy& h, double p, std::mt199
 void expect_valid_level(const MeshData& input, const metrics::TopologyReport& input_topology, const MeshData& level,
                         const std::string& what) {
   SCOPED_TRACE(what);
-  EXPECT_NO_THROW(build_tet_mesh(level, BuildOptions{.reorient_inverted = false}));
+  EXPECT_NO_THROW(build_mesh_model(level, BuildOptions{.reorient_inverted = false}));
   const QualityStats q = compute_quality(level);
   EXPECT_EQ(q.inverted, 0u);
   EXPECT_EQ(q.zero_volume, 0u);
@@ -180,7 +182,7 @@ TEST(Hierarchy, nothing_applied_gives_the_input_and_everything_the_base_mesh) {
 void expect_kernel_replay(const Built& b, const std::vector<std::uint8_t>& applied, const std::string& what) {
   SCOPED_TRACE(what);
   const Hierarchy& h = b.hierarchy;
-  TetMesh mesh = build_tet_mesh(h.original);
+  MeshModel mesh = build_mesh_model(h.original);
   detect_features(mesh, SimplifyOptions{}.feature_angle);
   CollapseOptions kernel;
   kernel.quality_floor = SimplifyOptions{}.min_quality;
@@ -195,11 +197,11 @@ void expect_kernel_replay(const Built& b, const std::vector<std::uint8_t>& appli
   std::uint32_t refs_used = static_cast<std::uint32_t>(mesh.refs_table.size());
   for (std::size_t i = 0; i < applied.size(); ++i) {
     if (!applied[i]) continue;
-    const CollapseReason reason = may_collapse(mesh, h.u[i], h.v[i], h.u_after[i], kernel, scratch);
+    const CollapseReason reason = may_collapse(mesh, h.u[i], h.v[i], to_glm(h.u_after[i]), kernel, scratch);
     ASSERT_EQ(reason, CollapseReason::kOk) << "collapse " << i << ": " << to_string(reason);
     reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
-    collapse(mesh, h.u[i], h.v[i], h.u_after[i], h.fields_after.data() + i * h.field_stride, scratch, refs_used,
-             nullptr, &coverage);
+    collapse(mesh, h.u[i], h.v[i], to_glm(h.u_after[i]), h.fields_after.data() + i * h.field_stride, scratch,
+             refs_used, nullptr, &coverage);
   }
   EXPECT_TRUE(canonical(mesh.to_mesh_data()) == canonical(extract(h, applied)));
 }
@@ -236,8 +238,8 @@ TEST(Hierarchy, uniform_and_selective_levels_keep_the_topology) {
     if (trial % 2 == 0) {
       voi.kind = Voi::Kind::kBox;
       const glm::dvec3 a(unit(rng), unit(rng), unit(rng)), c(unit(rng), unit(rng), unit(rng));
-      voi.lo = glm::min(a, c);
-      voi.hi = glm::max(a, c);
+      voi.lo = from_glm(glm::min(a, c));
+      voi.hi = from_glm(glm::max(a, c));
     } else {
       voi.kind = Voi::Kind::kSphere;
       voi.centre = {unit(rng), unit(rng), unit(rng)};
@@ -284,7 +286,7 @@ TEST(Hierarchy, levels_by_error_bound_keep_the_measured_error_below_the_bound) {
     GenerateOptions g;
     g.family = "cube-sphere";
     g.target_tets = 4000;
-    TetMesh mesh = build_tet_mesh(generate_mesh(g));
+    MeshModel mesh = build_mesh_model(generate_mesh(g));
     const MeshData input = mesh.to_mesh_data();
     ASSERT_FALSE(input.fields.empty());
     SimplifyOptions options;

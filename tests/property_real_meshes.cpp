@@ -12,10 +12,10 @@
 #include <string>
 
 #include "collapse.h"
+#include "mesh_model.h"
 #include "topotet/io.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -43,8 +43,8 @@ TEST_P(RealMeshProperty, RandomAcceptedCollapsesKeepTopology) {
   const RealMesh& rm = GetParam();
   if (!std::filesystem::exists(shared(rm.path))) GTEST_SKIP() << shared(rm.path) << " not found";
   const MeshData data = read_mesh(shared(rm.path));
-  const TetMesh input = build_tet_mesh(data);
-  TetMesh mesh = input;
+  const MeshModel input = build_mesh_model(data);
+  MeshModel mesh = input;
   const auto baseline = topotet::compute_topology(mesh.to_mesh_data());
   const char* env = std::getenv("TOPOTET_PROPERTY_COLLAPSES");
   const std::uint64_t target = env ? std::strtoull(env, nullptr, 10) : 200;
@@ -87,7 +87,7 @@ TEST_P(RealMeshProperty, SimplificationKeepsTopologyWithBothEngines) {
   if (!std::filesystem::exists(shared(rm.path))) GTEST_SKIP() << shared(rm.path) << " not found";
   const MeshData data = read_mesh(shared(rm.path));
   for (Engine engine : {Engine::kSequential, Engine::kParallel}) {
-    TetMesh mesh = build_tet_mesh(data);
+    MeshModel mesh = build_mesh_model(data);
     const auto before = topotet::compute_topology(mesh.to_mesh_data());
     SimplifyOptions options;
     options.engine = engine;

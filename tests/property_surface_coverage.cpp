@@ -20,6 +20,8 @@
 #include <glm/geometric.hpp>
 
 #include "collapse.h"
+#include "glm_convert.h"
+#include "mesh_model.h"
 #include "surface_coverage.h"
 #include "surface_tolerance.h"
 #include "topotet/features.h"
@@ -31,7 +33,7 @@
 namespace topotet {
 namespace {
 
-double diagonal(const TetMesh& mesh) {
+double diagonal(const MeshModel& mesh) {
   glm::dvec3 lo(1e300), hi(-1e300);
   for (const glm::dvec3& p : mesh.positions) {
     lo = glm::min(lo, p);
@@ -41,7 +43,7 @@ double diagonal(const TetMesh& mesh) {
 }
 
 struct CollapseRun {
-  TetMesh mesh;
+  MeshModel mesh;
   std::unique_ptr<SurfaceReference> reference;
   std::unique_ptr<SurfaceCoverage> coverage;
   double h = 0.0;
@@ -83,7 +85,7 @@ CollapseRun make_run(const std::string& family, std::uint64_t tets, double h_rel
   g.target_tets = tets;
   g.seed = seed;
   CollapseRun r;
-  r.mesh = build_tet_mesh(generate_mesh(g));
+  r.mesh = build_mesh_model(generate_mesh(g));
   detect_features(r.mesh, SimplifyOptions{}.feature_angle);
   r.input = r.mesh.to_mesh_data();
   r.h = h_rel * diagonal(r.mesh);
@@ -172,7 +174,7 @@ TEST_P(Coverage, RandomCollapsesKeepEveryOriginalPointWithinH) {
       if (!r.mesh.is_dead_vertex(x) && r.reference->on_surface(x) && !r.mesh.is_pinned(x)) moved = x;
     ASSERT_NE(moved, kInvalid);
     glm::dvec3 centre(0.0);
-    for (const glm::dvec3& p : r.input.positions) centre += p;
+    for (const auto& p : r.input.positions) centre += to_glm(p);
     centre /= static_cast<double>(r.input.positions.size());
     glm::dvec3 dir = r.mesh.positions[moved] - centre;
     dir /= glm::length(dir);

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "glm_convert.h"
 #include "topotet/mesh_data.h"
 
 namespace topotet::testing {
@@ -50,7 +51,7 @@ inline Grid make_grid(int nx, int ny, int nz, const std::function<int(int, int, 
         if (i > 0 && i < nx) p.x += rnd(3 * v + 0);
         if (j > 0 && j < ny) p.y += rnd(3 * v + 1);
         if (k > 0 && k < nz) p.z += rnd(3 * v + 2);
-        g.data.positions.push_back(p);
+        g.data.positions.push_back(from_glm(p));
       }
   static const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
   for (int k = 0; k < nz; ++k)
@@ -140,7 +141,7 @@ inline void add_box_boundary(Grid& g, std::int32_t ref) {
 
 inline void add_linear_field(Grid& g) {
   VertexField f{"f", 1, {}};
-  for (const auto& p : g.data.positions) f.values.push_back(p.x + 2.0 * p.y - 0.5 * p.z);
+  for (const auto& p : g.data.positions) f.values.push_back(p[0] + 2.0 * p[1] - 0.5 * p[2]);
   g.data.fields.push_back(std::move(f));
 }
 

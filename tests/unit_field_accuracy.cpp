@@ -21,12 +21,13 @@
 #include <string>
 #include <vector>
 
+#include "glm_convert.h"
+#include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -52,7 +53,7 @@ MeshData featured_box() {
 
 void set_field(MeshData& m, const std::string& name, const Field& f) {
   VertexField field{name, 1, {}};
-  for (const glm::dvec3& p : m.positions) field.values.push_back(f(p));
+  for (const auto& p : m.positions) field.values.push_back(f(to_glm(p)));
   m.fields.push_back(std::move(field));
 }
 
@@ -62,7 +63,7 @@ struct Simplified {
 };
 
 Simplified simplify_data(const MeshData& input, double ratio, Engine engine = Engine::kParallel, SimplifyOptions options = {}) {
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   options.target_vertex_ratio = ratio;
   options.engine = engine;
   Simplified run;
@@ -75,7 +76,7 @@ Simplified simplify_data(const MeshData& input, double ratio, Engine engine = En
 double max_vertex_error(const MeshData& out, std::size_t index, const Field& exact) {
   double worst = 0.0;
   for (std::size_t v = 0; v < out.vertex_count(); ++v)
-    worst = std::max(worst, std::fabs(out.fields[index].values[v] - exact(out.positions[v])));
+    worst = std::max(worst, std::fabs(out.fields[index].values[v] - exact(to_glm(out.positions[v]))));
   return worst;
 }
 
@@ -106,7 +107,7 @@ TEST(FieldAccuracy, LinearFieldIsReproducedOnFeatureVerticesAndWithSeveralFields
   set_field(input, "linear", kLinear);
   set_field(input, "other", [](const glm::dvec3& p) { return -p.x + 4.0 * p.z; });
   VertexField vector{"vector", 3, {}};
-  for (const glm::dvec3& p : input.positions) vector.values.insert(vector.values.end(), {p.y, p.x - p.z, 7.0});
+  for (const auto& p : input.positions) vector.values.insert(vector.values.end(), {p[1], p[0] - p[2], 7.0});
   input.fields.push_back(vector);
   for (double ratio : {0.3, 0.1}) {
     const Simplified run = simplify_data(input, ratio);
@@ -211,7 +212,7 @@ TEST(FieldAccuracy, FeatureVerticesAreAsAccurateAsInteriorOnes) {
     double sum2[2] = {0, 0}, sum[2] = {0, 0};
     std::size_t count[2] = {0, 0};
     for (std::size_t v = 0; v < run.output.vertex_count(); ++v) {
-      const double e = run.output.fields[0].values[v] - f(run.output.positions[v]);
+      const double e = run.output.fields[0].values[v] - f(to_glm(run.output.positions[v]));
       const int group = feature[v] ? 1 : 0;
       sum2[group] += e * e;
       sum[group] += e;
@@ -226,18 +227,18 @@ TEST(FieldAccuracy, FeatureVerticesAreAsAccurateAsInteriorOnes) {
     EXPECT_LE(rms_feature, 1.25 * rms_interior) << "ratio " << ratio;
     EXPECT_LE(std::fabs(bias_feature), 0.25 * rms_feature) << "ratio " << ratio;
     // Pinned vertices keep their input values exactly.
-    for (VertId c : run.output.corners) EXPECT_EQ(run.output.fields[0].values[c], f(run.output.positions[c]));
+    for (VertId c : run.output.corners) EXPECT_EQ(run.output.fields[0].values[c], f(to_glm(run.output.positions[c])));
   }
 }
 
 TEST(FieldWeights, UnknownNamesAndBadWeightsAreInvalidInput) {
   MeshData input = plain_box();
   set_field(input, "f", kQuadratic);
-  const TetMesh original = build_tet_mesh(input);
+  const MeshModel original = build_mesh_model(input);
   for (const auto& [name, weight] : std::vector<std::pair<std::string, double>>{
            {"no such field", 1.0}, {"f", -1.0}, {"f", std::numeric_limits<double>::quiet_NaN()},
            {"f", std::numeric_limits<double>::infinity()}}) {
-    TetMesh mesh = original;
+    MeshModel mesh = original;
     SimplifyOptions options;
     options.field_weights[name] = weight;
     const Report report = simplify(mesh, options);

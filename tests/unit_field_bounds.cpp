@@ -29,11 +29,12 @@
 
 #include <glm/geometric.hpp>
 
+#include "glm_convert.h"
+#include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -51,7 +52,7 @@ const Field kFront = [](const glm::dvec3& p) { return std::tanh((p.x + 0.4 * p.y
 // A jittered 8^3-cube box (3,072 tets) scaled to the unit cube, and a small cube-sphere.
 MeshData box() {
   MeshData m = testing::make_grid(8, 8, 8, [](int, int, int) { return 1; }).data;
-  for (glm::dvec3& p : m.positions) p /= 8.0;
+  for (auto& p : m.positions) p = from_glm(to_glm(p) / 8.0);
   return m;
 }
 MeshData cube_sphere() {
@@ -66,7 +67,7 @@ MeshData cube_sphere() {
 
 void set_field(MeshData& m, const Field& f) {
   VertexField field{"f", 1, {}};
-  for (const glm::dvec3& p : m.positions) field.values.push_back(f(p));
+  for (const auto& p : m.positions) field.values.push_back(f(to_glm(p)));
   m.fields.push_back(std::move(field));
 }
 
@@ -76,7 +77,7 @@ struct Outcome {
 };
 
 Outcome run(const MeshData& input, Engine engine, SimplifyOptions options, double ratio = 0.15) {
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   options.target_vertex_ratio = ratio;
   options.engine = engine;
   if (options.max_field_error == 0.0 && options.max_field_error_rel == 0.0) options.track_field_bounds = true;
@@ -88,8 +89,8 @@ Outcome run(const MeshData& input, Engine engine, SimplifyOptions options, doubl
 
 bool barycentric(const MeshData& m, std::size_t t, const glm::dvec3& q, Bary& l) {
   const auto& tv = m.tets[t];
-  const glm::dvec3 a = m.positions[tv[0]] - q, b = m.positions[tv[1]] - q, c = m.positions[tv[2]] - q,
-                   d = m.positions[tv[3]] - q;
+  const glm::dvec3 a = to_glm(m.positions[tv[0]]) - q, b = to_glm(m.positions[tv[1]]) - q, c = to_glm(m.positions[tv[2]]) - q,
+                   d = to_glm(m.positions[tv[3]]) - q;
   auto det = [](const glm::dvec3& x, const glm::dvec3& y, const glm::dvec3& z) { return glm::dot(x, glm::cross(y, z)); };
   l = {det(b, c, d), -det(a, c, d), det(a, b, d), -det(a, b, c)};
   const double sum = l[0] + l[1] + l[2] + l[3];
@@ -106,13 +107,13 @@ class Locator {
   explicit Locator(const MeshData& m) : m_(m) {
     lo_ = glm::dvec3(std::numeric_limits<double>::infinity());
     glm::dvec3 hi(-std::numeric_limits<double>::infinity());
-    for (const glm::dvec3& p : m.positions) lo_ = glm::min(lo_, p), hi = glm::max(hi, p);
+    for (const auto& p : m.positions) lo_ = glm::min(lo_, to_glm(p)), hi = glm::max(hi, to_glm(p));
     lo_ -= 1e-6;
     cell_ = (glm::dvec3(hi) + 1e-6 - lo_) / double(kN);
     cells_.resize(kN * kN * kN);
     for (std::size_t t = 0; t < m.tets.size(); ++t) {
       glm::dvec3 a(std::numeric_limits<double>::infinity()), b(-std::numeric_limits<double>::infinity());
-      for (VertId v : m.tets[t]) a = glm::min(a, m.positions[v]), b = glm::max(b, m.positions[v]);
+      for (VertId v : m.tets[t]) a = glm::min(a, to_glm(m.positions[v])), b = glm::max(b, to_glm(m.positions[v]));
       const auto ia = index(a), ib = index(b);
       for (int z = ia[2]; z <= ib[2]; ++z)
         for (int y = ia[1]; y <= ib[1]; ++y)
@@ -159,7 +160,7 @@ double check_against_original(const MeshData& input, const Outcome& r, const std
   std::vector<TetId> vertex_tet(input.vertex_count(), kInvalid);  // the single tet holding it, if one
   std::size_t outside = 0;
   for (std::size_t v = 0; v < input.vertex_count(); ++v) {
-    const glm::dvec3 q = input.positions[v];
+    const glm::dvec3 q = to_glm(input.positions[v]);
     const double f = input.fields[0].values[v];
     locator.holding(q, hold);
     if (hold.empty()) {
@@ -190,7 +191,7 @@ double check_against_original(const MeshData& input, const Outcome& r, const std
           const Bary w = {a / 4.0, b / 4.0, c / 4.0, d / 4.0};
           glm::dvec3 q(0.0);
           double f = 0.0;
-          for (int i = 0; i < 4; ++i) q += w[i] * input.positions[tv[i]], f += w[i] * input.fields[0].values[tv[i]];
+          for (int i = 0; i < 4; ++i) q += w[i] * to_glm(input.positions[tv[i]]), f += w[i] * input.fields[0].values[tv[i]];
           if (in_one) {
             Bary l;
             EXPECT_TRUE(barycentric(out, t, q, l)) << what << ": flat simplified tet " << t;
@@ -292,14 +293,14 @@ TEST(FieldBounds, SameOutputAndBoundsForAnyThreadCount) {
 TEST(FieldBounds, OffByDefaultAndRefusesBadLimits) {
   MeshData input = box();
   set_field(input, kQuadratic);
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   const Report r = simplify(mesh, {});
   EXPECT_FALSE(r.field_bounds);
   EXPECT_TRUE(r.field_bound.empty() && r.tet_field_bound.empty());
   EXPECT_EQ(r.field_bounds_bytes, 0u);
   SimplifyOptions bad;
   bad.max_field_error = -1.0;
-  TetMesh other = build_tet_mesh(input);
+  MeshModel other = build_mesh_model(input);
   EXPECT_EQ(simplify(other, bad).status, Status::kInvalidInput);
   EXPECT_STREQ(to_string(RejectReason::kFieldError), "field_error");
 }

@@ -18,11 +18,12 @@
 
 #include "generate/freudenthal_grid.h"
 #include "generate/tet_neighbourhood.h"
+#include "glm_convert.h"
+#include "mesh_model.h"
 #include "region_manifold.h"
 #include "topotet/error.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/topology.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -186,8 +187,9 @@ void expect_simple_path(const std::vector<Segment>& segs, std::int32_t ref) {
 }
 
 double tet_det(const MeshData& mesh, const std::array<VertId, 4>& t) {
-  const glm::dvec3& p0 = mesh.positions[t[0]];
-  return glm::dot(mesh.positions[t[1]] - p0, glm::cross(mesh.positions[t[2]] - p0, mesh.positions[t[3]] - p0));
+  const glm::dvec3 p0 = to_glm(mesh.positions[t[0]]);
+  return glm::dot(to_glm(mesh.positions[t[1]]) - p0,
+                  glm::cross(to_glm(mesh.positions[t[2]]) - p0, to_glm(mesh.positions[t[3]]) - p0));
 }
 
 // Minimum and median over all tets of each tet's smallest dihedral angle, in degrees; and the
@@ -206,9 +208,9 @@ Angles dihedral_angles(const MeshData& mesh) {
         int k = 0;
         while (k == i || k == j) ++k;
         const int l = 6 - i - j - k;
-        const glm::dvec3 p = mesh.positions[v[i]], e = mesh.positions[v[j]] - p;
-        const glm::dvec3 n1 = glm::cross(e, mesh.positions[v[k]] - p);
-        const glm::dvec3 n2 = glm::cross(e, mesh.positions[v[l]] - p);
+        const glm::dvec3 p = to_glm(mesh.positions[v[i]]), e = to_glm(mesh.positions[v[j]]) - p;
+        const glm::dvec3 n1 = glm::cross(e, to_glm(mesh.positions[v[k]]) - p);
+        const glm::dvec3 n2 = glm::cross(e, to_glm(mesh.positions[v[l]]) - p);
         const double c = std::clamp(glm::dot(n1, n2) / (glm::length(n1) * glm::length(n2)), -1.0, 1.0);
         const double angle = std::acos(c) * 180.0 / 3.14159265358979323846;
         lo = std::min(lo, angle);
@@ -315,8 +317,8 @@ TEST_P(GenerateCase, MeshIsValid) {
   // Every material interface is listed; box faces are flat (boundary jitter is tangential).
   glm::dvec3 lo(1e300), hi(-1e300);
   for (const auto& p : mesh.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
+    lo = glm::min(lo, to_glm(p));
+    hi = glm::max(hi, to_glm(p));
   }
   std::size_t boundary_faces = 0;
   for (const auto& [key, f] : faces) {
@@ -397,7 +399,7 @@ TEST_P(GenerateCase, MeshIsValid) {
     ASSERT_EQ(mesh.corners.size(), 8u);
     std::set<std::array<double, 3>> corner_points;
     for (VertId v : mesh.corners) {
-      const glm::dvec3& p = mesh.positions[v];
+      const glm::dvec3 p = to_glm(mesh.positions[v]);
       for (int a = 0; a < 3; ++a) EXPECT_TRUE(p[a] == lo[a] || p[a] == hi[a]);
       corner_points.insert({p.x, p.y, p.z});
     }
@@ -410,8 +412,8 @@ TEST_P(GenerateCase, MeshIsValid) {
       expect_surface(ref, 1, false);  // a disc bounded on the box
       // A plane: its vertices jitter within it only.
       const auto tris = triangles_with_ref(mesh, ref);
-      const double z = mesh.positions[tris.front().v[0]].z;
-      for (VertId v : vertices_of(tris)) EXPECT_EQ(mesh.positions[v].z, z) << "ref " << ref;
+      const double z = mesh.positions[tris.front().v[0]][2];
+      for (VertId v : vertices_of(tris)) EXPECT_EQ(mesh.positions[v][2], z) << "ref " << ref;
       // The polyline lies on its interface.
       std::unordered_set<std::uint64_t> surface_edges;
       for (const Triangle& t : triangles_with_ref(mesh, ref))
@@ -486,7 +488,7 @@ TEST(Generate, JitterIsBounded) {
   double largest = 0;
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
     const glm::dvec3 lattice(v % 21, (v / 21) % 21, v / 441);
-    largest = std::max(largest, glm::length(mesh.positions[v] / h - lattice));
+    largest = std::max(largest, glm::length(to_glm(mesh.positions[v]) / h - lattice));
   }
   EXPECT_LE(largest, gen::kJitter + 1e-9);
   EXPECT_GT(largest, 0.8 * gen::kJitter);
@@ -655,7 +657,7 @@ TEST_P(Polycrystal, CellsAreBallsListedInterfacesDiscsAndCurvesTripleJunctions) 
   const PolycrystalCase& c = GetParam();
   const MeshData mesh = generate_mesh({"polycrystal", c.target, c.seed, c.cells});
   EXPECT_NEAR(static_cast<double>(mesh.tet_count()) / c.target, 1.0, 0.1);
-  EXPECT_NO_THROW(build_tet_mesh(mesh));  // orientation, conformity, listed elements are mesh faces/edges
+  EXPECT_NO_THROW(build_mesh_model(mesh));  // orientation, conformity, listed elements are mesh faces/edges
   EXPECT_GT(dihedral_angles(mesh).min, 25.0);
   ASSERT_EQ(mesh.fields.size(), 1u);
   EXPECT_EQ(mesh.fields[0].name, "f");
@@ -703,9 +705,9 @@ TEST_P(Polycrystal, CellsAreBallsListedInterfacesDiscsAndCurvesTripleJunctions) 
     VertId apex = 0;
     for (VertId v : mesh.tets[higher])
       if (std::find(t.v.begin(), t.v.end(), v) == t.v.end()) apex = v;
-    const glm::dvec3& a = mesh.positions[t.v[0]];
-    const glm::dvec3 normal = glm::cross(mesh.positions[t.v[1]] - a, mesh.positions[t.v[2]] - a);
-    EXPECT_LT(glm::dot(mesh.positions[apex] - a, normal), 0.0) << "ref " << t.ref << " points into the higher cell";
+    const glm::dvec3 a = to_glm(mesh.positions[t.v[0]]);
+    const glm::dvec3 normal = glm::cross(to_glm(mesh.positions[t.v[1]]) - a, to_glm(mesh.positions[t.v[2]]) - a);
+    EXPECT_LT(glm::dot(to_glm(mesh.positions[apex]) - a, normal), 0.0) << "ref " << t.ref << " points into the higher cell";
   }
   EXPECT_EQ(triangles_with_ref(mesh, 1).size(), boundary_faces);
   EXPECT_EQ(topo.surfaces.at(1).betti, kSphere);
@@ -749,9 +751,9 @@ TEST_P(Polycrystal, CellsAreBallsListedInterfacesDiscsAndCurvesTripleJunctions) 
   EXPECT_LE(corners.size(), 2 * seg_refs.size() + 8);
   std::size_t box_corners = 0;
   glm::dvec3 hi(0.0);
-  for (const auto& p : mesh.positions) hi = glm::max(hi, p);
+  for (const auto& p : mesh.positions) hi = glm::max(hi, to_glm(p));
   for (VertId v : corners) {
-    const glm::dvec3& p = mesh.positions[v];
+    const glm::dvec3 p = to_glm(mesh.positions[v]);
     box_corners += (p.x == 0 || p.x == hi.x) && (p.y == 0 || p.y == hi.y) && (p.z == 0 || p.z == hi.z);
   }
   EXPECT_EQ(box_corners, 8u);

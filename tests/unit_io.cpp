@@ -20,9 +20,9 @@
 
 #include "io/atomic_file.h"
 #include "io/line_reader.h"
+#include "mesh_model.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -517,7 +517,7 @@ TEST(Medit, KeywordsCommentsAndSkippedSections) {
              "anything after End is ignored\n");
   const MeshData m = read_mesh(dir.file("a.mesh"));
   EXPECT_EQ(m.vertex_count(), 4u);
-  EXPECT_EQ(m.positions[1], glm::dvec3(1, 0, 0));
+  EXPECT_EQ(m.positions[1], (std::array<double, 3>{1, 0, 0}));
   EXPECT_TRUE(m.vertex_refs.empty());  // all zero
   ASSERT_EQ(m.tet_count(), 1u);
   EXPECT_EQ(m.tet_material[0], -3);
@@ -639,7 +639,7 @@ TEST(Gmsh, Msh41SparseTagsEntitiesUnknownSectionsAndIgnoredElements) {
   EXPECT_EQ(notes.volume_cells(), 1u);
   EXPECT_EQ(m.group_names, (std::vector<GroupName>{{3, 5, "solid part"}}));
   ASSERT_EQ(m.vertex_count(), 5u);
-  EXPECT_EQ(m.positions[4], glm::dvec3(1, 1, 1));
+  EXPECT_EQ(m.positions[4], (std::array<double, 3>{1, 1, 1}));
   EXPECT_EQ(m.tets, (std::vector<std::array<VertId, 4>>{{0, 1, 2, 3}, {1, 2, 3, 4}}));
   EXPECT_EQ(m.tet_material, (std::vector<std::int32_t>{5, 5}));  // physical tag of volume 3
   ASSERT_EQ(m.triangles.size(), 1u);
@@ -785,7 +785,7 @@ TEST(TetgenFiles, RegionsAndMarkersFromDebianTetgen) {
     EXPECT_EQ(std::set<std::int32_t>(m.tet_material.begin(), m.tet_material.end()), (std::set<std::int32_t>{10, 20}));
     EXPECT_EQ(ref_set(m.triangles), (std::set<std::int32_t>{1, 2, 3}));
     EXPECT_FALSE(m.segments.empty());
-    const TetMesh model = build_tet_mesh(m);  // a valid mesh: every face and edge is on a tet
+    const MeshModel model = build_mesh_model(m);  // a valid mesh: every face and edge is on a tet
     EXPECT_EQ(model.live_tet_count(), m.tet_count());
   }
   // The -g MEDIT file of the same run reads too (its Corners are input points), with the same tets.

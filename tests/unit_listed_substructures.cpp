@@ -7,11 +7,11 @@
 #include <map>
 #include <string>
 
+#include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/error.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -38,7 +38,7 @@ Grid nested_surfaces() {
 TEST(ListedSubstructures, FaceOnTwoSurfacesKeepsBothRefs) {
   const Grid g = nested_surfaces();
   BuildNotes notes;
-  const TetMesh m = build_tet_mesh(g.data, {}, &notes);
+  const MeshModel m = build_mesh_model(g.data, {}, &notes);
   EXPECT_TRUE(notes.empty());
   ASSERT_EQ(m.shared_face_refs.size(), 1u);
   EXPECT_EQ(m.shared_face_refs[0].refs, (std::vector<std::int32_t>{3, 4}));
@@ -49,7 +49,7 @@ TEST(ListedSubstructures, FaceOnTwoSurfacesKeepsBothRefs) {
   EXPECT_EQ(counts.at(4), 2u * 2 * 2);
   EXPECT_EQ(counts.size(), 2u) << "the stand-in ref must never reach the output";
   // Rebuilding the output gives the same model (same stand-in, same flags).
-  const TetMesh again = build_tet_mesh(out);
+  const MeshModel again = build_mesh_model(out);
   EXPECT_EQ(again.shared_face_refs, m.shared_face_refs);
   EXPECT_EQ(again.flags, m.flags);
 }
@@ -59,7 +59,7 @@ TEST(ListedSubstructures, StandInAvoidsEveryListedRef) {
   testing::add_square(g, 0, 1, 0, 0, kFirstStandInRef);  // a file may use any int
   testing::add_square(g, 0, 1, 0, 0, kFirstStandInRef + 1);
   testing::add_square(g, 0, 1, 1, 1, kFirstStandInRef + 2);
-  const TetMesh m = build_tet_mesh(g.data);
+  const MeshModel m = build_mesh_model(g.data);
   ASSERT_EQ(m.shared_face_refs.size(), 1u);
   EXPECT_EQ(m.shared_face_refs[0].stand_in, kFirstStandInRef + 3);
 }
@@ -69,7 +69,7 @@ TEST(ListedSubstructures, EdgeOnTwoPolylinesKeepsBothRefs) {
   testing::add_polyline(g, testing::grid_line({0, 1, 1}, {3, 1, 1}), 7);
   testing::add_polyline(g, testing::grid_line({1, 1, 1}, {2, 1, 1}), 8);
   g.data.ridges.push_back(static_cast<std::uint32_t>(g.data.segments.size() - 1));  // the shared edge, as a ridge
-  const TetMesh m = build_tet_mesh(g.data);
+  const MeshModel m = build_mesh_model(g.data);
   ASSERT_EQ(m.shared_edge_refs.size(), 1u);
   const MeshData out = m.to_mesh_data();
   EXPECT_EQ(out.segments.size(), 4u);
@@ -81,7 +81,7 @@ TEST(ListedSubstructures, RepeatedFaceWithSameRefIsKeptOnceAndNoted) {
   testing::add_square(g, 2, 1, 0, 0, 3);
   testing::add_square(g, 2, 1, 0, 0, 3);
   BuildNotes notes;
-  const TetMesh m = build_tet_mesh(g.data, {}, &notes);
+  const MeshModel m = build_mesh_model(g.data, {}, &notes);
   EXPECT_EQ(notes.repeated_triangles, (std::vector<std::uint32_t>{2, 3}));
   EXPECT_TRUE(m.shared_face_refs.empty());
   EXPECT_EQ(m.to_mesh_data().triangles.size(), 2u);
@@ -95,7 +95,7 @@ TEST(ListedSubstructures, DetachedTriangleIsAnErrorByDefault) {
   testing::add_square(g, 2, 1, 0, 0, 3);
   g.data.triangles.push_back({{g.vid(0, 0, 0), g.vid(2, 0, 0), g.vid(0, 2, 0)}, 4});
   try {
-    build_tet_mesh(g.data);
+    build_mesh_model(g.data);
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("triangle 3 (vertices"), std::string::npos) << e.what();
@@ -113,7 +113,7 @@ TEST(ListedSubstructures, DetachedElementsAreLeftOutWhenAsked) {
   BuildOptions options;
   options.skip_detached_substructures = true;
   BuildNotes notes;
-  const TetMesh m = build_tet_mesh(g.data, options, &notes);
+  const MeshModel m = build_mesh_model(g.data, options, &notes);
   EXPECT_EQ(notes.detached_triangles, (std::vector<std::uint32_t>{0}));
   EXPECT_EQ(notes.detached_segments, (std::vector<std::uint32_t>{0}));
   const MeshData out = m.to_mesh_data();
@@ -147,7 +147,7 @@ TEST_P(SharedSurfaces, EachSurfaceKeepsItsTopology) {
   Grid g = nested_surfaces();
   // A third surface: a strip of surface 3 that reaches the box boundary.
   testing::add_patch(g, 0, 3, [](int a, int b) { return a == 4 && b >= 1; }, 5);
-  TetMesh mesh = build_tet_mesh(g.data);
+  MeshModel mesh = build_mesh_model(g.data);
   const topotet::TopologyReport before = topotet::compute_topology(g.data);
   SimplifyOptions options;
   options.engine = GetParam();

@@ -14,10 +14,11 @@
 #include <glm/geometric.hpp>
 
 #include "../metrics/fast_angle.h"  // the private fast atan2, tested against libm
+#include "glm_convert.h"
 #include "test_meshes.h"
 #include "topotet/error.h"
-#include "topotet/metrics/field_error.h"
 #include "topotet/generate.h"
+#include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
 #include "topotet/metrics/surface_distance.h"
 #include "topotet/simplify.h"
@@ -33,7 +34,7 @@ constexpr double kDeg = 180.0 / kPi;
 
 MeshData tets_from(std::vector<glm::dvec3> positions, std::vector<std::array<VertId, 4>> tets) {
   MeshData d;
-  d.positions = std::move(positions);
+  for (const glm::dvec3& p : positions) d.positions.push_back(from_glm(p));
   d.tets = std::move(tets);
   d.tet_material.assign(d.tets.size(), 1);
   return d;
@@ -47,7 +48,7 @@ MeshData corner_tet() { return tets_from({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0
 // An unjittered or jittered n^3 Freudenthal grid scaled to [0, side]^3.
 MeshData box_grid(int n, double side, double jitter, std::uint64_t seed = 1) {
   MeshData d = make_grid(n, n, n, [](int, int, int) { return 1; }, jitter, seed).data;
-  for (auto& p : d.positions) p *= side / n;
+  for (auto& p : d.positions) p = from_glm(to_glm(p) * (side / n));
   return d;
 }
 
@@ -55,7 +56,7 @@ template <class Fn>
 void add_field(MeshData& d, const std::string& name, int components, Fn&& fn) {
   VertexField f{name, components, {}};
   for (const auto& p : d.positions)
-    for (int c = 0; c < components; ++c) f.values.push_back(fn(p, c));
+    for (int c = 0; c < components; ++c) f.values.push_back(fn(to_glm(p), c));
   d.fields.push_back(std::move(f));
 }
 
@@ -137,10 +138,10 @@ TEST(Quality, NearlyFlatTetIsZeroVolumeOnlyWithinRounding) {
   // coordinates: double precision cannot tell the sign of that tet. Lifted by 1e-6 it can.
   auto d = tets_from({{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.1, 0.2, 0.7}}, {{0, 1, 2, 3}});
   EXPECT_EQ(compute_quality(d).zero_volume, 1u);
-  d.positions[3] += glm::dvec3(1e-6);  // away from the origin: positive orientation
+  d.positions[3] = from_glm(to_glm(d.positions[3]) + glm::dvec3(1e-6));  // away from the origin: positive orientation
   EXPECT_EQ(compute_quality(d).zero_volume, 0u);
   EXPECT_EQ(compute_quality(d).inverted, 0u);
-  d.positions[3] -= glm::dvec3(2e-6);
+  d.positions[3] = from_glm(to_glm(d.positions[3]) - glm::dvec3(2e-6));
   EXPECT_EQ(compute_quality(d).inverted, 1u);
   // An exact tiny volume is not rounding: 1e-30 above an axis-aligned plane is certified.
   d.positions[3] = {0.3, 0.3, 1e-30};
@@ -210,7 +211,8 @@ ReferenceStats reference_angles(const MeshData& d) {
   };
   ReferenceStats r;
   for (const auto& t : d.tets) {
-    const glm::dvec3 p[4] = {d.positions[t[0]], d.positions[t[1]], d.positions[t[2]], d.positions[t[3]]};
+    const glm::dvec3 p[4] = {to_glm(d.positions[t[0]]), to_glm(d.positions[t[1]]), to_glm(d.positions[t[2]]),
+                             to_glm(d.positions[t[3]])};
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) {
         int k = 0;
@@ -329,7 +331,8 @@ TEST(FieldError, LinearFieldsAreReproduced) {
 // a and a + h, so the linear interpolant is exactly (x - a)(a + h - x) above f.
 double expected_quadratic_rms(const MeshData& fine, double h) {
   double sum = 0.0;
-  for (const auto& p : fine.positions) {
+  for (const auto& a3 : fine.positions) {
+    const glm::dvec3 p = to_glm(a3);
     const double a = std::floor(p.x / h + 1e-12) * h;
     const double err = (p.x - a) * (a + h - p.x);
     sum += err * err;
@@ -413,14 +416,15 @@ TEST(FieldError, PointsOutsideUseTheClosestPoint) {
   auto f = [](const glm::dvec3& p, int) { return p.x + 2.0 * p.y - 0.5 * p.z; };
   MeshData orig = box_grid(4, 4.0, 0.1, 2);
   MeshData simp = box_grid(4, 4.0, 0.15, 9);
-  for (auto& p : simp.positions) p = glm::dvec3(2.0) + 0.98 * (p - glm::dvec3(2.0));
+  for (auto& p : simp.positions) p = from_glm(glm::dvec3(2.0) + 0.98 * (to_glm(p) - glm::dvec3(2.0)));
   add_field(orig, "f", 1, f);
   add_field(simp, "f", 1, f);
   const FieldError e = compare_fields(orig, simp);
   ASSERT_EQ(e.components.size(), 1u);
   double sum = 0.0, worst = 0.0, far = 0.0;
   std::size_t outside = 0;
-  for (const auto& p : orig.positions) {
+  for (const auto& a3 : orig.positions) {
+    const glm::dvec3 p = to_glm(a3);
     const glm::dvec3 q = glm::clamp(p, glm::dvec3(0.04), glm::dvec3(3.96));
     const double err = f(p, 0) - f(q, 0);
     sum += err * err;
@@ -439,7 +443,7 @@ TEST(FieldError, PointsOutsideUseTheClosestPoint) {
 
   // Far away too (a translated copy): still the closest point, found by the ring search.
   MeshData moved = simp;
-  for (auto& p : moved.positions) p.x += 10.0;
+  for (auto& p : moved.positions) p[0] += 10.0;
   const FieldError m = compare_fields(orig, moved);
   EXPECT_EQ(m.original_in_simplified.outside, orig.positions.size());
   EXPECT_NEAR(m.original_in_simplified.max_outside_distance, std::sqrt(10.04 * 10.04 + 2 * 0.04 * 0.04), 1e-9);
@@ -464,7 +468,8 @@ TEST(FieldError, RandomPointsNearAndFarFromAConvexMesh) {
   const FieldError e = compare_fields(cloud, cube);
   double sum = 0.0, worst = 0.0, far = 0.0;
   std::size_t outside = 0;
-  for (const auto& p : cloud.positions) {
+  for (const auto& a3 : cloud.positions) {
+    const glm::dvec3 p = to_glm(a3);
     const glm::dvec3 q = glm::clamp(p, glm::dvec3(0.0), glm::dvec3(1.0));
     const double err = f(p, 0) - f(q, 0);
     sum += err * err;
@@ -493,7 +498,7 @@ TEST(FieldError, UnusedVerticesAreNotSampled) {
 TEST(FieldError, SameBitsForAnyThreadCount) {
   MeshData fine = box_grid(20, 1.0, 0.2, 4);
   MeshData coarse = box_grid(7, 1.0, 0.25, 8);
-  for (auto& p : coarse.positions) p = glm::dvec3(0.5) + 0.999 * (p - glm::dvec3(0.5));  // some outside
+  for (auto& p : coarse.positions) p = from_glm(glm::dvec3(0.5) + 0.999 * (to_glm(p) - glm::dvec3(0.5)));  // some outside
   auto f = [](const glm::dvec3& p, int c) { return std::sin(4 * p.x + c) * std::cos(3 * p.y) + p.z * p.z; };
   add_field(fine, "f", 2, f);
   add_field(coarse, "f", 2, f);
@@ -514,7 +519,7 @@ TEST(FieldError, SameBitsForAnyThreadCount) {
 // coarse box is larger: its boundary vertices take the closest tet).
 TEST(FieldError, SweepAndHierarchyLocateAlike) {
   MeshData fine = box_grid(14, 1.0, 0.25, 4), coarse = box_grid(4, 1.03, 0.2, 8);
-  for (auto& p : coarse.positions) p -= glm::dvec3(0.015);
+  for (auto& p : coarse.positions) p = from_glm(to_glm(p) - glm::dvec3(0.015));
   const auto f = [](const glm::dvec3& p, int c) { return std::cos(4.0 * p.y) * p.x + c * p.z; };
   add_field(fine, "f", 2, f);
   add_field(coarse, "f", 2, f);
@@ -550,10 +555,10 @@ std::pair<MeshData, MeshData> many_material_pair() {
   g.target_tets = 6000;
   MeshData in = generate_mesh(g);
   glm::dvec3 lo(1e300), hi(-1e300);
-  for (const auto& p : in.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  for (const auto& p : in.positions) lo = glm::min(lo, to_glm(p)), hi = glm::max(hi, to_glm(p));
   for (std::size_t t = 0; t < in.tets.size(); ++t) {
     glm::dvec3 c(0.0);
-    for (VertId v : in.tets[t]) c += in.positions[v] / 4.0;
+    for (VertId v : in.tets[t]) c += to_glm(in.positions[v]) / 4.0;
     const glm::dvec3 cell = glm::min(glm::dvec3(2.999), 3.0 * (c - lo) / (hi - lo));
     in.tet_material[t] = 1 + static_cast<std::int32_t>(cell.x) + 3 * static_cast<std::int32_t>(cell.y) +
                          9 * static_cast<std::int32_t>(cell.z);

@@ -6,12 +6,12 @@
 #include <random>
 #include <thread>
 
+#include "mesh_model.h"
 #include "region_manifold.h"
 #include "test_meshes.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -27,7 +27,7 @@ TEST_P(SimplifyPlanted, KeepsTopologyAndReducesTheMesh) {
   const auto meshes = testing::planted_meshes();
   const auto& planted = meshes[std::get<0>(GetParam())];
   const testing::Grid g = planted.make();
-  TetMesh mesh = build_tet_mesh(g.data);
+  MeshModel mesh = build_mesh_model(g.data);
   const auto before = topotet::compute_topology(mesh.to_mesh_data());
   SimplifyOptions options;
   options.engine = std::get<1>(GetParam());
@@ -62,10 +62,10 @@ TEST(Simplify, ParallelOutputIsIdenticalForEveryThreadCount) {
   });
   testing::add_polyline(g, testing::grid_line({1, 6, 5}, {13, 6, 5}), 3);
   testing::add_linear_field(g);
-  const TetMesh input = build_tet_mesh(g.data);
+  const MeshModel input = build_mesh_model(g.data);
   MeshData reference;
   for (int threads : {1, 2, 3, 4, 8}) {
-    TetMesh mesh = input;
+    MeshModel mesh = input;
     SimplifyOptions options;
     options.num_threads = threads;
     options.target_vertex_ratio = 0.15;
@@ -113,7 +113,7 @@ TEST(Simplify, OutputDoesNotDependOnTheInputNumbering) {
   }
   std::vector<MeshData> outputs;
   for (const MeshData* input : {&g.data, &reordered}) {
-    TetMesh mesh = build_tet_mesh(*input);
+    MeshModel mesh = build_mesh_model(*input);
     SimplifyOptions options;
     options.target_vertex_ratio = 0.2;
     ASSERT_EQ(simplify(mesh, options).status, Status::kOk);
@@ -131,7 +131,7 @@ TEST(Simplify, EndGameWithFewProposalsLeft) {
   testing::Grid g = testing::make_grid(9, 9, 9, [](int i, int j, int k) { return 1 + i / 3 + 3 * (j / 3) + 9 * (k / 3); });
   testing::add_linear_field(g);
   for (Engine engine : {Engine::kSequential, Engine::kParallel}) {
-    TetMesh mesh = build_tet_mesh(g.data);
+    MeshModel mesh = build_mesh_model(g.data);
     const auto before = topotet::compute_topology(mesh.to_mesh_data());
     SimplifyOptions options;
     options.engine = engine;
@@ -147,7 +147,7 @@ TEST(Simplify, EndGameWithFewProposalsLeft) {
 
 TEST(Simplify, InvalidOptionsAreReportedNotThrown) {
   testing::Grid g = testing::make_grid(3, 3, 3, [](int, int, int) { return 1; });
-  TetMesh mesh = build_tet_mesh(g.data);
+  MeshModel mesh = build_mesh_model(g.data);
   const std::size_t tets = mesh.live_tet_count();
   SimplifyOptions options;
   options.target_vertex_ratio = 1.5;
@@ -165,7 +165,7 @@ TEST(Simplify, PolycrystalKeepsEveryCellAndJunction) {
   const MeshData input = generate_mesh({"polycrystal", 30000, 1, 20});
   const topotet::TopologyReport before = topotet::compute_topology(input);
   for (Engine engine : {Engine::kSequential, Engine::kParallel}) {
-    TetMesh mesh = build_tet_mesh(input);
+    MeshModel mesh = build_mesh_model(input);
     SimplifyOptions options;
     options.engine = engine;
     options.target_vertex_ratio = 0.2;
@@ -191,7 +191,7 @@ TEST(Simplify, PolycrystalKeepsEveryCellAndJunction) {
 TEST(Simplify, ProgressCanCancel) {
   testing::Grid g = testing::make_grid(12, 12, 12, [](int, int, int) { return 1; });
   for (Engine engine : {Engine::kSequential, Engine::kParallel}) {
-    TetMesh mesh = build_tet_mesh(g.data);
+    MeshModel mesh = build_mesh_model(g.data);
     SimplifyOptions options;
     options.engine = engine;
     options.target_vertex_ratio = 0.05;

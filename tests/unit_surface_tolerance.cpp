@@ -9,12 +9,13 @@
 
 #include <glm/geometric.hpp>
 
+#include "glm_convert.h"
+#include "mesh_model.h"
 #include "surface_tolerance.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/surface_distance.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -64,7 +65,7 @@ TEST(SurfaceReference, QueriesMatchBruteForce) {
 TEST(SurfaceReference, LabelsOfCubeSphere) {
   GenerateOptions g;
   g.target_tets = 3000;
-  const TetMesh mesh = build_tet_mesh(generate_mesh(g));
+  const MeshModel mesh = build_mesh_model(generate_mesh(g));
   const auto reference = SurfaceReference::from_mesh(mesh);
   // boundary (listed ref 10), the sphere interface (ref 1, materials 1|2), the patch (ref 2 in 1).
   EXPECT_EQ(reference->face_label_count(), 3u);
@@ -105,7 +106,7 @@ MeshData icosphere(int level, double r, std::int32_t ref) {
     f = std::move(next);
   }
   MeshData m;
-  for (const glm::dvec3& p : v) m.positions.push_back(r * p / std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z));
+  for (const glm::dvec3& p : v) m.positions.push_back(from_glm(r * p / std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z)));
   for (const auto& x : f) m.triangles.push_back({x, ref});
   return m;
 }
@@ -114,7 +115,7 @@ MeshData icosphere(int level, double r, std::int32_t ref) {
 double inradius(const MeshData& m) {
   double r = std::numeric_limits<double>::infinity();
   for (const Triangle& t : m.triangles) {
-    const glm::dvec3 a = m.positions[t.v[0]], b = m.positions[t.v[1]], c = m.positions[t.v[2]];
+    const glm::dvec3 a = to_glm(m.positions[t.v[0]]), b = to_glm(m.positions[t.v[1]]), c = to_glm(m.positions[t.v[2]]);
     glm::dvec3 n = glm::cross(b - a, c - a);
     n /= std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
     r = std::min(r, std::abs(n.x * a.x + n.y * a.y + n.z * a.z));
@@ -185,7 +186,7 @@ std::pair<std::size_t, std::size_t> surface_and_free_vertices(const MeshData& m,
 
 TEST(SimplifyTolerance, TightToleranceFreezesTheCurvedInterfaceButNotTheInterior) {
   const MeshData input = cube_sphere(20000);
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   SimplifyOptions options;
   options.target_vertex_ratio = 0.2;
   options.tolerance_rel = 1e-6;
@@ -211,7 +212,7 @@ TEST(SimplifyTolerance, TightToleranceFreezesTheCurvedInterfaceButNotTheInterior
 // slack. (These generated surfaces are jittered by more than h: the hard case.)
 void expect_within_tolerance(Engine engine, double tolerance_rel) {
   const MeshData input = cube_sphere(20000);
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   SimplifyOptions options;
   options.engine = engine;
   options.target_vertex_ratio = 0.1;
@@ -238,10 +239,10 @@ TEST(SimplifyTolerance, HausdorffStaysWithinTheToleranceSequential) {
 }
 
 TEST(SimplifyTolerance, ParallelOutputIsIdenticalForEveryThreadCount) {
-  const TetMesh input = build_tet_mesh(cube_sphere(8000));
+  const MeshModel input = build_mesh_model(cube_sphere(8000));
   MeshData reference;
   for (int threads : {1, 2, 4}) {
-    TetMesh mesh = input;
+    MeshModel mesh = input;
     SimplifyOptions options;
     options.num_threads = threads;
     options.target_vertex_ratio = 0.15;
@@ -258,7 +259,7 @@ TEST(SimplifyTolerance, ParallelOutputIsIdenticalForEveryThreadCount) {
 }
 
 TEST(SimplifyTolerance, NegativeToleranceIsInvalid) {
-  TetMesh mesh = build_tet_mesh(cube_sphere(3000));
+  MeshModel mesh = build_mesh_model(cube_sphere(3000));
   SimplifyOptions options;
   options.tolerance = -1.0;
   EXPECT_EQ(simplify(mesh, options).status, Status::kInvalidInput);

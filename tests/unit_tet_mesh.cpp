@@ -6,10 +6,11 @@
 #include <set>
 #include <string>
 
+#include "glm_convert.h"
+#include "mesh_model.h"
 #include "reorder.h"
 #include "test_meshes.h"
 #include "topotet/error.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -19,7 +20,7 @@ using testing::make_grid;
 
 std::string build_error(const MeshData& d) {
   try {
-    build_tet_mesh(d);
+    build_mesh_model(d);
   } catch (const InputError& e) {
     return e.what();
   }
@@ -34,9 +35,9 @@ MeshData one_tet() {
   return d;
 }
 
-TEST(TetMesh, BuildsIncidenceAndCounts) {
+TEST(MeshModel, BuildsIncidenceAndCounts) {
   Grid g = make_grid(3, 2, 2, [](int, int, int) { return 1; });
-  const TetMesh m = build_tet_mesh(g.data);
+  const MeshModel m = build_mesh_model(g.data);
   EXPECT_EQ(m.live_tet_count(), 3u * 2 * 2 * 6);
   EXPECT_EQ(m.live_vertex_count(), 4u * 3 * 3);
   for (VertId v = 0; v < m.positions.size(); ++v) {
@@ -48,9 +49,9 @@ TEST(TetMesh, BuildsIncidenceAndCounts) {
   }
 }
 
-TEST(TetMesh, MaterialInterfacesAreFlaggedButNotExported) {
+TEST(MeshModel, MaterialInterfacesAreFlaggedButNotExported) {
   Grid g = make_grid(3, 3, 3, [](int i, int j, int k) { return i == 1 && j == 1 && k == 1 ? 2 : 1; });
-  const TetMesh m = build_tet_mesh(g.data);
+  const MeshModel m = build_mesh_model(g.data);
   int flagged_faces = 0;
   for (TetId t = 0; t < m.tets.size(); ++t)
     for (int f = 0; f < 4; ++f) flagged_faces += is_surface_face(m.flags[t], f);
@@ -58,7 +59,7 @@ TEST(TetMesh, MaterialInterfacesAreFlaggedButNotExported) {
   EXPECT_TRUE(m.to_mesh_data().triangles.empty());
 }
 
-TEST(TetMesh, ListedSubstructuresRoundTripThroughTheFlags) {
+TEST(MeshModel, ListedSubstructuresRoundTripThroughTheFlags) {
   Grid g = make_grid(4, 4, 4, [](int i, int, int) { return i < 2 ? 1 : 2; });
   testing::add_patch(g, 2, 2, [](int a, int b) { return a < 2 && b < 3; }, 7);
   testing::add_polyline(g, testing::grid_line({1, 1, 0}, {1, 1, 4}), 3);
@@ -66,7 +67,7 @@ TEST(TetMesh, ListedSubstructuresRoundTripThroughTheFlags) {
   g.data.corners = {0};
   g.data.required_vertices = {5};
   testing::add_linear_field(g);
-  const TetMesh m = build_tet_mesh(g.data);
+  const MeshModel m = build_mesh_model(g.data);
   const MeshData out = m.to_mesh_data();
   auto tri_set = [](const MeshData& d) {
     std::set<std::pair<std::array<VertId, 3>, int>> s;
@@ -95,28 +96,28 @@ TEST(TetMesh, ListedSubstructuresRoundTripThroughTheFlags) {
   EXPECT_EQ(out.tets, g.data.tets);
 }
 
-TEST(TetMesh, ModelStaysUnder64BytesPerTet) {
+TEST(MeshModel, ModelStaysUnder64BytesPerTet) {
   Grid g = make_grid(20, 20, 20, [](int, int, int) { return 1; });
   testing::add_linear_field(g);
-  const TetMesh m = build_tet_mesh(g.data);
+  const MeshModel m = build_mesh_model(g.data);
   const double bytes_per_tet = static_cast<double>(m.memory_bytes()) / m.tets.size();
   EXPECT_LT(bytes_per_tet, 64.0);
   RecordProperty("bytes_per_tet", std::to_string(bytes_per_tet));
 }
 
-TEST(TetMesh, ReorientsConsistentlyInvertedInput) {
+TEST(MeshModel, ReorientsConsistentlyInvertedInput) {
   MeshData d = one_tet();
   std::swap(d.tets[0][0], d.tets[0][1]);
-  const TetMesh m = build_tet_mesh(d);
+  const MeshModel m = build_mesh_model(d);
   EXPECT_EQ(m.live_tet_count(), 1u);
   BuildOptions strict;
   strict.reorient_inverted = false;
-  EXPECT_THROW(build_tet_mesh(d, strict), InputError);
+  EXPECT_THROW(build_mesh_model(d, strict), InputError);
 }
 
 TEST(TetMeshShouldFail, NaNCoordinate) {
   MeshData d = one_tet();
-  d.positions[2].y = std::nan("");
+  d.positions[2][1] = std::nan("");
   EXPECT_NE(build_error(d).find("vertex 3: coordinate is not finite"), std::string::npos);
 }
 
@@ -174,11 +175,11 @@ TEST(TetMeshShouldFail, SegmentThatIsNotAnEdge) {
   EXPECT_NE(build_error(g.data).find("is not an edge of any tet"), std::string::npos);
 }
 
-TEST(TetMesh, TriangleListedWithTwoRefsIsOnBothSurfaces) {
+TEST(MeshModel, TriangleListedWithTwoRefsIsOnBothSurfaces) {
   Grid g = make_grid(2, 2, 2, [](int, int, int) { return 1; });
   testing::add_square(g, 2, 1, 0, 0, 3);
   testing::add_square(g, 2, 1, 0, 0, 4);
-  const MeshData out = build_tet_mesh(g.data).to_mesh_data();
+  const MeshData out = build_mesh_model(g.data).to_mesh_data();
   EXPECT_EQ(out.triangles.size(), 4u);
 }
 
@@ -188,9 +189,9 @@ TEST(TetMeshShouldFail, FieldOfWrongSize) {
   EXPECT_NE(build_error(d).find("field 'f' has 2 values for 4 vertices"), std::string::npos);
 }
 
-TEST(TetMesh, CompactDropsDeadElementsAndKeepsOrder) {
+TEST(MeshModel, CompactDropsDeadElementsAndKeepsOrder) {
   Grid g = make_grid(2, 2, 2, [](int, int, int) { return 1; });
-  TetMesh m = build_tet_mesh(g.data);
+  MeshModel m = build_mesh_model(g.data);
   m.flags[0] |= tet_flag::kDead;
   m.flags[5] |= tet_flag::kDead;
   const auto t1 = m.tets[1];
@@ -210,7 +211,7 @@ struct GeometricView {
   bool operator==(const GeometricView&) const = default;
 };
 
-std::array<double, 3> at(const MeshData& d, VertId v) { return {d.positions[v].x, d.positions[v].y, d.positions[v].z}; }
+std::array<double, 3> at(const MeshData& d, VertId v) { return d.positions[v]; }
 
 GeometricView view(const MeshData& d) {
   GeometricView g;
@@ -262,12 +263,12 @@ TEST(Reorder, KeepsEveryElementAndRenumbersAlongTheCurve) {
   for (const auto& planted : meshes) {
     SCOPED_TRACE(planted.name);
     const testing::Grid g = planted.make();
-    TetMesh m = build_tet_mesh(g.data);
+    MeshModel m = build_mesh_model(g.data);
     const MeshData before = m.to_mesh_data();
     reorder_for_locality(m);
     EXPECT_TRUE(view(m.to_mesh_data()) == view(before));
     // Reordering is a pure function of the mesh: doing it again changes nothing.
-    TetMesh again = m;
+    MeshModel again = m;
     reorder_for_locality(again);
     EXPECT_TRUE(again.to_mesh_data() == m.to_mesh_data());
   }
@@ -275,7 +276,7 @@ TEST(Reorder, KeepsEveryElementAndRenumbersAlongTheCurve) {
 
 TEST(Reorder, DropsDeadElements) {
   const testing::Grid g = testing::make_grid(3, 3, 3, [](int, int, int) { return 1; });
-  TetMesh m = build_tet_mesh(g.data);
+  MeshModel m = build_mesh_model(g.data);
   const std::size_t tets = m.live_tet_count();
   // Kill one tet by hand (as a collapse would, with its vertices still used elsewhere).
   m.flags[0] = tet_flag::kDead;

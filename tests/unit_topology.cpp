@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "glm_convert.h"
 #include "test_meshes.h"
 #include "topotet/metrics/topology.h"
 
@@ -37,7 +38,7 @@ class Grid {
   Grid(int nx, int ny, int nz) : nx_(nx), ny_(ny) {
     for (int k = 0; k <= nz; ++k)
       for (int j = 0; j <= ny; ++j)
-        for (int i = 0; i <= nx; ++i) mesh.positions.push_back({i, j, k});
+        for (int i = 0; i <= nx; ++i) mesh.positions.push_back({double(i), double(j), double(k)});
   }
 
   VertId v(int i, int j, int k) const { return static_cast<VertId>((k * (ny_ + 1) + j) * (nx_ + 1) + i); }
@@ -72,9 +73,9 @@ class Grid {
   }
 
   double signed_volume6(const std::array<VertId, 4>& t) const {
-    const glm::dvec3 a = mesh.positions[t[1]] - mesh.positions[t[0]];
-    const glm::dvec3 b = mesh.positions[t[2]] - mesh.positions[t[0]];
-    const glm::dvec3 c = mesh.positions[t[3]] - mesh.positions[t[0]];
+    const glm::dvec3 a = to_glm(mesh.positions[t[1]]) - to_glm(mesh.positions[t[0]]);
+    const glm::dvec3 b = to_glm(mesh.positions[t[2]]) - to_glm(mesh.positions[t[0]]);
+    const glm::dvec3 c = to_glm(mesh.positions[t[3]]) - to_glm(mesh.positions[t[0]]);
     return a.x * (b.y * c.z - b.z * c.y) - a.y * (b.x * c.z - b.z * c.x) + a.z * (b.x * c.y - b.y * c.x);
   }
 
@@ -101,7 +102,7 @@ std::vector<std::array<VertId, 3>> tet_faces_where(const MeshData& mesh, const F
       for (int k = 0, n = 0; k < 4; ++k)
         if (k != i) f[n++] = t[k];
       std::sort(f.begin(), f.end());
-      if (keep(mesh.positions[f[0]], mesh.positions[f[1]], mesh.positions[f[2]])) faces.insert(f);
+      if (keep(to_glm(mesh.positions[f[0]]), to_glm(mesh.positions[f[1]]), to_glm(mesh.positions[f[2]]))) faces.insert(f);
     }
   return {faces.begin(), faces.end()};
 }
@@ -343,7 +344,7 @@ TEST(Topology, HugeVertexIdsUseWideKeysAndGiveTheSameAnswer) {
   EXPECT_EQ(small.pinned_vertex_count, 3u);
   constexpr VertId kShift = 2'700'000;
   MeshData wide = g.mesh;
-  wide.positions.insert(wide.positions.begin(), kShift, glm::dvec3(-1.0));
+  wide.positions.insert(wide.positions.begin(), kShift, {-1.0, -1.0, -1.0});
   for (auto& t : wide.tets)
     for (auto& v : t) v += kShift;
   for (auto& t : wide.triangles)
@@ -361,7 +362,7 @@ TEST(Topology, HugeVertexIdsUseWideKeysAndGiveTheSameAnswer) {
   // over space, so the Morton order interleaves them with the grid's.
   MeshData padded = g.mesh;
   constexpr VertId kPad = 40'000;
-  std::vector<glm::dvec3> padding(kPad);
+  std::vector<std::array<double, 3>> padding(kPad);
   for (VertId i = 0; i < kPad; ++i) padding[i] = {(i * 7919 % 1000) * 0.004, (i * 104729 % 1000) * 0.004, (i % 997) * 0.004};
   padded.positions.insert(padded.positions.begin(), padding.begin(), padding.end());
   for (auto& t : padded.tets)

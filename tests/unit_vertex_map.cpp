@@ -7,9 +7,10 @@
 #include <utility>
 #include <vector>
 
+#include "glm_convert.h"
+#include "mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/simplify.h"
-#include "topotet/tet_mesh.h"
 
 namespace topotet {
 namespace {
@@ -32,7 +33,7 @@ struct Mapped {
 };
 
 Mapped simplify_with_map(const MeshData& input, Engine engine, int threads, double ratio) {
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   SimplifyOptions options;
   options.engine = engine;
   options.num_threads = threads;
@@ -105,7 +106,7 @@ TEST_P(VertexMap, IsTheSameForEveryThreadCount) {
 // kept, at its new place): the map names the vertex the collapse merged into.
 TEST_P(VertexMap, OneCollapseMergesExactlyOneEdge) {
   const MeshData input = ball_in_box();
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   SimplifyOptions options;
   options.engine = GetParam();
   options.target_vertices = input.vertex_count() - 1;
@@ -138,10 +139,10 @@ TEST_P(VertexMap, OneCollapseMergesExactlyOneEdge) {
 // preimage and keeps its position, while the rest of the mesh is still simplified.
 TEST_P(VertexMap, FrozenVerticesAreNeitherRemovedNorKept) {
   const MeshData input = ball_in_box();
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   std::vector<bool> frozen(input.vertex_count());
   for (VertId v = 0; v < input.vertex_count(); ++v) {
-    frozen[v] = input.positions[v].x < 0.45 * input.positions[input.vertex_count() - 1].x;
+    frozen[v] = input.positions[v][0] < 0.45 * input.positions[input.vertex_count() - 1][0];
     if (frozen[v]) mesh.vertex_states[v] |= vertex_state::kFrozen | vertex_state::kPinned;
   }
   SimplifyOptions options;
@@ -169,7 +170,7 @@ INSTANTIATE_TEST_SUITE_P(Engines, VertexMap, ::testing::Values(Engine::kSequenti
 
 TEST(VertexMapInvalidOptions, IsTheIdentity) {
   const MeshData input = ball_in_box();
-  TetMesh mesh = build_tet_mesh(input);
+  MeshModel mesh = build_mesh_model(input);
   SimplifyOptions options;
   options.target_vertex_ratio = 2.0;
   std::vector<VertId> map;

@@ -8,6 +8,7 @@
 #include <tuple>
 #include <vector>
 
+#include "glm_convert.h"
 #include "topotet/error.h"
 
 namespace topotet::gen {
@@ -303,7 +304,7 @@ void set_jittered_positions(const FreudenthalGrid& grid, std::uint64_t seed, Mes
         if (i == 0 || i == n[0]) d.x = 0.0;
         if (j == 0 || j == n[1]) d.y = 0.0;
         if (keep_z) d.z = 0.0;
-        mesh.positions[v] = (glm::dvec3(i, j, k) + kJitter * d) * h;
+        mesh.positions[v] = from_glm((glm::dvec3(i, j, k) + kJitter * d) * h);
       }
     }
   }
@@ -317,7 +318,7 @@ void add_feature_field(const FreudenthalGrid& grid, MeshData& mesh) {
   VertexField field{"f", 1, {}};
   field.values.resize(mesh.positions.size());
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-    const glm::dvec3 q = mesh.positions[v] / extent;  // in [0, 1]^3
+    const glm::dvec3 q = to_glm(mesh.positions[v]) / extent;  // in [0, 1]^3
     const double smooth =
         0.5 * std::sin(2 * kPi * q.x) * std::cos(3 * kPi * q.y) + 0.25 * std::sin(4 * kPi * q.z + 1.0);
     // A steep front across an oblique plane (width 1% of the box).

@@ -40,6 +40,7 @@
 
 #include <glm/common.hpp>
 
+#include "glm_convert.h"
 #include "io/atomic_file.h"
 #include "io/formats.h"
 #include "io/line_reader.h"
@@ -360,7 +361,7 @@ class GmshReader {
     return it == table.end() ? nullptr : &it->second;
   }
 
-  void add_node(std::uint64_t tag, const glm::dvec3& p) {
+  void add_node(std::uint64_t tag, const std::array<double, 3>& p) {
     if (m_.positions.size() >= kInvalid - 1) r_.fail("$Nodes: too many nodes");
     if (!nodes_.insert(tag, static_cast<VertId>(m_.positions.size()))) r_.fail("$Nodes: duplicate node tag " + std::to_string(tag));
     m_.positions.push_back(p);
@@ -385,10 +386,8 @@ class GmshReader {
       tags.reserve(r_.reserve_hint(n, binary_ ? 8 : 2));
       for (std::uint64_t i = 0; i < n; ++i) tags.push_back(node_tag("$Nodes node tag"));
       for (std::uint64_t i = 0; i < n; ++i) {
-        glm::dvec3 p;
-        p.x = real("$Nodes coordinate");
-        p.y = real("$Nodes coordinate");
-        p.z = real("$Nodes coordinate");
+        std::array<double, 3> p;
+        for (double& x : p) x = real("$Nodes coordinate");
         for (int k = 0; k < extra; ++k) bbox_real("$Nodes parametric coordinate");
         add_node(tags[i], p);
       }
@@ -406,10 +405,8 @@ class GmshReader {
     m_.positions.reserve(r_.reserve_hint(static_cast<std::uint64_t>(n), binary_ ? 28 : 8));
     for (std::int64_t i = 0; i < n; ++i) {
       const std::uint64_t tag = node_tag("$Nodes node tag");
-      glm::dvec3 p;
-      p.x = real("$Nodes coordinate");
-      p.y = real("$Nodes coordinate");
-      p.z = real("$Nodes coordinate");
+      std::array<double, 3> p;
+      for (double& x : p) x = real("$Nodes coordinate");
       add_node(tag, p);
     }
     expect_end("Nodes");
@@ -908,9 +905,9 @@ class MshOut {
 struct Box {
   glm::dvec3 lo{std::numeric_limits<double>::infinity()};
   glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
-  void add(const glm::dvec3& p) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
+  void add(const std::array<double, 3>& p) {
+    lo = glm::min(lo, to_glm(p));
+    hi = glm::max(hi, to_glm(p));
   }
 };
 
@@ -1072,11 +1069,11 @@ void write_entities(AtomicFile& f, MshOut& out, const GmshPlan& plan, const Mesh
   f.put("$Entities\n");
   for (int dim = 0; dim < 4; ++dim) out.size(plan.entities[static_cast<std::size_t>(dim)].size(), dim == 3 ? '\n' : ' ');
   for (std::size_t i = 0; i < plan.entities[0].size(); ++i) {
-    const glm::dvec3& p = m.positions[plan.point_vertex[i]];
+    const std::array<double, 3>& p = m.positions[plan.point_vertex[i]];
     out.i32(plan.entities[0][i].tag);
-    out.f64(p.x);
-    out.f64(p.y);
-    out.f64(p.z);
+    out.f64(p[0]);
+    out.f64(p[1]);
+    out.f64(p[2]);
     out.size(1);
     out.i32(plan.entities[0][i].physicals[0], '\n');
   }
@@ -1108,10 +1105,10 @@ void write_nodes(AtomicFile& f, MshOut& out, const GmshPlan& plan, const MeshDat
     out.i32(0);
     out.size(nv, '\n');
     for (std::size_t i = 0; i < nv; ++i) out.size(i + 1, '\n');
-    for (const glm::dvec3& p : m.positions) {
-      out.f64(p.x);
-      out.f64(p.y);
-      out.f64(p.z, '\n');
+    for (const std::array<double, 3>& p : m.positions) {
+      out.f64(p[0]);
+      out.f64(p[1]);
+      out.f64(p[2], '\n');
     }
   }
   out.end_section("$EndNodes");
@@ -1201,7 +1198,7 @@ void write_nodes22(AtomicFile& f, const MeshData& m) {
   f.put('\n');
   for (std::size_t i = 0; i < m.positions.size(); ++i) {
     f.put_int(i + 1);
-    for (double x : {m.positions[i].x, m.positions[i].y, m.positions[i].z}) {
+    for (double x : m.positions[i]) {
       f.put(' ');
       f.put_double(x);
     }

@@ -291,7 +291,7 @@ class MeditReader {
       const double x = r_.read_double("Vertices coordinate");
       const double y = r_.read_double("Vertices coordinate");
       const double z = r_.read_double("Vertices coordinate");
-      m_.positions.emplace_back(x, y, z);
+      m_.positions.push_back({x, y, z});
       m_.vertex_refs.push_back(read_ref(r_, "Vertices reference"));
     }
     have_vertices_ = true;
@@ -539,12 +539,12 @@ void write_medit(const std::string& path, const MeshData& m) {
   out.put_int(m.positions.size());
   out.put('\n');
   for (std::size_t i = 0; i < m.positions.size(); ++i) {
-    const glm::dvec3& p = m.positions[i];
-    out.put_double(p.x);
+    const std::array<double, 3>& p = m.positions[i];
+    out.put_double(p[0]);
     out.put(' ');
-    out.put_double(p.y);
+    out.put_double(p[1]);
     out.put(' ');
-    out.put_double(p.z);
+    out.put_double(p[2]);
     out.put(' ');
     out.put_int(m.vertex_refs.empty() ? 0 : m.vertex_refs[i]);
     out.put('\n');

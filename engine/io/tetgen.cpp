@@ -85,10 +85,8 @@ class TetgenReader {
       }
       if (index != base_ + i)
         r.fail(".node: index " + std::to_string(index) + " where " + std::to_string(base_ + i) + " was expected");
-      glm::dvec3 p;
-      p.x = r.read_double(".node coordinate");
-      p.y = r.read_double(".node coordinate");
-      p.z = r.read_double(".node coordinate");
+      std::array<double, 3> p;
+      for (double& x : p) x = r.read_double(".node coordinate");
       m_.positions.push_back(p);
       for (std::int64_t a = 0; a < attributes; ++a) r.read_double(".node attribute");
       m_.vertex_refs.push_back(markers ? static_cast<std::int32_t>(r.read_int(".node marker", std::numeric_limits<std::int32_t>::min(),

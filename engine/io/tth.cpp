@@ -173,7 +173,7 @@ void write_hierarchy(const std::string& path, const Hierarchy& h) {
 
 std::uint64_t hierarchy_collapse_bytes(const Hierarchy& h) {
   const std::uint64_t n = h.collapse_count();
-  const std::uint64_t per_collapse = 2 * sizeof(VertId) + 3 * sizeof(glm::dvec3) + sizeof(double) + sizeof(float) +
+  const std::uint64_t per_collapse = 2 * sizeof(VertId) + 3 * sizeof(std::array<double, 3>) + sizeof(double) + sizeof(float) +
                                      2 * sizeof(double) * static_cast<std::uint64_t>(h.field_stride);
   return sizeof(std::uint64_t) + sizeof(std::uint32_t) + n * per_collapse + (n + 1) * sizeof(std::uint32_t) +
          h.parents.size() * sizeof(std::uint32_t);
@@ -194,7 +194,7 @@ Hierarchy read_hierarchy(const std::string& path) {
   r.value<std::uint32_t>("the flags");
   Hierarchy h;
   MeshData& m = h.original;
-  m.positions = r.counted<glm::dvec3>("positions");
+  m.positions = r.counted<std::array<double, 3>>("positions");
   m.vertex_refs = r.counted<std::int32_t>("vertex refs");
   m.tets = r.counted<std::array<VertId, 4>>("tets");
   m.tet_material = r.array<std::int32_t>(m.tets.size(), "tet materials");
@@ -246,9 +246,9 @@ Hierarchy read_hierarchy(const std::string& path) {
   const std::uint64_t sn = n * static_cast<std::uint64_t>(stride);
   h.u = r.array<VertId>(n, "collapse u");
   h.v = r.array<VertId>(n, "collapse v");
-  h.u_before = r.array<glm::dvec3>(n, "u positions before");
-  h.u_after = r.array<glm::dvec3>(n, "u positions after");
-  h.v_position = r.array<glm::dvec3>(n, "v positions");
+  h.u_before = r.array<std::array<double, 3>>(n, "u positions before");
+  h.u_after = r.array<std::array<double, 3>>(n, "u positions after");
+  h.v_position = r.array<std::array<double, 3>>(n, "v positions");
   h.fields_before = r.array<double>(sn, "fields before");
   h.fields_after = r.array<double>(sn, "fields after");
   h.cost = r.array<double>(n, "costs");

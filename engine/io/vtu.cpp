@@ -16,7 +16,7 @@
 namespace topotet::io {
 namespace {
 
-static_assert(sizeof(glm::dvec3) == 24, "positions are written as packed xyz doubles");
+static_assert(sizeof(std::array<double, 3>) == 24, "positions are written as packed xyz doubles");
 
 // Where array bytes go: straight to the file, or through a base64 encoder.
 class ByteSink {

@@ -26,13 +26,13 @@ topotet::mpi::DistributedMesh my_slab(const topotet::MeshData& whole, int rank, 
   };
   double lo = 1e300, hi = -1e300;
   for (const auto& p : whole.positions) {
-    lo = std::min(lo, p.x);
-    hi = std::max(hi, p.x);
+    lo = std::min(lo, p[0]);
+    hi = std::max(hi, p[0]);
   }
   for (std::size_t t = 0; t < whole.tet_count(); ++t) {
     const auto& v = whole.tets[t];
-    const double x = 0.25 * (whole.positions[v[0]].x + whole.positions[v[1]].x + whole.positions[v[2]].x +
-                             whole.positions[v[3]].x);
+    const double x = 0.25 * (whole.positions[v[0]][0] + whole.positions[v[1]][0] + whole.positions[v[2]][0] +
+                             whole.positions[v[3]][0]);
     const int slab = std::min(ranks - 1, static_cast<int>((x - lo) / (hi - lo) * ranks));
     if (slab != rank) continue;
     d.tets.push_back({local(v[0]), local(v[1]), local(v[2]), local(v[3])});

@@ -26,12 +26,11 @@
 // order within a round is a valid sequence); the records are identical for every thread count.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "topotet/mesh_data.h"
 #include "topotet/simplify.h"
@@ -47,8 +46,8 @@ struct Hierarchy {
 
   // One entry per collapse, in recording order (a valid application order).
   std::vector<VertId> u, v;                 // v merges into u
-  std::vector<glm::dvec3> u_before, u_after;  // u's position before and after
-  std::vector<glm::dvec3> v_position;       // where v was when it was removed
+  std::vector<std::array<double, 3>> u_before, u_after;  // u's position before and after
+  std::vector<std::array<double, 3>> v_position;         // where v was when it was removed
   std::vector<double> fields_before, fields_after;  // u's field values, [i * field_stride + k]
   std::vector<double> cost;                 // the collapse's cost (SimplifyOptions::max_cost units)
   // A monotone error value for uniform levels, so every prefix of the records is "all collapses
@@ -98,11 +97,11 @@ std::vector<std::uint8_t> select_error(const Hierarchy& hierarchy, double max_er
 // A volume of interest: a box or a sphere.
 struct Voi {
   enum class Kind : std::uint8_t { kBox, kSphere } kind = Kind::kBox;
-  glm::dvec3 lo{0.0}, hi{0.0};  // box
-  glm::dvec3 centre{0.0};       // sphere
+  std::array<double, 3> lo{}, hi{};  // box
+  std::array<double, 3> centre{};    // sphere
   double radius = 0.0;
-  bool contains(const glm::dvec3& p) const;
-  Voi moved(const glm::dvec3& by) const;
+  bool contains(const std::array<double, 3>& p) const;
+  Voi moved(const std::array<double, 3>& by) const;
   double size() const;  // box: its diagonal; sphere: its diameter
 };
 // "box:x0,y0,z0,x1,y1,z1" or "sphere:x,y,z,r". Throws InputError with the text on bad syntax.
@@ -144,7 +143,7 @@ class HierarchyCursor {
  private:
   const Hierarchy& h_;
   std::vector<std::uint8_t> applied_;
-  std::vector<glm::dvec3> positions_;  // [original vertex]
+  std::vector<std::array<double, 3>> positions_;  // [original vertex]
   std::vector<double> fields_;         // [original vertex * field_stride + k]
 };
 

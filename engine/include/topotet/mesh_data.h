@@ -20,8 +20,6 @@
 #include <string>
 #include <vector>
 
-#include <glm/vec3.hpp>
-
 namespace topotet {
 
 using VertId = std::uint32_t;
@@ -61,7 +59,7 @@ struct GroupName {
 };
 
 struct MeshData {
-  std::vector<glm::dvec3> positions;           // [vert]
+  std::vector<std::array<double, 3>> positions;  // [vert] x, y, z
   std::vector<std::int32_t> vertex_refs;       // [vert] MEDIT vertex ref; empty = all 0
   std::vector<std::array<VertId, 4>> tets;     // [tet]
   std::vector<std::int32_t> tet_material;      // [tet] region / material id (MEDIT ref, Gmsh physical)
