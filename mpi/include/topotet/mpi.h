@@ -15,8 +15,9 @@
 //      the ranks); they are FROZEN (vertex_state::kFrozen): no collapse touches them, so every
 //      collapse left has the whole stars of both ends on this rank and the local decision is the
 //      global one (a partition face has three shared vertices, so it is never seen as boundary);
-//   2. simplify locally towards this rank's share of the global target (share of the removable
-//      vertices: in pass 1 all the unfrozen ones, later the unfrozen ones that were frozen before);
+//   2. simplify locally towards this rank's share of the global target (the pass's share: in
+//      pass 1 every vertex's fair share, later the rest), split over the ranks so that they stop
+//      at about the same cost (Options::shares_by_cost), costs in the whole mesh's units;
 //   3. repartition the coarse mesh with METIS (the dual graph is gathered on rank 0: 33 bytes per
 //      coarse tet there), faces near still-unsimplified former borders weighted so that the new
 //      cut avoids them, parts matched to ranks by overlap, and migrate the tets (with their
@@ -66,12 +67,20 @@ struct Options {
   // pinned neighbours take the optimal placements away from the border vertices.
   bool later_passes_on_former_borders = false;
   std::int32_t metis_seed = 1;  // METIS_OPTION_SEED: fixed, so that partitions repeat
+  // true: a pass's share is split over the ranks by cost, not by vertex count: each rank first
+  // runs the pass on a copy as far as it can, and the ranks then remove what their runs removed
+  // below one common cost, as the shared-memory engine's global cost order would (mpi/
+  // cost_shares.h). Costs are always in the whole mesh's units. Needs the parallel engine (with
+  // Engine::kSequential, shares are by count). Costs about one more local simplification per
+  // pass. Measured (cube-sphere 200k to 10%, field RMS vs the shared-memory engine): README.md.
+  bool shares_by_cost = true;
 };
 
 // What one pass did, over all ranks.
 struct PassStats {
   double seconds = 0.0;           // wall time of the pass (slowest rank)
   double simplify_seconds = 0.0;  // local simplification, slowest rank
+  double trial_seconds = 0.0;      // shares_by_cost's trial runs (part of simplify_seconds), slowest rank
   double partition_seconds = 0.0;  // graph gather + METIS + migration, slowest rank
   std::uint64_t vertices_after = 0;   // global live vertices after the pass
   std::uint64_t collapses = 0;
