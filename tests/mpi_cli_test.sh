@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Smoke test of topotet-mpi: a generated mesh simplified over 2 ranks passes `topotet check`
-# against its input, the report says what the passes did, and bad input stops every rank with
+# against its input, the report says what the passes did, a --partitioned output (.pvtu + one
+# .vtu per rank) holds the same mesh as the gathered one, and bad input stops every rank with
 # one clear error line and exit code 2.
 #   bash tests/mpi_cli_test.sh TOPOTET_MPI TOPOTET MPIEXEC
 set -euo pipefail
 topotet_mpi=$(realpath "$1")
 topotet=$(realpath "$2")
 mpiexec=$3
+check_pvtu=$(realpath "$(dirname "${BASH_SOURCE[0]}")/mpi_pvtu_check.py")
 source "$(dirname "${BASH_SOURCE[0]}")/cli_harness.sh"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -16,6 +18,17 @@ expect 0 generate -- "$topotet" generate cube-sphere --tets 4000 -o in.mesh
 expect 0 simplify_2_ranks -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify in.mesh -o out.mesh --ratio 0.2 --report report.json
 expect 0 check -- "$topotet" check in.mesh out.mesh
 if grep -q '"passes"' report.json && grep -q '"migrated_tets"' report.json; then pass "report lists the passes"; else fail "report lists the passes"; fi
+
+# --partitioned: one .vtu per rank and a .pvtu; the pieces add up to the gathered result of the
+# same run (the output does not depend on how it is written).
+cp out.mesh gathered2.mesh
+expect 0 gathered_4 -- "$mpiexec" -np 4 --oversubscribe --bind-to none "$topotet_mpi" simplify in.mesh -o gathered4.mesh --ratio 0.2 --quiet
+for ranks in 2 4; do
+  expect 0 partitioned_$ranks -- "$mpiexec" -np $ranks --oversubscribe --bind-to none "$topotet_mpi" simplify in.mesh -o parts$ranks.pvtu --ratio 0.2 --partitioned --quiet
+  expect 0 pvtu_pieces_$ranks -- python3 "$check_pvtu" parts$ranks.pvtu gathered$ranks.mesh $ranks
+done
+expect 2 partitioned_not_pvtu -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify in.mesh -o parts.mesh --partitioned
+if [[ $(grep -c 'topotet-mpi: error: parts.mesh: --partitioned writes a .pvtu' partitioned_not_pvtu.err) == 1 ]]; then pass "--partitioned needs a .pvtu"; else fail "--partitioned needs a .pvtu"; fi
 
 expect 2 missing_input -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify nowhere.mesh -o never.mesh
 if [[ $(grep -c 'topotet-mpi: error: .*nowhere.mesh' missing_input.err) == 1 ]]; then pass "one error line naming the file"; else fail "one error line naming the file"; fi

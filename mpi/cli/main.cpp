@@ -2,8 +2,9 @@
 //   mpirun -np 4 topotet-mpi simplify in.mesh -o out.mesh --ratio 0.1
 // Rank 0 reads IN, checks it (the mesh builder, as `topotet simplify` does), and METIS spreads it
 // over the ranks; topotet::mpi::simplify runs the passes; rank 0 gathers the result and writes
-// OUT. The options are those of `topotet simplify` that steer the engine (the measurements and
-// reports of `topotet simplify` run on one node: use `topotet check IN OUT` on the result).
+// OUT, or with --partitioned every rank writes its piece (topotet::mpi::write_partitioned). The
+// options are those of `topotet simplify` that steer the engine (the measurements and reports of
+// `topotet simplify` run on one node: use `topotet check IN OUT` on the result).
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -25,7 +26,7 @@ struct Args {
   double max_cost = 0.0, min_quality = 0.05, tolerance = 0.0, tolerance_rel = topotet::kDefaultToleranceRel;
   double feature_angle = 45.0, round_fraction = 0.015;
   int threads = 0, max_passes = 8;
-  bool sequential = false, quiet = false;
+  bool sequential = false, quiet = false, partitioned = false;
 };
 
 // Rank 0's whole input, checked by the builder (its errors name the file and element), with the
@@ -45,12 +46,23 @@ topotet::MeshData read_checked(const std::string& path) {
   return data;
 }
 
+bool ends_with_pvtu(const std::string& path) {
+  return path.size() >= 5 && (path.compare(path.size() - 5, 5, ".pvtu") == 0 || path.compare(path.size() - 5, 5, ".PVTU") == 0);
+}
+
 int run(MPI_Comm comm, const Args& args) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
   const auto start = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  // Every rank has the same arguments: each finds this alone, before any work.
+  if (args.partitioned && !ends_with_pvtu(args.output)) {
+    if (rank == 0)
+      std::fprintf(stderr, "topotet-mpi: error: %s: --partitioned writes a .pvtu (and one .vtu per rank beside it)\n",
+                   args.output.c_str());
+    return 2;
+  }
   topotet::mpi::DistributedMesh mesh;
   std::string error;
   if (rank == 0) {
@@ -87,16 +99,23 @@ int run(MPI_Comm comm, const Args& args) {
   options.max_passes = args.max_passes;
   const topotet::mpi::Result result = topotet::mpi::simplify(comm, mesh, options);
   const double gather_start = seconds();
-  const topotet::MeshData out = topotet::mpi::gather(comm, mesh, 0);
+  // --partitioned: each rank writes its piece; else rank 0 gathers the whole mesh and writes it.
+  topotet::MeshData out;
+  if (args.partitioned) topotet::mpi::write_partitioned(comm, mesh, args.output);
+  else out = topotet::mpi::gather(comm, mesh, 0);
+  const std::uint64_t local_tets = mesh.local.tet_count();
+  std::uint64_t output_tets = 0;
+  MPI_Reduce(&local_tets, &output_tets, 1, MPI_UINT64_T, MPI_SUM, 0, comm);
   if (rank != 0) return 0;
-  topotet::write_mesh(args.output, out);
+  if (!args.partitioned) topotet::write_mesh(args.output, out);
   const double write_seconds = seconds() - gather_start;
   const topotet::Report& r = result.report;
   nlohmann::ordered_json json = {
       {"ranks", ranks},
       {"input", args.input},
       {"tets_before", input_tets},
-      {"tets_after", out.tet_count()},
+      {"tets_after", output_tets},
+      {"partitioned", args.partitioned},
       {"vertices_before", r.vertices_before},
       {"vertices_after", r.vertices_after},
       {"status", topotet::to_string(r.status)},
@@ -126,7 +145,7 @@ int run(MPI_Comm comm, const Args& args) {
     std::printf("vertices  %llu -> %llu (%s)\n", static_cast<unsigned long long>(r.vertices_before),
                 static_cast<unsigned long long>(r.vertices_after), topotet::to_string(r.status));
     std::printf("tets      %llu -> %llu\n", static_cast<unsigned long long>(input_tets),
-                static_cast<unsigned long long>(out.tet_count()));
+                static_cast<unsigned long long>(output_tets));
     for (std::size_t i = 0; i < result.passes.size(); ++i) {
       const auto& p = result.passes[i];
       std::printf("pass %zu    %.2f s (simplify %.2f s, repartition %.2f s), %llu vertices, %llu collapses, "
@@ -156,7 +175,9 @@ int main(int argc, char** argv) {
   Args args;
   CLI::App* cmd = app.add_subcommand("simplify", "Simplify a mesh over the MPI ranks; rank 0 reads IN and writes OUT");
   cmd->add_option("IN", args.input, "Input mesh (.mesh, .msh, optionally .gz)")->required();
-  cmd->add_option("-o,--output", args.output, "Output mesh (.mesh, .msh or .vtu)")->required();
+  cmd->add_option("-o,--output", args.output, "Output mesh (.mesh, .msh or .vtu; with --partitioned a .pvtu)")->required();
+  cmd->add_flag("--partitioned", args.partitioned,
+                "Each rank writes its piece: OUT.pvtu and OUT_<rank>.vtu beside it (ParaView), with a global_id point array");
   cmd->add_option("--ratio", args.ratio, "Keep this fraction of the vertices, in (0, 1]")->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--target-vertices", args.target_vertices, "Stop at this many vertices (wins over --ratio)");
   cmd->add_option("--max-cost,--max-error", args.max_cost, "Stop when the cheapest collapse costs more (0 = no limit)");

@@ -116,4 +116,14 @@ DistributedMesh from_whole(const MeshData& whole);
 // global id of each output vertex. Other ranks get an empty MeshData. Collective.
 MeshData gather(MPI_Comm comm, const DistributedMesh& mesh, int root = 0, std::vector<GlobalId>* global_ids = nullptr);
 
+// Writes one piece per rank for ParaView: `<stem>.pvtu` (by rank 0) listing `<stem>_<rank>.vtu`
+// (each by its rank, beside the .pvtu), so that no rank ever holds the whole mesh. A piece is the
+// rank's part as topotet's .vtu writer writes it (materials, fields; listed triangles and segments
+// in `<stem>_<rank>_substructures.vtp`) plus a point array "global_id" (Float64, exact up to
+// 2^53): a vertex on a partition border is in every piece holding it, with the same global id.
+// Ranks without tets write no piece. Every file goes to a temporary name and is renamed, the .pvtu
+// last, so a reader never sees a set with missing pieces. `pvtu_path` must end in .pvtu.
+// Collective; errors throw std::runtime_error on every rank (the lowest failing rank's message).
+void write_partitioned(MPI_Comm comm, const DistributedMesh& mesh, const std::string& pvtu_path);
+
 }  // namespace topotet::mpi
