@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Smoke test of topotet-mpi: a generated mesh simplified over 2 ranks passes `topotet check`
 # against its input, the report says what the passes did, a --partitioned output (.pvtu + one
-# .vtu per rank) holds the same mesh as the gathered one, and bad input stops every rank with
-# one clear error line and exit code 2.
+# .vtu per rank) holds the same mesh as the gathered one, a mesh partitioned by gmsh (split and
+# one-file forms) simplifies to the input's topology, and bad input stops every rank with one
+# clear error line and exit code 2.
 #   bash tests/mpi_cli_test.sh TOPOTET_MPI TOPOTET MPIEXEC
 set -euo pipefail
 topotet_mpi=$(realpath "$1")
@@ -29,6 +30,26 @@ for ranks in 2 4; do
 done
 expect 2 partitioned_not_pvtu -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify in.mesh -o parts.mesh --partitioned
 if [[ $(grep -c 'topotet-mpi: error: parts.mesh: --partitioned writes a .pvtu' partitioned_not_pvtu.err) == 1 ]]; then pass "--partitioned needs a .pvtu"; else fail "--partitioned needs a .pvtu"; fi
+
+# Partitioned Gmsh input (Debian's gmsh, installed by scripts/setup.sh): gmsh cuts the mesh in 2,
+# into two files (-part_split) and into one; both simplify on 2 ranks to the input's topology.
+if command -v gmsh >/dev/null; then
+  expect 0 to_msh -- "$topotet" convert in.mesh whole.msh
+  expect 0 gmsh_split -- gmsh whole.msh -part 2 -part_split -save -o split.msh
+  expect 0 gmsh_one_file -- gmsh whole.msh -part 2 -save -o onefile.msh
+  for form in split onefile; do
+    expect 0 ${form}_2_ranks -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify $form.msh -o from_$form.mesh --ratio 0.2 --quiet
+    expect 0 ${form}_check -- "$topotet" check whole.msh from_$form.mesh
+  done
+  expect 2 parts_vs_ranks -- "$mpiexec" -np 3 --oversubscribe --bind-to none "$topotet_mpi" simplify split.msh -o never.mesh
+  if [[ $(grep -c 'error: split_1.msh: partitioned in 2 parts (gmsh -part 2), but 3 ranks run' parts_vs_ranks.err) == 1 ]]; then
+    pass "parts must match ranks"
+  else
+    fail "parts must match ranks"
+  fi
+else
+  fail "gmsh not found (scripts/setup.sh installs it): partitioned Gmsh input untested"
+fi
 
 expect 2 missing_input -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify nowhere.mesh -o never.mesh
 if [[ $(grep -c 'topotet-mpi: error: .*nowhere.mesh' missing_input.err) == 1 ]]; then pass "one error line naming the file"; else fail "one error line naming the file"; fi

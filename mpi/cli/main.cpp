@@ -1,10 +1,11 @@
 // topotet-mpi: the distributed simplifier on a mesh file.
 //   mpirun -np 4 topotet-mpi simplify in.mesh -o out.mesh --ratio 0.1
 // Rank 0 reads IN, checks it (the mesh builder, as `topotet simplify` does), and METIS spreads it
-// over the ranks; topotet::mpi::simplify runs the passes; rank 0 gathers the result and writes
-// OUT, or with --partitioned every rank writes its piece (topotet::mpi::write_partitioned). The
-// options are those of `topotet simplify` that steer the engine (the measurements and reports of
-// `topotet simplify` run on one node: use `topotet check IN OUT` on the result).
+// over the ranks, or each rank reads its part of a partitioned Gmsh mesh (cli/read_input.h);
+// topotet::mpi::simplify runs the passes; rank 0 gathers the result and writes OUT, or with
+// --partitioned every rank writes its piece (topotet::mpi::write_partitioned). The options are
+// those of `topotet simplify` that steer the engine (the measurements and reports of `topotet
+// simplify` run on one node: use `topotet check IN OUT` on the result).
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -15,7 +16,7 @@
 #include "topotet/error.h"
 #include "topotet/io.h"
 #include "topotet/mpi.h"
-#include "topotet/tet_mesh.h"
+#include "read_input.h"
 
 namespace {
 
@@ -28,23 +29,6 @@ struct Args {
   int threads = 0, max_passes = 8;
   bool sequential = false, quiet = false, partitioned = false;
 };
-
-// Rank 0's whole input, checked by the builder (its errors name the file and element), with the
-// listed elements the builder leaves out dropped, so the checker later compares like with like.
-topotet::MeshData read_checked(const std::string& path) {
-  topotet::MeshData data = topotet::read_mesh(path);
-  topotet::BuildOptions build;
-  build.skip_detached_substructures = true;
-  topotet::BuildNotes notes;
-  try {
-    (void)topotet::build_tet_mesh(data, build, &notes);
-  } catch (const topotet::InputError& e) {
-    const std::string what = e.what();
-    throw topotet::InputError(what.rfind(path, 0) == 0 ? what : path + ": " + what);
-  }
-  topotet::drop_noted_substructures(data, notes);
-  return data;
-}
 
 bool ends_with_pvtu(const std::string& path) {
   return path.size() >= 5 && (path.compare(path.size() - 5, 5, ".pvtu") == 0 || path.compare(path.size() - 5, 5, ".PVTU") == 0);
@@ -63,26 +47,11 @@ int run(MPI_Comm comm, const Args& args) {
                    args.output.c_str());
     return 2;
   }
-  topotet::mpi::DistributedMesh mesh;
-  std::string error;
-  if (rank == 0) {
-    try {
-      mesh = topotet::mpi::from_whole(read_checked(args.input));
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-  }
-  // Every rank learns of rank 0's read error and stops with it.
-  int failed = error.empty() ? 0 : 1;
-  MPI_Bcast(&failed, 1, MPI_INT, 0, comm);
-  if (failed) {
-    if (rank == 0) std::fprintf(stderr, "topotet-mpi: error: %s\n", error.c_str());
-    return 2;
-  }
+  // Read and distributed together (a partitioned Gmsh input is read where its parts go).
+  topotet::mpi::cli::Input input = topotet::mpi::cli::read_input(comm, args.input, 1);
+  topotet::mpi::DistributedMesh& mesh = input.part;
+  const std::uint64_t input_tets = input.tets;
   const double read_seconds = seconds();
-  const std::uint64_t input_tets = mesh.local.tet_count();
-  topotet::mpi::distribute(comm, mesh);
-  const double distribute_seconds = seconds() - read_seconds;
 
   topotet::mpi::Options options;
   topotet::SimplifyOptions& o = options.simplify;
@@ -120,8 +89,9 @@ int run(MPI_Comm comm, const Args& args) {
       {"vertices_after", r.vertices_after},
       {"status", topotet::to_string(r.status)},
       {"message", r.message},
-      {"read_seconds", read_seconds},
-      {"distribute_seconds", distribute_seconds},
+      {"read_distribute_seconds", read_seconds},
+      {"input_form", input.kind == topotet::mpi::cli::InputKind::kWhole ? "whole (METIS)"
+                : input.kind == topotet::mpi::cli::InputKind::kGmshSplit ? "gmsh split parts" : "gmsh partitioned"},
       {"simplify_seconds", r.seconds},
       {"gather_write_seconds", write_seconds},
       {"total_seconds", seconds()},
@@ -155,8 +125,8 @@ int run(MPI_Comm comm, const Args& args) {
                   static_cast<unsigned long long>(p.frozen_vertices), static_cast<unsigned long long>(p.migrated_tets),
                   static_cast<unsigned long long>(p.bytes_sent));
     }
-    std::printf("time      read %.2f s, distribute %.2f s, simplify %.2f s, gather+write %.2f s\n", read_seconds,
-                distribute_seconds, r.seconds, write_seconds);
+    std::printf("time      read+distribute %.2f s, simplify %.2f s, gather+write %.2f s\n", read_seconds, r.seconds,
+                write_seconds);
     std::printf("memory    peak RSS %.1f MB (largest rank)\n", static_cast<double>(result.peak_rss_bytes) / 1e6);
     if (!r.message.empty()) std::printf("note      %s\n", r.message.c_str());
   }
@@ -174,7 +144,10 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   Args args;
   CLI::App* cmd = app.add_subcommand("simplify", "Simplify a mesh over the MPI ranks; rank 0 reads IN and writes OUT");
-  cmd->add_option("IN", args.input, "Input mesh (.mesh, .msh, optionally .gz)")->required();
+  cmd->add_option("IN", args.input,
+                  "Input mesh (.mesh, .msh, optionally .gz), or a partitioned Gmsh 4.1 mesh with one part per rank "
+                  "(IN with $PartitionedEntities, or IN_1.msh .. IN_N.msh from gmsh -part N -part_split)")
+      ->required();
   cmd->add_option("-o,--output", args.output, "Output mesh (.mesh, .msh or .vtu; with --partitioned a .pvtu)")->required();
   cmd->add_flag("--partitioned", args.partitioned,
                 "Each rank writes its piece: OUT.pvtu and OUT_<rank>.vtu beside it (ParaView), with a global_id point array");

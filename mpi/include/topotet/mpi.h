@@ -108,6 +108,10 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options);
 // rank with METIS (k-way on the dual graph) and moves the tets there. Collective.
 void distribute(MPI_Comm comm, DistributedMesh& mesh, std::int32_t metis_seed = 1);
 
+// The same with the parts given: local tet t goes to rank dest[t] (dest.size() == local tets;
+// e.g. a partitioned Gmsh file's partitions, read on one rank). Collective.
+void distribute_to(MPI_Comm comm, DistributedMesh& mesh, const std::vector<int>& dest);
+
 // A whole MeshData on one rank as a DistributedMesh (global id = index); other ranks pass {}.
 DistributedMesh from_whole(const MeshData& whole);
 
