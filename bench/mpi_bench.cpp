@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <unordered_map>
 
@@ -51,6 +52,18 @@ Json measure(const topotet::MeshData& input, const topotet::MeshData& out, const
     j["border_min_mean_ratio"] = qb.mean_ratio.min;
   }
   return j;
+}
+
+std::uint64_t peak_rss_bytes() {
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key)
+    if (key == "VmHWM:") {
+      std::uint64_t kb = 0;
+      status >> kb;
+      return kb * 1024;
+    }
+  return 0;
 }
 
 // RMS (relative to the range, worst component) of the original -> simplified error at the input
@@ -115,6 +128,11 @@ int main(int argc, char** argv) {
   const auto t0 = std::chrono::steady_clock::now();
   topotet::mpi::distribute(MPI_COMM_WORLD, part);
   const double distribute_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // Peak memory per rank after the distribution, before simplify: what reading and spreading the
+  // mesh took (VmHWM, bytes), against simplify's own peak (Result::peak_rss_per_rank).
+  const std::uint64_t rss_distributed = peak_rss_bytes();
+  std::vector<std::uint64_t> rss_distributed_per_rank(ranks);
+  MPI_Gather(&rss_distributed, 1, MPI_UINT64_T, rss_distributed_per_rank.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
   topotet::mpi::Options options;
   options.simplify.target_vertex_ratio = ratio;
   options.simplify.num_threads = threads;
@@ -167,6 +185,7 @@ int main(int argc, char** argv) {
                         {"bytes_sent", p.bytes_sent}});
     j["passes"] = passes;
     j["peak_rss_bytes_per_rank"] = r.peak_rss_per_rank;
+    j["peak_rss_bytes_after_distribute_per_rank"] = rss_distributed_per_rank;
     j["mpi"] = measure(input, out, &touched);
     if (compare) {
       topotet::TetMesh mesh = topotet::build_tet_mesh(input);
