@@ -181,7 +181,8 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
     const CostUnits units = detail::global_cost_units(comm, mesh.local);
     local.cost_units = units.diagonal > 0.0 ? &units : nullptr;
     std::string error;
-    if (options.shares_by_cost && o.engine == Engine::kParallel && global_share > 0) {
+    // (One rank has nothing to split.)
+    if (options.shares_by_cost && o.engine == Engine::kParallel && global_share > 0 && detail::size_of(comm) > 1) {
       // The trial, on a copy: its curve of cost against removed vertices, up to halfway between
       // the count share and everything removable (a rank rarely needs more; the last collapses
       // of a part, where every candidate fails, are the slowest).
