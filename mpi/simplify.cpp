@@ -183,22 +183,21 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
     std::string error;
     // (One rank has nothing to split.)
     if (options.shares_by_cost && o.engine == Engine::kParallel && global_share > 0 && detail::size_of(comm) > 1) {
-      // The trial, on a copy: its curve of cost against removed vertices, up to halfway between
-      // the count share and everything removable, and at most 1.5 times the count share (a rank
-      // rarely needs more: should one, the others take the rest). The last collapses of a part,
-      // where every candidate fails, are the slowest, and a later pass's share is a small part of
-      // what it could remove (1M cube-sphere, 4 ranks, pass 2: a trial to halfway took 10.3 s,
-      // the pass itself 2.2 s).
+      // The trial (the part itself stays as it is): its curve of cost against removed vertices,
+      // up to halfway between the count share and everything removable, and at most 1.5 times
+      // the count share (a rank rarely needs more: should one, the others take the rest). The
+      // last collapses of a part, where every candidate fails, are the slowest, and a later
+      // pass's share is a small part of what it could remove (1M cube-sphere, 4 ranks, pass 2: a
+      // trial to halfway took 10.3 s, the pass itself 2.2 s).
       std::vector<RoundStats> rounds;
       const std::uint64_t reach =
           std::min(share + (removable - std::min(share, removable)) / 2, share + share / 2);
       if (removable > 0) {
         try {
-          DistributedMesh copy = mesh;
           SimplifyOptions trial = local;
           trial.round_log = &rounds;
-          const detail::LocalPass t = detail::simplify_part(copy, sharing.shared, keep, trial, mesh.local.vertex_count() - reach);
-          if (is_failure(t.report.status)) error = t.report.message;
+          const Report t = detail::trial_part(mesh, sharing.shared, keep, trial, mesh.local.vertex_count() - reach);
+          if (is_failure(t.status)) error = t.message;
         } catch (const std::exception& e) {
           error = e.what();
         }
