@@ -5,8 +5,9 @@
 // (measured, cube-sphere 200k to 10% on 4 ranks: the two parts holding the field's front and peak
 // had +19% and +32% RMS at their input vertices, the two smooth ones -1% and -6%).
 //
-// So each rank first runs its pass on a copy as far as it can go, with the costs in the whole
-// mesh's units (SimplifyOptions::cost_units), and records after each round how many vertices it
+// So each rank first runs its pass as a trial (on an engine mesh built from its part, which stays
+// as it is; up to 1.5 times its count share, simplify.cpp), with the costs in the whole mesh's
+// units (SimplifyOptions::cost_units), and records after each round how many vertices it
 // had removed and the largest cost so far (RoundStats::max_cost). The ranks exchange these
 // curves, find the cost T at which they together remove the pass's share, and each removes what
 // its own curve removes below T: every rank stops at about the same cost, as one engine would.
