@@ -1,5 +1,6 @@
 #include "read_input.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <stdexcept>
 #include <vector>
@@ -104,12 +105,20 @@ Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed
         MeshData d = read_checked(path, &notes);
         if (notes.partitions != 0) {
           if (notes.partitions != static_cast<std::uint64_t>(ranks)) throw InputError(partitions_error(path, notes.partitions, ranks));
+          std::vector<std::uint8_t> seen(static_cast<std::size_t>(ranks), 0);
           for (std::size_t t = 0; t < notes.tet_partition.size(); ++t) {
             const std::int32_t p = notes.tet_partition[t];
             if (p < 1 || p > ranks)
               throw InputError(path + ": tetrahedron " + std::to_string(t + 1) + " is on no partition 1.." + std::to_string(ranks));
             dest.push_back(p - 1);
+            seen[static_cast<std::size_t>(p - 1)] = 1;
           }
+          // One piece of a split mesh (gmsh -part_split) says N partitions but holds one.
+          const auto missing = std::find(seen.begin(), seen.end(), 0);
+          if (missing != seen.end())
+            throw InputError(path + ": partition " + std::to_string(missing - seen.begin() + 1) + " of " +
+                             std::to_string(ranks) + " has no tets here: for the parts of gmsh -part_split, name the "
+                             "mesh without its _<part> suffix");
         }
         in.part = from_whole(d);
       } catch (const std::exception& e) {
