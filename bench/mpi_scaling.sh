@@ -32,12 +32,12 @@ rows = [json.loads(l) for l in open(sys.argv[1])]
 def mb(x): return f"{x / 1e6:.0f}"
 for kind in ("strong", "weak"):
     print(f"\n{kind} scaling (cube-sphere, ratio 0.1)\n")
-    print("| ranks | tets in | passes | simplify s (per pass) | distribute s | migrated tets (per pass) | MB sent (per pass) | peak RSS MB per rank |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| ranks | tets in | passes | simplify s (per pass) | of which trial runs s | distribute s | migrated tets (per pass) | MB sent (per pass) | peak RSS MB per rank |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for r in (r for r in rows if r["kind"] == kind):
         p = r["passes"]
         print(f"| {r['ranks']} | {r['tets_in']:,} | {len(p)} | {r['simplify_seconds']:.2f} ({', '.join('%.2f' % x['seconds'] for x in p)}) "
-              f"| {r['distribute_seconds']:.2f} | {', '.join(format(x['migrated_tets'], ',') for x in p)} "
+              f"| {', '.join('%.2f' % x.get('trial_seconds', 0) for x in p)} | {r['distribute_seconds']:.2f} | {', '.join(format(x['migrated_tets'], ',') for x in p)} "
               f"| {', '.join('%.2f' % (x['bytes_sent'] / 1e6) for x in p)} | {', '.join(mb(x) for x in r['peak_rss_bytes_per_rank'])} |")
 for r in (r for r in rows if r["kind"] == "quality"):
     m, s = r["mpi"], r["shm"]

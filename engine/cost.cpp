@@ -56,6 +56,15 @@ CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options)
       field_max[c] = std::max(field_max[c], f);
     }
   }
+  const CostUnits* units = options.cost_units;  // the caller's units (checked by simplify)
+  if (units != nullptr) {
+    lo = glm::dvec3(units->origin[0], units->origin[1], units->origin[2]);
+    hi = lo + glm::dvec3(units->diagonal, 0.0, 0.0);
+    for (int c = 0; c < k; ++c) {
+      field_min_[c] = units->field_min[component_[c]];
+      field_max[c] = field_min_[c] + units->field_range[component_[c]];
+    }
+  }
   origin_ = lo;
   const double diag = glm::length(hi - lo);
   inv_diag_ = diag > 0.0 ? 1.0 / diag : 1.0;
@@ -84,7 +93,9 @@ CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options)
   double total_volume = 0.0;
   std::size_t tet_count = 0;
   for (std::size_t bi = 0; bi < blocks; ++bi) total_volume += block_volume[bi], tet_count += block_count[bi];
-  const double v_ref = tet_count ? total_volume / 6.0 / static_cast<double>(tet_count) * inv_diag_ * inv_diag_ * inv_diag_ : 1.0;
+  const double v_ref = units != nullptr ? units->mean_tet_volume * inv_diag_ * inv_diag_ * inv_diag_
+                      : tet_count ? total_volume / 6.0 / static_cast<double>(tet_count) * inv_diag_ * inv_diag_ * inv_diag_
+                                  : 1.0;
   const double e_ref = std::cbrt(6.0 * std::sqrt(2.0) * v_ref);  // the regular tet of volume v_ref
   const double a_ref = std::sqrt(3.0) / 4.0 * e_ref * e_ref;
 

@@ -412,7 +412,8 @@ class Rounds {
     });
     stats.collapses = applied.load();
     if (log_ != nullptr) log_->end_batch();
-    for (double c : applied_cost_) report_.max_cost = std::max(report_.max_cost, c);
+    for (double c : applied_cost_) stats.max_cost = std::max(stats.max_cost, c);
+    report_.max_cost = std::max(report_.max_cost, stats.max_cost);
     report_.collapses += stats.collapses;
     live_ -= stats.collapses;
     for (ThreadScratch& s : scratch_) {

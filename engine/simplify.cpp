@@ -64,7 +64,14 @@ std::string check_options(const SimplifyOptions& o) {
   return {};
 }
 
-std::string check_field_names(const SimplifyOptions& o, const MeshModel& mesh) {
+std::string check_against_mesh(const SimplifyOptions& o, const MeshModel& mesh) {
+  if (const CostUnits* u = o.cost_units) {
+    if (!(u->diagonal > 0.0) || !(u->mean_tet_volume > 0.0)) return "cost_units: diagonal and mean_tet_volume must be > 0";
+    const auto stride = static_cast<std::size_t>(mesh.field_stride());
+    if (u->field_min.size() != stride || u->field_range.size() != stride)
+      return "cost_units: field_min and field_range need one entry per field component (" +
+             std::to_string(mesh.field_stride()) + ")";
+  }
   for (const auto& entry : o.field_weights) {
     const std::string& name = entry.first;
     if (std::none_of(mesh.fields.begin(), mesh.fields.end(), [&](const FieldInfo& f) { return f.name == name; }))
@@ -127,7 +134,7 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
   bool map_done = false;
   try {
     report.message = check_options(options);
-    if (report.message.empty()) report.message = check_field_names(options, mesh);
+    if (report.message.empty()) report.message = check_against_mesh(options, mesh);
     if (!report.message.empty()) {
       report.status = Status::kInvalidInput;
       if (vertex_map != nullptr) resolve_vertex_map(mesh, input_vertex_count, {}, false, *vertex_map);

@@ -34,6 +34,19 @@ void distribute(MPI_Comm comm, DistributedMesh& mesh, std::int32_t metis_seed) {
   mesh.owner = detail::find_sharing(comm, mesh.global_ids, nullptr).owner;
 }
 
+void distribute_to(MPI_Comm comm, DistributedMesh& mesh, const std::vector<int>& dest) {
+  detail::check_part(comm, mesh);
+  const int ranks = detail::size_of(comm);
+  const bool ok = dest.size() == mesh.local.tet_count() &&
+                  std::all_of(dest.begin(), dest.end(), [&](int r) { return r >= 0 && r < ranks; });
+  detail::agree_or_throw(comm, ok, "distribute_to: one destination rank in [0, ranks) per local tet");
+  detail::agree_layout(comm, mesh);
+  std::vector<std::uint8_t> pending(mesh.local.vertex_count(), 0);
+  detail::migrate(comm, mesh, pending, dest, nullptr);
+  detail::agree_layout(comm, mesh);
+  mesh.owner = detail::find_sharing(comm, mesh.global_ids, nullptr).owner;
+}
+
 MeshData gather(MPI_Comm comm, const DistributedMesh& mesh, int root, std::vector<GlobalId>* global_ids) {
   const int ranks = detail::size_of(comm), me = detail::rank_of(comm);
   const MeshData& d = mesh.local;

@@ -22,6 +22,11 @@ struct LocalPass {
 // overridden). shared[v]: vertex v is frozen. keep (may be empty) [v]: vertex v is pinned (it may
 // absorb a collapse, but neither moves nor goes). The part keeps its global ids on the surviving
 // vertices; `owner` is carried over. Throws InputError when the part is not a valid mesh.
+// The same run on the part without changing it (the TetMesh is built from mesh.local, which is
+// left as it was): shares_by_cost's trial, which wants only the report and options.round_log.
+Report trial_part(DistributedMesh& mesh, const std::vector<std::uint8_t>& shared, const std::vector<std::uint8_t>& keep,
+                  SimplifyOptions options, std::uint64_t target_vertices);
+
 LocalPass simplify_part(DistributedMesh& mesh, const std::vector<std::uint8_t>& shared,
                         const std::vector<std::uint8_t>& keep, SimplifyOptions options, std::uint64_t target_vertices);
 

@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
 # Smoke test of topotet-mpi: a generated mesh simplified over 2 ranks passes `topotet check`
-# against its input, the report says what the passes did, and bad input stops every rank with
-# one clear error line and exit code 2.
+# against its input, the report says what the passes did, a --partitioned output (.pvtu + one
+# .vtu per rank) holds the same mesh as the gathered one, a mesh partitioned by gmsh (split and
+# one-file forms) simplifies to the input's topology, and bad input stops every rank with one
+# clear error line and exit code 2.
 #   bash tests/mpi_cli_test.sh TOPOTET_MPI TOPOTET MPIEXEC
 set -euo pipefail
 topotet_mpi=$(realpath "$1")
 topotet=$(realpath "$2")
 mpiexec=$3
+check_pvtu=$(realpath "$(dirname "${BASH_SOURCE[0]}")/mpi_pvtu_check.py")
 source "$(dirname "${BASH_SOURCE[0]}")/cli_harness.sh"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -16,6 +19,43 @@ expect 0 generate -- "$topotet" generate cube-sphere --tets 4000 -o in.mesh
 expect 0 simplify_2_ranks -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify in.mesh -o out.mesh --ratio 0.2 --report report.json
 expect 0 check -- "$topotet" check in.mesh out.mesh
 if grep -q '"passes"' report.json && grep -q '"migrated_tets"' report.json; then pass "report lists the passes"; else fail "report lists the passes"; fi
+
+# --partitioned: one .vtu per rank and a .pvtu; the pieces add up to the gathered result of the
+# same run (the output does not depend on how it is written). These runs test input and output:
+# --count-shares saves them the trial runs (the library tests cover the shares).
+for ranks in 2 4; do
+  expect 0 gathered_$ranks -- "$mpiexec" -np $ranks --oversubscribe --bind-to none "$topotet_mpi" simplify in.mesh -o gathered$ranks.mesh --ratio 0.2 --count-shares --quiet
+  expect 0 partitioned_$ranks -- "$mpiexec" -np $ranks --oversubscribe --bind-to none "$topotet_mpi" simplify in.mesh -o parts$ranks.pvtu --ratio 0.2 --count-shares --partitioned --quiet
+  expect 0 pvtu_pieces_$ranks -- python3 "$check_pvtu" parts$ranks.pvtu gathered$ranks.mesh $ranks
+done
+expect 2 partitioned_not_pvtu -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify in.mesh -o parts.mesh --partitioned
+if [[ $(grep -c 'topotet-mpi: error: parts.mesh: --partitioned writes a .pvtu' partitioned_not_pvtu.err) == 1 ]]; then pass "--partitioned needs a .pvtu"; else fail "--partitioned needs a .pvtu"; fi
+
+# Partitioned Gmsh input (Debian's gmsh, installed by scripts/setup.sh): gmsh cuts the mesh in 2,
+# into two files (-part_split) and into one; both simplify on 2 ranks to the input's topology.
+if command -v gmsh >/dev/null; then
+  expect 0 to_msh -- "$topotet" convert in.mesh whole.msh
+  expect 0 gmsh_split -- gmsh whole.msh -part 2 -part_split -save -o split.msh
+  expect 0 gmsh_one_file -- gmsh whole.msh -part 2 -save -o onefile.msh
+  for form in split onefile; do
+    expect 0 ${form}_2_ranks -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify $form.msh -o from_$form.mesh --ratio 0.2 --count-shares --quiet
+    expect 0 ${form}_check -- "$topotet" check whole.msh from_$form.mesh
+  done
+  expect 2 one_piece_of_split -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify split_1.msh -o never.mesh
+  if grep -q 'error: split_1.msh: partition 2 of 2 has no tets here' one_piece_of_split.err; then
+    pass "a piece of a split mesh is not taken for the whole"
+  else
+    fail "a piece of a split mesh is not taken for the whole"
+  fi
+  expect 2 parts_vs_ranks -- "$mpiexec" -np 3 --oversubscribe --bind-to none "$topotet_mpi" simplify split.msh -o never.mesh
+  if [[ $(grep -c 'error: split_1.msh: partitioned in 2 parts (gmsh -part 2), but 3 ranks run' parts_vs_ranks.err) == 1 ]]; then
+    pass "parts must match ranks"
+  else
+    fail "parts must match ranks"
+  fi
+else
+  fail "gmsh not found (scripts/setup.sh installs it): partitioned Gmsh input untested"
+fi
 
 expect 2 missing_input -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify nowhere.mesh -o never.mesh
 if [[ $(grep -c 'topotet-mpi: error: .*nowhere.mesh' missing_input.err) == 1 ]]; then pass "one error line naming the file"; else fail "one error line naming the file"; fi

@@ -166,6 +166,7 @@ struct Run {
 // A partitioned entity ($PartitionedEntities): the piece of model entity parent_tag.
 struct Piece {
   int parent_dim = 0, parent_tag = 0;
+  int partition = 0;  // the first of its partition tags
   std::vector<int> physicals;
 };
 
@@ -325,7 +326,7 @@ class GmshReader {
   // not part of the model: their elements are skipped.
   void read_partitioned_entities() {
     begin_binary();
-    size("$PartitionedEntities number of partitions");
+    notes_.partitions = size("$PartitionedEntities number of partitions");
     const std::uint64_t ghosts = size("$PartitionedEntities number of ghost entities");
     for (std::uint64_t i = 0; i < ghosts; ++i) {
       int32("$PartitionedEntities ghost entity tag");
@@ -340,7 +341,10 @@ class GmshReader {
         piece.parent_dim = int32("$PartitionedEntities parent dimension");
         piece.parent_tag = int32("$PartitionedEntities parent tag");
         const std::uint64_t parts = size("$PartitionedEntities number of partitions");
-        for (std::uint64_t k = 0; k < parts; ++k) int32("$PartitionedEntities partition tag");
+        for (std::uint64_t k = 0; k < parts; ++k) {
+          const std::int32_t partition = int32("$PartitionedEntities partition tag");
+          if (k == 0) piece.partition = partition;
+        }
         for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) bbox_real("$PartitionedEntities bounding box");
         const std::uint64_t nphys = size("$PartitionedEntities number of physical tags");
         for (std::uint64_t k = 0; k < nphys; ++k) piece.physicals.push_back(int32("$PartitionedEntities physical tag"));
@@ -365,6 +369,7 @@ class GmshReader {
     if (m_.positions.size() >= kInvalid - 1) r_.fail("$Nodes: too many nodes");
     if (!nodes_.insert(tag, static_cast<VertId>(m_.positions.size()))) r_.fail("$Nodes: duplicate node tag " + std::to_string(tag));
     m_.positions.push_back(p);
+    if (options_.keep_partitions && v41_) notes_.node_tags.push_back(tag);
   }
 
   void read_nodes41() {
@@ -523,6 +528,8 @@ class GmshReader {
         for (int k = 0; k < et.nodes; ++k) tags[static_cast<std::size_t>(k)] = node_tag("$Elements node tag");
         if (!partition_boundary) add_element(type, tags.data());
       }
+      if (options_.keep_partitions && dim == 3)
+        notes_.tet_partition.resize(m_.tets.size(), piece != nullptr ? piece->partition : 0);
       add_to_run(dim, entity, 0, begin);
     }
     if (seen != total) {

@@ -26,6 +26,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "topotet/mesh_data.h"
 
@@ -46,11 +47,22 @@ MeshFormat format_from_path(std::string_view path);
 struct ReadOptions {
   bool tets_only = false;
   std::optional<MeshFormat> format;  // overrides the extension; required for "-"
+  // Gmsh 4.1: fill ReadNotes::node_tags and ReadNotes::tet_partition (topotet-mpi reads the parts
+  // of a partitioned file with them).
+  bool keep_partitions = false;
 };
 struct ReadNotes {
   std::uint64_t hexahedra = 0, prisms = 0, pyramids = 0;  // left out (tets_only)
   std::uint64_t quadrilaterals = 0;                        // left out
   std::uint64_t dropped_corners = 0;  // MEDIT Corners with an out-of-range vertex (TetGen -g): left out
+  // Gmsh 4.1 partitioned files (gmsh -part N, with or without -part_split): N, from
+  // $PartitionedEntities; 0 for an unpartitioned file.
+  std::uint64_t partitions = 0;
+  // With ReadOptions::keep_partitions (Gmsh 4.1 only, else empty): [vertex] its node tag (tags
+  // are global over the split files of one mesh), and [tet] the partition (1..N) of its entity,
+  // 0 for a tet on an unpartitioned entity.
+  std::vector<std::uint64_t> node_tags;
+  std::vector<std::int32_t> tet_partition;
   std::uint64_t volume_cells() const { return hexahedra + prisms + pyramids; }
 };
 

@@ -13,6 +13,7 @@ struct RoundStats {
   std::uint64_t candidates = 0;  // verified proposals competing for the independent set
   std::uint64_t winners = 0;     // independent set size
   std::uint64_t collapses = 0;   // winners applied (all: they were verified before selection)
+  double max_cost = 0.0;         // the largest cost among them (normalised units, SimplifyOptions::max_cost)
   // Wall time: evaluate (costs, then the kernel on the round's candidates), select (threshold,
   // stencils, reservations), apply (collapses and the updates of their stencils), compact.
   std::array<double, 4> phase_seconds{};

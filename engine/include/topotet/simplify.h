@@ -61,6 +61,17 @@ inline constexpr RejectReason kRejectReasons[] = {RejectReason::kLinkK,     Reje
                                                   RejectReason::kFieldError};
 const char* to_string(RejectReason reason);  // "link_K", "link_Ktilde", "pinned", ..., "field_error"
 
+// The units costs are normalised in (engine/cost.h). By default the mesh's own: its bounding box
+// (origin = the low corner, diagonal), each field component's min and range over its vertices, and
+// its mean tet volume. A caller that simplifies the parts of one mesh separately (topotet::mpi)
+// passes the whole mesh's, so that the parts' costs are in the same units and compare.
+struct CostUnits {
+  double origin[3] = {0.0, 0.0, 0.0};
+  double diagonal = 0.0;         // > 0
+  double mean_tet_volume = 0.0;  // > 0, mesh units
+  std::vector<double> field_min, field_range;  // [field component, field_stride() order]
+};
+
 struct SimplifyOptions {
   // Stop when the live vertex count reaches target_vertex_ratio * input vertices, or
   // target_vertices if non-zero (it wins over the ratio).
@@ -130,6 +141,9 @@ struct SimplifyOptions {
   // Diagnostics (topotet/round_log.h): with a vector here, the parallel engine appends the work and
   // times of every round to it (bench/bench_simplify's scaling model, `topotet simplify -vv`).
   std::vector<RoundStats>* round_log = nullptr;
+  // Non-null: normalise costs in these units instead of the mesh's own (CostUnits above); field
+  // vectors must have field_stride() entries, else the call returns kInvalidInput.
+  const CostUnits* cost_units = nullptr;
 };
 
 struct Report {

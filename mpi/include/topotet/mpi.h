@@ -15,8 +15,9 @@
 //      the ranks); they are FROZEN (vertex_state::kFrozen): no collapse touches them, so every
 //      collapse left has the whole stars of both ends on this rank and the local decision is the
 //      global one (a partition face has three shared vertices, so it is never seen as boundary);
-//   2. simplify locally towards this rank's share of the global target (share of the removable
-//      vertices: in pass 1 all the unfrozen ones, later the unfrozen ones that were frozen before);
+//   2. simplify locally towards this rank's share of the global target (the pass's share: in
+//      pass 1 every vertex's fair share, later the rest), split over the ranks so that they stop
+//      at about the same cost (Options::shares_by_cost), costs in the whole mesh's units;
 //   3. repartition the coarse mesh with METIS (the dual graph is gathered on rank 0: 33 bytes per
 //      coarse tet there), faces near still-unsimplified former borders weighted so that the new
 //      cut avoids them, parts matched to ranks by overlap, and migrate the tets (with their
@@ -66,12 +67,21 @@ struct Options {
   // pinned neighbours take the optimal placements away from the border vertices.
   bool later_passes_on_former_borders = false;
   std::int32_t metis_seed = 1;  // METIS_OPTION_SEED: fixed, so that partitions repeat
+  // true: a pass's share is split over the ranks by cost, not by vertex count: each rank first
+  // runs the pass as a trial (up to 1.5 times its count share), and the ranks then remove what
+  // their trials removed below one common cost, as the shared-memory engine's global cost order
+  // would (mpi/cost_shares.h). Costs are always in the whole mesh's units. Needs the parallel
+  // engine and two ranks (else shares are by count). Costs about one more local simplification
+  // per pass. Measured (cube-sphere 200k to 10%, field RMS against the shared-memory engine: +8.7%
+  // at 4 ranks, +14.9% by count): README.md.
+  bool shares_by_cost = true;
 };
 
 // What one pass did, over all ranks.
 struct PassStats {
   double seconds = 0.0;           // wall time of the pass (slowest rank)
   double simplify_seconds = 0.0;  // local simplification, slowest rank
+  double trial_seconds = 0.0;      // shares_by_cost's trial runs (part of simplify_seconds), slowest rank
   double partition_seconds = 0.0;  // graph gather + METIS + migration, slowest rank
   std::uint64_t vertices_after = 0;   // global live vertices after the pass
   std::uint64_t collapses = 0;
@@ -99,6 +109,10 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options);
 // rank with METIS (k-way on the dual graph) and moves the tets there. Collective.
 void distribute(MPI_Comm comm, DistributedMesh& mesh, std::int32_t metis_seed = 1);
 
+// The same with the parts given: local tet t goes to rank dest[t] (dest.size() == local tets;
+// e.g. a partitioned Gmsh file's partitions, read on one rank). Collective.
+void distribute_to(MPI_Comm comm, DistributedMesh& mesh, const std::vector<int>& dest);
+
 // A whole MeshData on one rank as a DistributedMesh (global id = index); other ranks pass {}.
 DistributedMesh from_whole(const MeshData& whole);
 
@@ -106,5 +120,15 @@ DistributedMesh from_whole(const MeshData& whole);
 // order, listed triangles and segments merged. `global_ids` (root only, may be null) receives the
 // global id of each output vertex. Other ranks get an empty MeshData. Collective.
 MeshData gather(MPI_Comm comm, const DistributedMesh& mesh, int root = 0, std::vector<GlobalId>* global_ids = nullptr);
+
+// Writes one piece per rank for ParaView: `<stem>.pvtu` (by rank 0) listing `<stem>_<rank>.vtu`
+// (each by its rank, beside the .pvtu), so that no rank ever holds the whole mesh. A piece is the
+// rank's part as topotet's .vtu writer writes it (materials, fields; listed triangles and segments
+// in `<stem>_<rank>_substructures.vtp`) plus a point array "global_id" (Float64, exact up to
+// 2^53): a vertex on a partition border is in every piece holding it, with the same global id.
+// Ranks without tets write no piece. Every file goes to a temporary name and is renamed, the .pvtu
+// last, so a reader never sees a set with missing pieces. `pvtu_path` must end in .pvtu.
+// Collective; errors throw std::runtime_error on every rank (the lowest failing rank's message).
+void write_partitioned(MPI_Comm comm, const DistributedMesh& mesh, const std::string& pvtu_path);
 
 }  // namespace topotet::mpi

@@ -1,0 +1,143 @@
+#include "read_input.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+#include <vector>
+
+#include "topotet/error.h"
+#include "topotet/io.h"
+#include "topotet/tet_mesh.h"
+
+namespace topotet::mpi::cli {
+
+namespace {
+
+int rank_of(MPI_Comm comm) {
+  int r = 0;
+  MPI_Comm_rank(comm, &r);
+  return r;
+}
+
+int size_of(MPI_Comm comm) {
+  int n = 1;
+  MPI_Comm_size(comm, &n);
+  return n;
+}
+
+// Every rank learns whether some rank failed; all throw the lowest failing rank's message.
+void agree(MPI_Comm comm, const std::string& error) {
+  const int ranks = size_of(comm);
+  int mine = error.empty() ? ranks : rank_of(comm), first = ranks;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
+  if (first == ranks) return;
+  std::string message = error;
+  int size = static_cast<int>(message.size());
+  MPI_Bcast(&size, 1, MPI_INT, first, comm);
+  message.resize(static_cast<std::size_t>(size));
+  MPI_Bcast(message.data(), size, MPI_CHAR, first, comm);
+  throw std::runtime_error(message);
+}
+
+// A file checked by the mesh builder (its errors name the file and element), with the listed
+// elements the builder leaves out dropped, so that the checker later compares like with like.
+MeshData read_checked(const std::string& path, ReadNotes* notes) {
+  ReadOptions options;
+  options.keep_partitions = notes != nullptr;
+  MeshData data = read_mesh(path, options, notes);
+  BuildOptions build;
+  build.skip_detached_substructures = true;
+  BuildNotes built;
+  try {
+    (void)build_tet_mesh(data, build, &built);
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    throw InputError(what.rfind(path, 0) == 0 ? what : path + ": " + what);
+  }
+  drop_noted_substructures(data, built);
+  return data;
+}
+
+std::string split_name(const std::string& path, int part) {
+  std::string stem = path;
+  if (stem.size() > 4 && stem.compare(stem.size() - 4, 4, ".msh") == 0) stem.resize(stem.size() - 4);
+  return stem + "_" + std::to_string(part) + ".msh";
+}
+
+std::string partitions_error(const std::string& path, std::uint64_t partitions, int ranks) {
+  return path + ": partitioned in " + std::to_string(partitions) + " parts (gmsh -part " + std::to_string(partitions) +
+         "), but " + std::to_string(ranks) + " ranks run: run as many ranks as parts (mpirun -np " +
+         std::to_string(partitions) + ")";
+}
+
+}  // namespace
+
+Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed) {
+  const int me = rank_of(comm), ranks = size_of(comm);
+  Input in;
+  // Rank 0 decides which form IN is, so that every rank takes the same branch.
+  int kind = 0;
+  if (me == 0 && !std::filesystem::exists(path) && std::filesystem::exists(split_name(path, 1))) kind = 1;
+  MPI_Bcast(&kind, 1, MPI_INT, 0, comm);
+  std::string error;
+  if (kind == 1) {
+    in.kind = InputKind::kGmshSplit;
+    const std::string mine = split_name(path, me + 1);
+    try {
+      ReadNotes notes;
+      MeshData d = read_checked(mine, &notes);
+      if (notes.partitions == 0) throw InputError(mine + ": not a partitioned Gmsh 4.1 file (no $PartitionedEntities)");
+      if (notes.partitions != static_cast<std::uint64_t>(ranks)) throw InputError(partitions_error(mine, notes.partitions, ranks));
+      in.part.global_ids.assign(notes.node_tags.begin(), notes.node_tags.end());
+      in.part.local = std::move(d);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    agree(comm, error);
+    // Every tet stays: the migration to itself keeps only the vertices of the part's tets (a part
+    // file may list others), agrees the field layout and finds the owners.
+    distribute_to(comm, in.part, std::vector<int>(in.part.local.tet_count(), me));
+  } else {
+    std::vector<int> dest;
+    if (me == 0) {
+      try {
+        ReadNotes notes;
+        MeshData d = read_checked(path, &notes);
+        if (notes.partitions != 0) {
+          if (notes.partitions != static_cast<std::uint64_t>(ranks)) throw InputError(partitions_error(path, notes.partitions, ranks));
+          std::vector<std::uint8_t> seen(static_cast<std::size_t>(ranks), 0);
+          for (std::size_t t = 0; t < notes.tet_partition.size(); ++t) {
+            const std::int32_t p = notes.tet_partition[t];
+            if (p < 1 || p > ranks)
+              throw InputError(path + ": tetrahedron " + std::to_string(t + 1) + " is on no partition 1.." + std::to_string(ranks));
+            dest.push_back(p - 1);
+            seen[static_cast<std::size_t>(p - 1)] = 1;
+          }
+          // One piece of a split mesh (gmsh -part_split) says N partitions but holds one.
+          const auto missing = std::find(seen.begin(), seen.end(), 0);
+          if (missing != seen.end())
+            throw InputError(path + ": partition " + std::to_string(missing - seen.begin() + 1) + " of " +
+                             std::to_string(ranks) + " has no tets here: for the parts of gmsh -part_split, name the "
+                             "mesh without its _<part> suffix");
+        }
+        in.part = from_whole(d);
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+    }
+    agree(comm, error);
+    int partitioned = dest.empty() ? 0 : 1;
+    MPI_Bcast(&partitioned, 1, MPI_INT, 0, comm);
+    if (partitioned) {
+      in.kind = InputKind::kGmshPartitioned;
+      distribute_to(comm, in.part, dest);
+    } else {
+      distribute(comm, in.part, metis_seed);
+    }
+  }
+  std::uint64_t local = in.part.local.tet_count();
+  MPI_Allreduce(&local, &in.tets, 1, MPI_UINT64_T, MPI_SUM, comm);
+  return in;
+}
+
+}  // namespace topotet::mpi::cli

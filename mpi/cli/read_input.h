@@ -1,0 +1,31 @@
+// topotet-mpi's input: a whole mesh read by rank 0 and cut by METIS, or a partitioned Gmsh 4.1
+// mesh with one part per rank (gmsh -part N):
+//   - split (gmsh -part N -part_split -o IN writes <stem>_1.msh ... <stem>_N.msh, and no IN):
+//     rank r reads <stem>_<r+1>.msh; Gmsh's node tags are global over the files and become the
+//     global ids (a vertex on a partition border is in both files, with one tag);
+//   - one file (IN has $PartitionedEntities): rank 0 reads it and sends each tet to the rank of
+//     its partition (partition p -> rank p - 1).
+// Either way the number of partitions must equal the number of ranks.
+#pragma once
+
+#include <string>
+
+#include <mpi.h>
+
+#include "topotet/mpi.h"
+
+namespace topotet::mpi::cli {
+
+enum class InputKind { kWhole, kGmshSplit, kGmshPartitioned };
+
+struct Input {
+  DistributedMesh part;  // this rank's
+  InputKind kind = InputKind::kWhole;
+  std::uint64_t tets = 0;  // over all ranks
+};
+
+// Collective. Throws std::runtime_error on every rank (the lowest failing rank's message, naming
+// the file) when a file is missing or malformed, or the partitions do not match the ranks.
+Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed);
+
+}  // namespace topotet::mpi::cli
