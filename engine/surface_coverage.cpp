@@ -481,32 +481,25 @@ void SurfaceCoverage::cut(const CoverageSegment& item, int label, CoverageScratc
 
 void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
                              const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, CoverageScratch& s) {
-  for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
-    if (!lists_[t]) return;
-    auto& list = *lists_[t];
-    list.erase(std::remove_if(list.begin(), list.end(),
-                              [&](const CoverageItem& item) { return moves(mesh, t, item.local, u, v); }),
-               list.end());
-  });
-  for (const CoverageItem& item : s.placed) {
-    const FaceHolder holder = s.targets[item.local].holder;
-    auto& list = lists_[holder.tet];
-    if (!list) list = std::make_unique<std::vector<CoverageItem>>();
-    list->push_back({item.corners, item.triangle, item.bound, item.depth, holder.local});
-  }
-  for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
-    if (!segment_lists_[t]) return;
-    auto& list = *segment_lists_[t];
-    list.erase(std::remove_if(list.begin(), list.end(),
-                              [&](const CoverageSegment& item) { return edge_moves(mesh, t, item.local, u, v); }),
-               list.end());
-  });
-  for (const CoverageSegment& item : s.segment_placed) {
-    const FaceHolder holder = s.segment_targets[item.local].holder;
-    auto& list = segment_lists_[holder.tet];
-    if (!list) list = std::make_unique<std::vector<CoverageSegment>>();
-    list->push_back({item.ends, item.segment, item.depth, holder.local});
-  }
+  // Triangles and segments alike: drop the moved items from the stencil's lists, then store the
+  // placed ones with their new holder (`local` indexed the targets until now).
+  auto store = [&](auto& lists, const auto& placed, const auto& targets, auto&& moved) {
+    for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
+      if (!lists[t]) return;
+      auto& list = *lists[t];
+      list.erase(std::remove_if(list.begin(), list.end(), [&](const auto& item) { return moved(mesh, t, item.local, u, v); }),
+                 list.end());
+    });
+    for (auto item : placed) {
+      const FaceHolder holder = targets[item.local].holder;
+      auto& list = lists[holder.tet];
+      if (!list) list = std::make_unique<typename std::decay_t<decltype(*list)>>();
+      item.local = holder.local;
+      list->push_back(item);
+    }
+  };
+  store(lists_, s.placed, s.targets, moves);
+  store(segment_lists_, s.segment_placed, s.segment_targets, edge_moves);
   // Lists only grow in capacity otherwise: free the empty ones (dead tets, faces that left the
   // surface) and trim the slack of the others.
   auto trim = [](auto& list) {

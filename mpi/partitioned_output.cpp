@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "exchange.h"
+#include "io/xml_escape.h"
 #include "migrate.h"
 #include "topotet/io.h"
 #include "topotet/mpi.h"
@@ -19,19 +20,6 @@ bool ends_with_pvtu(const std::string& path) {
   return tail == ".pvtu";
 }
 
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 std::string base_name(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
@@ -45,14 +33,14 @@ std::string pvtu_text(const MeshData& layout, const std::vector<std::string>& pi
                   "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
                   "header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n    <PPointData>\n";
   for (const VertexField& f : layout.fields) {
-    x += "      <PDataArray type=\"Float64\" Name=\"" + xml_escape(f.name) + "\"";
+    x += "      <PDataArray type=\"Float64\" Name=\"" + io::xml_escape(f.name) + "\"";
     if (f.components != 1) x += " NumberOfComponents=\"" + std::to_string(f.components) + "\"";
     x += "/>\n";
   }
   x += "    </PPointData>\n    <PCellData Scalars=\"material\">\n"
        "      <PDataArray type=\"Int32\" Name=\"material\"/>\n    </PCellData>\n"
        "    <PPoints>\n      <PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n    </PPoints>\n";
-  for (const std::string& p : pieces) x += "    <Piece Source=\"" + xml_escape(p) + "\"/>\n";
+  for (const std::string& p : pieces) x += "    <Piece Source=\"" + io::xml_escape(p) + "\"/>\n";
   x += "  </PUnstructuredGrid>\n</VTKFile>\n";
   return x;
 }

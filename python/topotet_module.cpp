@@ -75,6 +75,23 @@ std::vector<std::int32_t> labels(const py::object& obj, std::size_t count, const
   return out;
 }
 
+// The listed triangles, segments and corners (small next to the volume: copied), into a
+// MeshData or a MeshView alike.
+template <class Mesh>
+void add_substructures(Mesh& d, const py::object& triangles, const py::object& triangle_refs,
+                       const py::object& segments, const py::object& segment_refs, const py::object& corners) {
+  const auto tri = cells<3>(triangles, "triangle");
+  const auto tri_refs = labels(triangle_refs, tri.size(), "triangle_refs");
+  for (std::size_t i = 0; i < tri.size(); ++i) d.triangles.push_back({tri[i], tri_refs.empty() ? 0 : tri_refs[i]});
+  const auto seg = cells<2>(segments, "segment");
+  const auto seg_refs = labels(segment_refs, seg.size(), "segment_refs");
+  for (std::size_t i = 0; i < seg.size(); ++i) d.segments.push_back({seg[i], seg_refs.empty() ? 0 : seg_refs[i]});
+  if (!corners.is_none()) {
+    Ints c = corners.cast<Ints>();
+    for (const auto& x : cells<1>(c.reshape({c.size(), py::ssize_t{1}}), "corner")) d.corners.push_back(x[0]);
+  }
+}
+
 topotet::MeshData to_mesh_data(const py::object& points, const py::object& tets, const py::object& materials,
                                const py::object& triangles, const py::object& triangle_refs,
                                const py::object& segments, const py::object& segment_refs, const py::object& corners,
@@ -88,16 +105,7 @@ topotet::MeshData to_mesh_data(const py::object& points, const py::object& tets,
   d.tets = cells<4>(tets, "tet");
   d.tet_material = labels(materials, d.tets.size(), "materials");
   if (d.tet_material.empty()) d.tet_material.assign(d.tets.size(), 0);
-  const auto tri = cells<3>(triangles, "triangle");
-  const auto tri_refs = labels(triangle_refs, tri.size(), "triangle_refs");
-  for (std::size_t i = 0; i < tri.size(); ++i) d.triangles.push_back({tri[i], tri_refs.empty() ? 0 : tri_refs[i]});
-  const auto seg = cells<2>(segments, "segment");
-  const auto seg_refs = labels(segment_refs, seg.size(), "segment_refs");
-  for (std::size_t i = 0; i < seg.size(); ++i) d.segments.push_back({seg[i], seg_refs.empty() ? 0 : seg_refs[i]});
-  if (!corners.is_none()) {
-    Ints c = corners.cast<Ints>();
-    for (const auto& x : cells<1>(c.reshape({c.size(), py::ssize_t{1}}), "corner")) d.corners.push_back(x[0]);
-  }
+  add_substructures(d, triangles, triangle_refs, segments, segment_refs, corners);
   if (!fields.is_none()) {
     for (const auto& [key, value] : fields.cast<py::dict>()) {
       const std::string name = py::str(key);
@@ -159,16 +167,7 @@ topotet::MeshView to_mesh_view(const py::object& points, const py::object& tets,
       throw py::value_error("materials must have shape (" + std::to_string(d.tet_count) + ",)");
     d.materials = strided(m);
   }
-  const auto tri = cells<3>(triangles, "triangle");
-  const auto tri_refs = labels(triangle_refs, tri.size(), "triangle_refs");
-  for (std::size_t i = 0; i < tri.size(); ++i) d.triangles.push_back({tri[i], tri_refs.empty() ? 0 : tri_refs[i]});
-  const auto seg = cells<2>(segments, "segment");
-  const auto seg_refs = labels(segment_refs, seg.size(), "segment_refs");
-  for (std::size_t i = 0; i < seg.size(); ++i) d.segments.push_back({seg[i], seg_refs.empty() ? 0 : seg_refs[i]});
-  if (!corners.is_none()) {
-    Ints c = corners.cast<Ints>();
-    for (const auto& x : cells<1>(c.reshape({c.size(), py::ssize_t{1}}), "corner")) d.corners.push_back(x[0]);
-  }
+  add_substructures(d, triangles, triangle_refs, segments, segment_refs, corners);
   if (!fields.is_none()) {
     for (const auto& [key, value] : fields.cast<py::dict>()) {
       const std::string name = py::str(key);

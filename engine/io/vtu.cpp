@@ -12,6 +12,7 @@
 
 #include "io/atomic_file.h"
 #include "io/formats.h"
+#include "io/xml_escape.h"
 
 namespace topotet::io {
 namespace {
@@ -133,19 +134,6 @@ class VtkXmlWriter {
   std::vector<const DataArray*> pending_;  // must outlive finish()
 };
 
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 std::string header(const char* type) {
   return std::string("<?xml version=\"1.0\"?>\n<VTKFile type=\"") + type +
@@ -221,7 +209,7 @@ void write_vtu(const std::string& path, const MeshData& m, bool binary) {
   const std::size_t nv = m.positions.size(), nt = m.tets.size();
   std::vector<DataArray> fields;
   for (const VertexField& fd : m.fields) {
-    fields.push_back({"Float64", xml_escape(fd.name), fd.components, 8 * fd.values.size(),
+    fields.push_back({"Float64", io::xml_escape(fd.name), fd.components, 8 * fd.values.size(),
                       [&fd](ByteSink& s) { s.put(fd.values.data(), 8 * fd.values.size()); }});
   }
   const DataArray material{"Int32", "material", 1, 4 * nt, [&](ByteSink& s) {

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "exchange.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
 #include "topotet/tet_mesh.h"
@@ -13,17 +14,8 @@ namespace topotet::mpi::cli {
 
 namespace {
 
-int rank_of(MPI_Comm comm) {
-  int r = 0;
-  MPI_Comm_rank(comm, &r);
-  return r;
-}
-
-int size_of(MPI_Comm comm) {
-  int n = 1;
-  MPI_Comm_size(comm, &n);
-  return n;
-}
+using detail::rank_of;
+using detail::size_of;
 
 // Every rank learns whether some rank failed; all throw the lowest failing rank's message.
 void agree(MPI_Comm comm, const std::string& error) {
