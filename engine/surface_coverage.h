@@ -17,17 +17,27 @@
 // How it is kept. At the start every original triangle is held by itself (distance 0). A collapse
 // u <- v changes exactly the faces through u or v (the others keep their vertices and positions),
 // and each of those becomes a face through p, which the tolerance check lists (SurfaceStencil::
-// NewFace). So the items held by faces through u or v are the only ones to re-check: each goes to
-// the first new face of its label within h of its three corners. An item no single new face
-// holds is split in four at its edge midpoints (down to kMaxDepth levels: 64 pieces), and each
-// piece is placed on its own. A piece that still finds no face refuses the placement
-// (kTolerance): the new fan would leave that part of the original surface farther than h (or
-// closer to a face outside the fan, which this check does not look at: a conservative refusal).
+// NewFace); a face whose tets all die lives on in the face it merges with, whose surviving tet
+// then holds it (gather_surface_stencil). So the items held by faces through u or v are the only
+// ones to re-check:
+//   - first on the face its face becomes (same two other vertices): when only one corner of the
+//     face moved, by d, the item's stored bound + d still bounds it, and no distance is computed;
+//   - else on the closest new face of its label within h of its three corners;
+//   - else it is cut: along the plane that bisects two adjacent new faces and separates its
+//     corners (the two sides usually fit one face each), or at its edge midpoints, and each piece
+//     is placed on its own, down to kMaxDepth cuts and kMaxPieces pieces per placement;
+//   - pieces heal: when a new face holds the whole original triangle, its pieces are replaced by
+//     the triangle.
+// A corner, centre or edge midpoint of an item that no new face holds, or a piece that exhausts
+// the limits, refuses the placement (kTolerance): the new fan would leave that part of the
+// original farther than h (or closer to a face outside the fan, which this check does not look
+// at: a conservative refusal). Every choice is geometric (orders, ties), so the items do not
+// depend on how the mesh is numbered.
 //
 // Concurrency. Items are kept in per-tet lists; a collapse reads and writes only the lists of the
 // tets of its stencil St(u) ∪ St(v) (the faces through u or v, before and after, are faces of
 // those tets), so collapses with disjoint stencils may run concurrently, and the lists come out
-// the same for every schedule (each list is rebuilt in the order of the sorted stars).
+// the same for every schedule.
 #pragma once
 
 #include <array>
