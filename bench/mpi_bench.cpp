@@ -82,8 +82,9 @@ double class_rms(const topotet::MeshData& input, const topotet::MeshData& out, c
   return worst;
 }
 
-// Gathers (key, value) pairs of every rank on rank 0.
-std::vector<std::uint64_t> gather_pairs(const std::vector<std::uint64_t>& mine, int ranks) {
+// Gathers every rank's 64-bit values on rank 0 (the (key, value) pairs of the breakdown, the
+// global ids of the border marks); other ranks get an empty vector.
+std::vector<std::uint64_t> gather_u64(const std::vector<std::uint64_t>& mine, int ranks) {
   int count = static_cast<int>(mine.size());
   std::vector<int> counts(ranks), displs(ranks);
   MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
@@ -146,24 +147,14 @@ int main(int argc, char** argv) {
   const topotet::mpi::Result r = topotet::mpi::simplify(MPI_COMM_WORLD, part, options);
   std::vector<std::uint64_t> merged;
   for (std::size_t v = 0; v < input_ids.size(); ++v) merged.insert(merged.end(), {input_ids[v], r.vertex_map[v]});
-  const std::vector<std::uint64_t> all_owners = gather_pairs(owners, ranks), all_merged = gather_pairs(merged, ranks);
+  const std::vector<std::uint64_t> all_owners = gather_u64(owners, ranks), all_merged = gather_u64(merged, ranks);
   std::vector<topotet::mpi::GlobalId> ids;
   const topotet::MeshData out = topotet::mpi::gather(MPI_COMM_WORLD, part, 0, &ids);
   // The border marks, by global id, to rank 0.
   std::vector<topotet::mpi::GlobalId> touched_ids;
   for (std::size_t v = 0; v < part.global_ids.size(); ++v)
     if (r.touched_border[v]) touched_ids.push_back(part.global_ids[v]);
-  int count = static_cast<int>(touched_ids.size());
-  std::vector<int> counts(ranks), displs(ranks);
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-  int total = 0;
-  for (int k = 0; k < ranks; ++k) {
-    displs[k] = total;
-    total += counts[k];
-  }
-  std::vector<topotet::mpi::GlobalId> all(rank == 0 ? total : 0);
-  MPI_Gatherv(touched_ids.data(), count, MPI_UINT64_T, all.data(), counts.data(), displs.data(), MPI_UINT64_T, 0,
-              MPI_COMM_WORLD);
+  const std::vector<topotet::mpi::GlobalId> all = gather_u64(touched_ids, ranks);
   if (rank == 0) {
     std::unordered_map<topotet::mpi::GlobalId, topotet::VertId> index;
     for (topotet::VertId o = 0; o < ids.size(); ++o) index[ids[o]] = o;

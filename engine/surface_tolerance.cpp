@@ -376,10 +376,7 @@ bool SurfaceReference::within_by_patch(const std::array<glm::dvec3, 3>& q, int l
   double r2 = 0.0;
   for (const glm::dvec3& x : q) r2 = std::max(r2, glm::dot(x - c, x - c));
   // The original triangle nearest to the centre gives the patch to project on.
-  struct {
-    std::uint32_t best_primitive;
-  } near{nearest};
-  const std::uint32_t pid = patches_->patch_of[near.best_primitive];
+  const std::uint32_t pid = patches_->patch_of[nearest];
   const FlatPatches::Patch& patch = patches_->patches[pid];
   if (!(patch.deviation < h)) return false;
   // The bound: distance to the plane (convex: its largest value is at a corner) plus deviation
@@ -423,7 +420,7 @@ bool SurfaceReference::within_by_patch(const std::array<glm::dvec3, 3>& q, int l
   for (const glm::dvec3& x : q)
     if (std::abs(glm::dot(patch.normal, x) - patch.offset) + patch.deviation + unproved > h) return false;
   // The centre's shadow in the shadow of the nearest triangle.
-  const auto& t = soup_.triangles[near.best_primitive];
+  const auto& t = soup_.triangles[nearest];
   const auto& P = soup_.positions;
   {
     const auto c2 = shadow.to2d(c);
