@@ -1,4 +1,4 @@
-// Closest-point throughput of the tolerance check's Embree reference (engine/surface_tolerance.h)
+// Closest-point throughput of the tolerance check's Embree reference (engine/guarantees/surface_tolerance.h)
 // on a 1M-triangle scene: a latitude-longitude sphere of radius 1 (1000 x 500 quads, 1,000,000
 // triangles, one label). Two kinds of queries from random points within 0.01 of the sphere:
 //   within    "is the surface within h = 0.001?" (the kernel's query; stops at the first hit)
@@ -15,7 +15,7 @@
 #include <thread>
 #include <vector>
 
-#include "surface_tolerance.h"
+#include "guarantees/surface_tolerance.h"
 
 namespace {
 

@@ -26,7 +26,7 @@
 
 #include <glm/common.hpp>
 
-#include "glm_convert.h"
+#include "mesh/glm_convert.h"
 #include "topotet/generate.h"
 #include "topotet/hierarchy.h"
 #include "topotet/io.h"

@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
-#include "collapse.h"
-#include "link_condition.h"
-#include "mesh_model.h"
+#include "kernel/collapse.h"
+#include "kernel/link_condition.h"
+#include "mesh/mesh_model.h"
 #include "topotet/generate.h"
 
 namespace {

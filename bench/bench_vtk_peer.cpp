@@ -50,7 +50,7 @@
 #include <nlohmann/json.hpp>
 #include <vtkUnstructuredGridQuadricDecimation.h>
 
-#include "glm_convert.h"
+#include "mesh/glm_convert.h"
 #include "material_transfer.h"
 #include "raw_volume.h"
 #include "topotet/generate.h"

@@ -7,7 +7,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "glm_convert.h"
+#include "mesh/glm_convert.h"
 
 namespace topotet::bench {
 namespace {

@@ -4,7 +4,7 @@
 // The file holds nx*ny*nz unsigned bytes, x fastest (the cuda-samples layout). Every sample is a
 // vertex at its integer lattice position (spacing 1: the cells have 6V = 1, far from VTK's
 // absolute volume threshold, see bench_vtk_peer.cpp); every cube of 8 neighbouring samples is
-// split into the 6 tets of the Kuhn paths around its main diagonal (engine/generate's
+// split into the 6 tets of the Kuhn paths around its main diagonal (generate/'s
 // FreudenthalGrid), which makes the mesh conforming. One material (0), nothing listed, no pinned
 // vertex; one scalar field named `field_name` holding the byte values as doubles.
 #pragma once

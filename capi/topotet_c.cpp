@@ -13,7 +13,7 @@
 #include <tuple>
 #include <vector>
 
-#include "mesh_view.h"
+#include "mesh/mesh_view.h"
 #include "topotet/error.h"
 #include "topotet/nothrow.h"
 #include "topotet/simplify.h"

@@ -113,7 +113,7 @@ Json field_bounds_json(const LevelResult& l) {
   return {{"max_bound_rel", r.field_bound_rel},
           {"components", components},
           {"measured_max_rel", l.field_error ? Json(l.field_error->worst_max_rel_at_original()) : Json(nullptr)},
-          // The bound covers these only up to the tet they were attached to (engine/field_bounds.h).
+          // The bound covers these only up to the tet they were attached to (engine/guarantees/field_bounds.h).
           {"original_vertices_outside",
            l.field_error ? Json(l.field_error->original_in_simplified.outside) : Json(nullptr)},
           {"bytes", r.field_bounds_bytes},

@@ -1,4 +1,4 @@
-// The two simplification engines behind topotet::simplify (simplify.cpp chooses one).
+// The two simplification engines behind topotet::simplify (driver.cpp chooses one).
 // Both use the same kernel (collapse.h), cost (cost.h) and report; both stop at `target_vertices`
 // live vertices, when no legal collapse is left, at options.max_cost, or when on_progress says so.
 #pragma once
@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "collapse.h"
-#include "hierarchy_log.h"
-#include "mesh_model.h"
+#include "kernel/collapse.h"
+#include "hierarchy/hierarchy_log.h"
+#include "mesh/mesh_model.h"
 #include "topotet/simplify.h"
 
 namespace topotet::detail {

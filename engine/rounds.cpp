@@ -28,17 +28,17 @@
 #include <stdexcept>
 #include <vector>
 
-#include "collapse.h"
-#include "cost.h"
+#include "kernel/collapse.h"
+#include "cost/cost.h"
 #include "engines.h"
 #include "parallel/filter.h"
 #include "parallel/for_range.h"
 #include "parallel/reservations.h"
 #include "parallel/scratch.h"
 #include "topotet/round_log.h"
-#include "prefetch.h"
-#include "probe_set.h"
-#include "proposals.h"
+#include "mesh/prefetch.h"
+#include "mesh/probe_set.h"
+#include "cost/proposals.h"
 
 namespace topotet::detail {
 namespace {

@@ -24,8 +24,8 @@
 #include <queue>
 #include <vector>
 
-#include "collapse.h"
-#include "cost.h"
+#include "kernel/collapse.h"
+#include "cost/cost.h"
 #include "engines.h"
 
 namespace topotet::detail {

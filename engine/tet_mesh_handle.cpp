@@ -1,6 +1,7 @@
 // The public TetMesh: a handle owning the engine's MeshModel. Every entry point of the public
 // API unwraps it once and hands the model to the engine.
-#include "mesh_model.h"
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
 #include "topotet/hierarchy.h"
 
 namespace topotet {

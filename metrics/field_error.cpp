@@ -27,7 +27,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "engine/glm_convert.h"
+#include "mesh/glm_convert.h"
 #include "parallel/for_range.h"
 #include "parallel/scratch.h"
 #include "topotet/error.h"

@@ -20,7 +20,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "engine/glm_convert.h"
+#include "mesh/glm_convert.h"
 #include "fast_angle.h"
 #include "parallel/reduce.h"
 #include "topotet/error.h"

@@ -3,7 +3,7 @@
 // the same label.
 //
 // The checker keeps its own Embree scene and distance code rather than the simplifier's
-// (engine/surface_tolerance.h): it is the independent measurement of what that check promises.
+// (engine/guarantees/surface_tolerance.h): it is the independent measurement of what that check promises.
 //
 // Cost. One scene per run (surface_scene.h): a triangle geometry and a segment (user) geometry per
 // side, every primitive tagged with its label; every query is seeded with a close primitive (for

@@ -19,7 +19,7 @@
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
 
-#include "engine/glm_convert.h"
+#include "mesh/glm_convert.h"
 #include "parallel/for_range.h"
 #include "surface_primitives.h"
 

@@ -10,7 +10,7 @@
 #include "parallel/for_range.h"
 #include "parallel/reduce.h"
 #include "parallel/scratch.h"
-#include "engine/glm_convert.h"
+#include "mesh/glm_convert.h"
 #include "manifold_betti.h"
 #include "robust_orient.h"
 #include "simplex_index.h"

@@ -2,7 +2,8 @@
 
 #include <numeric>
 
-#include "mesh_model.h"
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
 
 namespace topotet::mpi::detail {
 

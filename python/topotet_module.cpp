@@ -9,7 +9,7 @@
 // int32, triangles (k, 3) / triangle_refs (k,), segments (s, 2) / segment_refs (s,), corners (c,),
 // fields {name: (n,) or (n, components) float64}. Inputs may be any numeric dtype and any strides;
 // simplify() builds the model straight from points, tets, materials and fields when they are
-// float64/float32 and int32/int64 (engine/mesh_view.h: no copy besides the model), and converts
+// float64/float32 and int32/int64 (engine/mesh/mesh_view.h: no copy besides the model), and converts
 // other dtypes once. Bad input raises ValueError with the library's one-line message; the GIL is
 // released while the library works.
 #include <pybind11/numpy.h>
@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh_view.h"
+#include "mesh/mesh_view.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
 #include "topotet/simplify.h"

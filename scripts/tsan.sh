@@ -19,7 +19,7 @@ done
 # is built by Embree's own threads (invisible to TSan, which then reports races inside Embree).
 echo "--- TSan: unit_field_bounds (parallel engine with bounds)"
 build-tsan/tests/unit_field_bounds --gtest_brief=1 --gtest_filter='FieldBounds.SameOutputAndBoundsForAnyThreadCount'
-# The tolerance's surface items (engine/surface_coverage.h) move in the parallel apply phase.
+# The tolerance's surface items (engine/guarantees/surface_coverage.h) move in the parallel apply phase.
 echo "--- TSan: unit_surface_tolerance (parallel engine with the tolerance, 1/2/4 threads)"
 build-tsan/tests/unit_surface_tolerance --gtest_brief=1 --gtest_filter='SimplifyTolerance.ParallelOutputIsIdenticalForEveryThreadCount'
 echo "TSan: no data race reported"

@@ -19,8 +19,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "collapse.h"
-#include "mesh_model.h"
+#include "kernel/collapse.h"
+#include "mesh/mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/metrics/topology.h"
 

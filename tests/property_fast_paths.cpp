@@ -22,10 +22,10 @@
 #include <string>
 #include <tuple>
 
-#include "collapse.h"
-#include "cost.h"
-#include "link_condition.h"
-#include "mesh_model.h"
+#include "kernel/collapse.h"
+#include "cost/cost.h"
+#include "kernel/link_condition.h"
+#include "mesh/mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/simplify.h"

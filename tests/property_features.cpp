@@ -14,8 +14,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "glm_convert.h"
-#include "mesh_model.h"
+#include "mesh/glm_convert.h"
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/features.h"
 #include "topotet/generate.h"

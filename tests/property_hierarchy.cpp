@@ -16,10 +16,11 @@
 
 #include <glm/common.hpp>
 
-#include "collapse.h"
-#include "glm_convert.h"
-#include "mesh_model.h"
-#include "surface_tolerance.h"
+#include "kernel/collapse.h"
+#include "mesh/glm_convert.h"
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
+#include "guarantees/surface_tolerance.h"
 #include "topotet/error.h"
 #include "topotet/features.h"
 #include "topotet/generate.h"
@@ -277,7 +278,7 @@ TEST(Hierarchy, every_substructure_kind_survives_random_levels) {
               canonical(b.base));
 }
 
-// With the field bounds tracked (engine/field_bounds.h), every collapse records the bound of its
+// With the field bounds tracked (engine/guarantees/field_bounds.h), every collapse records the bound of its
 // new star, Hierarchy::error becomes their running maximum, and every level, uniform or VOI, has a
 // measured field error at the original vertices no larger than the largest bound of its applied
 // collapses: the levels' errors are guaranteed, not estimated.

@@ -11,8 +11,9 @@
 #include <ostream>
 #include <string>
 
-#include "collapse.h"
-#include "mesh_model.h"
+#include "kernel/collapse.h"
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
 #include "topotet/io.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/simplify.h"

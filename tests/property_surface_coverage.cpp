@@ -19,11 +19,12 @@
 
 #include <glm/geometric.hpp>
 
-#include "collapse.h"
-#include "glm_convert.h"
-#include "mesh_model.h"
-#include "surface_coverage.h"
-#include "surface_tolerance.h"
+#include "kernel/collapse.h"
+#include "mesh/glm_convert.h"
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
+#include "guarantees/surface_coverage.h"
+#include "guarantees/surface_tolerance.h"
 #include "topotet/features.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/surface_distance.h"

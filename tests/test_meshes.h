@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "glm_convert.h"
+#include "mesh/glm_convert.h"
 #include "topotet/mesh_data.h"
 
 namespace topotet::testing {

@@ -1,9 +1,9 @@
 // The collapse kernel on tiny hand-built meshes, one behaviour per test.
 #include <gtest/gtest.h>
 
-#include "collapse.h"
-#include "link_condition.h"
-#include "mesh_model.h"
+#include "kernel/collapse.h"
+#include "kernel/link_condition.h"
+#include "mesh/mesh_model.h"
 #include "test_meshes.h"
 
 namespace topotet {

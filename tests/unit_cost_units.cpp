@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-#include "glm_convert.h"
+#include "mesh/glm_convert.h"
 #include "test_meshes.h"
 #include "topotet/round_log.h"
 #include "topotet/simplify.h"
@@ -33,7 +33,7 @@ MeshData ball_in_box() {
   return g.data;
 }
 
-// The units the cost model takes from the mesh itself (engine/cost.cpp): bounding box, field
+// The units the cost model takes from the mesh itself (engine/cost/cost.cpp): bounding box, field
 // ranges, mean tet volume.
 CostUnits own_units(const MeshData& d) {
   CostUnits u;

@@ -21,8 +21,9 @@
 #include <string>
 #include <vector>
 
-#include "glm_convert.h"
-#include "mesh_model.h"
+#include "mesh/glm_convert.h"
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/field_error.h"

@@ -1,4 +1,4 @@
-// Field error bounds (issue #16, paper 003; engine/field_bounds.h): the per-tet bounds the
+// Field error bounds (issue #16, paper 003; engine/guarantees/field_bounds.h): the per-tet bounds the
 // simplifier keeps with SimplifyOptions::track_field_bounds / max_field_error(_rel).
 //
 // What field_bounds.h guarantees, and what is checked here against the ORIGINAL mesh, on a box
@@ -29,8 +29,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "glm_convert.h"
-#include "mesh_model.h"
+#include "mesh/glm_convert.h"
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/field_error.h"

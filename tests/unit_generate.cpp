@@ -18,8 +18,8 @@
 
 #include "generate/freudenthal_grid.h"
 #include "generate/tet_neighbourhood.h"
-#include "glm_convert.h"
-#include "mesh_model.h"
+#include "mesh/glm_convert.h"
+#include "mesh/mesh_model.h"
 #include "region_manifold.h"
 #include "topotet/error.h"
 #include "topotet/generate.h"

@@ -1,4 +1,4 @@
-// File formats (engine/io): the real meshes of /work/shared/data with their exact counts, exact
+// File formats (io/): the real meshes of /work/shared/data with their exact counts, exact
 // round trips through every writer, Gmsh-produced files, malformed input, atomic writes.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -20,7 +20,7 @@
 
 #include "io/atomic_file.h"
 #include "io/line_reader.h"
-#include "mesh_model.h"
+#include "mesh/mesh_model.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
 

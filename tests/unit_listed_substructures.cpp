@@ -7,7 +7,8 @@
 #include <map>
 #include <string>
 
-#include "mesh_model.h"
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/error.h"
 #include "topotet/metrics/topology.h"

@@ -1,4 +1,4 @@
-// The build from a caller's strided arrays (engine/mesh_view.h, used by the C API and Python):
+// The build from a caller's strided arrays (engine/mesh/mesh_view.h, used by the C API and Python):
 // it gives the model that build_tet_mesh gives from the same mesh in a MeshData, and refuses bad
 // input with the same messages, because both go through one validation path.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh_view.h"
+#include "mesh/mesh_view.h"
 #include "test_meshes.h"
 #include "topotet/error.h"
 

@@ -14,7 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "../metrics/fast_angle.h"  // the private fast atan2, tested against libm
-#include "glm_convert.h"
+#include "mesh/glm_convert.h"
 #include "test_meshes.h"
 #include "topotet/error.h"
 #include "topotet/generate.h"

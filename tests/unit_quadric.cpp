@@ -9,7 +9,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include "quadric.h"
+#include "cost/quadric.h"
 
 namespace topotet {
 namespace {

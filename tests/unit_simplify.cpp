@@ -6,7 +6,8 @@
 #include <random>
 #include <thread>
 
-#include "mesh_model.h"
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
 #include "region_manifold.h"
 #include "test_meshes.h"
 #include "topotet/generate.h"

@@ -9,9 +9,10 @@
 
 #include <glm/geometric.hpp>
 
-#include "glm_convert.h"
-#include "mesh_model.h"
-#include "surface_tolerance.h"
+#include "mesh/glm_convert.h"
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
+#include "guarantees/surface_tolerance.h"
 #include "topotet/generate.h"
 #include "topotet/metrics/surface_distance.h"
 #include "topotet/metrics/topology.h"

@@ -6,9 +6,9 @@
 #include <set>
 #include <string>
 
-#include "glm_convert.h"
-#include "mesh_model.h"
-#include "reorder.h"
+#include "mesh/glm_convert.h"
+#include "mesh/mesh_model.h"
+#include "mesh/reorder.h"
 #include "test_meshes.h"
 #include "topotet/error.h"
 

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "glm_convert.h"
+#include "mesh/glm_convert.h"
 #include "test_meshes.h"
 #include "topotet/metrics/topology.h"
 

@@ -7,8 +7,9 @@
 #include <utility>
 #include <vector>
 
-#include "glm_convert.h"
-#include "mesh_model.h"
+#include "mesh/glm_convert.h"
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/simplify.h"
 

@@ -17,7 +17,7 @@
 // St(u) ∪ St(v) (the tets it reads) by the new star (those tets, changed). Collapse i depends on
 // the collapses that last changed a tet of its patch. Applying any DOWNWARD-CLOSED set of
 // collapses (every parent of a member is a member) in recording order gives each member exactly
-// the patch and the positions the engine verified (argument in engine/hierarchy.cpp; checked with
+// the patch and the positions the engine verified (argument in engine/hierarchy/hierarchy_log.cpp; checked with
 // the kernel itself in tests/property_hierarchy.cpp), and the kernel's checks (link conditions,
 // orientation, quality, tolerance) read nothing else, so every such set gives a valid mesh with
 // the topology of the original, substructures included.
@@ -55,7 +55,7 @@ struct Hierarchy {
   // collapse i when the bounds were tracked, else the running maximum of `cost`.
   std::vector<double> error;
   // Per collapse: the largest field error bound of the tets of its new star, relative to each
-  // component's range (engine/field_bounds.h: exact at the original vertices each tet holds). Any
+  // component's range (engine/guarantees/field_bounds.h: exact at the original vertices each tet holds). Any
   // mesh extracted from a closed set of collapses has every tet's bound <= the largest error_bound
   // of the applied collapses (a tet's bound was set by the last collapse that changed it, on the
   // same stencil). NaN when the run did not track bounds (SimplifyOptions::track_field_bounds, a

@@ -44,7 +44,7 @@ enum class Engine : std::uint8_t {
 // The default geometric tolerance, relative to the bounding box diagonal (SimplifyOptions).
 inline constexpr double kDefaultToleranceRel = 0.004;
 
-// Why the kernel refused a collapse placement (engine/collapse.h has the checks). The values
+// Why the kernel refused a collapse placement (engine/kernel/collapse.h has the checks). The values
 // index Report::rejected; read the counters with Report::rejected_by.
 enum class RejectReason : std::uint8_t {
   kLinkK = 1,      // would change the topology of the mesh itself (its link conditions fail)
@@ -61,7 +61,7 @@ inline constexpr RejectReason kRejectReasons[] = {RejectReason::kLinkK,     Reje
                                                   RejectReason::kFieldError};
 const char* to_string(RejectReason reason);  // "link_K", "link_Ktilde", "pinned", ..., "field_error"
 
-// The units costs are normalised in (engine/cost.h). By default the mesh's own: its bounding box
+// The units costs are normalised in (engine/cost/cost.h). By default the mesh's own: its bounding box
 // (origin = the low corner, diagonal), each field component's min and range over its vertices, and
 // its mean tet volume. A caller that simplifies the parts of one mesh separately (topotet::mpi)
 // passes the whole mesh's, so that the parts' costs are in the same units and compare.
@@ -79,7 +79,7 @@ struct SimplifyOptions {
   std::uint64_t target_vertices = 0;
   // Stop when the cheapest candidate costs more than this (quadric error in normalised units: the
   // bounding box diagonal is 1, every field component spans [0, 1], and each input tet the
-  // collapse affects counts as a tet of the mean volume; engine/cost.h); 0 = no limit.
+  // collapse affects counts as a tet of the mean volume; engine/cost/cost.h); 0 = no limit.
   double max_cost = 0.0;
   // Reject collapses whose new star would have a tet below min(min_quality, worst of the old star)
   // (mean ratio, 1 = regular tet).
@@ -89,7 +89,7 @@ struct SimplifyOptions {
   double polyline_weight = 100.0;
   // Weight of each field in the cost, by name; a field not listed weighs 1. The cost adds up, over
   // every component of every field, weight x (error relative to the component's range)^2 at the
-  // input vertices the collapse affects (engine/cost.h), so by default every component counts
+  // input vertices the collapse affects (engine/cost/cost.h), so by default every component counts
   // alike whatever its units. With several fields the vertices are shared: raise a field's weight
   // to keep it closer at the others' expense. 0: the field is carried along (interpolated at new
   // vertices) but does not steer the collapses. Weights must be finite and >= 0 and every name a
@@ -104,12 +104,12 @@ struct SimplifyOptions {
   // distance H of the ORIGINAL ones of the same label (ref and material pair). H = tolerance (mesh
   // units) if > 0, else tolerance_rel * bounding box diagonal; both 0 = unchecked. Checked at the
   // new vertex, the centroid and edge midpoints of every new surface triangle, and at the removed
-  // vertex (engine/surface_tolerance.h says what is guaranteed); measure the result with
+  // vertex (engine/guarantees/surface_tolerance.h says what is guaranteed); measure the result with
   // metrics/surface_distance.h. The reference is the mesh as passed to this call. On by default
   // (kDefaultToleranceRel, chosen in README.md "Default runs"); tolerance_rel = 0 turns it off.
   double tolerance = 0.0;
   double tolerance_rel = kDefaultToleranceRel;
-  // Field error bounds (paper 003; engine/field_bounds.h says exactly what is bounded): every tet
+  // Field error bounds (paper 003; engine/guarantees/field_bounds.h says exactly what is bounded): every tet
   // carries, per field component, the largest |original - simplified| over the original vertices
   // that lie in it (exact, kept through every collapse). A collapse that would give a tet a bound
   // above max_field_error (field units, every component) or max_field_error_rel x the component's

@@ -19,7 +19,7 @@
 namespace topotet {
 
 namespace detail {
-struct MeshModel;  // engine-internal (engine/mesh_model.h)
+struct MeshModel;  // engine-internal (engine/mesh/mesh_model.h)
 }
 
 struct FieldInfo {

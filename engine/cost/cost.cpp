@@ -1,0 +1,492 @@
+#include "cost/cost.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+#include "parallel/for_range.h"
+#include "mesh/prefetch.h"
+#include "cost/quadric.h"
+
+namespace topotet {
+namespace {
+
+constexpr std::uint8_t kStale = 0xFF;         // unknown
+constexpr std::uint8_t kStaleFeature = 0xFE;  // unknown, but it was not 0: skip the interior test
+constexpr double kLengthTieBreak = 1e-6;
+// A feature face's field term weighs this many tets (cost.h).
+constexpr double kFeatureFieldWeight = 3.0;
+// The new vertex's field value: this much of the mesh's field at its position, the rest the
+// quadric's (cost.h).
+constexpr double kFieldBlend = 0.25;
+
+enum Placement : int { kAtU = 0, kMidpoint = 1, kOptimum = 2 };
+
+}  // namespace
+
+CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options)
+    : stride_(mesh.field_stride()), vertex_count_(mesh.positions.size()) {
+  // The quadric's field coordinates: every component of a field with a positive weight, in mesh
+  // order, at most kMaxQuadricDim - 3 of them.
+  std::vector<double> component_weight;
+  for (std::size_t f = 0, offset = 0; f < mesh.fields.size(); offset += mesh.fields[f].components, ++f) {
+    const auto it = options.field_weights.find(mesh.fields[f].name);
+    const double w = it == options.field_weights.end() ? 1.0 : it->second;
+    for (int c = 0; c < mesh.fields[f].components; ++c)
+      if (w > 0.0 && static_cast<int>(component_.size()) < kMaxQuadricDim - 3) {
+        component_.push_back(static_cast<int>(offset) + c);
+        component_weight.push_back(w);
+      }
+  }
+  const int k = static_cast<int>(component_.size());
+  n_ = 3 + k;
+  const std::size_t nv = mesh.positions.size();
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  field_min_.assign(k, std::numeric_limits<double>::max());
+  std::vector<double> field_max(k, -std::numeric_limits<double>::max());
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (mesh.is_dead_vertex(static_cast<VertId>(v))) continue;
+    lo = glm::min(lo, mesh.positions[v]);
+    hi = glm::max(hi, mesh.positions[v]);
+    for (int c = 0; c < k; ++c) {
+      const double f = mesh.field_values[v * stride_ + component_[c]];
+      field_min_[c] = std::min(field_min_[c], f);
+      field_max[c] = std::max(field_max[c], f);
+    }
+  }
+  const CostUnits* units = options.cost_units;  // the caller's units (checked by simplify)
+  if (units != nullptr) {
+    lo = glm::dvec3(units->origin[0], units->origin[1], units->origin[2]);
+    hi = lo + glm::dvec3(units->diagonal, 0.0, 0.0);
+    for (int c = 0; c < k; ++c) {
+      field_min_[c] = units->field_min[component_[c]];
+      field_max[c] = field_min_[c] + units->field_range[component_[c]];
+    }
+  }
+  origin_ = lo;
+  const double diag = glm::length(hi - lo);
+  inv_diag_ = diag > 0.0 ? 1.0 / diag : 1.0;
+  field_scale_.resize(k);
+  for (int c = 0; c < k; ++c) {
+    const double range = field_max[c] - field_min_[c];
+    field_scale_[c] = range > 0.0 ? 1.0 / range : 1.0;  // a constant field stays constant anyway
+  }
+
+  // The reference volume: the mean tet volume (normalised), summed in fixed blocks (deterministic).
+  constexpr std::size_t kBlock = 1 << 16;
+  const std::size_t nt = mesh.tets.size(), blocks = (nt + kBlock - 1) / kBlock;
+  std::vector<double> block_volume(blocks, 0.0);
+  std::vector<std::size_t> block_count(blocks, 0);
+  parallel::for_range<std::size_t>(0, blocks, 1, "mean_volume", [&](std::size_t begin, std::size_t end) {
+    for (std::size_t bi = begin; bi < end; ++bi)
+      for (std::size_t t = bi * kBlock; t < std::min(nt, (bi + 1) * kBlock); ++t) {
+        if (mesh.is_dead_tet(static_cast<TetId>(t))) continue;
+        const auto& tv = mesh.tets[t];
+        const glm::dvec3 p0 = mesh.positions[tv[0]];
+        block_volume[bi] += std::fabs(glm::dot(mesh.positions[tv[1]] - p0, glm::cross(mesh.positions[tv[2]] - p0,
+                                                                                    mesh.positions[tv[3]] - p0)));
+        ++block_count[bi];
+      }
+  });
+  double total_volume = 0.0;
+  std::size_t tet_count = 0;
+  for (std::size_t bi = 0; bi < blocks; ++bi) total_volume += block_volume[bi], tet_count += block_count[bi];
+  const double v_ref = units != nullptr ? units->mean_tet_volume * inv_diag_ * inv_diag_ * inv_diag_
+                      : tet_count ? total_volume / 6.0 / static_cast<double>(tet_count) * inv_diag_ * inv_diag_ * inv_diag_
+                                  : 1.0;
+  const double e_ref = std::cbrt(6.0 * std::sqrt(2.0) * v_ref);  // the regular tet of volume v_ref
+  const double a_ref = std::sqrt(3.0) / 4.0 * e_ref * e_ref;
+
+  orders_ = std::make_unique<std::atomic<std::uint8_t>[]>(nv);
+  record_size_ = static_cast<std::size_t>(quadric_size(n_) + n_);
+  records_.assign(nv * record_size_, 0.0);
+  parallel::for_range<std::size_t>(0, nv, 4096, "normalise", [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v) normalise(mesh, static_cast<VertId>(v), coordinates(static_cast<VertId>(v)));
+  });
+  parallel::for_range<std::size_t>(0, nv, 512, "init_quadrics", [&](std::size_t begin, std::size_t end) {
+    LinkScratch scratch;
+    double pts[4 * kMaxQuadricDim], tet_pts[4 * kMaxQuadricDim], weights[kMaxQuadricDim],
+        star[quadric_size(kMaxQuadricDim)];
+    for (std::size_t vi = begin; vi < end; ++vi) {
+      const VertId a = static_cast<VertId>(vi);
+      if (mesh.is_dead_vertex(a)) {
+        orders_[a].store(kStale, std::memory_order_relaxed);
+        continue;
+      }
+      double* q = quadric(a);
+      if (k > 0) {
+        // Every tet of the star stands for one sample (weight v_ref); the star's total weight is
+        // shared among its tets by volume, so that slivers, whose gradients are unreliable,
+        // count little: Q += (tets x v_ref / star volume) x sum of volume x tet quadric.
+        std::fill_n(star, quadric_size(n_), 0.0);
+        double star_volume = 0.0;
+        std::size_t star_tets = 0;
+        mesh.for_each_tet_of(a, [&](TetId t) {
+          for (int j = 0; j < 4; ++j) {
+            const double* x = coordinates(mesh.tets[t][j]);
+            for (int i = 0; i < n_; ++i) pts[j * n_ + i] = x[i];
+          }
+          star_volume += quadric_add_field_simplex(star, n_, pts, 4, component_weight.data());
+          ++star_tets;
+        });
+        if (star_volume > 0.0) {
+          const double scale = v_ref * static_cast<double>(star_tets) / star_volume;
+          for (int i = 0; i < quadric_size(n_); ++i) q[i] += scale * star[i];
+        }
+      }
+      // Most vertices are interior: no special face or polyline edge to add, order 0.
+      if (is_interior_vertex(mesh, a)) {
+        orders_[a].store(0, std::memory_order_relaxed);
+        continue;
+      }
+      LinkScratch::VertexData& data = scratch.a;
+      const VertexOrders orders = classify_vertex(mesh, a, data, scratch);
+      orders_[a].store(orders.ktilde, std::memory_order_relaxed);
+      normalise(mesh, a, pts);
+      double fan_area = 0.0;
+      for (const auto& face : data.special) {
+        normalise(mesh, face.x, pts + n_);
+        normalise(mesh, face.y, pts + 2 * n_);
+        const glm::dvec3 p0(pts[0], pts[1], pts[2]), p1(pts[n_], pts[n_ + 1], pts[n_ + 2]),
+            p2(pts[2 * n_], pts[2 * n_ + 1], pts[2 * n_ + 2]);
+        fan_area += 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
+      }
+      const double mean_area = data.special.empty() ? 0.0 : fan_area / static_cast<double>(data.special.size());
+      const double plane_scale = !(mean_area > 0.0) ? 1.0 : (a_ref / mean_area) * (a_ref / mean_area);
+      const double field_per_area = fan_area > 0.0 ? kFeatureFieldWeight * v_ref * static_cast<double>(data.special.size()) / fan_area : 0.0;
+      for (const auto& face : data.special) {
+        normalise(mesh, face.x, pts + n_);
+        normalise(mesh, face.y, pts + 2 * n_);
+        const glm::dvec3 p0(pts[0], pts[1], pts[2]), p1(pts[n_], pts[n_ + 1], pts[n_ + 2]),
+            p2(pts[2 * n_], pts[2 * n_ + 1], pts[2 * n_ + 2]);
+        const double area = 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
+        quadric_add_simplex_positions(q, n_, pts, 3, area * plane_scale * options.boundary_weight);
+        if (k > 0 && field_per_area > 0.0) {
+          // The field term of the face is the error against the linear interpolant of a tet
+          // through it (the first in a's chain), not the face's own interpolant: that one is
+          // constant along the face's normal, so a vertex off the face's plane (a curved or
+          // jittered boundary, a midpoint across a fold) would pay for, and take, a linear
+          // field's normal slope as error. With the tet's interpolant a linear field costs
+          // nothing anywhere. Weighted by the face's area (measure / volume cancels the tet's).
+          TetId through = kInvalid;
+          mesh.for_each_tet_of(a, [&](TetId t) {
+            const auto& tv = mesh.tets[t];
+            const auto has = [&](VertId x) { return tv[0] == x || tv[1] == x || tv[2] == x || tv[3] == x; };
+            if (through == kInvalid && has(face.x) && has(face.y)) through = t;
+          });
+          if (through != kInvalid) {
+            for (int j = 0; j < 4; ++j) std::copy_n(coordinates(mesh.tets[through][j]), n_, tet_pts + j * n_);
+            const glm::dvec3 t0(tet_pts[0], tet_pts[1], tet_pts[2]), t1(tet_pts[n_], tet_pts[n_ + 1], tet_pts[n_ + 2]),
+                t2(tet_pts[2 * n_], tet_pts[2 * n_ + 1], tet_pts[2 * n_ + 2]),
+                t3(tet_pts[3 * n_], tet_pts[3 * n_ + 1], tet_pts[3 * n_ + 2]);
+            const double volume = std::fabs(glm::dot(t1 - t0, glm::cross(t2 - t0, t3 - t0))) / 6.0;
+            if (volume > 0.0) {
+              for (int c = 0; c < k; ++c) weights[c] = field_per_area * area / volume * component_weight[c];
+              quadric_add_field_simplex(q, n_, tet_pts, 4, weights);  // x volume
+            }
+          }
+        }
+      }
+      double fan_length = 0.0;
+      int polyline_edges = 0;
+      for (const auto& nb : data.neighbours) {
+        if (!nb.polyline) continue;
+        normalise(mesh, nb.x, pts + n_);
+        fan_length += glm::length(glm::dvec3(pts[n_] - pts[0], pts[n_ + 1] - pts[1], pts[n_ + 2] - pts[2]));
+        ++polyline_edges;
+      }
+      const double mean_length = polyline_edges ? fan_length / polyline_edges : 0.0;
+      const double line_scale = !(mean_length > 0.0) ? 1.0 : std::pow(e_ref / mean_length, 3);
+      for (const auto& nb : data.neighbours) {
+        if (!nb.polyline) continue;
+        normalise(mesh, nb.x, pts + n_);
+        const double length = glm::length(glm::dvec3(pts[n_] - pts[0], pts[n_ + 1] - pts[1], pts[n_ + 2] - pts[2]));
+        quadric_add_simplex_positions(q, n_, pts, 2, length * line_scale * options.polyline_weight);
+      }
+    }
+  });
+}
+
+void CostModel::normalise(const MeshModel& mesh, VertId v, double* x) const {
+  const glm::dvec3 p = (mesh.positions[v] - origin_) * inv_diag_;
+  x[0] = p.x;
+  x[1] = p.y;
+  x[2] = p.z;
+  const double* f = mesh.field_values.data() + static_cast<std::size_t>(v) * stride_;
+  for (int c = 0; c < n_ - 3; ++c) x[3 + c] = (f[component_[c]] - field_min_[c]) * field_scale_[c];
+}
+
+std::uint8_t CostModel::order(const MeshModel& mesh, VertId v, LinkScratch& scratch) {
+  std::uint8_t o = orders_[v].load(std::memory_order_relaxed);
+  if (o == kStale || o == kStaleFeature) {
+    o = o == kStale && is_interior_vertex(mesh, v) ? 0 : classify_vertex(mesh, v, scratch.b, scratch).ktilde;
+    // Relaxed: the value is a pure function of the (unchanging during evaluation) mesh.
+    orders_[v].store(o, std::memory_order_relaxed);
+  }
+  return o;
+}
+
+int CostModel::candidates(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch) {
+  // The hot path of both engines: the quadric arithmetic is instantiated for the common
+  // dimensions (positions plus up to 4 field components) so that its loops unroll.
+  switch (n_) {
+    case 3: return candidates_n<3>(mesh, a, b, out, scratch);
+    case 4: return candidates_n<4>(mesh, a, b, out, scratch);
+    case 5: return candidates_n<5>(mesh, a, b, out, scratch);
+    case 6: return candidates_n<6>(mesh, a, b, out, scratch);
+    case 7: return candidates_n<7>(mesh, a, b, out, scratch);
+    default: return candidates_n<0>(mesh, a, b, out, scratch);
+  }
+}
+
+double CostModel::edge_cost(const MeshModel& mesh, VertId a, VertId b, LinkScratch& scratch) {
+  switch (n_) {
+    case 3: return edge_cost_n<3>(mesh, a, b, scratch);
+    case 4: return edge_cost_n<4>(mesh, a, b, scratch);
+    case 5: return edge_cost_n<5>(mesh, a, b, scratch);
+    case 6: return edge_cost_n<6>(mesh, a, b, scratch);
+    case 7: return edge_cost_n<7>(mesh, a, b, scratch);
+    default: return edge_cost_n<0>(mesh, a, b, scratch);
+  }
+}
+
+// The merged quadric of an edge ab and what every placement of it needs.
+template <int kN>
+struct CostModel::EdgeQuadric {
+  static constexpr int kQ = quadric_size(kN > 0 ? kN : kMaxQuadricDim);
+  int n;
+  double q[kQ];
+  double xa[kMaxQuadricDim], xb[kMaxQuadricDim], xm[kMaxQuadricDim];
+  double length, tie;
+
+  EdgeQuadric(const CostModel& model, VertId a, VertId b) : n(quadric_detail::dim<kN>(model.n_)) {
+    // One record per end: quadric and normalised coordinates side by side (few cache lines).
+    std::copy_n(model.quadric(a), quadric_size(n), q);
+    quadric_detail::add<kN>(q, model.quadric(b), n);
+    std::copy_n(model.coordinates(a), n, xa);
+    std::copy_n(model.coordinates(b), n, xb);
+    for (int i = 0; i < n; ++i) xm[i] = 0.5 * (xa[i] + xb[i]);
+    length = glm::length(glm::dvec3(xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]));
+    tie = kLengthTieBreak * length * length * length;
+  }
+
+  // Cost at x (normalised). Where the position is constrained (an endpoint, the midpoint), the
+  // field values need not be: x's field part becomes the values the merged quadric likes best at
+  // that position. Keeping an endpoint's values instead let the greedy order wipe out narrow
+  // field features for free. A pinned vertex keeps its values exactly (see fields_at).
+  double placement_cost(double* x, bool free_fields) const {
+    if (free_fields) quadric_detail::minimize_fields<kN>(q, n, x);
+    return quadric_detail::eval<kN>(q, n, x) + tie;
+  }
+
+  // Cost at the optimum x (A x = -b there, so Q(x) = b.x + c): one dot product instead of the
+  // whole form.
+  double optimum_cost(const double* x) const {
+    const double* b = q + n * (n + 1) / 2;
+    double s = b[n];
+    for (int i = 0; i < n; ++i) s += b[i] * x[i];
+    return (s > 0.0 ? s : 0.0) + tie;
+  }
+
+  // The optimum, when the quadric is well conditioned and its minimum lies near the edge
+  // (far-away minima come from nearly flat quadrics).
+  bool optimum(double* xo) const {
+    if (!quadric_detail::minimize<kN>(q, n, xo)) return false;
+    const glm::dvec3 po(xo[0], xo[1], xo[2]), pm(xm[0], xm[1], xm[2]);
+    return glm::length(po - pm) <= length;
+  }
+};
+
+template <int kN>
+int CostModel::candidates_n(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch) {
+  if (mesh.is_frozen(a) || mesh.is_frozen(b)) return 0;  // no collapse touches a frozen vertex
+  const std::uint8_t oa = order(mesh, a, scratch), ob = order(mesh, b, scratch);
+  if (oa == 3 && ob == 3) return 0;  // link condition (I); pinned vertices have order 3
+  const bool pa = oa == 3 && mesh.is_pinned(a), pb = ob == 3 && mesh.is_pinned(b);
+  const EdgeQuadric<kN> e(*this, a, b);
+  const int n = e.n;
+
+  CollapseCandidate found[4];
+  int count = 0;
+  auto add = [&](VertId u, VertId v, const double* x, int placement) {
+    CollapseCandidate& c = found[count++];
+    c.u = u;
+    c.v = v;
+    c.placement = placement;
+    std::copy_n(x, n, c.x);
+    c.p = placement == kAtU ? mesh.positions[u]
+          : placement == kMidpoint ? 0.5 * (mesh.positions[a] + mesh.positions[b])
+                                   : origin_ + glm::dvec3(x[0], x[1], x[2]) / inv_diag_;
+    c.cost = placement == kOptimum ? e.optimum_cost(c.x) : e.placement_cost(c.x, !(placement == kAtU && mesh.is_pinned(u)));
+  };
+  // A pinned end, or the end of higher order, stays where it is.
+  if (pa || (!pb && oa > ob)) {
+    add(a, b, e.xa, kAtU);
+  } else if (pb || ob > oa) {
+    add(b, a, e.xb, kAtU);
+  } else {
+    add(a, b, e.xa, kAtU);
+    add(b, a, e.xb, kAtU);
+    add(a, b, e.xm, kMidpoint);
+    double xo[kMaxQuadricDim];
+    if (oa == 0 && e.optimum(xo)) add(a, b, xo, kOptimum);
+  }
+  // Cheapest first; ties keep the order above (deterministic). Sorted by index: a candidate is
+  // large (its quadric coordinates), and only the winner order matters.
+  int order_of[4] = {0, 1, 2, 3};
+  for (int i = 1; i < count; ++i)
+    for (int j = i; j > 0 && found[order_of[j]].cost < found[order_of[j - 1]].cost; --j)
+      std::swap(order_of[j], order_of[j - 1]);
+  for (int i = 0; i < count; ++i) {
+    const CollapseCandidate& c = found[order_of[i]];
+    CollapseCandidate& o = out[i];
+    o.u = c.u;
+    o.v = c.v;
+    o.p = c.p;
+    o.cost = c.cost;
+    o.placement = c.placement;
+    std::copy_n(c.x, n, o.x);
+  }
+  return count;
+}
+
+template <int kN>
+double CostModel::edge_cost_n(const MeshModel& mesh, VertId a, VertId b, LinkScratch& scratch) {
+  constexpr double kForbidden = std::numeric_limits<double>::infinity();
+  if (mesh.is_frozen(a) || mesh.is_frozen(b)) return kForbidden;  // no collapse touches a frozen vertex
+  const std::uint8_t oa = order(mesh, a, scratch), ob = order(mesh, b, scratch);
+  if (oa == 3 && ob == 3) return kForbidden;  // link condition (I); pinned vertices have order 3
+  const bool pa = oa == 3 && mesh.is_pinned(a), pb = ob == 3 && mesh.is_pinned(b);
+  const EdgeQuadric<kN> e(*this, a, b);
+  double x[kMaxQuadricDim];
+  // The same placements as candidates_n, in the same arithmetic; only the cheapest cost is kept.
+  if (pa || (!pb && oa > ob)) {
+    std::copy_n(e.xa, e.n, x);
+    return e.placement_cost(x, !pa);
+  }
+  if (pb || ob > oa) {
+    std::copy_n(e.xb, e.n, x);
+    return e.placement_cost(x, !pb);
+  }
+  // The optimum minimises the quadric over all positions and field values, so when it is a
+  // candidate it is the cheapest one: the three others need not be evaluated.
+  if (oa == 0 && e.optimum(x)) return e.optimum_cost(x);
+  double best = kForbidden;
+  for (const double* start : {e.xa, e.xb, e.xm}) {
+    std::copy_n(start, e.n, x);
+    best = std::min(best, e.placement_cost(x, true));
+  }
+  return best;
+}
+
+void CostModel::fields_at(const MeshModel& mesh, const CollapseCandidate& c, double* out) const {
+  if (stride_ == 0) return;
+  const double* fu = mesh.field_values.data() + static_cast<std::size_t>(c.u) * stride_;
+  if (c.placement == kAtU && mesh.is_pinned(c.u)) {  // a pinned vertex keeps its own values
+    std::copy_n(fu, stride_, out);
+    return;
+  }
+  // The mesh's current field at p: at an endpoint its values, at the midpoint the mean of the two;
+  // elsewhere linear in the tet of St(u) ∪ St(v) that contains p (the first one found whose
+  // barycentric coordinates are all >= 0, else the one whose smallest is largest).
+  const double* fv = mesh.field_values.data() + static_cast<std::size_t>(c.v) * stride_;
+  if (c.placement == kAtU) {
+    std::copy_n(fu, stride_, out);
+  } else if (c.placement == kMidpoint) {
+    for (int k = 0; k < stride_; ++k) out[k] = 0.5 * (fu[k] + fv[k]);
+  } else {
+    TetId best = kInvalid;
+    double best_min = -std::numeric_limits<double>::infinity(), bary[4] = {1.0, 0.0, 0.0, 0.0};
+    const auto test = [&](TetId t) {
+      if (best_min >= 0.0) return;  // found
+      const auto& tv = mesh.tets[t];
+      const glm::dvec3 a = mesh.positions[tv[0]] - c.p, b = mesh.positions[tv[1]] - c.p,
+                       cc = mesh.positions[tv[2]] - c.p, d = mesh.positions[tv[3]] - c.p;
+      double l[4] = {glm::dot(b, glm::cross(cc, d)), -glm::dot(a, glm::cross(cc, d)), glm::dot(a, glm::cross(b, d)),
+                     -glm::dot(a, glm::cross(b, cc))};
+      const double total = l[0] + l[1] + l[2] + l[3];
+      if (!(total > 0.0)) return;
+      for (double& x : l) x /= total;
+      const double m = std::min({l[0], l[1], l[2], l[3]});
+      if (m > best_min) best_min = m, best = t, std::copy_n(l, 4, bary);
+    };
+    // The tets around uv first: p is near the edge (cost.h), so one of them usually holds it.
+    const auto has = [&](TetId t, VertId x) {
+      const auto& tv = mesh.tets[t];
+      return tv[0] == x || tv[1] == x || tv[2] == x || tv[3] == x;
+    };
+    // The other tets are walked only when none of those holds p (the walk itself costs: it was
+    // most of this function's time, on every collapse).
+    mesh.for_each_tet_of(c.u, [&](TetId t) { if (has(t, c.v)) test(t); });
+    if (best_min < 0.0) {
+      mesh.for_each_tet_of(c.u, [&](TetId t) { if (!has(t, c.v)) test(t); });
+      mesh.for_each_tet_of(c.v, [&](TetId t) { if (!has(t, c.u)) test(t); });
+    }
+    // Outside every tet (rare: the optimum lies near the edge) the nearest tet's interpolant is
+    // extended linearly rather than clamped onto the tet: a linear field stays exact.
+    const double* corner[4] = {fu, fu, fu, fu};
+    if (best != kInvalid)
+      for (int i = 0; i < 4; ++i) corner[i] = mesh.field_values.data() + static_cast<std::size_t>(mesh.tets[best][i]) * stride_;
+    for (int k = 0; k < stride_; ++k)
+      out[k] = bary[0] * corner[0][k] + bary[1] * corner[1][k] + bary[2] * corner[2][k] + bary[3] * corner[3][k];
+  }
+  // The quadric's components: mostly its value (the best fit over the vertex's region), pulled
+  // toward the field at p by kFieldBlend (see cost.h).
+  for (int q = 0; q < n_ - 3; ++q) {
+    const int k = component_[q];
+    out[k] = (1.0 - kFieldBlend) * (c.x[3 + q] / field_scale_[q] + field_min_[q]) + kFieldBlend * out[k];
+  }
+}
+
+void CostModel::prefetch(VertId v) const {
+  const double* record = quadric(v);
+  for (std::size_t offset = 0; offset < record_size_; offset += 8) topotet::prefetch(record + offset);  // 64-byte lines
+  topotet::prefetch(&orders_[v]);
+}
+
+void CostModel::on_collapse(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_uv) {
+  quadric_add(quadric(u), quadric(v), n_);
+  normalise(mesh, u, coordinates(u));  // u moved and took new field values
+  // Which orders can change? u's star changed wholesale. A vertex x outside the removed tets St(uv)
+  // is adjacent to u or to v but not both: its faces and edges through v are only renamed to u
+  // (no face or edge of x merges, since a merge needs a removed tet uvxy), so the special faces,
+  // polyline edges and labels around x form the same configuration and its order is unchanged.
+  // Only the vertices of St(uv) (the link of uv) see faces merge or vanish, and of those only the
+  // ones on a feature: an interior vertex (order 0: no special face or edge, not pinned) has no
+  // special simplex to merge, and every special simplex after the collapse is the image of one
+  // before it, so it stays interior. Most vertices are interior: this spares their reclassification.
+  // u itself: its star changed wholesale, unless u was interior. Then so was v (the cost model
+  // keeps the end of higher order), every tet of St(u) ∪ St(v) had one material and no special
+  // face or edge at u or v, and the merged faces of the removed tets stay interior (the link
+  // conditions hold): u is still interior.
+  // A vertex that was on a feature goes straight to the classification when its order is next
+  // needed (the fast interior test would almost always fail: its special simplices have images).
+  const auto mark_stale = [&](VertId x) {
+    const std::uint8_t o = orders_[x].load(std::memory_order_relaxed);
+    if (o != 0) orders_[x].store(o == kStale ? kStale : kStaleFeature, std::memory_order_relaxed);
+  };
+  mark_stale(u);
+  for (TetId t : star_uv)
+    for (VertId x : mesh.tets[t])
+      if (x != v) mark_stale(x);
+}
+
+std::size_t CostModel::memory_bytes() const {
+  return records_.capacity() * sizeof(double) + vertex_count_ * sizeof(std::atomic<std::uint8_t>) +
+         (field_min_.capacity() + field_scale_.capacity()) * sizeof(double);
+}
+
+void set_placement_fields(const MeshModel& mesh, const CostModel& cost, const CollapseCandidate* cands, int n,
+                          topotet::Placement* placements, std::vector<double>& storage) {
+  const std::size_t stride = static_cast<std::size_t>(mesh.field_stride());
+  storage.resize(stride * static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    double* out = storage.data() + stride * static_cast<std::size_t>(i);
+    cost.fields_at(mesh, cands[i], out);
+    placements[i].fields = out;
+  }
+}
+
+}  // namespace topotet

@@ -1,0 +1,180 @@
+// Collapse cost and placement: Garland–Zhou quadrics over positions and fields (paper 002 §4,
+// paper 001 §5.1), with placements that respect the vertex classification.
+//
+// Coordinates are normalised so that the bounding box diagonal is 1 and every field component
+// spans [0, 1] (its range; see "Field scaling" below). Each vertex carries the sum of
+//   - for every incident tet, the squared error of the new vertex's field values against the tet's
+//     linear interpolant, sum over components c of w_c (f_c - L_c(x))^2 (quadric_add_field_simplex:
+//     the "vertical" distance), with w_c the component's field weight (SimplifyOptions::
+//     field_weights) times the tet's share of one sample (below);
+//   - for every incident boundary, interface or listed surface face, its plane quadric (position
+//     only) weighted by boundary_weight, and the same field term over the interpolant of a tet
+//     through the face, weighing kFeatureFieldWeight tets (the face's own interpolant, constant
+//     along its normal, made a linear field cost something off the face's plane);
+//   - for every incident polyline edge, its line quadric (position only), weighted by
+//     polyline_weight.
+// After a collapse u <- v, Q_u += Q_v (the standard Garland–Heckbert accumulation).
+//
+// Why these terms (issue #11; LOX post 513k tets to 30%, parallel engine, field 0, RMS relative to
+// the range pooled over both directions, against VTK's vtkUnstructuredGridQuadricDecimation
+// 0.0014 at the same vertex count; the step-by-step numbers below were measured while building
+// the model, on the engine before the rewritten rounds; README.md has the final ones):
+//   - Vertical, not orthogonal, distance. The 3-flat of a tet in R^(3+k) measured orthogonally
+//     gives (f - L(x))^2 / (1 + |grad f|^2): in normalised units the gradient of a boundary layer
+//     is in the hundreds, so the steepest parts of a field, where the error is made, cost 1e-4
+//     of what they should and were collapsed first. 0.0158 -> 0.0031. VTK's tet quadric is the
+//     vertical one too (the 4D normal scaled by 1 / volume).
+//   - One sample per tet, not the tet's volume. The field error is measured at the vertices (paper
+//     001 ch. 7), and a graded mesh puts its vertices where the field needs them: 42% of LOX's
+//     vertices lie within 0.1 (of 30) of the post. Weighted by volume that layer is almost free
+//     to collapse; weighted per tet every input vertex counts as much as the error measure says.
+//     0.0031 -> 0.00031. Within a vertex's star the star's weight is shared by volume (slivers
+//     count little); on a uniform mesh both weightings are the same (cube-sphere, Bucky: within
+//     2%). All weights are multiplied by the mean tet volume, so costs keep the units of before
+//     (max_cost).
+//   - The feature field term. A boundary vertex has about half the tets of an interior one, so its
+//     field error weighed half; kFeatureFieldWeight = 3 tets per face (a boundary vertex has about 6
+//     faces and 12 tets where an interior one has 24 tets) gives it back. LOX 30%: max error
+//     0.0217 -> 0.0025, RMS 0.00031 -> 0.00024; weights 1..4 within 3%.
+//   - The feature quadrics measure position only (quadric_add_simplex_positions): built in
+//     R^(3+k) they would also pin the field along every feature with the feature's penalty, which
+//     kept nearly all boundary vertices and left the interior's field short of them. Their weight
+//     is relative to the local size: boundary_weight x area x (a_ref / a)^2, with a the vertex's
+//     mean face area and a_ref the face of the regular tet of the mean volume (polylines: length x
+//     (e_ref / l)^3), so that moving a surface by a given fraction of its local edge length costs
+//     the same everywhere, as the per-sample field term does; on a uniform mesh this is the
+//     area-weighted quadric of before.
+// Field scaling: each component by its range, so that the cost adds up the squared errors
+// relative to the range, the unit every report prints (field_error.h). By standard deviation the
+// balance between fields moves toward those with a few extreme values (LOX, three fields at 30%:
+// each field's RMS relative to a run preserving it alone 2.1 / 1.4 / 1.6 by range, 1.6 / 1.9 /
+// 1.2 by standard deviation, not better overall), and the balance with the geometry moves with
+// the field's distribution (LOX 30%: max error 0.0028 -> 0.0216, a corner of the post cut).
+// Unscaled, the balance would depend on the fields' units.
+// Balancing the fields by their own achievable error (weights 1 / RMS alone^2, taken from the
+// single-field runs) only moves error between them (LOX 30%: 2.01 / 1.43 / 1.51 -> 1.63 / 1.69 /
+// 1.25 times the single-field RMS): three fields within 1.2x of their own runs need about 1.33x
+// the vertices of one (README.md, "Several fields").
+//
+// Placement of the merged vertex (ord = order in the substructure filtration, link_condition.h):
+//   ord a > ord b : a stays where it is (a vertex on a feature never leaves it);
+//   equal, 0      : the quadric's optimum when well conditioned and near the edge, else the best of
+//                   the endpoints and the midpoint;
+//   equal, 1 or 2 : the best of the endpoints and the midpoint (the midpoint of a surface or curve
+//                   edge stays on the piecewise-linear feature);
+//   pinned vertices never move; two order-3 ends never collapse (link condition (I)).
+// Where a placement fixes the position (an endpoint, the midpoint) the cost takes the field values
+// the quadric likes best at that position (its minimum over the field coordinates).
+// The values the new vertex gets (fields_at) are 3/4 of the quadric's and 1/4 of the mesh's field
+// interpolated at the new position (kFieldBlend). The quadric's value is the best fit over the
+// vertex's whole region, which is what the error at the original vertices wants, but at a peak or
+// a ridge the tets' planes meet above the field and the vertex overshoots it: the error at the
+// new vertices themselves (simplified -> original) grows. Bucky ball at 10%: 0.0298 -> 0.0228 in
+// that direction (VTK 0.0265), 0.0216 -> 0.0232 in the other (VTK 0.0335). The values never feed
+// back into the costs (they are recomputed from the quadric), so this moves no collapse.
+// A pinned vertex keeps its values; components with weight 0 (and any past the 16th) are
+// interpolated only.
+// A small length term (1e-6 |ab|^3) breaks ties between zero-cost collapses in favour of short
+// edges, which keeps tets well shaped when there is no field to preserve.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "kernel/collapse.h"
+#include "kernel/link_condition.h"
+#include "mesh/mesh_model.h"
+#include "cost/quadric.h"
+#include "topotet/simplify.h"
+
+namespace topotet {
+
+struct CollapseCandidate {
+  VertId u = kInvalid, v = kInvalid;  // v merges into u
+  glm::dvec3 p{0.0};                  // new position of u (mesh units)
+  double cost = 0.0;                  // normalised units
+  int placement = 0;                  // 0 = at u, 1 = midpoint, 2 = quadric optimum
+  double x[kMaxQuadricDim];           // the placement in normalised quadric coordinates
+};
+
+class CostModel {
+ public:
+  // Builds every vertex's quadric and order (parallel over vertices, deterministic).
+  CostModel(const MeshModel& mesh, const SimplifyOptions& options);
+
+  int dimension() const { return n_; }
+
+  // Placements for edge ab, cheapest first (at most 4). Returns 0 when the orders forbid the
+  // collapse outright (both ends order 3, or a pinned end that would have to move).
+  int candidates(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch);
+
+  // The cost of edge ab's cheapest placement (candidates()[0].cost, up to rounding: the optimum,
+  // when it is a candidate, is taken as the cheapest without evaluating the others); infinity
+  // when the orders forbid the collapse. For ranking edges; candidates() for checking them.
+  double edge_cost(const MeshModel& mesh, VertId a, VertId b, LinkScratch& scratch);
+
+  // Field values (mesh units, field_stride() of them) for u after collapsing with candidate c.
+  void fields_at(const MeshModel& mesh, const CollapseCandidate& c, double* out) const;
+
+  // Asks the memory system for what edge_cost / candidates will read about v (see prefetch.h).
+  void prefetch(VertId v) const;
+
+  // Bookkeeping after mesh collapse(u <- v): Q_u += Q_v, and the orders of u and of the vertices
+  // of the removed tets `star_uv` are recomputed on demand. Writes only u's quadric and the order
+  // bytes of vertices of St(uv), all inside the collapse's stencil.
+  void on_collapse(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_uv);
+
+  // Order of v in the substructure filtration (cached; thread-safe for distinct or equal v:
+  // concurrent recomputations write the same value).
+  std::uint8_t order(const MeshModel& mesh, VertId v, LinkScratch& scratch);
+
+  // True when v is known to be of order 0 (interior: on no feature). Interior stays interior
+  // through every legal collapse, so the answer never goes stale.
+  bool known_interior(VertId v) const { return orders_[v].load(std::memory_order_relaxed) == 0; }
+
+  // Tells the kernel which ends of edge ab are known to be of order 0 (LinkScratch::known_interior).
+  void hint_orders(VertId a, VertId b, LinkScratch& scratch) const {
+    scratch.known_interior[0] = orders_[a].load(std::memory_order_relaxed) == 0 ? a : kInvalid;
+    scratch.known_interior[1] = orders_[b].load(std::memory_order_relaxed) == 0 ? b : kInvalid;
+  }
+
+  std::size_t memory_bytes() const;
+
+ private:
+  // kN > 0: the quadric dimension n_ fixed at compile time; 0: read at run time.
+  template <int kN>
+  struct EdgeQuadric;
+  template <int kN>
+  int candidates_n(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch);
+  template <int kN>
+  double edge_cost_n(const MeshModel& mesh, VertId a, VertId b, LinkScratch& scratch);
+  void normalise(const MeshModel& mesh, VertId v, double* x) const;
+
+  int n_ = 3;             // quadric dimension
+  int stride_ = 0;        // mesh field stride
+  std::vector<int> component_;  // quadric field coordinate -> mesh field component
+  glm::dvec3 origin_{0.0};
+  double inv_diag_ = 1.0;
+  std::vector<double> field_min_, field_scale_;  // per quadric field component
+  // Per vertex, side by side: its quadric (quadric_size(n_) doubles), then its normalised
+  // coordinates (n_ doubles). A candidate edge reads one record per end.
+  std::vector<double> records_;
+  std::size_t record_size_ = 0;
+  double* quadric(VertId v) { return &records_[v * record_size_]; }
+  const double* quadric(VertId v) const { return &records_[v * record_size_]; }
+  double* coordinates(VertId v) { return &records_[v * record_size_ + quadric_size(n_)]; }
+  const double* coordinates(VertId v) const { return &records_[v * record_size_ + quadric_size(n_)]; }
+  std::unique_ptr<std::atomic<std::uint8_t>[]> orders_;  // 0xFF = stale
+  std::size_t vertex_count_ = 0;
+};
+
+// Points placements[i].fields at fields_at(cands[i]) (stored in `storage`), for the kernel's field
+// error check (CollapseOptions::field_bounds): it must see the values collapse() will write.
+void set_placement_fields(const MeshModel& mesh, const CostModel& cost, const CollapseCandidate* cands, int n,
+                          Placement* placements, std::vector<double>& storage);
+
+}  // namespace topotet

@@ -1,0 +1,264 @@
+// Per-vertex collapse proposals (see proposals.h).
+#include "cost/proposals.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace topotet::detail {
+namespace {
+
+
+// (cost, b) order among one vertex's edges: ties go to the lower id.
+bool cheaper(double c1, VertId b1, double c2, VertId b2) { return c1 != c2 ? c1 < c2 : b1 < b2; }
+
+// Inserts edge (a, b) of cost c into best and runner-up. The runner-up stays unknown when it was
+// (an unknown edge might come between).
+void insert_edge(double c, VertId b, double& best_cost, VertId& best, double& second_cost, VertId& second) {
+  if (cheaper(c, b, best_cost, best)) {
+    second_cost = best_cost;
+    second = best;
+    best_cost = c;
+    best = b;
+  } else if (second != kInvalid && cheaper(c, b, second_cost, second)) {
+    second_cost = c;
+    second = b;
+  }
+}
+
+// The neighbours b > a: the edges a owns.
+void neighbours_above(const MeshModel& mesh, VertId a, std::vector<VertId>& out) {
+  mesh.neighbours(a, out);
+  out.erase(out.begin(), std::upper_bound(out.begin(), out.end(), a));
+}
+
+}  // namespace
+
+Proposals::Proposals(const MeshModel& mesh, CostModel& cost, const CollapseOptions& kernel)
+    : mesh_(mesh),
+      cost_(cost),
+      kernel_(kernel),
+      proposals_(mesh.vertex_capacity()),
+      rank_cost_(mesh.vertex_capacity(), kNoCost),
+      bans_(mesh.vertex_capacity()),
+      changed_round_(mesh.vertex_capacity(), 0) {}
+
+void Proposals::set(VertId a, const Proposal& p) {
+  proposals_[a] = p;
+  rank_cost_[a] = p.cost;
+}
+
+// --- costs -----------------------------------------------------------------------------------
+
+void Proposals::cost_owned_edges(VertId a, ProposalScratch& s) {
+  neighbours_above(mesh_, a, s.nbrs);
+  for (VertId b : s.nbrs) cost_.prefetch(b);  // the records' cache misses overlap
+  s.edges.clear();
+  for (std::size_t k = 0; k < s.nbrs.size(); ++k) {
+    if (is_banned(a, s.nbrs[k])) continue;
+    ++s.evaluations;
+    const double c = cost_.edge_cost(mesh_, a, s.nbrs[k], s.collapse.link);
+    if (std::isfinite(c)) s.edges.push_back({c, s.nbrs[k]});
+  }
+}
+
+void Proposals::propose(VertId a, ProposalScratch& s) {
+  cost_owned_edges(a, s);
+  Proposal p;
+  for (const ProposalScratch::EdgeCost& e : s.edges) {
+    if (cheaper(e.cost, e.b, p.cost, p.b)) {
+      p.second_cost = p.cost;
+      p.second = p.b;
+      p.set_best(e.cost, e.b);
+    } else if (cheaper(e.cost, e.b, p.second_cost, p.second)) {
+      p.second_cost = e.cost;
+      p.second = e.b;
+    }
+  }
+  set(a, p);
+}
+
+bool Proposals::update(VertId a, VertId u, ProposalScratch& s) {
+  Proposal p = proposals_[a];
+  restore_lifted_bans(a, p, u);
+  const auto stale = [&](VertId x) { return x == kInvalid || x == u || mesh_.is_dead_vertex(x); };
+  if (stale(p.b)) {
+    if (stale(p.second)) return false;
+    p.set_best(p.second_cost, p.second);  // the runner-up was the cheapest of the others,
+    p.second = kInvalid;                   // and what comes after it is not known
+    p.second_cost = kNoCost;
+  } else if (p.second != kInvalid && stale(p.second)) {
+    p.second = kInvalid;
+    p.second_cost = kNoCost;
+  }
+  p.placement = -1;
+  if (u > a && !mesh_.is_dead_vertex(u)) {  // a owns au: re-cost it
+    ++s.evaluations;
+    const double c = cost_.edge_cost(mesh_, a, u, s.collapse.link);
+    if (std::isfinite(c)) {
+      const VertId before = p.b;
+      double best_cost = p.cost;
+      VertId best = p.b;
+      insert_edge(c, u, best_cost, best, p.second_cost, p.second);
+      if (best != before) p.set_best(best_cost, best);
+    }
+  }
+  set(a, p);
+  return true;
+}
+
+// --- the kernel ------------------------------------------------------------------------------
+
+bool Proposals::is_verified(VertId a) const {
+  const Proposal& p = proposals_[a];
+  return p.placement >= 0 && p.verified_round > changed_round_[a] && p.verified_round > changed_round_[p.b];
+}
+
+bool Proposals::is_banned(VertId a, VertId b) const {
+  const Bans& bans = bans_[a];
+  if (bans.lifted) return false;
+  return bans.exhausted || std::find(bans.edge.begin(), bans.edge.end(), b) != bans.edge.end();
+}
+
+void Proposals::ban(VertId a, VertId b, double cost) {
+  Bans& bans = bans_[a];
+  if (bans.lifted) bans = Bans{};  // a fresh failure after a lift: the old list is void
+  for (std::size_t k = 0; k < bans.edge.size(); ++k)
+    if (bans.edge[k] == kInvalid) {
+      bans.edge[k] = b;
+      bans.cost[k] = static_cast<float>(cost);
+      return;
+    }
+  bans.exhausted = true;  // a vertex whose edges keep failing waits until its star changes
+}
+
+void Proposals::restore_lifted_bans(VertId a, Proposal& p, VertId u) {
+  Bans& bans = bans_[a];
+  if (!bans.lifted) return;
+  double best_cost = p.cost, second_cost = p.second_cost;
+  VertId best = p.b, second = p.second;
+  if (best == kInvalid) {
+    // No proposal: the banned edges were all the edges left, so best and runner-up are exact.
+    second_cost = kNoCost;
+    second = kInvalid;
+    for (std::size_t k = 0; k < bans.edge.size(); ++k) {
+      const VertId b = bans.edge[k];
+      if (b == kInvalid || b == u || mesh_.is_dead_vertex(b)) continue;
+      if (cheaper(bans.cost[k], b, best_cost, best)) {
+        second_cost = best_cost;
+        second = best;
+        best_cost = bans.cost[k];
+        best = b;
+      } else if (cheaper(bans.cost[k], b, second_cost, second)) {
+        second_cost = bans.cost[k];
+        second = b;
+      }
+    }
+  } else {
+    for (std::size_t k = 0; k < bans.edge.size(); ++k) {
+      const VertId b = bans.edge[k];
+      if (b == kInvalid || b == u || mesh_.is_dead_vertex(b)) continue;
+      insert_edge(bans.cost[k], b, best_cost, best, second_cost, second);
+    }
+  }
+  if (best != p.b) p.set_best(best_cost, best);
+  p.second_cost = second_cost;
+  p.second = second;
+  bans = Bans{};
+}
+
+int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
+  Placement placements[4];
+  for (int i = 0; i < n; ++i) placements[i] = {s.cands[i].u, s.cands[i].v, s.cands[i].p};
+  if (kernel_.field_bounds != nullptr && kernel_.field_bounds->has_limit()) set_placement_fields(mesh_, cost_, s.cands, n, placements, s.fields);
+  ++s.checks;
+  cost_.hint_orders(a, b, s.collapse.link);
+  return first_acceptable(mesh_, placements, n, kernel_, s.collapse, &s.rejected);
+}
+
+// Makes ab a's proposal (runner-up as given) with fresh costs and, if it ranks below the
+// threshold, runs the kernel on it. True when the search is over: ab was verified, or it ranks
+// above the threshold (it competes in a later round). False when ab failed (now banned) or is
+// forbidden: the caller tries the next edge.
+bool Proposals::try_edge(VertId a, VertId b, const Ranked& threshold, std::uint32_t round, ProposalScratch& s) {
+  ++s.evaluations;
+  const int n = cost_.candidates(mesh_, a, b, s.cands, s.collapse.link);
+  if (n == 0) return false;
+  Proposal p = proposals_[a];
+  p.set_best(s.cands[0].cost, b);
+  set(a, p);
+  if (!(Ranked{p.cost, a, b} < threshold)) return true;
+  const int chosen = check(a, b, n, s);
+  if (chosen < 0) {
+    ban(a, b, p.cost);
+    return false;
+  }
+  proposals_[a].verified_round = round;
+  proposals_[a].placement = static_cast<std::int8_t>(chosen);
+  rank_cost_[a] = s.cands[chosen].cost;
+  return true;
+}
+
+void Proposals::verify(VertId a, const Ranked& threshold, std::uint32_t round, ProposalScratch& s) {
+  // The proposed edge, then the runner-up (the next in cost order when known: one evaluation, not
+  // all), then every other edge in cost order.
+  const VertId proposed = proposals_[a].b, runner_up = proposals_[a].second;
+  if (try_edge(a, proposed, threshold, round, s)) return;
+  proposals_[a].second = kInvalid;
+  if (runner_up != kInvalid && !mesh_.is_dead_vertex(runner_up) && !is_banned(a, runner_up) &&
+      try_edge(a, runner_up, threshold, round, s))
+    return;
+  cost_owned_edges(a, s);
+  s.edge_order.resize(s.edges.size());
+  for (std::uint32_t k = 0; k < s.edges.size(); ++k) s.edge_order[k] = k;
+  std::sort(s.edge_order.begin(), s.edge_order.end(), [&](std::uint32_t x, std::uint32_t y) {
+    return cheaper(s.edges[x].cost, s.edges[x].b, s.edges[y].cost, s.edges[y].b);
+  });
+  for (std::size_t k = 0; k < s.edge_order.size(); ++k) {
+    Proposal p;
+    const ProposalScratch::EdgeCost& e = s.edges[s.edge_order[k]];
+    if (k + 1 < s.edge_order.size()) {
+      const ProposalScratch::EdgeCost& next = s.edges[s.edge_order[k + 1]];
+      p.second_cost = next.cost;
+      p.second = next.b;
+    }
+    set(a, p);
+    if (try_edge(a, e.b, threshold, round, s)) return;
+  }
+  set(a, Proposal{});
+}
+
+// --- after a collapse ------------------------------------------------------------------------
+
+Proposals::Redo Proposals::star_changed(VertId x, VertId u, VertId v, std::uint32_t round) {
+  changed_round_[x] = round;
+  const Proposal& p = proposals_[x];
+  Bans& bans = bans_[x];
+  // u's edges all changed; an exhausted vertex forgot some of its failed edges.
+  if (x == u || bans.exhausted) {
+    bans = Bans{};
+    return Redo::kPropose;
+  }
+  // Failed edges may be legal now: update() puts them back (their costs are kept).
+  if (bans.edge[0] != kInvalid) {
+    bans.lifted = true;
+    return Redo::kUpdate;
+  }
+  if (!std::isfinite(p.cost)) return Redo::kPropose;
+  // x owns xu, or its best or runner-up went through u or v.
+  if (x < u || p.b == u || p.b == v || p.second == u || p.second == v) return Redo::kUpdate;
+  return Redo::kNothing;  // xu is owned by u, which re-proposes; x's own edges kept their costs
+}
+
+void Proposals::removed(VertId v, std::uint32_t round) {
+  changed_round_[v] = round;
+  set(v, Proposal{});
+}
+
+void Proposals::lift_all_bans() { std::fill(bans_.begin(), bans_.end(), Bans{}); }  // then everyone proposes
+
+std::size_t Proposals::memory_bytes() const {
+  return proposals_.capacity() * sizeof(Proposal) + rank_cost_.capacity() * sizeof(double) +
+         bans_.capacity() * sizeof(Bans) + changed_round_.capacity() * sizeof(std::uint32_t);
+}
+
+}  // namespace topotet::detail

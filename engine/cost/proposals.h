@@ -1,0 +1,133 @@
+// Per-vertex collapse proposals of the parallel rounds (rounds.cpp).
+//
+// Vertex a proposes the edge ab it would collapse among the edges it owns (b > a): the cheapest
+// by the cost of its cheapest placement (CostModel::edge_cost), skipping edges it has banned. The
+// runner-up is kept when known, so that losing the best edge to a nearby collapse rarely needs a
+// full re-proposal. Costs are cheap; the kernel check is not, so a proposal is *verified* (the
+// whole kernel: geometry, link conditions, quality, tolerance) only when it is about to compete,
+// and stays verified until a collapse changes the star of one of its ends. Edges that fail are
+// banned until a's star changes.
+//
+// Every method works on vertex a's own state and reads the mesh: calls for distinct vertices may
+// run concurrently while the mesh is not being changed. The after-collapse calls write the
+// vertices of one collapse's stencil, which the rounds keep disjoint.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "kernel/collapse.h"
+#include "cost/cost.h"
+#include "mesh/mesh_model.h"
+
+namespace topotet::detail {
+
+inline constexpr double kNoCost = std::numeric_limits<double>::infinity();
+
+// A proposal's place in a round: by cost, then by the ids (a total order).
+struct Ranked {
+  double cost;
+  VertId a, b;
+  std::uint32_t slot = 0;  // rounds.cpp: position of a in the round's candidate list (not ordered)
+  bool operator<(const Ranked& o) const { return cost != o.cost ? cost < o.cost : (a != o.a ? a < o.a : b < o.b); }
+};
+
+// Per-thread working memory of the proposals; keeps capacity between calls.
+struct ProposalScratch {
+  struct EdgeCost {
+    double cost;  // of the edge's cheapest placement
+    VertId b;
+  };
+  CollapseScratch collapse;  // the kernel's; after a successful verify() it holds that edge's stars
+  CollapseCandidate cands[4];
+  std::vector<VertId> nbrs;
+  std::vector<EdgeCost> edges;
+  std::vector<std::uint32_t> edge_order;
+  std::array<std::uint64_t, kCollapseReasonCount> rejected{};
+  std::vector<double> fields;  // the field error check's values at each placement
+  std::uint64_t evaluations = 0, checks = 0;
+};
+
+class Proposals {
+ public:
+  Proposals(const MeshModel& mesh, CostModel& cost, const CollapseOptions& kernel);
+
+  // --- costs ---
+  // a's best and runner-up edges, from scratch.
+  void propose(VertId a, ProposalScratch& s);
+  // After a collapse that kept u (and removed some v) next to a: the edge au changed cost and
+  // edges to dead vertices are gone; a's other edges kept their costs. Updates a's proposal from
+  // what it knows; false when that is not enough (best gone, runner-up unknown): call propose().
+  bool update(VertId a, VertId u, ProposalScratch& s);
+
+  // --- the kernel ---
+  // Verifies a's edges in cost order, from its proposal on, while they rank below `threshold`:
+  // the first that passes becomes the verified proposal of round `round`; failures are banned.
+  void verify(VertId a, const Ranked& threshold, std::uint32_t round, ProposalScratch& s);
+  bool is_verified(VertId a) const;
+  // Index into CostModel::candidates(a, b) of the verified placement.
+  int placement(VertId a) const { return proposals_[a].placement; }
+
+  // --- ranking ---
+  // The cost a competes with (its verified placement's, else its edge's); infinite for none.
+  double rank_cost(VertId a) const { return rank_cost_[a]; }
+  const double* rank_costs() const { return rank_cost_.data(); }  // [vertex], for scans
+  Ranked ranked(VertId a) const { return Ranked{rank_cost_[a], a, proposals_[a].b}; }
+
+  // --- after a collapse u <- v (apply phase) ---
+  enum class Redo : std::uint8_t { kNothing, kUpdate, kPropose };
+  // x's star changed in `round` (x in the collapse's stencil, x != v): its verification is void
+  // and its bans are lifted. Says what x must redo in the next evaluate phase.
+  Redo star_changed(VertId x, VertId u, VertId v, std::uint32_t round);
+  void removed(VertId v, std::uint32_t round);
+  void lift_all_bans();
+
+  std::size_t memory_bytes() const;
+
+ private:
+  struct Proposal {
+    double cost = kNoCost;         // cheapest placement of edge (a, b); kNoCost = no proposal
+    double second_cost = kNoCost;  // the runner-up edge (a, second)
+    VertId b = kInvalid;
+    VertId second = kInvalid;          // kInvalid = runner-up unknown (or none)
+    std::uint32_t verified_round = 0;  // round of the last successful verification; 0 = never
+    std::int8_t placement = -1;        // verified: index into CostModel::candidates(a, b)
+    void set_best(double c, VertId x) {
+      cost = c;
+      b = x;
+      placement = -1;
+    }
+  };
+
+  void cost_owned_edges(VertId a, ProposalScratch& s);
+  bool is_banned(VertId a, VertId b) const;
+  void ban(VertId a, VertId b, double cost);
+  int check(VertId a, VertId b, int n, ProposalScratch& s);
+  bool try_edge(VertId a, VertId b, const Ranked& threshold, std::uint32_t round, ProposalScratch& s);
+  void set(VertId a, const Proposal& p);
+
+  const MeshModel& mesh_;
+  CostModel& cost_;
+  const CollapseOptions& kernel_;
+  std::vector<Proposal> proposals_;
+  std::vector<double> rank_cost_;             // read by every round's scans: 8 bytes per vertex
+  // Edges that failed the kernel. When the vertex's star changes they are lifted: the next
+  // update() puts them back among its candidates with the costs kept here (they did not change,
+  // unless through u, which is re-costed anyway), so no full re-proposal is needed. A vertex with
+  // more failures than slots is exhausted: it proposes nothing until its star changes, and then
+  // from scratch (on meshes where most cheap collapses invert, this keeps the rounds from
+  // checking the same hopeless edges again).
+  struct Bans {
+    std::array<VertId, 3> edge{kInvalid, kInvalid, kInvalid};
+    std::array<float, 3> cost{};  // ranking only: verification recomputes exact costs
+    bool exhausted = false;
+    bool lifted = false;
+  };
+  std::vector<Bans> bans_;
+  void restore_lifted_bans(VertId a, Proposal& p, VertId u);
+  std::vector<std::uint32_t> changed_round_;  // last round a collapse changed the vertex's star
+};
+
+}  // namespace topotet::detail

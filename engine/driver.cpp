@@ -1,0 +1,266 @@
+// topotet::simplify: checks the options, picks an engine, runs it inside the caller's thread
+// budget, compacts the result and fills the report. Never throws.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <new>
+
+#include <glm/geometric.hpp>
+
+#include "entry_points.h"
+#include "engines.h"
+#include "guarantees/field_bounds.h"
+#include "parallel/for_range.h"
+#include "mesh/reorder.h"
+#include "guarantees/surface_tolerance.h"
+#include "topotet/features.h"
+#include "topotet/simplify.h"
+
+namespace topotet {
+
+const char* to_string(Status status) {
+  switch (status) {
+    case Status::kOk: return "ok";
+    case Status::kStoppedEarly: return "stopped_early";
+    case Status::kInvalidInput: return "invalid_input";
+    case Status::kOutOfMemory: return "out_of_memory";
+    case Status::kCancelled: return "cancelled";
+    case Status::kInternalError: return "internal_error";
+  }
+  return "?";
+}
+
+const char* to_string(RejectReason reason) { return to_string(static_cast<CollapseReason>(reason)); }
+
+// RejectReason is the public face of the kernel's CollapseReason: same values.
+static_assert(static_cast<int>(RejectReason::kLinkK) == static_cast<int>(CollapseReason::kLinkK));
+static_assert(static_cast<int>(RejectReason::kLinkKtilde) == static_cast<int>(CollapseReason::kLinkKtilde));
+static_assert(static_cast<int>(RejectReason::kPinned) == static_cast<int>(CollapseReason::kPinned));
+static_assert(static_cast<int>(RejectReason::kInversion) == static_cast<int>(CollapseReason::kInversion));
+static_assert(static_cast<int>(RejectReason::kQuality) == static_cast<int>(CollapseReason::kQuality));
+static_assert(static_cast<int>(RejectReason::kTolerance) == static_cast<int>(CollapseReason::kTolerance));
+static_assert(static_cast<int>(RejectReason::kFieldError) == static_cast<int>(CollapseReason::kFieldError));
+static_assert(kCollapseReasonCount == std::tuple_size_v<decltype(Report::rejected)>);
+
+namespace {
+
+std::string check_options(const SimplifyOptions& o) {
+  if (!(o.target_vertex_ratio > 0.0 && o.target_vertex_ratio <= 1.0))
+    return "target_vertex_ratio must be in (0, 1], got " + std::to_string(o.target_vertex_ratio);
+  if (!(o.max_cost >= 0.0)) return "max_cost must be >= 0";
+  if (!(o.min_quality >= 0.0 && o.min_quality < 1.0)) return "min_quality must be in [0, 1)";
+  if (!(o.boundary_weight >= 0.0) || !(o.polyline_weight >= 0.0)) return "weights must be >= 0";
+  if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance)) return "tolerance must be finite and >= 0";
+  if (!(o.tolerance_rel >= 0.0) || !std::isfinite(o.tolerance_rel)) return "tolerance_rel must be finite and >= 0";
+  if (!(o.max_field_error >= 0.0) || !std::isfinite(o.max_field_error)) return "max_field_error must be finite and >= 0";
+  if (!(o.max_field_error_rel >= 0.0) || !std::isfinite(o.max_field_error_rel))
+    return "max_field_error_rel must be finite and >= 0";
+  if (o.num_threads < 0) return "num_threads must be >= 0";
+  if (!(o.round_fraction > 0.0 && o.round_fraction <= 1.0)) return "round_fraction must be in (0, 1]";
+  if (!(o.feature_angle >= 0.0 && o.feature_angle <= 180.0)) return "feature_angle must be in [0, 180] degrees";
+  for (const auto& [name, weight] : o.field_weights)
+    if (!(weight >= 0.0) || !std::isfinite(weight)) return "field_weights: the weight of '" + name + "' must be finite and >= 0";
+  return {};
+}
+
+std::string check_against_mesh(const SimplifyOptions& o, const MeshModel& mesh) {
+  if (const CostUnits* u = o.cost_units) {
+    if (!(u->diagonal > 0.0) || !(u->mean_tet_volume > 0.0)) return "cost_units: diagonal and mean_tet_volume must be > 0";
+    const auto stride = static_cast<std::size_t>(mesh.field_stride());
+    if (u->field_min.size() != stride || u->field_range.size() != stride)
+      return "cost_units: field_min and field_range need one entry per field component (" +
+             std::to_string(mesh.field_stride()) + ")";
+  }
+  for (const auto& entry : o.field_weights) {
+    const std::string& name = entry.first;
+    if (std::none_of(mesh.fields.begin(), mesh.fields.end(), [&](const FieldInfo& f) { return f.name == name; }))
+      return "field_weights: the mesh has no field named '" + name + "'";
+  }
+  return {};
+}
+
+double bounding_box_diagonal(const MeshModel& mesh) {
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (VertId v = 0; v < mesh.vertex_capacity(); ++v) {
+    if (mesh.is_dead_vertex(v)) continue;
+    lo = glm::min(lo, mesh.positions[v]);
+    hi = glm::max(hi, mesh.positions[v]);
+  }
+  return lo.x <= hi.x ? glm::length(hi - lo) : 0.0;
+}
+
+// Fills vertex_map[i] for every input vertex i: the live vertex it became or merged into, as an id
+// of the compacted output (`compacted`) or of the mesh as it stands. new2old is the renumbering
+// reorder_for_locality made (empty: none yet). A merge chain v -> u -> w ends at a live vertex:
+// collapse() kills only v and keeps u.
+void resolve_vertex_map(const MeshModel& mesh, std::size_t input_count, const std::vector<VertId>& new2old,
+                        bool compacted, std::vector<VertId>& vertex_map) {
+  const std::size_t nv = mesh.vertex_capacity();
+  // root[v]: the output id of the live vertex at the end of v's merge chain. Chains are walked
+  // once each (every vertex on a walked chain is resolved on the way back): O(vertices) in all.
+  std::vector<VertId> root(nv, kInvalid);
+  VertId next = 0;
+  for (VertId v = 0; v < nv; ++v)
+    if (!mesh.is_dead_vertex(v)) root[v] = compacted ? next++ : v;
+  if (mesh.merged_into.size() == nv) {
+    std::vector<VertId> chain;
+    for (VertId v = 0; v < nv; ++v) {
+      VertId x = v;
+      while (root[x] == kInvalid && mesh.merged_into[x] != kInvalid) {
+        chain.push_back(x);
+        x = mesh.merged_into[x];
+      }
+      for (VertId y : chain) root[y] = root[x];
+      chain.clear();
+    }
+  }
+  vertex_map.assign(input_count, kInvalid);
+  if (new2old.empty()) {
+    for (VertId v = 0; v < std::min(nv, input_count); ++v) vertex_map[v] = root[v];
+  } else {
+    for (VertId v = 0; v < new2old.size(); ++v) vertex_map[new2old[v]] = root[v];
+  }
+}
+
+// `log` (simplify_with_hierarchy) records the collapses in the renumbered ids; new2old_out then
+// receives the renumbering.
+Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vector<VertId>* vertex_map,
+                     detail::CollapseLog* log = nullptr, std::vector<VertId>* new2old_out = nullptr) noexcept {
+  Report report;
+  const auto start = std::chrono::steady_clock::now();
+  const std::size_t input_vertex_count = mesh.vertex_capacity();
+  std::vector<VertId> new2old;  // reorder_for_locality's renumbering, kept for the vertex map and the log
+  bool map_done = false;
+  try {
+    report.message = check_options(options);
+    if (report.message.empty()) report.message = check_against_mesh(options, mesh);
+    if (!report.message.empty()) {
+      report.status = Status::kInvalidInput;
+      if (vertex_map != nullptr) resolve_vertex_map(mesh, input_vertex_count, {}, false, *vertex_map);
+      return report;
+    }
+    report.vertices_before = mesh.live_vertex_count();
+    report.tets_before = mesh.live_tet_count();
+    std::uint64_t target = options.target_vertices != 0
+                               ? options.target_vertices
+                               : static_cast<std::uint64_t>(std::llround(options.target_vertex_ratio *
+                                                                         static_cast<double>(report.vertices_before)));
+    target = std::max<std::uint64_t>(target, 4);
+    parallel::run_with_threads(options.num_threads, [&] {
+      // Neighbours in space become neighbours in memory: every phase walks stars (reorder.h).
+      reorder_for_locality(mesh, vertex_map != nullptr || log != nullptr ? &new2old : nullptr);
+      if (new2old_out != nullptr) *new2old_out = new2old;
+      if (vertex_map != nullptr) mesh.merged_into.assign(mesh.vertex_capacity(), kInvalid);
+      // Before the cost model and the tolerance reference are built: both see the features as
+      // polylines (line quadrics; a curve label the tolerance checks).
+      const auto feature_start = std::chrono::steady_clock::now();
+      const FeatureStats features = detect_features(mesh, options.feature_angle);
+      report.feature_edges = features.edges;
+      report.feature_corners = features.corners;
+      report.feature_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - feature_start).count();
+      CollapseOptions kernel;
+      kernel.quality_floor = options.min_quality;
+      // The original surfaces, built before the first collapse and shared read-only by all threads.
+      std::unique_ptr<SurfaceReference> surfaces;
+      std::unique_ptr<SurfaceCoverage> coverage;
+      report.tolerance = options.tolerance > 0.0 ? options.tolerance : options.tolerance_rel * bounding_box_diagonal(mesh);
+      if (report.tolerance > 0.0) {
+        const auto setup_start = std::chrono::steady_clock::now();
+        surfaces = SurfaceReference::from_mesh(mesh, report.tolerance);
+        coverage = std::make_unique<SurfaceCoverage>(mesh, *surfaces, report.tolerance);
+        kernel.surfaces = surfaces.get();
+        kernel.coverage = coverage.get();
+        kernel.tolerance = report.tolerance;
+        report.tolerance_setup_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
+      }
+      // Field error bounds, only when asked for (they cost memory and a point location per sample
+      // of every checked stencil). Taken after the renumbering: they are keyed by tet and vertex ids.
+      std::unique_ptr<FieldBounds> bounds;
+      const bool want_bounds = options.max_field_error > 0.0 || options.max_field_error_rel > 0.0 || options.track_field_bounds;
+      if (want_bounds && mesh.field_stride() > 0) {
+        const auto setup_start = std::chrono::steady_clock::now();
+        bounds = std::make_unique<FieldBounds>(mesh, options.max_field_error, options.max_field_error_rel);
+        kernel.field_bounds = bounds.get();
+        report.field_bounds = true;
+        report.field_bounds_bytes = bounds->memory_bytes();
+        report.field_bounds_setup_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
+      }
+      if (options.engine == Engine::kSequential)
+        detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report, log);
+      else
+        detail::simplify_parallel(mesh, options, kernel, bounds.get(), target, report, log);
+      if (bounds != nullptr) {
+        report.field_bound = bounds->max_bounds(mesh);
+        report.field_bound_rel = bounds->max_bound_rel(mesh);
+        // In the order compact() keeps: the live tets by id.
+        for (TetId t = 0; t < mesh.tets.size(); ++t) {
+          if (mesh.flags[t] & tet_flag::kDead) continue;
+          for (int c = 0; c < bounds->components(); ++c) report.tet_field_bound.push_back(bounds->bound(t, c));
+        }
+      }
+      // Once, at the end: renumbering mid-run would have to remap every per-vertex array of the
+      // engines (proposals, quadrics, orders) for a locality gain the runs here did not need.
+      if (report.status == Status::kStoppedEarly && report.tolerance > 0.0 &&
+          report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)] > 0 &&
+          report.message == "no legal collapse left") {
+        report.tolerance_limited = true;
+        report.message = "no legal collapse left; the tolerance (H = " + std::to_string(report.tolerance) +
+                         ") refused " +
+                         std::to_string(report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)]) +
+                         " collapses, so it may be what stopped the run before the target (compare with tolerance 0)";
+      }
+      const std::uint64_t field_refusals = report.rejected[static_cast<std::size_t>(CollapseReason::kFieldError)];
+      if (report.status == Status::kStoppedEarly && field_refusals > 0)
+        report.message += "; the field error limit refused " + std::to_string(field_refusals) + " collapses";
+      const auto compact_start = std::chrono::steady_clock::now();
+      if (vertex_map != nullptr) {
+        resolve_vertex_map(mesh, input_vertex_count, new2old, true, *vertex_map);
+        map_done = true;
+        std::vector<VertId>().swap(mesh.merged_into);
+      }
+      compact(mesh);
+      report.phase_seconds[3] = std::chrono::duration<double>(std::chrono::steady_clock::now() - compact_start).count();
+    });
+  } catch (const std::bad_alloc&) {
+    report.status = Status::kOutOfMemory;
+    report.message = "out of memory";
+  } catch (const std::exception& e) {
+    // Internal errors leave the mesh valid (collapses are applied whole) but unfinished.
+    report.status = Status::kInternalError;
+    report.message = std::string("internal error: ") + e.what();
+  }
+  if (vertex_map != nullptr && !map_done) {
+    // Stopped by an exception: the mesh is valid but not compacted; map onto its ids as they are.
+    try {
+      resolve_vertex_map(mesh, input_vertex_count, new2old, false, *vertex_map);
+    } catch (const std::bad_alloc&) {
+      vertex_map->clear();
+      report.status = Status::kOutOfMemory;
+      report.message = "out of memory";
+    }
+    std::vector<VertId>().swap(mesh.merged_into);
+  }
+  report.vertices_after = mesh.live_vertex_count();
+  report.tets_after = mesh.live_tet_count();
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+}  // namespace
+
+Report detail::simplify_recorded(MeshModel& mesh, const SimplifyOptions& options, CollapseLog& log,
+                                 std::vector<VertId>& new2old) noexcept {
+  return simplify_impl(mesh, options, nullptr, &log, &new2old);
+}
+
+Report simplify(MeshModel& mesh, const SimplifyOptions& options) noexcept { return simplify_impl(mesh, options, nullptr); }
+
+Report simplify(MeshModel& mesh, const SimplifyOptions& options, std::vector<VertId>& vertex_map) noexcept {
+  return simplify_impl(mesh, options, &vertex_map);
+}
+
+}  // namespace topotet

@@ -1,0 +1,289 @@
+// Per-tet field error bounds at the original vertex samples (see field_bounds.h).
+#include "guarantees/field_bounds.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+namespace topotet {
+namespace {
+
+using Bary = std::array<double, 4>;
+
+// Barycentric slack accepted as "inside", and the barycentric and closest-point formulas: the same
+// as metrics/field_error.cpp, so that the bound interpolates where the measurement does.
+constexpr double kInsideTolerance = 1e-9;
+
+double det3(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) { return glm::dot(a, glm::cross(b, c)); }
+
+bool barycentric(const std::array<glm::dvec3, 4>& p, const glm::dvec3& q, Bary& l) {
+  const glm::dvec3 a = p[0] - q, b = p[1] - q, c = p[2] - q, e = p[3] - q;
+  l[0] = det3(b, c, e);
+  l[1] = -det3(a, c, e);
+  l[2] = det3(a, b, e);
+  l[3] = -det3(a, b, c);
+  const double sum = l[0] + l[1] + l[2] + l[3];
+  if (sum == 0.0 || !std::isfinite(sum)) return false;
+  for (double& x : l) x /= sum;
+  return true;
+}
+
+double closest_on_segment(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
+  const glm::dvec3 ab = b - a;
+  const double len2 = glm::dot(ab, ab);
+  if (!(len2 > 0.0)) return 0.0;
+  return std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0);
+}
+
+// Barycentric coordinates (of a, b, c) of the point of triangle abc closest to p (Ericson 5.1.5).
+std::array<double, 3> closest_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
+                                          const glm::dvec3& c) {
+  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return {1.0, 0.0, 0.0};
+  const glm::dvec3 bp = p - b;
+  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return {0.0, 1.0, 0.0};
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0) {
+    const double v = d1 / (d1 - d3);
+    return {1.0 - v, v, 0.0};
+  }
+  const glm::dvec3 cp = p - c;
+  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return {0.0, 0.0, 1.0};
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 - d6 > 0.0) {
+    const double w = d2 / (d2 - d6);
+    return {1.0 - w, 0.0, w};
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {0.0, 1.0 - w, w};
+  }
+  const double sum = va + vb + vc;
+  if (sum > 0.0 && std::isfinite(sum)) {
+    const double v = vb / sum, w = vc / sum;
+    return {1.0 - v - w, v, w};
+  }
+  const double s_ab = closest_on_segment(p, a, b), s_bc = closest_on_segment(p, b, c), s_ca = closest_on_segment(p, c, a);
+  const std::array<std::array<double, 3>, 3> cand = {{{1.0 - s_ab, s_ab, 0.0}, {0.0, 1.0 - s_bc, s_bc}, {s_ca, 0.0, 1.0 - s_ca}}};
+  std::array<double, 3> best = cand[0];
+  double best_d2 = std::numeric_limits<double>::infinity();
+  for (const auto& w : cand) {
+    const glm::dvec3 x = w[0] * a + w[1] * b + w[2] * c;
+    const double dist2 = glm::dot(x - p, x - p);
+    if (dist2 < best_d2) best_d2 = dist2, best = w;
+  }
+  return best;
+}
+
+// Squared distance from q to tet p (q outside it) and the barycentric coordinates of the closest point.
+double closest_in_tet(const std::array<glm::dvec3, 4>& p, const glm::dvec3& q, Bary& out) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i) {
+    const int a = (i + 1) % 4, b = (i + 2) % 4, c = (i + 3) % 4;
+    const auto w = closest_on_triangle(q, p[a], p[b], p[c]);
+    const glm::dvec3 x = w[0] * p[a] + w[1] * p[b] + w[2] * p[c];
+    const double d2 = glm::dot(x - q, x - q);
+    if (d2 < best) {
+      best = d2;
+      out = {};
+      out[a] = w[0];
+      out[b] = w[1];
+      out[c] = w[2];
+    }
+  }
+  return best;
+}
+
+double smallest(const Bary& l) { return std::min(std::min(l[0], l[1]), std::min(l[2], l[3])); }
+
+// The float at or above x: a bound stays a bound when stored in 4 bytes.
+float round_up(double x) {
+  float f = static_cast<float>(x);
+  if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+
+// Where sample q lands in the new star: the index and the barycentric coordinates to interpolate
+// with (field_bounds.h says which tet).
+std::uint32_t locate(const FieldBoundsScratch& s, const glm::dvec3& q, std::uint32_t home, Bary& lambda, bool& outside) {
+  outside = false;
+  if (home != kInvalid && barycentric(s.corners[home], q, lambda) && smallest(lambda) >= -kInsideTolerance) return home;
+  const std::size_t n = s.star.size();
+  std::uint32_t best = kInvalid;
+  double best_min = -std::numeric_limits<double>::infinity();
+  Bary l;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (!barycentric(s.corners[i], q, l)) continue;
+    const double m = smallest(l);
+    if (best == kInvalid || m > best_min || (m == best_min && s.star[i].tet < s.star[best].tet)) {
+      best = i;
+      best_min = m;
+      lambda = l;
+    }
+  }
+  if (best != kInvalid && best_min >= -kInsideTolerance) return best;
+  outside = true;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  best = kInvalid;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double d2 = closest_in_tet(s.corners[i], q, l);
+    if (best == kInvalid || d2 < best_d2 || (d2 == best_d2 && s.star[i].tet < s.star[best].tet)) {
+      best = i;
+      best_d2 = d2;
+      lambda = l;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+FieldBounds::FieldBounds(const MeshModel& mesh, double max_abs, double max_rel) : k_(mesh.field_stride()) {
+  const std::size_t nv = mesh.vertex_capacity(), nt = mesh.tets.size(), k = static_cast<std::size_t>(k_);
+  head_.assign(nt, kInvalid);
+  next_.assign(nv, kInvalid);
+  bound_.assign(nt * k, 0.0f);
+  sample_position_ = mesh.positions;
+  sample_values_ = mesh.field_values;
+  // Each used vertex is a sample of the first tet (by id) that has it: there the error is 0.
+  std::vector<std::uint8_t> taken(nv, 0);
+  for (TetId t = 0; t < nt; ++t) {
+    if (mesh.flags[t] & tet_flag::kDead) continue;
+    for (VertId x : mesh.tets[t]) {
+      if (taken[x]) continue;
+      taken[x] = 1;
+      next_[x] = head_[t];
+      head_[t] = x;
+    }
+  }
+  std::vector<double> lo(k, std::numeric_limits<double>::infinity()), hi(k, -std::numeric_limits<double>::infinity()),
+      max_magnitude(k, 0.0);
+  for (VertId x = 0; x < nv; ++x) {
+    if (!taken[x]) continue;
+    for (std::size_t c = 0; c < k; ++c) {
+      const double f = sample_values_[x * k + c];
+      lo[c] = std::min(lo[c], f);
+      hi[c] = std::max(hi[c], f);
+      max_magnitude[c] = std::max(max_magnitude[c], std::fabs(f));
+    }
+  }
+  range_.resize(k);
+  limit_.resize(k);
+  slack_.resize(k);
+  for (std::size_t c = 0; c < k; ++c) {
+    range_[c] = hi[c] > lo[c] ? hi[c] - lo[c] : 1.0;  // a constant component divides by 1 (as the metrics do)
+    double limit = std::numeric_limits<double>::infinity();
+    if (max_abs > 0.0) limit = std::min(limit, max_abs);
+    if (max_rel > 0.0) limit = std::min(limit, max_rel * range_[c]);
+    limit_[c] = limit;
+    has_limit_ = has_limit_ || limit < std::numeric_limits<double>::infinity();
+    // Interpolating at the same point in two tets, or with barycentric coordinates rounded
+    // differently (the measurement's), differs by rounding: a few ulps of the largest value, and
+    // up to kInsideTolerance of the range where a point on a shared face is taken in either tet.
+    slack_[c] = 10.0 * kInsideTolerance * range_[c] + 8.0 * std::numeric_limits<double>::epsilon() * max_magnitude[c];
+  }
+}
+
+bool FieldBounds::evaluate(const MeshModel& mesh, std::span<const TetId> removed, VertId u, const glm::dvec3& p,
+                           const double* fields_at_p, FieldBoundsScratch& s, bool stop_at_limit) const {
+  if (k_ == 0) return true;
+  const std::size_t n = s.star.size(), k = static_cast<std::size_t>(k_);
+  const double* values_at_p = fields_at_p != nullptr ? fields_at_p : &mesh.field_values[u * k];
+  s.corners.resize(n);
+  s.values.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& tv = mesh.tets[s.star[i].tet];
+    for (int j = 0; j < 4; ++j) {
+      const bool moving = j == s.star[i].corner;
+      s.corners[i][j] = moving ? p : mesh.positions[tv[j]];
+      s.values[i][j] = moving ? values_at_p : &mesh.field_values[tv[j] * k];
+    }
+  }
+  s.samples.clear();
+  s.home.clear();
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (std::uint32_t w = head_[s.star[i].tet]; w != kInvalid; w = next_[w]) {
+      s.samples.push_back(w);
+      s.home.push_back(i);
+    }
+  for (TetId t : removed)
+    for (std::uint32_t w = head_[t]; w != kInvalid; w = next_[w]) {
+      s.samples.push_back(w);
+      s.home.push_back(kInvalid);
+    }
+  s.lands.resize(s.samples.size());
+  s.bounds.assign(n * k, 0.0);
+  Bary lambda{};
+  for (std::size_t i = 0; i < s.samples.size(); ++i) {
+    const std::uint32_t w = s.samples[i];
+    bool outside = false;
+    const std::uint32_t j = locate(s, sample_position_[w], s.home[i], lambda, outside);
+    // Under a limit no original vertex may leave the mesh: outside it the measurement takes the
+    // globally closest tet, which this stencil cannot know (field_bounds.h).
+    if (stop_at_limit && outside) return false;
+    s.lands[i] = j;
+    const auto& vals = s.values[j];
+    for (std::size_t c = 0; c < k; ++c) {
+      const double interpolated = lambda[0] * vals[0][c] + lambda[1] * vals[1][c] + lambda[2] * vals[2][c] + lambda[3] * vals[3][c];
+      const double e = std::fabs(sample_values_[w * k + c] - interpolated) + slack_[c];
+      double& b = s.bounds[j * k + c];
+      if (e > b) {
+        b = e;
+        if (stop_at_limit && static_cast<double>(round_up(e)) > limit_[c]) return false;
+      }
+    }
+  }
+  return true;
+}
+
+float FieldBounds::commit(std::span<const TetId> removed, FieldBoundsScratch& s) {
+  if (k_ == 0) return 0.0f;
+  const std::size_t n = s.star.size(), k = static_cast<std::size_t>(k_);
+  for (const BoundStarTet& st : s.star) head_[st.tet] = kInvalid;
+  for (TetId t : removed) head_[t] = kInvalid;
+  for (std::size_t i = 0; i < s.samples.size(); ++i) {
+    const std::uint32_t w = s.samples[i];
+    const TetId t = s.star[s.lands[i]].tet;
+    next_[w] = head_[t];
+    head_[t] = w;
+  }
+  float worst_rel = 0.0f;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t c = 0; c < k; ++c) {
+      const float b = round_up(s.bounds[i * k + c]);
+      bound_[static_cast<std::size_t>(s.star[i].tet) * k + c] = b;
+      worst_rel = std::max(worst_rel, round_up(static_cast<double>(b) / range_[c]));
+    }
+  return worst_rel;
+}
+
+std::vector<double> FieldBounds::max_bounds(const MeshModel& mesh) const {
+  const std::size_t k = static_cast<std::size_t>(k_);
+  std::vector<double> out(k, 0.0);
+  for (TetId t = 0; t < mesh.tets.size(); ++t) {
+    if (mesh.flags[t] & tet_flag::kDead) continue;
+    for (std::size_t c = 0; c < k; ++c) out[c] = std::max(out[c], static_cast<double>(bound_[t * k + c]));
+  }
+  return out;
+}
+
+double FieldBounds::max_bound_rel(const MeshModel& mesh) const {
+  const std::vector<double> b = max_bounds(mesh);
+  double worst = 0.0;
+  for (std::size_t c = 0; c < b.size(); ++c) worst = std::max(worst, b[c] / range_[c]);
+  return worst;
+}
+
+std::size_t FieldBounds::memory_bytes() const {
+  return range_.capacity() * 3 * sizeof(double) + bound_.capacity() * sizeof(float) +
+         (head_.capacity() + next_.capacity()) * sizeof(std::uint32_t) + sample_position_.capacity() * sizeof(glm::dvec3) +
+         sample_values_.capacity() * sizeof(double);
+}
+
+}  // namespace topotet

@@ -1,0 +1,128 @@
+// Per-tet bounds of the field error (paper 003's "maximal deviation" per tet), kept exact at the
+// original vertex samples.
+//
+// What is guaranteed. Every original vertex w (used by a tet of the input) is a *sample* that
+// belongs to exactly one live tet T at any time; bound(T, c) >= |f_c(w) - f~_c(w)| for every
+// component c and every sample w of T, where f is the original field at w and f~ the simplified
+// field: T's linear interpolant at w when w lies in T, else (w outside the simplified mesh:
+// the boundary moved) T's value at the point of T closest to w, as metrics/field_error.h
+// measures it. The bound is the maximum itself, plus a rounding slack (kSlack below), rounded
+// up to float: it is tight, not an estimate. Corollary: an original tet whose four vertices are
+// samples of one simplified tet T lies inside T (convexity), f - f~ is affine on it, so the
+// error at EVERY point of it is at most bound(T, c). An original tet whose vertices are spread
+// over several simplified tets has no such guarantee between its vertices: the simplified field
+// bends inside it (measured in tests/unit_field_bounds.cpp and README "Field error bounds").
+//
+// Why samples and not paper 003's accumulation rule: the paper bounds the error over the whole
+// tet by adding, at every intersection point of the old and new tets, the interpolants'
+// difference to the old bound; in 3D those are the edge-face intersections of two stars (about a
+// thousand segment-triangle tests per collapse) and the bounds only grow (each collapse adds to
+// the last). Samples are exact where the field is defined (the metrics measure at the same
+// points), never accumulate slack, and cost one point location per sample of the stencil.
+//
+// How they are kept. At a collapse u <- v (collapse.h), the samples of St(u) ∪ St(v) are
+// located in the new star (u at p with its new values): first in the tet that held them (most
+// samples stay there), else the tet of the new star with the largest smallest barycentric
+// coordinate (ties to the smaller tet id: the result does not depend on the order the star was
+// gathered in), as metrics/field_error.cpp does. A sample outside every tet of the new star (the
+// boundary moved inward past it) goes to the closest tet of the new star (exact point-tet
+// distance). The new star's tets get the exact maximum over their samples. Everything read and
+// written lies in the collapse's stencil (its tets' sample lists, their samples), so collapses
+// with disjoint stencils may run concurrently and the result is the same for every schedule.
+//
+// Samples outside the mesh. Without a limit (tracking only) a sample outside stays with the tet
+// it was closest to when its stencil last collapsed; a later collapse next to it (not through its
+// tet), or a concave corner, may make another tet closer, and the measurement (which takes the
+// globally closest tet) then interpolates another tet than the bound did: measured on LOX, up to
+// 10x the bound at such vertices. So under a limit a collapse that would leave an original vertex
+// outside its new star (outside the mesh: the star's outer faces are the only ones that move) is
+// refused like one that exceeds the limit: every sample then stays inside the mesh and the bound
+// holds at every original vertex. The price: a convex curved boundary cannot retreat past the
+// original vertices on it (flat boundaries and concave ones simplify freely).
+//
+// Memory: per tet one list head and one float per component; per original vertex its position,
+// its values and a list link: (4 + 4k) bytes per tet + (28 + 8k) bytes per vertex.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "mesh/mesh_model.h"
+
+namespace topotet {
+
+// A tet of the new star of a collapse: its id and the local corner that moves to p.
+struct BoundStarTet {
+  TetId tet;
+  std::uint8_t corner;
+};
+
+// Per-thread working memory; keeps capacity between calls.
+struct FieldBoundsScratch {
+  std::vector<BoundStarTet> star;
+  std::vector<std::array<glm::dvec3, 4>> corners;   // [star tet] positions, the moving one at p
+  std::vector<std::array<const double*, 4>> values;  // [star tet] field values of the corners
+  std::vector<std::uint32_t> samples;                // gathered sample ids
+  std::vector<std::uint32_t> home;                   // [sample] star index of its tet, or kInvalid
+  std::vector<std::uint32_t> lands;                  // [sample] star index where it lands
+  std::vector<double> bounds;                        // [star index * k + c]
+};
+
+class FieldBounds {
+ public:
+  // Takes the samples (every vertex used by a live tet: bound 0 in the first tet of its star).
+  // Limits per component: max_abs (field units) and max_rel (times the component's range); 0 =
+  // none, both given = the smaller. A mesh without fields has nothing to bound.
+  FieldBounds(const MeshModel& mesh, double max_abs, double max_rel);
+
+  int components() const { return k_; }
+  // Range (max - min over the samples) of component c; 1 for a constant component.
+  double range(int c) const { return range_[static_cast<std::size_t>(c)]; }
+  double limit(int c) const { return limit_[static_cast<std::size_t>(c)]; }  // +inf = none
+  // Some component has a limit: only then can a collapse be refused, and only then does the
+  // kernel check placements (without one the bounds are just kept, at each applied collapse).
+  bool has_limit() const { return has_limit_; }
+  float bound(TetId t, int c) const { return bound_[static_cast<std::size_t>(t) * k_ + c]; }
+
+  // The bounds the new star would have after collapse u <- v: `s.star` (filled by the caller)
+  // lists its tets with their moving corner, `removed` the tets of St(uv). `fields_at_p` are u's
+  // new values (nullptr: u's current values). Pure (reads the mesh and the bounds). With
+  // `stop_at_limit`, returns false as soon as one bound would exceed its limit or one sample would
+  // end up outside the new star; otherwise always true. The result is left in `s` for commit().
+  bool evaluate(const MeshModel& mesh, std::span<const TetId> removed, VertId u, const glm::dvec3& p,
+                const double* fields_at_p, FieldBoundsScratch& s, bool stop_at_limit) const;
+
+  // Stores what the last full evaluate() (stop_at_limit = false) left in `s`: the samples'
+  // new tets and the star's bounds. Writes only the lists and bounds of the stencil's tets.
+  // Returns the largest bound of the new star relative to its component's range (over every
+  // component): the collapse's error bound, for a hierarchy of collapses.
+  float commit(std::span<const TetId> removed, FieldBoundsScratch& s);
+
+  // Largest bound over the live tets, per component (field units), and relative to the range.
+  std::vector<double> max_bounds(const MeshModel& mesh) const;
+  double max_bound_rel(const MeshModel& mesh) const;
+
+  // Which tet holds each sample, for the tests: samples of tet t.
+  template <class F>
+  void for_each_sample(TetId t, F&& f) const {
+    for (std::uint32_t w = head_[t]; w != kInvalid; w = next_[w]) f(w, sample_position_[w], &sample_values_[w * k_]);
+  }
+
+  std::size_t memory_bytes() const;
+
+ private:
+  int k_ = 0;
+  bool has_limit_ = false;
+  std::vector<double> range_, limit_, slack_;    // [component]
+  std::vector<float> bound_;                     // [tet * k + c]
+  std::vector<std::uint32_t> head_;              // [tet] first sample, kInvalid = none
+  std::vector<std::uint32_t> next_;              // [sample] next sample of the same tet
+  std::vector<glm::dvec3> sample_position_;      // [sample] original position
+  std::vector<double> sample_values_;            // [sample * k + c] original values
+};
+
+}  // namespace topotet

@@ -1,0 +1,537 @@
+// The original surfaces kept within h of the simplified ones (see surface_coverage.h).
+#include "guarantees/surface_coverage.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+namespace topotet {
+
+namespace {
+
+constexpr std::uint8_t kNoGuess = 0xFF;
+constexpr std::uint8_t kDropped = 0xFF;  // depth of a pending piece replaced by its whole triangle
+
+// Geometric order of points and of faces through p (by their other two corners, as a set): ties
+// between equally good faces are broken by geometry, never by ids, so that the result does not
+// depend on the numbering.
+bool less(const glm::dvec3& a, const glm::dvec3& b) {
+  if (a.x != b.x) return a.x < b.x;
+  if (a.y != b.y) return a.y < b.y;
+  return a.z < b.z;
+}
+bool face_less(const std::array<glm::dvec3, 3>& f, const std::array<glm::dvec3, 3>& g) {
+  const glm::dvec3& f0 = less(f[1], f[2]) ? f[1] : f[2];
+  const glm::dvec3& f1 = less(f[1], f[2]) ? f[2] : f[1];
+  const glm::dvec3& g0 = less(g[1], g[2]) ? g[1] : g[2];
+  const glm::dvec3& g1 = less(g[1], g[2]) ? g[2] : g[1];
+  if (f0 != g0) return less(f0, g0);
+  return less(f1, g1);
+}
+
+// Corners in geometric order: how a piece is cut (the diagonal of the quadrilateral side) follows
+// its corner order, which must not come from the numbering either.
+std::array<glm::dvec3, 3> sorted(std::array<glm::dvec3, 3> q) {
+  std::sort(q.begin(), q.end(), less);
+  return q;
+}
+
+// A float not below x (bounds are stored as floats and must stay upper bounds).
+float round_up(double x) {
+  const auto f = static_cast<float>(x);
+  return static_cast<double>(f) >= x ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
+}
+
+bool face_has(const std::array<VertId, 4>& tet, std::uint8_t local, VertId x) {
+  for (int k = 0; k < 4; ++k)
+    if (k != local && tet[k] == x) return true;
+  return false;
+}
+
+// Is the item's face (local face `local` of tet t) through u or v? Those are the faces a collapse
+// u <- v changes; every other face keeps its vertices and positions.
+bool moves(const MeshModel& mesh, TetId t, std::uint8_t local, VertId u, VertId v) {
+  const auto& tv = mesh.tets[t];
+  return face_has(tv, local, u) || face_has(tv, local, v);
+}
+
+// The same for a polyline edge (local edge `local` of tet t).
+bool edge_moves(const MeshModel& mesh, TetId t, std::uint8_t local, VertId u, VertId v) {
+  const VertId a = mesh.tets[t][kTetEdges[local][0]], b = mesh.tets[t][kTetEdges[local][1]];
+  return a == u || a == v || b == u || b == v;
+}
+
+// Calls f(t) for every tet of St(u) ∪ St(v) once, in the stars' sorted order.
+template <class F>
+void for_each_stencil_tet(const std::vector<TetId>& star_u, const std::vector<TetId>& star_v,
+                          const std::vector<TetId>& star_uv, F&& f) {
+  for (TetId t : star_u) f(t);
+  for (TetId t : star_v)
+    if (!std::binary_search(star_uv.begin(), star_uv.end(), t)) f(t);
+}
+
+}  // namespace
+
+SurfaceCoverage::SurfaceCoverage(const MeshModel& mesh, const SurfaceReference& reference, double h)
+    : reference_(reference), h_(h), lists_(mesh.tet_capacity()) {
+  const auto& holders = reference.triangle_holders();
+  for (std::uint32_t k = 0; k < holders.size(); ++k) {
+    auto& list = lists_[holders[k].tet];
+    if (!list) list = std::make_unique<std::vector<CoverageItem>>();
+    const auto& t = reference.soup().triangles[k];
+    const auto& P = reference.soup().positions;
+    list->push_back({sorted({P[t[0]], P[t[1]], P[t[2]]}), k, 0.0f, 0, holders[k].local});
+  }
+  segment_lists_.resize(mesh.tet_capacity());
+  const auto& segment_holders = reference.segment_holders();
+  for (std::uint32_t k = 0; k < segment_holders.size(); ++k) {
+    auto& list = segment_lists_[segment_holders[k].tet];
+    if (!list) list = std::make_unique<std::vector<CoverageSegment>>();
+    const auto& e = reference.soup().segments[k];
+    const auto& P = reference.soup().positions;
+    list->push_back({less(P[e[1]], P[e[0]]) ? std::array<glm::dvec3, 2>{P[e[1]], P[e[0]]}
+                                            : std::array<glm::dvec3, 2>{P[e[0]], P[e[1]]},
+                     k, 0, segment_holders[k].local});
+  }
+}
+
+namespace {
+
+// The plane through the edge a-b shared by two new faces, bisecting the angle between them (o1, o2
+// their third corners): it separates the faces, and on each side the points of a piece are
+// nearest to that side's face when the piece lies close to both. Returns the plane's normal,
+// oriented towards face 1, or zero when the faces are degenerate or folded flat onto each other.
+glm::dvec3 bisector_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& o1, const glm::dvec3& o2) {
+  const glm::dvec3 ab = b - a;
+  const double ab2 = glm::dot(ab, ab);
+  if (!(ab2 > 0.0)) return glm::dvec3(0.0);
+  auto inward = [&](const glm::dvec3& o) {
+    const glm::dvec3 w = (o - a) - ab * (glm::dot(o - a, ab) / ab2);
+    const double l = glm::length(w);
+    return l > 0.0 ? w / l : glm::dvec3(0.0);
+  };
+  // w1 - w2 (unit vectors) is orthogonal to the edge and to the bisecting direction w1 + w2, and
+  // stays well defined when the faces are coplanar (w2 = -w1), where w1 + w2 vanishes.
+  const glm::dvec3 n = inward(o1) - inward(o2);
+  return glm::dot(n, n) > 1e-12 ? n : glm::dvec3(0.0);
+}
+
+}  // namespace
+
+// Splits an item no single new face holds. Preferably along the bisecting plane of two adjacent
+// new faces that separates its corners (the pair whose shared edge is closest to the item): the
+// two sides then usually each fit one face, as on a flat fan, where halving would need pieces
+// of about h. Without such a plane, at the midpoints of its edges (four pieces).
+void SurfaceCoverage::cut(const CoverageItem& item, int label, CoverageScratch& s) const {
+  const auto& q = item.corners;
+  const glm::dvec3 centre = (q[0] + q[1] + q[2]) / 3.0;
+  const double size = std::sqrt(std::max({glm::dot(q[1] - q[0], q[1] - q[0]), glm::dot(q[2] - q[1], q[2] - q[1]),
+                                          glm::dot(q[0] - q[2], q[0] - q[2])}));
+  double best = std::numeric_limits<double>::infinity();
+  glm::dvec3 best_normal(0.0), best_point(0.0);
+  std::uint8_t side_pos = kNoGuess, side_neg = kNoGuess;  // the faces on either side of the cut
+  glm::dvec3 best_edge(0.0);
+  for (std::size_t i = 0; i < s.targets.size(); ++i)
+    for (std::size_t j = i + 1; j < s.targets.size(); ++j) {
+      const auto& f = s.targets[i];
+      const auto& g = s.targets[j];
+      if (f.label != label || g.label != label) continue;
+      // Shared edge p-x: one "other" vertex in common (new faces all contain p = pts[0]).
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) {
+          if (f.others[a] != g.others[b]) continue;
+          const glm::dvec3 p = f.pts[0], x = f.pts[1 + a];
+          const glm::dvec3 n = bisector_normal(p, x, f.pts[2 - a], g.pts[2 - b]);
+          if (n == glm::dvec3(0.0)) continue;
+          // Corners within a rounding margin of the plane are on it: a piece cut there is not cut
+          // again by the same plane because its cut points came out a few ulps off.
+          const double eps = 1e-9 * size * glm::length(n);
+          const double s0 = glm::dot(n, q[0] - p), s1 = glm::dot(n, q[1] - p), s2 = glm::dot(n, q[2] - p);
+          const bool pos = s0 > eps || s1 > eps || s2 > eps, neg = s0 < -eps || s1 < -eps || s2 < -eps;
+          if (!pos || !neg) continue;
+          const double d = squared_distance_to_segment(centre, p, x);
+          if (d < best || (d == best && less(x, best_edge))) {
+            best_edge = x;
+            best = d;
+            best_normal = n;
+            best_point = p;
+            side_pos = static_cast<std::uint8_t>(i);
+            side_neg = static_cast<std::uint8_t>(j);
+          }
+        }
+    }
+  const auto depth = static_cast<std::uint8_t>(item.depth + 1);
+  auto push = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, std::uint8_t guess = kNoGuess) {
+    s.pending.push_back({sorted({a, b, c}), item.triangle, std::numeric_limits<float>::infinity(), depth, guess});
+  };
+  if (best < std::numeric_limits<double>::infinity()) {
+    std::array<double, 3> d{};
+    for (int k = 0; k < 3; ++k) d[k] = glm::dot(best_normal, q[k] - best_point);
+    // The corner alone on its side (k), and the crossing points on its two edges.
+    int k = 0;
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3, l = (i + 2) % 3;
+      if ((d[i] > 0.0) != (d[j] > 0.0) && (d[i] > 0.0) != (d[l] > 0.0)) k = i;
+    }
+    const int j = (k + 1) % 3, l = (k + 2) % 3;
+    auto cross = [&](int a, int b) { return q[a] + (q[b] - q[a]) * (d[a] / (d[a] - d[b])); };
+    if (d[j] != d[k] && d[l] != d[k] && (d[k] > 0.0) != (d[j] > 0.0) && (d[k] > 0.0) != (d[l] > 0.0)) {
+      const glm::dvec3 xj = cross(k, j), xl = cross(k, l);
+      const std::uint8_t alone = d[k] > 0.0 ? side_pos : side_neg, pair = d[k] > 0.0 ? side_neg : side_pos;
+      push(q[k], xj, xl, alone);
+      push(xj, q[j], q[l], pair);
+      push(xj, q[l], xl, pair);
+      return;
+    }
+  }
+  const glm::dvec3 ab = 0.5 * (q[0] + q[1]), bc = 0.5 * (q[1] + q[2]), ca = 0.5 * (q[2] + q[0]);
+  push(q[0], ab, ca);
+  push(ab, q[1], bc);
+  push(ca, bc, q[2]);
+  push(ab, bc, ca);
+}
+
+bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+                            const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv,
+                            const SurfaceStencil& stencil, CoverageScratch& s) const {
+  // The distinct new faces with a tet that keeps them (a face made by two merging ones is listed
+  // twice; one of the two may be held only by tets of St(uv), which vanish).
+  s.targets.clear();
+  for (std::size_t i = 0; i < stencil.new_faces.size(); ++i) {
+    const SurfaceStencil::NewFace& f = stencil.new_faces[i];
+    if (f.holder.tet == kInvalid) continue;
+    bool seen = false;
+    for (const auto& g : s.targets) seen = seen || (g.label == f.label && g.others == f.others);
+    if (seen) continue;
+    const glm::dvec3 c = (f.pts[0] + f.pts[1] + f.pts[2]) / 3.0;
+    const double r = std::sqrt(std::max({glm::dot(f.pts[0] - c, f.pts[0] - c), glm::dot(f.pts[1] - c, f.pts[1] - c),
+                                         glm::dot(f.pts[2] - c, f.pts[2] - c)}));
+    s.targets.push_back({f.pts, f.others, f.label, f.holder, c, r});
+  }
+  if (s.targets.size() >= kNoGuess) return false;  // item indices are bytes: refuse a fan that large
+  s.pending.clear();
+  s.placed.clear();
+  const SurfaceSoup& soup = reference_.soup();
+  // Each item's first guess (in `local` while pending): the new face its face becomes, the one
+  // with the same two vertices other than u and v (its corner at u or v moved to p). Most items
+  // stay on it, and most of those need no distance at all: `bound` plus the corner's move.
+  const glm::dvec3 p = stencil.new_faces.empty() ? glm::dvec3(0.0) : stencil.new_faces.front().pts[0];
+  const double move_u = glm::length(p - mesh.positions[u]), move_v = glm::length(p - mesh.positions[v]);
+  for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
+    if (!lists_[t]) return;
+    const auto& tv = mesh.tets[t];
+    for (const CoverageItem& item : *lists_[t]) {
+      if (!moves(mesh, t, item.local, u, v)) continue;
+      VertId others[3];
+      int n = 0;
+      bool at_u = false;
+      for (int k = 0; k < 4; ++k) {
+        if (k == item.local) continue;
+        if (tv[k] == u) at_u = true;
+        if (tv[k] != u && tv[k] != v) others[n++] = tv[k];
+      }
+      std::uint8_t guess = kNoGuess;
+      if (n == 2) {
+        const std::array<VertId, 2> key{std::min(others[0], others[1]), std::max(others[0], others[1])};
+        for (std::size_t k = 0; k < s.targets.size() && guess == kNoGuess; ++k)
+          if (s.targets[k].others == key) guess = static_cast<std::uint8_t>(k);
+      }
+      // While pending, `bound` is the bound on the guessed face (infinite without a guess).
+      const double moved = static_cast<double>(item.bound) + (at_u ? move_u : move_v);
+      const float bound = guess == kNoGuess ? std::numeric_limits<float>::infinity() : round_up(moved);
+      s.pending.push_back({item.corners, item.triangle, bound, item.depth, guess});
+    }
+  });
+  const double h2 = h_ * h_;
+  // The exact squared distance, or any value above h^2 when the bounding sphere shows it is.
+  auto dist2 = [&](const glm::dvec3& x, const CoverageScratch::Target& f) {
+    const double reach = h_ + f.radius;
+    const glm::dvec3 d = x - f.centre;
+    if (glm::dot(d, d) > reach * reach * (1.0 + 1e-12)) return std::numeric_limits<double>::infinity();
+    return squared_distance_to_triangle(x, f.pts[0], f.pts[1], f.pts[2]);
+  };
+  auto near = [&](const glm::dvec3& x, const CoverageScratch::Target& f) { return dist2(x, f) <= h2; };
+  // The largest distance of the corners to f, if all are within h; negative otherwise.
+  auto holds = [&](const std::array<glm::dvec3, 3>& q, const CoverageScratch::Target& f) {
+    double worst = 0.0;
+    for (const glm::dvec3& x : q) {
+      const double d2 = dist2(x, f);
+      if (d2 > h2) return -1.0;
+      worst = std::max(worst, d2);
+    }
+    return std::sqrt(worst);
+  };
+  // Pieces heal: when a new face holds the whole original triangle of a piece (of the faces the
+  // triangle's pieces here would go to, the closest), its pieces here are replaced by the whole
+  // triangle (pieces of it held elsewhere stay: a part covered twice is harmless). Without this,
+  // re-placements would keep cutting items and the lists would only grow. Grouped by triangle;
+  // every choice is geometric, so that the result does not depend on how the mesh is numbered
+  // (a replay of the same collapses on the input numbering, as the hierarchy's downward-closed
+  // sets do, must hold the same items as the run did).
+  const bool any_piece =
+      std::any_of(s.pending.begin(), s.pending.end(), [](const CoverageItem& item) { return item.depth > 0; });
+  if (any_piece) {
+    s.order.clear();
+    for (std::uint32_t i = 0; i < s.pending.size(); ++i) s.order.push_back({s.pending[i].triangle, i});
+    std::sort(s.order.begin(), s.order.end());
+    const auto& P = soup.positions;
+    s.healed_items.clear();
+    for (std::size_t i = 0; i < s.order.size();) {
+      std::size_t j = i + 1;
+      while (j < s.order.size() && s.order[j].first == s.order[i].first) ++j;
+      bool pieces = false;
+      for (std::size_t k = i; k < j; ++k) pieces = pieces || s.pending[s.order[k].second].depth > 0;
+      int heal = -1;
+      double heal_d = 0.0;
+      const std::uint32_t tri = s.order[i].first;
+      const auto& t = soup.triangles[tri];
+      const std::array<glm::dvec3, 3> whole = sorted({P[t[0]], P[t[1]], P[t[2]]});
+      if (pieces) {
+        const int label = static_cast<int>(soup.triangle_label[tri]);
+        for (std::size_t k = i; k < j; ++k) {
+          const std::uint8_t g = s.pending[s.order[k].second].local;
+          if (g == kNoGuess || g == heal || s.targets[g].label != label) continue;
+          const double d = holds(whole, s.targets[g]);
+          if (d >= 0.0 && (heal < 0 || d < heal_d || (d == heal_d && face_less(s.targets[g].pts, s.targets[heal].pts)))) {
+            heal = g;
+            heal_d = d;
+          }
+        }
+      }
+      if (heal >= 0) {
+        s.healed_items.push_back({whole, tri, round_up(heal_d), 0, static_cast<std::uint8_t>(heal)});
+        for (std::size_t k = i; k < j; ++k) s.pending[s.order[k].second].depth = kDropped;
+      }
+      i = j;
+    }
+    s.pending.erase(std::remove_if(s.pending.begin(), s.pending.end(),
+                                   [](const CoverageItem& item) { return item.depth == kDropped; }),
+                    s.pending.end());
+    s.pending.insert(s.pending.end(), s.healed_items.begin(), s.healed_items.end());
+  }
+  for (std::size_t i = 0; i < s.pending.size(); ++i) {  // pieces are appended: a FIFO
+    if (s.pending.size() > kMaxPieces) return false;
+    const CoverageItem item = s.pending[i];
+    const int label = static_cast<int>(soup.triangle_label[item.triangle]);
+    const auto& q = item.corners;
+    if (item.local != kNoGuess && static_cast<double>(item.bound) <= h_ && s.targets[item.local].label == label) {
+      s.placed.push_back(item);  // the bound proves it: no distance computed
+      continue;
+    }
+    int found = -1;
+    double found_bound = 0.0;
+    if (item.local != kNoGuess && s.targets[item.local].label == label) {
+      found_bound = holds(q, s.targets[item.local]);
+      if (found_bound >= 0.0) found = item.local;
+    }
+    // Else the face that holds it closest (geometric, so independent of the numbering).
+    const bool guessed = found >= 0;
+    for (std::size_t k = 0; k < s.targets.size() && !guessed; ++k) {
+      if (s.targets[k].label != label) continue;
+      const double d = holds(q, s.targets[k]);
+      if (d >= 0.0 && (found < 0 || d < found_bound ||
+                       (d == found_bound && face_less(s.targets[k].pts, s.targets[found].pts)))) {
+        found = static_cast<int>(k);
+        found_bound = d;
+      }
+    }
+    if (found >= 0) {
+      s.placed.push_back({q, item.triangle, round_up(found_bound), item.depth, static_cast<std::uint8_t>(found)});
+      continue;
+    }
+    if (item.depth >= kMaxDepth) return false;
+    // Every point of the item must be within h of some new face for any cut to succeed: a corner,
+    // the centre or an edge midpoint that no new face holds refuses the placement at once. (Whole
+    // items only: pieces are bounded by the depth and piece limits.)
+    if (item.depth == 0) {
+      const std::array<glm::dvec3, 7> probes{q[0], q[1], q[2], (q[0] + q[1] + q[2]) / 3.0, 0.5 * (q[0] + q[1]),
+                                             0.5 * (q[1] + q[2]), 0.5 * (q[2] + q[0])};
+      for (const glm::dvec3& x : probes) {
+        bool any = false;
+        for (const auto& f : s.targets) any = any || (f.label == label && near(x, f));
+        if (!any) return false;
+      }
+    }
+    cut(item, label, s);
+  }
+  return place_segments(mesh, u, v, star_u, star_v, star_uv, stencil, s);
+}
+
+bool SurfaceCoverage::place_segments(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+                                     const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv,
+                                     const SurfaceStencil& stencil, CoverageScratch& s) const {
+  s.segment_targets.clear();
+  for (const SurfaceStencil::NewEdge& e : stencil.new_edges) {
+    if (e.holder.tet == kInvalid) continue;
+    bool seen = false;
+    for (const auto& g : s.segment_targets) seen = seen || (g.label == e.label && g.other == e.other);
+    if (!seen) s.segment_targets.push_back({e.pts, e.other, e.label, e.holder});
+  }
+  if (s.segment_targets.size() >= kNoGuess) return false;
+  s.segment_pending.clear();
+  s.segment_placed.clear();
+  for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
+    if (!segment_lists_[t]) return;
+    for (const CoverageSegment& item : *segment_lists_[t])
+      if (edge_moves(mesh, t, item.local, u, v)) s.segment_pending.push_back(item);
+  });
+  if (s.segment_pending.empty()) return true;
+  const SurfaceSoup& soup = reference_.soup();
+  const double h2 = h_ * h_;
+  auto near = [&](const glm::dvec3& x, const CoverageScratch::SegmentTarget& e) {
+    return squared_distance_to_segment(x, e.pts[0], e.pts[1]) <= h2;
+  };
+  auto label_of = [&](std::uint32_t segment) { return static_cast<int>(soup.face_labels + soup.segment_label[segment]); };
+  // Pieces heal, as for triangles.
+  std::sort(s.segment_pending.begin(), s.segment_pending.end(), [](const auto& a, const auto& b) {
+    return a.segment != b.segment ? a.segment < b.segment : a.depth < b.depth;
+  });
+  {
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < s.segment_pending.size();) {
+      std::size_t j = i + 1;
+      while (j < s.segment_pending.size() && s.segment_pending[j].segment == s.segment_pending[i].segment) ++j;
+      const std::uint32_t seg = s.segment_pending[i].segment;
+      const auto& e = soup.segments[seg];
+      const glm::dvec3 &e0 = soup.positions[e[0]], &e1 = soup.positions[e[1]];
+      const std::array<glm::dvec3, 2> whole = less(e1, e0) ? std::array<glm::dvec3, 2>{e1, e0} : std::array<glm::dvec3, 2>{e0, e1};
+      bool healed = false;
+      if (s.segment_pending[i].depth > 0 || j - i > 1)
+        for (const auto& g : s.segment_targets)
+          healed = healed || (g.label == label_of(seg) && near(whole[0], g) && near(whole[1], g));
+      if (healed) {
+        s.segment_pending[out++] = {whole, seg, 0, 0};
+      } else {
+        for (std::size_t k = i; k < j; ++k) s.segment_pending[out++] = s.segment_pending[k];
+      }
+      i = j;
+    }
+    s.segment_pending.resize(out);
+  }
+  // A geometric order and the closest edge: independent of the numbering, as for triangles.
+  std::sort(s.segment_pending.begin(), s.segment_pending.end(), [](const auto& a, const auto& b) {
+    if (a.depth != b.depth) return a.depth < b.depth;
+    for (int k = 0; k < 2; ++k)
+      for (int c = 0; c < 3; ++c)
+        if (a.ends[k][c] != b.ends[k][c]) return a.ends[k][c] < b.ends[k][c];
+    return false;
+  });
+  for (std::size_t i = 0; i < s.segment_pending.size(); ++i) {
+    if (s.segment_pending.size() > kMaxPieces) return false;
+    const CoverageSegment item = s.segment_pending[i];
+    const int label = label_of(item.segment);
+    int found = -1;
+    double found_d2 = 0.0;
+    for (std::size_t k = 0; k < s.segment_targets.size(); ++k) {
+      const auto& g = s.segment_targets[k];
+      if (g.label != label) continue;
+      const double d2 = std::max(squared_distance_to_segment(item.ends[0], g.pts[0], g.pts[1]),
+                                 squared_distance_to_segment(item.ends[1], g.pts[0], g.pts[1]));
+      if (d2 <= h2 && (found < 0 || d2 < found_d2 ||
+                       (d2 == found_d2 && less(g.pts[1], s.segment_targets[found].pts[1])))) {
+        found = static_cast<int>(k);
+        found_d2 = d2;
+      }
+    }
+    if (found >= 0) {
+      s.segment_placed.push_back({item.ends, item.segment, item.depth, static_cast<std::uint8_t>(found)});
+      continue;
+    }
+    if (item.depth >= kMaxDepth) return false;
+    for (const glm::dvec3& x : {item.ends[0], item.ends[1], 0.5 * (item.ends[0] + item.ends[1])}) {
+      bool any = false;
+      for (const auto& g : s.segment_targets) any = any || (g.label == label && near(x, g));
+      if (!any) return false;
+    }
+    cut(item, label, s);
+  }
+  return true;
+}
+
+// A segment piece no single new edge holds: cut where the plane through p bisecting two new
+// edges p-x and p-y separates its ends, else at its midpoint.
+void SurfaceCoverage::cut(const CoverageSegment& item, int label, CoverageScratch& s) const {
+  const auto& q = item.ends;
+  const double size = glm::length(q[1] - q[0]);
+  const auto depth = static_cast<std::uint8_t>(item.depth + 1);
+  for (std::size_t i = 0; i < s.segment_targets.size(); ++i)
+    for (std::size_t j = i + 1; j < s.segment_targets.size(); ++j) {
+      const auto& f = s.segment_targets[i];
+      const auto& g = s.segment_targets[j];
+      if (f.label != label || g.label != label) continue;
+      const glm::dvec3 p = f.pts[0];
+      const glm::dvec3 a = f.pts[1] - p, b = g.pts[1] - p;
+      const double la = glm::length(a), lb = glm::length(b);
+      if (!(la > 0.0) || !(lb > 0.0)) continue;
+      const glm::dvec3 n = a / la - b / lb;
+      const double eps = 1e-9 * size * glm::length(n);
+      const double d0 = glm::dot(n, q[0] - p), d1 = glm::dot(n, q[1] - p);
+      if (!((d0 > eps && d1 < -eps) || (d0 < -eps && d1 > eps))) continue;
+      const glm::dvec3 x = q[0] + (q[1] - q[0]) * (d0 / (d0 - d1));
+      s.segment_pending.push_back({{q[0], x}, item.segment, depth, 0});
+      s.segment_pending.push_back({{x, q[1]}, item.segment, depth, 0});
+      return;
+    }
+  const glm::dvec3 m = 0.5 * (q[0] + q[1]);
+  s.segment_pending.push_back({{q[0], m}, item.segment, depth, 0});
+  s.segment_pending.push_back({{m, q[1]}, item.segment, depth, 0});
+}
+
+void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+                             const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, CoverageScratch& s) {
+  // Triangles and segments alike: drop the moved items from the stencil's lists, then store the
+  // placed ones with their new holder (`local` indexed the targets until now).
+  auto store = [&](auto& lists, const auto& placed, const auto& targets, auto&& moved) {
+    for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
+      if (!lists[t]) return;
+      auto& list = *lists[t];
+      list.erase(std::remove_if(list.begin(), list.end(), [&](const auto& item) { return moved(mesh, t, item.local, u, v); }),
+                 list.end());
+    });
+    for (auto item : placed) {
+      const FaceHolder holder = targets[item.local].holder;
+      auto& list = lists[holder.tet];
+      if (!list) list = std::make_unique<typename std::decay_t<decltype(*list)>>();
+      item.local = holder.local;
+      list->push_back(item);
+    }
+  };
+  store(lists_, s.placed, s.targets, moves);
+  store(segment_lists_, s.segment_placed, s.segment_targets, edge_moves);
+  // Lists only grow in capacity otherwise: free the empty ones (dead tets, faces that left the
+  // surface) and trim the slack of the others.
+  auto trim = [](auto& list) {
+    if (!list) return;
+    if (list->empty())
+      list.reset();
+    else if (list->capacity() > list->size() + list->size() / 2 + 4)
+      list->shrink_to_fit();
+  };
+  for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
+    trim(lists_[t]);
+    trim(segment_lists_[t]);
+  });
+}
+
+std::size_t SurfaceCoverage::item_count() const {
+  std::size_t n = 0;
+  for (const auto& list : lists_)
+    if (list) n += list->size();
+  for (const auto& list : segment_lists_)
+    if (list) n += list->size();
+  return n;
+}
+
+std::size_t SurfaceCoverage::memory_bytes() const {
+  std::size_t bytes = lists_.capacity() * sizeof(lists_[0]);
+  for (const auto& list : lists_)
+    if (list) bytes += sizeof(*list) + list->capacity() * sizeof(CoverageItem);
+  bytes += segment_lists_.capacity() * sizeof(segment_lists_[0]);
+  for (const auto& list : segment_lists_)
+    if (list) bytes += sizeof(*list) + list->capacity() * sizeof(CoverageSegment);
+  return bytes;
+}
+
+}  // namespace topotet

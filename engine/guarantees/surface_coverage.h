@@ -1,0 +1,147 @@
+// The original -> simplified half of the tolerance guarantee: every point of the original
+// surfaces stays within h of the simplified surface of its label, for the whole run, not only at
+// the moment a vertex is removed (issue #12: "the drift of vertices absorbed by earlier
+// collapses").
+//
+// Polylines (listed ones and detected feature curves) are kept the same way: every original
+// polyline segment, or a piece of one, is held by a polyline edge of its label within h of both
+// its ends (the distance to a segment is convex too); pieces are cut where the plane through p
+// that bisects two new edges at p separates their ends.
+//
+// Invariant. Every original special triangle (a triangle of SurfaceReference's soup), or a piece
+// of one, is an *item* held by exactly one live face of the same label (a tet and a local face),
+// and all three corners of the item are within h of that face. The distance to a triangle is
+// convex, so then EVERY point of the item is within h of it: the invariant covers the original
+// surface everywhere, not at samples.
+//
+// How it is kept. At the start every original triangle is held by itself (distance 0). A collapse
+// u <- v changes exactly the faces through u or v (the others keep their vertices and positions),
+// and each of those becomes a face through p, which the tolerance check lists (SurfaceStencil::
+// NewFace); a face whose tets all die lives on in the face it merges with, whose surviving tet
+// then holds it (gather_surface_stencil). So the items held by faces through u or v are the only
+// ones to re-check:
+//   - first on the face its face becomes (same two other vertices): when only one corner of the
+//     face moved, by d, the item's stored bound + d still bounds it, and no distance is computed;
+//   - else on the closest new face of its label within h of its three corners;
+//   - else it is cut: along the plane that bisects two adjacent new faces and separates its
+//     corners (the two sides usually fit one face each), or at its edge midpoints, and each piece
+//     is placed on its own, down to kMaxDepth cuts and kMaxPieces pieces per placement;
+//   - pieces heal: when a new face holds the whole original triangle, its pieces are replaced by
+//     the triangle.
+// A corner, centre or edge midpoint of an item that no new face holds, or a piece that exhausts
+// the limits, refuses the placement (kTolerance): the new fan would leave that part of the
+// original farther than h (or closer to a face outside the fan, which this check does not look
+// at: a conservative refusal). Every choice is geometric (orders, ties), so the items do not
+// depend on how the mesh is numbered.
+//
+// Concurrency. Items are kept in per-tet lists; a collapse reads and writes only the lists of the
+// tets of its stencil St(u) ∪ St(v) (the faces through u or v, before and after, are faces of
+// those tets), so collapses with disjoint stencils may run concurrently, and the lists come out
+// the same for every schedule.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "guarantees/surface_tolerance.h"
+#include "mesh/mesh_model.h"
+
+namespace topotet {
+
+// An original triangle, or a piece of one cut off by a re-placement (corners explicit: pieces
+// are cut along the planes that bisect two new faces, see surface_coverage.cpp).
+struct CoverageItem {
+  std::array<glm::dvec3, 3> corners;
+  std::uint32_t triangle;  // the soup triangle it is (part of): its label
+  // An upper bound of the distance from its corners to the face that holds it (rounded up). When
+  // that face only has one corner moved by d, bound + d still bounds it (every point of the face
+  // moves by at most d): most re-placements then need no distance at all.
+  float bound;
+  std::uint8_t depth;      // cuts from the whole triangle
+  std::uint8_t local;      // the local face of the holding tet
+};
+
+// The same for a polyline segment of the original (or a piece of one), held by a polyline edge.
+struct CoverageSegment {
+  std::array<glm::dvec3, 2> ends;
+  std::uint32_t segment;  // the soup segment it is (part of): its label
+  std::uint8_t depth;
+  std::uint8_t local;     // the local edge (kTetEdges) of the holding tet
+};
+
+// Per-thread working memory; keeps capacity between calls.
+struct CoverageScratch {
+  struct Target {  // a distinct new face with a tet that keeps it
+    std::array<glm::dvec3, 3> pts;
+    std::array<VertId, 2> others;
+    int label;
+    FaceHolder holder;
+    glm::dvec3 centre;  // a bounding sphere, to skip the exact distance for faces far away
+    double radius;
+  };
+  std::vector<Target> targets;
+  std::vector<CoverageItem> pending;  // items and pieces to place
+  std::vector<CoverageItem> placed;   // placed items; `local` indexes `targets` until commit
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> order;  // (triangle, pending index)
+  std::vector<CoverageItem> healed_items;  // triangles made whole again in this placement
+  struct SegmentTarget {
+    std::array<glm::dvec3, 2> pts;
+    VertId other;
+    int label;
+    FaceHolder holder;
+  };
+  std::vector<SegmentTarget> segment_targets;
+  std::vector<CoverageSegment> segment_pending, segment_placed;
+};
+
+class SurfaceCoverage {
+ public:
+  // Every original triangle held by the face it was taken from (reference.triangle_holders()).
+  SurfaceCoverage(const MeshModel& mesh, const SurfaceReference& reference, double h);
+  double tolerance() const { return h_; }
+  const SurfaceReference& reference() const { return reference_; }
+
+  // Can every item held by a face through u or v be placed on the new faces of `stencil` (filled by
+  // placement_within_tolerance for this placement)? Pure; the placement is left in `s` for commit().
+  bool place(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+             const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, const SurfaceStencil& stencil,
+             CoverageScratch& s) const;
+
+  // Stores what the last successful place() left in `s`: removes the re-placed items from the
+  // stencil's lists and appends them to their new faces' tets. Call before the mesh changes.
+  void commit(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+              const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, CoverageScratch& s);
+
+  // Items and pieces held now, and the bytes their lists take.
+  std::size_t item_count() const;
+  std::size_t memory_bytes() const;
+
+  // For the tests: calls f(item) for every item (triangle piece) held by tet t.
+  template <class F>
+  void for_each_item(TetId t, F&& f) const {
+    if (lists_[t])
+      for (const CoverageItem& item : *lists_[t]) f(item);
+  }
+
+  // Cuts of one item in one re-placement, and pieces per re-placement, before it is refused.
+  static constexpr int kMaxDepth = 16;
+  static constexpr std::size_t kMaxPieces = 2048;
+
+ private:
+  void cut(const CoverageItem& item, int label, CoverageScratch& s) const;
+  void cut(const CoverageSegment& item, int label, CoverageScratch& s) const;
+  bool place_segments(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
+                      const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv,
+                      const SurfaceStencil& stencil, CoverageScratch& s) const;
+
+  const SurfaceReference& reference_;
+  double h_;
+  std::vector<std::unique_ptr<std::vector<CoverageItem>>> lists_;             // [tet]
+  std::vector<std::unique_ptr<std::vector<CoverageSegment>>> segment_lists_;  // [tet]
+};
+
+}  // namespace topotet

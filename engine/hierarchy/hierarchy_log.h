@@ -1,0 +1,68 @@
+// The engines' hook for topotet::simplify_with_hierarchy (topotet/hierarchy.h): a log of the
+// accepted collapses, in the engine's own vertex ids, with their dependencies.
+//
+// The engines record in batches: the parallel engine one batch per round (slot = the winner's
+// position in the round's ascending winner list), the sequential engine one batch per collapse.
+// record() must be called just BEFORE collapse() (it reads u's and v's old positions and fields),
+// and depend() just AFTER it with the old stars St(u) and St(v) (the kernel scratch's star_u and
+// star_v, which collapse() gathers and leaves): the parents are the collapses that last changed
+// one of those tets. Within a batch the stencils are disjoint, so both may run concurrently for
+// different slots: they write only their slot and the last_change_ entries of their own tets, and
+// read entries no other slot of the batch writes. Collapse ids are the batch's first id plus the
+// slot, so the log is the same for any thread count.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "mesh/glm_convert.h"
+#include "mesh/mesh_model.h"
+
+namespace topotet {
+struct Hierarchy;
+}
+
+namespace topotet::detail {
+
+// Hierarchy::error from Hierarchy::cost (the running maximum); used after recording and reading.
+void fill_running_error(Hierarchy& hierarchy);
+
+class CollapseLog {
+ public:
+  CollapseLog(std::size_t tet_capacity, int field_stride);
+
+  void begin_batch(std::size_t slots);
+  void record(std::size_t slot, const MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p,
+              const double* fields_after, double cost);
+  void depend(std::size_t slot, const std::vector<TetId>& star_u, const std::vector<TetId>& star_v);
+  // The field error bound of the slot's new star (collapse()'s return value with FieldBounds).
+  void bound(std::size_t slot, float value) { slots_[slot].bound = value; }
+  void end_batch();  // appends the batch's slots in order
+
+  int field_stride() const { return stride_; }
+
+  // The records (engine ids), in recording order.
+  std::vector<VertId> u, v;
+  std::vector<std::array<double, 3>> u_before, u_after, v_position;  // as Hierarchy holds them
+  std::vector<double> fields_before, fields_after, cost;
+  std::vector<float> error_bound;  // NaN where bound() was not called
+  std::vector<std::uint32_t> parent_offsets{0}, parents;
+
+ private:
+  struct Slot {
+    VertId u = kInvalid, v = kInvalid;
+    std::array<double, 3> u_before{}, u_after{}, v_position{};
+    double cost = 0.0;
+    float bound = 0.0f;
+    std::vector<std::uint32_t> parents;  // capacity kept between batches: no allocation per collapse
+  };
+  int stride_;
+  std::vector<std::uint32_t> last_change_;  // [tet] the latest collapse that changed it (kInvalid: none)
+  std::vector<Slot> slots_;
+  std::vector<double> slot_fields_;  // [slot * 2 * stride_]: before, then after
+  std::size_t batch_size_ = 0;
+};
+
+}  // namespace topotet::detail

@@ -1,0 +1,86 @@
+// Mesh files: MEDIT .mesh (+ .sol), Gmsh .msh (4.1 read/write, ASCII or binary; 2.x ASCII/binary
+// read), VTK .vtu (write). The format is chosen by the file extension; a trailing ".gz" is read
+// transparently (writing .gz is refused). Binary MEDIT (.meshb) is refused with a clear message.
+//
+// read_mesh throws InputError naming the file and line ("box.mesh:12: ...", or "x.msh: byte N:"
+// inside Gmsh binary data) on malformed input; it never crashes on bad bytes. It rejects NaN/inf
+// values, indices out of range, negative or lying counts, truncation; it does not check geometry
+// (orientation, volumes): that is the mesh builder's job. A ".sol" (or ".sol.gz") beside a ".mesh"
+// with the same stem is read automatically (SolAtVertices of any type: scalars, vectors and
+// tensors keep their type); "<stem>.sol.fields.txt", if present, names its solutions (else
+// "sol0", "sol1", ...). vertex_refs comes back empty when every vertex ref is 0.
+//
+// write_mesh writes to a temporary file in the same folder and renames it over `path`, so a failed
+// run never leaves a half-written file. A symlink is followed and its target replaced; "-"
+// (stdout), FIFOs and character devices are written straight through (nothing to rename). For .mesh it also writes `<stem>.sol` when there are fields
+// (and `<stem>.sol.fields.txt` when their names are not the defaults); companion files left from
+// an earlier write of the same stem that this one does not produce are removed, so a later read
+// never attaches a stale .sol to the new mesh. A Gmsh file written here reads back as the
+// identical MeshData: refs <= 0, ridges, corners, required vertices and vertex refs travel as
+// named physical groups / a $NodeData (see io/gmsh.cpp). For .vtu it writes the tets (with
+// material and fields) and, when there are substructures, `<stem>_substructures.vtp` with the
+// listed triangles and segments and their refs.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "topotet/mesh_data.h"
+
+namespace topotet {
+
+enum class MeshFormat { kMedit, kGmsh, kVtu, kTetgen };
+
+// Throws InputError for an unknown extension.
+MeshFormat format_from_path(std::string_view path);
+
+// Mixed meshes. topotet simplifies tetrahedral meshes: hexahedra, prisms and pyramids are refused
+// by default (InputError naming the file and the line of the first one), because dropping them
+// silently leaves holes in the output. With tets_only they are left out and counted in ReadNotes.
+// Quadrilaterals are never faces of a tet: they are always left out and counted.
+//
+// "-" reads standard input; its format must then be given (ReadOptions::format), and a MEDIT mesh
+// from stdin has no .sol beside it. Errors name it "<stdin>".
+struct ReadOptions {
+  bool tets_only = false;
+  std::optional<MeshFormat> format;  // overrides the extension; required for "-"
+  // Gmsh 4.1: fill ReadNotes::node_tags and ReadNotes::tet_partition (topotet-mpi reads the parts
+  // of a partitioned file with them).
+  bool keep_partitions = false;
+};
+struct ReadNotes {
+  std::uint64_t hexahedra = 0, prisms = 0, pyramids = 0;  // left out (tets_only)
+  std::uint64_t quadrilaterals = 0;                        // left out
+  std::uint64_t dropped_corners = 0;  // MEDIT Corners with an out-of-range vertex (TetGen -g): left out
+  // Gmsh 4.1 partitioned files (gmsh -part N, with or without -part_split): N, from
+  // $PartitionedEntities; 0 for an unpartitioned file.
+  std::uint64_t partitions = 0;
+  // With ReadOptions::keep_partitions (Gmsh 4.1 only, else empty): [vertex] its node tag (tags
+  // are global over the split files of one mesh), and [tet] the partition (1..N) of its entity,
+  // 0 for a tet on an unpartitioned entity.
+  std::vector<std::uint64_t> node_tags;
+  std::vector<std::int32_t> tet_partition;
+  std::uint64_t volume_cells() const { return hexahedra + prisms + pyramids; }
+};
+
+MeshData read_mesh(const std::string& path, const ReadOptions& options = {}, ReadNotes* notes = nullptr);
+
+struct WriteOptions {
+  bool binary = false;  // Gmsh: binary MSH 4.1; VTU: raw appended data instead of inline base64
+  bool msh22 = false;   // Gmsh: MSH 2.2 ASCII instead of 4.1, for tools that read only the old format
+  std::optional<MeshFormat> format;  // overrides the extension; required for "-" (stdout)
+};
+void write_mesh(const std::string& path, const MeshData& mesh, const WriteOptions& options = {});
+
+// Writes `text` to `path` the way write_mesh writes (atomically to regular files and through
+// symlinks, straight through "-", FIFOs and devices; see io/atomic_file.h). Throws InputError.
+void write_text_file(const std::string& path, std::string_view text);
+
+// Removes the temporary files of the writes in progress. Async-signal-safe: a program's SIGINT /
+// SIGTERM handler calls it before exiting (the library installs no handler itself).
+void remove_temporary_files() noexcept;
+
+}  // namespace topotet
