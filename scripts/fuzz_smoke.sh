@@ -3,7 +3,7 @@
 # on fuzzed valid meshes refereed by the topology checker (tests/fuzz/fuzz_simplify.cpp), under
 # libFuzzer with ASan and UBSan for a short time each, the readers seeded with the small committed meshes. Any crash, sanitizer
 # report or leak fails the job; the corpus and any crash input are left in build-fuzz/.
-# Usage: bash scripts/fuzz_smoke.sh [SECONDS]   (default 60; needs clang and libclang-rt-14-dev, which setup.sh installs)
+# Usage: bash scripts/fuzz_smoke.sh [SECONDS]   (default 60; needs clang and libclang-rt-14-dev, which setup.sh --tests installs)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 seconds=${1:-60}

@@ -1,20 +1,39 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages topotet needs (apt is skipped when all are installed) and builds
-# everything (Release, Ninja) into build/. Extra arguments go to the CMake configure step, e.g.
-#   bash scripts/setup.sh -DTOPOTET_SANITIZE=address,undefined
-# Runs as root, or as a user with sudo, with no terminal (CI).
+# into build/ (Release, Ninja).
+#   bash scripts/setup.sh            the library and the topotet CLI only: the few packages they
+#                                    need, and the targets `topotet demo` runs (README command 1)
+#   bash scripts/setup.sh --tests    everything: the test tools (gmsh, tetgen, clang for the
+#                                    fuzzers, GoogleTest), MPI and METIS, Fortran, Python; every
+#                                    target, tests and benchmarks included (README command 2, CI)
+# Other arguments go to the CMake configure step, e.g.
+#   bash scripts/setup.sh --tests -DTOPOTET_SANITIZE=address,undefined
+# Runs as root, or as a user with sudo, with no terminal (CI). Running the first form after the
+# second keeps the full configuration's targets but builds only the CLI.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
+all=0
+cmake_args=()
+for a in "$@"; do
+  if [[ $a == --tests ]]; then all=1; else cmake_args+=("$a"); fi
+done
+
+# What the library and the CLI need to build and run.
 packages=(
   git cmake g++ ninja-build
   libtbb-dev libembree-dev libglm-dev zlib1g-dev
-  libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
-  gmsh tetgen
-  clang libclang-rt-14-dev
-  gfortran pkg-config pybind11-dev python3-dev python3-numpy python3-pybind11
-  openmpi-bin libopenmpi-dev libmetis-dev
+  libcli11-dev nlohmann-json3-dev
 )
+if ((all)); then
+  packages+=(
+    libgtest-dev libbenchmark-dev
+    gmsh tetgen
+    clang libclang-rt-14-dev
+    gfortran pkg-config pybind11-dev python3-dev python3-numpy python3-pybind11
+    openmpi-bin libopenmpi-dev libmetis-dev
+  )
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -35,5 +54,19 @@ fi
 # An existing build tree keeps its generator; a new one uses Ninja.
 generator=()
 if [[ ! -f build/CMakeCache.txt ]]; then generator=(-G Ninja); fi
-cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release "$@"
-cmake --build build -j "$(nproc)"
+if ((all)); then
+  # Explicit ONs: a tree first configured by the short form has these cached OFF.
+  cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release \
+    -DTOPOTET_BUILD_TESTS=ON -DTOPOTET_BUILD_BENCH=ON -DTOPOTET_BUILD_PYTHON=ON -DTOPOTET_BUILD_FORTRAN=ON \
+    -DTOPOTET_MPI=ON "${cmake_args[@]}"
+  cmake --build build -j "$(nproc)"
+else
+  # A tree the full form configured keeps its options; a new one gets only what the CLI needs.
+  options=()
+  if [[ ! -f build/CMakeCache.txt ]]; then
+    options=(-DTOPOTET_BUILD_TESTS=OFF -DTOPOTET_BUILD_BENCH=OFF -DTOPOTET_BUILD_PYTHON=OFF
+             -DTOPOTET_BUILD_FORTRAN=OFF -DTOPOTET_MPI=OFF)
+  fi
+  cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release "${options[@]}" "${cmake_args[@]}"
+  cmake --build build -j "$(nproc)" --target topotet
+fi

@@ -2,7 +2,7 @@
 # ThreadSanitizer job: the parallel engine and the parallel mesh builder under TSan.
 # The build defines TOPOTET_STD_THREADS (parallel/for_range.h), so the loops run on std::threads
 # TSan can see instead of Debian's uninstrumented libtbb; any report fails the job.
-# Usage: bash scripts/tsan.sh   (after scripts/setup.sh has installed the packages)
+# Usage: bash scripts/tsan.sh   (after scripts/setup.sh --tests has installed the packages)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTOPOTET_SANITIZE=thread \

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Files as meshers write them, through the command-line tool: Gmsh meshes whose surfaces share
 # faces (4.1 and 2.2 -save_all), Gmsh triangles that are no tet's face, mixed meshes (refused,
-# or --tets-only). Gmsh is a Debian package that scripts/setup.sh installs; every mesh here is
+# or --tets-only). Gmsh is a Debian package that scripts/setup.sh --tests installs; every mesh here is
 # small (well under a second each).
 #   usage: bash tests/cli_formats_test.sh path/to/topotet
 set -euo pipefail

@@ -31,7 +31,7 @@ done
 expect 2 partitioned_not_pvtu -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify in.mesh -o parts.mesh --partitioned
 if [[ $(grep -c 'topotet-mpi: error: parts.mesh: --partitioned writes a .pvtu' partitioned_not_pvtu.err) == 1 ]]; then pass "--partitioned needs a .pvtu"; else fail "--partitioned needs a .pvtu"; fi
 
-# Partitioned Gmsh input (Debian's gmsh, installed by scripts/setup.sh): gmsh cuts the mesh in 2,
+# Partitioned Gmsh input (Debian's gmsh, installed by scripts/setup.sh --tests): gmsh cuts the mesh in 2,
 # into two files (-part_split) and into one; both simplify on 2 ranks to the input's topology.
 if command -v gmsh >/dev/null; then
   expect 0 to_msh -- "$topotet" convert in.mesh whole.msh
@@ -54,7 +54,7 @@ if command -v gmsh >/dev/null; then
     fail "parts must match ranks"
   fi
 else
-  fail "gmsh not found (scripts/setup.sh installs it): partitioned Gmsh input untested"
+  fail "gmsh not found (scripts/setup.sh --tests installs it): partitioned Gmsh input untested"
 fi
 
 expect 2 missing_input -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify nowhere.mesh -o never.mesh
