@@ -1,7 +1,7 @@
 // topotet-mpi: the distributed simplifier on a mesh file.
 //   mpirun -np 4 topotet-mpi simplify in.mesh -o out.mesh --ratio 0.1
 // Rank 0 reads IN, checks it (the mesh builder, as `topotet simplify` does), and METIS spreads it
-// over the ranks, or each rank reads its part of a partitioned Gmsh mesh (cli/read_input.h);
+// over the ranks, or each rank reads its part of a partitioned Gmsh mesh (read_input.h);
 // topotet::mpi::simplify runs the passes; rank 0 gathers the result and writes OUT, or with
 // --partitioned every rank writes its piece (topotet::mpi::write_partitioned). The options are
 // those of `topotet simplify` that steer the engine (the measurements and reports of `topotet
