@@ -1,6 +1,7 @@
 #include "read_input.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 #include <vector>
@@ -10,12 +11,12 @@
 #include "topotet/io.h"
 #include "topotet/tet_mesh.h"
 
-namespace topotet::mpi::cli {
+namespace topotet::cli::mpi {
 
 namespace {
 
-using detail::rank_of;
-using detail::size_of;
+using topotet::mpi::detail::rank_of;
+using topotet::mpi::detail::size_of;
 
 // Every rank learns whether some rank failed; all throw the lowest failing rank's message.
 void agree(MPI_Comm comm, const std::string& error) {
@@ -31,12 +32,26 @@ void agree(MPI_Comm comm, const std::string& error) {
   throw std::runtime_error(message);
 }
 
+// As `topotet simplify` warns (cli/common.cpp read_input): the output covers the tets only.
+void warn_about_left_out_cells(const std::string& path, const ReadNotes& notes) {
+  if (notes.volume_cells() == 0) return;
+  std::string what;
+  const auto add = [&](std::uint64_t n, const char* kind) {
+    if (n != 0) what += (what.empty() ? "" : ", ") + std::to_string(n) + " " + kind;
+  };
+  add(notes.hexahedra, "hexahedra");
+  add(notes.prisms, "prisms");
+  add(notes.pyramids, "pyramids");
+  std::fprintf(stderr, "topotet-mpi: warning: %s: --tets-only: left out %s; the output mesh covers the tets only\n",
+               path.c_str(), what.c_str());
+}
+
 // A file checked by the mesh builder (its errors name the file and element), with the listed
 // elements the builder leaves out dropped, so that the checker later compares like with like.
-MeshData read_checked(const std::string& path, ReadNotes* notes) {
-  ReadOptions options;
-  options.keep_partitions = notes != nullptr;
+MeshData read_checked(const std::string& path, ReadOptions options, ReadNotes* notes) {  // notes: never null
+  options.keep_partitions = true;
   MeshData data = read_mesh(path, options, notes);
+  warn_about_left_out_cells(path, *notes);
   BuildOptions build;
   build.skip_detached_substructures = true;
   BuildNotes built;
@@ -64,7 +79,7 @@ std::string partitions_error(const std::string& path, std::uint64_t partitions, 
 
 }  // namespace
 
-Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed) {
+Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed, const ReadOptions& options) {
   const int me = rank_of(comm), ranks = size_of(comm);
   Input in;
   // Rank 0 decides which form IN is, so that every rank takes the same branch.
@@ -77,7 +92,7 @@ Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed
     const std::string mine = split_name(path, me + 1);
     try {
       ReadNotes notes;
-      MeshData d = read_checked(mine, &notes);
+      MeshData d = read_checked(mine, options, &notes);
       if (notes.partitions == 0) throw InputError(mine + ": not a partitioned Gmsh 4.1 file (no $PartitionedEntities)");
       if (notes.partitions != static_cast<std::uint64_t>(ranks)) throw InputError(partitions_error(mine, notes.partitions, ranks));
       in.part.global_ids.assign(notes.node_tags.begin(), notes.node_tags.end());
@@ -88,13 +103,13 @@ Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed
     agree(comm, error);
     // Every tet stays: the migration to itself keeps only the vertices of the part's tets (a part
     // file may list others), agrees the field layout and finds the owners.
-    distribute_to(comm, in.part, std::vector<int>(in.part.local.tet_count(), me));
+    topotet::mpi::distribute_to(comm, in.part, std::vector<int>(in.part.local.tet_count(), me));
   } else {
     std::vector<int> dest;
     if (me == 0) {
       try {
         ReadNotes notes;
-        MeshData d = read_checked(path, &notes);
+        MeshData d = read_checked(path, options, &notes);
         if (notes.partitions != 0) {
           if (notes.partitions != static_cast<std::uint64_t>(ranks)) throw InputError(partitions_error(path, notes.partitions, ranks));
           std::vector<std::uint8_t> seen(static_cast<std::size_t>(ranks), 0);
@@ -112,7 +127,7 @@ Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed
                              std::to_string(ranks) + " has no tets here: for the parts of gmsh -part_split, name the "
                              "mesh without its _<part> suffix");
         }
-        in.part = from_whole(d);
+        in.part = topotet::mpi::from_whole(d);
       } catch (const std::exception& e) {
         error = e.what();
       }
@@ -122,9 +137,9 @@ Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed
     MPI_Bcast(&partitioned, 1, MPI_INT, 0, comm);
     if (partitioned) {
       in.kind = InputKind::kGmshPartitioned;
-      distribute_to(comm, in.part, dest);
+      topotet::mpi::distribute_to(comm, in.part, dest);
     } else {
-      distribute(comm, in.part, metis_seed);
+      topotet::mpi::distribute(comm, in.part, metis_seed);
     }
   }
   std::uint64_t local = in.part.local.tet_count();
@@ -132,4 +147,4 @@ Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed
   return in;
 }
 
-}  // namespace topotet::mpi::cli
+}  // namespace topotet::cli::mpi

@@ -12,20 +12,23 @@
 
 #include <mpi.h>
 
+#include "topotet/io.h"
 #include "topotet/mpi.h"
 
-namespace topotet::mpi::cli {
+namespace topotet::cli::mpi {
 
 enum class InputKind { kWhole, kGmshSplit, kGmshPartitioned };
 
 struct Input {
-  DistributedMesh part;  // this rank's
+  topotet::mpi::DistributedMesh part;  // this rank's
   InputKind kind = InputKind::kWhole;
   std::uint64_t tets = 0;  // over all ranks
 };
 
 // Collective. Throws std::runtime_error on every rank (the lowest failing rank's message, naming
 // the file) when a file is missing or malformed, or the partitions do not match the ranks.
-Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed);
+// `options`: --format and --tets-only (keep_partitions is set here); the cells --tets-only leaves
+// out are counted in one warning line per file read.
+Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed, const ReadOptions& options = {});
 
-}  // namespace topotet::mpi::cli
+}  // namespace topotet::cli::mpi

@@ -1,0 +1,78 @@
+// The options of `topotet simplify`, defined once for both tools that simplify a file: `topotet
+// simplify` (cli/simplify.cpp) and `topotet-mpi simplify` (cli/mpi/main.cpp). Each registers them
+// with add_simplify_options, so that names, checks, defaults and help texts cannot drift; the MPI
+// tool then refuses the few it cannot honour (cli/mpi/mpi_options.h says which and why).
+//
+//   SimplifyArgs args;                               // the values as given on the command line
+//   SimplifyOptionSet set = add_simplify_options(cmd, args);
+//   ... parse ...
+//   SimplifyOptions o = engine_options(args);        // what steers the engine
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "topotet/simplify.h"
+
+namespace topotet::cli {
+
+// Every option of `simplify`, as given (before the defaults that depend on the input apply).
+struct SimplifyArgs {
+  std::string input;
+  std::string output;
+  std::string format;                // --format, checked by parse_format before any reading
+  std::string hierarchy;             // --hierarchy
+  std::vector<double> levels_error;  // --levels-error
+  double ratio = 0.25;
+  std::uint64_t target_vertices = 0;
+  double max_cost = 0.0;
+  double min_quality = SimplifyOptions{}.min_quality;
+  double tolerance = -1.0;  // < 0: not given (the relative default applies)
+  double tolerance_rel = SimplifyOptions{}.tolerance_rel;
+  double max_field_error = 0.0;
+  double max_field_error_rel = 0.0;
+  bool field_bounds = false;
+  bool no_field_bounds = false;  // --hierarchy without the bounds (cheaper; levels by cost)
+  double feature_angle = SimplifyOptions{}.feature_angle;
+  std::optional<std::int32_t> feature_ref;
+  bool sequential = false;
+  int threads = 0;
+  double round_fraction = SimplifyOptions{}.round_fraction;
+  std::string report;
+  bool no_verify = false;
+  bool no_metrics = false;
+  std::vector<double> levels;
+  std::vector<std::string> field_weights;  // NAME=W, checked by field_weight_syntax
+  std::string progress = "auto";
+  double progress_interval = 10.0;
+  bool binary = false;
+  bool tets_only = false;
+  bool msh22 = false;
+};
+
+// The registered options, for a tool that adds its own rules to some of them.
+struct SimplifyOptionSet {
+  CLI::Option* input = nullptr;
+  CLI::Option* output = nullptr;
+  // Options by their first long name ("--levels"), in the order of the help.
+  std::vector<CLI::Option*> all;
+  CLI::Option* find(const std::string& long_name) const;
+};
+
+// Registers every option of `simplify` on `cmd` (with -v/-q), writing into `args`, which must
+// outlive the parse.
+SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args);
+
+// The engine's settings the options give (targets, limits, tolerance, features, engine, threads,
+// field weights). The tolerance: --tolerance given (even 0) wins and turns the relative one off.
+SimplifyOptions engine_options(const SimplifyArgs& args);
+
+// -v: what the run was asked for, after the defaults and the thread cap ("ratio 0.2, min quality
+// 0.05, ..."); `levels` as normalize_levels returns them.
+std::string options_text(const SimplifyOptions& o, const std::vector<double>& levels);
+
+}  // namespace topotet::cli
