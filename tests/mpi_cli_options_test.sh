@@ -69,6 +69,16 @@ done
 expect 2 refused_stdin -- mpi 1 simplify - --format mesh -o never.mesh
 if grep -q "^topotet-mpi: error: -: stdin and stdout are not read or written under MPI" refused_stdin.err; then pass "- is refused"; else fail "- is refused"; fi
 
+# As in topotet simplify, a typo in -o fails before any work, with the same message.
+expect 2 simplify_no_folder -- "$topotet" simplify in.mesh -o nowhere/out.mesh
+expect 2 mpi_no_folder -- mpi 2 simplify in.mesh -o nowhere/out.mesh
+if grep -q "^topotet-mpi: error: nowhere/out.mesh: no such folder" mpi_no_folder.err &&
+   grep -q "^topotet: error: nowhere/out.mesh: no such folder" simplify_no_folder.err; then
+  pass "-o in a missing folder: the same message"
+else
+  fail "-o in a missing folder: the same message"
+fi
+
 # The same checks: a bad value gets the same message from both tools.
 expect 2 simplify_bad_ratio -- "$topotet" simplify in.mesh -o never.mesh --ratio 0
 expect 2 mpi_bad_ratio -- mpi 1 simplify in.mesh -o never.mesh --ratio 0

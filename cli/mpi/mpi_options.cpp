@@ -2,6 +2,7 @@
 
 #include "common.h"
 #include "topotet/error.h"
+#include "topotet/io.h"
 
 namespace topotet::cli::mpi {
 namespace {
@@ -82,6 +83,10 @@ void check_mpi_simplify_args(const CLI::App& app, const MpiSimplifyArgs& args) {
   if (args.partitioned && a.binary)
     throw InputError("--binary: --partitioned writes its pieces as ASCII .vtu");
   parse_format(a.format);  // a bad --format fails before reading
+  // As topotet simplify does: a typo in -o or --json fails before the run, not after it.
+  if (!args.partitioned && !format_for(a.output, a.format)) format_from_path(a.output);
+  check_output_folder(a.output);
+  check_output_folder(a.report);
 }
 
 }  // namespace topotet::cli::mpi
