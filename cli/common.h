@@ -1,5 +1,6 @@
 // Shared pieces of the `topotet` command-line tool: command registration, timing, formatting,
-// peak memory, error reporting, the progress bar and atomic JSON output.
+// peak memory, error reporting, the progress bar and atomic JSON output. topotet-mpi (cli/mpi/)
+// uses the verbosity, the report stream and the format and output checks too (topotet_cli_common).
 //
 // Every command file defines one add_*_command(app, run): it registers the subcommand and its
 // options, and when CLI11 selects it, stores in `run` the function main() calls (inside its

@@ -44,7 +44,7 @@ constexpr Note kNotes[] = {
     {"--no-verify", "always: topotet-mpi measures nothing; run topotet check IN OUT on the result"},
     {"--no-metrics", "always: topotet-mpi measures nothing; run topotet check IN OUT on the result"},
     {"--json", "passes, times, traffic and memory"},
-    {"--verbose", "prints the effective options"},
+    {"--verbose", "-v adds the effective options to the report; there is no stage log"},
     {"--binary", "not with --partitioned (its pieces are ASCII .vtu)"},
 };
 
