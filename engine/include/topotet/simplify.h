@@ -134,9 +134,11 @@ struct SimplifyOptions {
   // thread, never concurrently with itself.
   std::function<bool(double done_fraction)> on_progress;
   // Sharp features (topotet/features.h): before the first collapse, every surface edge whose two
-  // faces turn by more than this angle (degrees, between the face normals) becomes a feature
-  // curve kept like a listed polyline, and the corners it makes are pinned. 180 = off. Like
-  // Mmg's -ar (45 by default there too).
+  // faces turn by more than this angle (degrees, between the face normals) and that is a feature
+  // at the scale of the tolerance H (the surface around it departs from a plane by more than H/2:
+  // voxel staircases and other creases lower than H are left to the tolerance) becomes a feature
+  // curve kept like a listed polyline; its junctions, ends and sharp turns are pinned, its other
+  // vertices slide along it. 180 = off. Like Mmg's -ar (45 by default there too).
   double feature_angle = 45.0;
   // Diagnostics (topotet/round_log.h): with a vector here, the parallel engine appends the work and
   // times of every round to it (bench/bench_simplify's scaling model, `topotet simplify -vv`).
@@ -170,7 +172,10 @@ struct Report {
   double apply_seconds() const { return phase_seconds[2]; }
   double compact_seconds() const { return phase_seconds[3]; }
   std::uint64_t feature_edges = 0;    // edges detect_features flagged (SimplifyOptions::feature_angle)
-  std::uint64_t feature_corners = 0;  // vertices it pinned
+  std::uint64_t feature_corners = 0;  // vertices it pinned (feature_turns included)
+  std::uint64_t feature_candidates = 0;  // creases sharper than the angle, before the scale test
+  std::uint64_t feature_turns = 0;       // inner curve points pinned because the curve turns there
+  double feature_scale = 0.0;  // the scale H features were judged at (topotet/features.h), mesh units
   double feature_seconds = 0.0;
   // The run stopped before its target (kStoppedEarly: no legal collapse left) and the tolerance
   // had refused collapses: the tolerance may be what stopped it (the message says so). Whether it
