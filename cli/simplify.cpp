@@ -21,6 +21,7 @@
 #include "common.h"
 #include "distance_report.h"
 #include "json_report.h"
+#include "stop_report.h"
 #include "topotet/error.h"
 #include "topotet/hierarchy.h"
 #include "topotet/io.h"
@@ -157,7 +158,11 @@ Json level_json(const LevelResult& l) {
   j["field_bounds"] = field_bounds_json(l);
   j["feature_edges"] = r.feature_edges;
   j["feature_corners"] = r.feature_corners;
+  j["feature_candidates"] = r.feature_candidates;
+  j["feature_turns"] = r.feature_turns;
+  j["feature_scale"] = r.feature_scale;
   j["feature_seconds"] = r.feature_seconds;
+  j["stopped"] = stop_report_json(r);
   j["surface_distance"] = l.measured ? surface_distance_json(l.distance) : Json(nullptr);
   j["surface_distance_seconds"] = l.distance_seconds;
   j["topology_seconds"] = l.topology_seconds;
@@ -475,6 +480,7 @@ int run_simplify_job(SimplifyJob& job) {
         if (verbosity() >= Verbosity::kVerbose) row("phases", phases_text(r));
         if (verbosity() >= Verbosity::kDebug) print_rounds(last.rounds);
         if (r.status != Status::kOk) row("status", std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message));
+        print_stop_report(r);
       } else {
         const auto angle = [&](const QualityStats& q, const SampleStats QualityStats::*which, double scale) {
           return job.metrics ? format_number((q.*which).std_dev * scale) : std::string("-");

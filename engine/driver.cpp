@@ -15,6 +15,7 @@
 #include "parallel/for_range.h"
 #include "mesh/reorder.h"
 #include "guarantees/surface_tolerance.h"
+#include "stop_diagnosis.h"
 #include "topotet/features.h"
 #include "topotet/simplify.h"
 
@@ -198,6 +199,9 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
       }
       // Once, at the end: renumbering mid-run would have to remap every per-vertex array of the
       // engines (proposals, quadrics, orders) for a locality gain the runs here did not need.
+      if (report.status == Status::kStoppedEarly && report.message == "no legal collapse left" &&
+          mesh.live_vertex_count() > target)
+        detail::diagnose_stop(mesh, options, kernel, report);  // Report::stop: why, and what to change
       if (report.status == Status::kStoppedEarly && report.tolerance > 0.0 &&
           report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)] > 0 &&
           report.message == "no legal collapse left") {

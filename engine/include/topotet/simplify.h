@@ -148,6 +148,31 @@ struct SimplifyOptions {
   const CostUnits* cost_units = nullptr;
 };
 
+// Why a run stopped before its target, and what to change (issue #23): Report::stop. Filled when
+// simplify() returns kStoppedEarly with vertices left above the target. A census of the vertices
+// left: each is counted under the reason that refuses every collapse that would remove it, the
+// furthest any of them gets in the kernel's order (a placement refused by the tolerance passed
+// the pinning, inversion, quality and topology checks before it). So each share answers "what
+// would have to give for these vertices to go".
+struct StopDiagnosis {
+  bool is_filled = false;
+  std::uint64_t vertices = 0;  // live vertices examined (frozen ones are left out)
+  // Vertices by reason. pinned: the vertex is pinned; topology: no edge offers to remove it (it
+  // joins or ends curves, order 3) or the link conditions of K or K~ fail on every edge that
+  // does; inversion, quality, tolerance, field_error: the best placement fails that check;
+  // collapsible: a placement passes now (the run's bans were not lifted for it; rare).
+  std::uint64_t topology = 0, pinned = 0, inversion = 0, quality = 0, tolerance = 0, field_error = 0,
+                collapsible = 0;
+  // Live pinned vertices by why: listed corners (MEDIT Corners, Gmsh points), required vertices,
+  // feature corners (detect_features), other (pinned by the caller).
+  std::uint64_t pinned_corners = 0, pinned_required = 0, pinned_features = 0, pinned_other = 0;
+  const char* dominant = "";  // the reason with most vertices: "topology", "pinned", "inversion", ...
+  double dominant_share = 0.0;  // its share of the vertices, 0..1
+  // One change to try, with its predicted effect, in words (an option of `topotet simplify` and
+  // of SimplifyOptions); empty when nothing the options control stands in the way.
+  std::string suggestion;
+};
+
 struct Report {
   Status status = Status::kOk;
   std::string message;  // empty when status == kOk
@@ -192,6 +217,7 @@ struct Report {
   std::vector<float> tet_field_bound;
   std::uint64_t field_bounds_bytes = 0;  // memory the bounds took (field_bounds.h)
   double field_bounds_setup_seconds = 0.0;
+  StopDiagnosis stop;  // why a run stopped before its target (above)
 };
 
 // Simplifies in place. The mesh is valid on return for every status.
