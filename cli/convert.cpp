@@ -45,7 +45,7 @@ int run_convert(const ConvertArgs& args) {
     // The model renumbers nothing but drops unreferenced vertices: the features come with its
     // own export of the whole mesh.
     TetMesh model = build_input(args.input, mesh, &build_seconds);
-    const FeatureStats found = detect_features(model, args.feature_angle);
+    const FeatureStats found = detect_features(model, args.feature_angle, feature_scale(model, SimplifyOptions{}));
     MeshExportOptions export_options;
     export_options.feature_edges = true;
     export_options.feature_ref = *args.feature_ref;

@@ -103,7 +103,7 @@ int run_info(const InfoArgs& args) {
     TetMesh mesh = build_input(args.input, data, &build_seconds);
     model_bytes = mesh.memory_bytes();
     const Stopwatch feature_clock;
-    features = detect_features(mesh, args.feature_angle);
+    features = detect_features(mesh, args.feature_angle, feature_scale(mesh, SimplifyOptions{}));
     feature_seconds = feature_clock.seconds();
   } catch (const InputError& e) {
     build_error = e.what();
@@ -154,7 +154,8 @@ int run_info(const InfoArgs& args) {
                      format_bytes(model_bytes) + " (build " + format_seconds(build_seconds) + ")");
     if (args.feature_angle < 180.0)
       row("features", format_count(features.edges) + " sharp edges (> " + format_number(args.feature_angle) +
-                          " degrees), " + format_count(features.corners) + " corners (" +
+                          " degrees and higher than the default tolerance; " + format_count(features.candidates) +
+                          " by the angle alone), " + format_count(features.corners) + " corners (" +
                           format_seconds(feature_seconds) + ")");
     row("valid", "yes");
   } else {
@@ -198,6 +199,8 @@ int run_info(const InfoArgs& args) {
       in["feature_angle"] = args.feature_angle;
       in["feature_edges"] = features.edges;
       in["feature_corners"] = features.corners;
+      in["feature_candidates"] = features.candidates;
+      in["feature_turns"] = features.turns;
       in["feature_seconds"] = feature_seconds;
     }
     j["input"] = in;

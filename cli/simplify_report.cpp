@@ -8,6 +8,7 @@
 #include "distance_report.h"
 #include "json_report.h"
 #include "simplify_options.h"
+#include "stop_report.h"
 
 namespace topotet::cli {
 namespace {
@@ -111,7 +112,11 @@ Json level_json(const LevelResult& l) {
   j["field_bounds"] = field_bounds_json(l);
   j["feature_edges"] = r.feature_edges;
   j["feature_corners"] = r.feature_corners;
+  j["feature_candidates"] = r.feature_candidates;
+  j["feature_turns"] = r.feature_turns;
+  j["feature_scale"] = r.feature_scale;
   j["feature_seconds"] = r.feature_seconds;
+  j["stopped"] = stop_report_json(r);
   j["surface_distance"] = l.measured ? surface_distance_json(l.distance) : Json(nullptr);
   j["surface_distance_seconds"] = l.distance_seconds;
   j["topology_seconds"] = l.topology_seconds;
@@ -226,6 +231,7 @@ void print_single_level(const SimplifyRun& run) {
   if (verbosity() >= Verbosity::kVerbose) row("phases", phases_text(r));
   if (verbosity() >= Verbosity::kDebug) print_rounds(last.rounds);
   if (r.status != Status::kOk) row("status", std::string(to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message));
+  print_stop_report(r);
 }
 
 // --levels: one table row per level (size, field error, cumulative time, angles, topology).

@@ -15,6 +15,7 @@
 #include "parallel/for_range.h"
 #include "mesh/reorder.h"
 #include "guarantees/surface_tolerance.h"
+#include "stop_diagnosis.h"
 #include "topotet/features.h"
 #include "topotet/simplify.h"
 
@@ -81,15 +82,6 @@ std::string check_against_mesh(const SimplifyOptions& o, const MeshModel& mesh) 
   return {};
 }
 
-double bounding_box_diagonal(const MeshModel& mesh) {
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  for (VertId v = 0; v < mesh.vertex_capacity(); ++v) {
-    if (mesh.is_dead_vertex(v)) continue;
-    lo = glm::min(lo, mesh.positions[v]);
-    hi = glm::max(hi, mesh.positions[v]);
-  }
-  return lo.x <= hi.x ? glm::length(hi - lo) : 0.0;
-}
 
 // Fills vertex_map[i] for every input vertex i: the live vertex it became or merged into, as an id
 // of the compacted output (`compacted`) or of the mesh as it stands. new2old is the renumbering
@@ -156,7 +148,10 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
       // Before the cost model and the tolerance reference are built: both see the features as
       // polylines (line quadrics; a curve label the tolerance checks).
       const auto feature_start = std::chrono::steady_clock::now();
-      const FeatureStats features = detect_features(mesh, options.feature_angle);
+      report.feature_scale = feature_scale(mesh, options);
+      const FeatureStats features = detect_features(mesh, options.feature_angle, report.feature_scale);
+      report.feature_candidates = features.candidates;
+      report.feature_turns = features.turns;
       report.feature_edges = features.edges;
       report.feature_corners = features.corners;
       report.feature_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - feature_start).count();
@@ -204,6 +199,9 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
       }
       // Once, at the end: renumbering mid-run would have to remap every per-vertex array of the
       // engines (proposals, quadrics, orders) for a locality gain the runs here did not need.
+      if (report.status == Status::kStoppedEarly && report.message == "no legal collapse left" &&
+          mesh.live_vertex_count() > target)
+        detail::diagnose_stop(mesh, options, kernel, report);  // Report::stop: why, and what to change
       if (report.status == Status::kStoppedEarly && report.tolerance > 0.0 &&
           report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)] > 0 &&
           report.message == "no legal collapse left") {

@@ -58,5 +58,9 @@ Report simplify_with_hierarchy(TetMesh& mesh, const SimplifyOptions& options, Hi
   return simplify_with_hierarchy(mesh.model(), options, hierarchy);
 }
 FeatureStats detect_features(TetMesh& mesh, double angle_degrees) { return detect_features(mesh.model(), angle_degrees); }
+FeatureStats detect_features(TetMesh& mesh, double angle_degrees, double scale) {
+  return detect_features(mesh.model(), angle_degrees, scale);
+}
+double feature_scale(const TetMesh& mesh, const SimplifyOptions& options) { return feature_scale(mesh.model(), options); }
 
 }  // namespace topotet

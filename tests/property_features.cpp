@@ -17,6 +17,7 @@
 #include "mesh/glm_convert.h"
 #include "entry_points.h"
 #include "mesh/mesh_model.h"
+#include "topotet/threads.h"
 #include "test_meshes.h"
 #include "topotet/features.h"
 #include "topotet/generate.h"
@@ -282,6 +283,79 @@ TEST(Features, ParallelOutputIsIdenticalForEveryThreadCount) {
     else
       EXPECT_TRUE(d == first) << threads << " threads";
   }
+}
+
+// Features at a scale (issue #23): a block of two materials whose interface is a staircase of
+// steps 1 high and 6 deep (a ramp digitized on a grid, like a segmented image). Judged by the
+// angle alone, every step is a feature and the ends of the steps are pinned; at a scale H = 2
+// (steps lower than H) no step counts, while the block's own edges (8 and more long, 90 degrees)
+// and its corners stay.
+TEST(Features, StepsLowerThanTheScaleAreNotFeatures) {
+  constexpr int kNx = 24, kNy = 8, kNz = 20;
+  const testing::Grid grid =
+      testing::make_grid(kNx, kNy, kNz, [](int i, int, int k) { return k < 8 + i / 6 ? 2 : 1; }, 0.0);
+  const auto inside = [](const std::array<double, 3>& p) {
+    return p[0] > 0.5 && p[0] < kNx - 0.5 && p[1] > 0.5 && p[1] < kNy - 0.5;
+  };
+  const auto step_edges = [&](const MeshData& d) {  // flagged edges off the box's sides
+    std::size_t n = 0;
+    for (const Segment& e : d.segments) n += inside(d.positions[e.v[0]]) && inside(d.positions[e.v[1]]);
+    return n;
+  };
+  const auto step_corners = [&](const MeshData& d) {  // pinned vertices off the box's ends x = 0, 24
+    std::size_t n = 0;
+    for (const VertId c : d.corners) n += d.positions[c][0] > 0.5 && d.positions[c][0] < kNx - 0.5;
+    return n;
+  };
+  MeshExportOptions with_features;
+  with_features.feature_edges = true;
+  {
+    MeshModel mesh = build_mesh_model(grid.data);
+    detect_features(mesh, 45.0, 0.0);
+    const MeshData d = mesh.to_mesh_data(with_features);
+    EXPECT_GT(step_edges(d), 0u);
+    EXPECT_GT(step_corners(d), 0u);
+  }
+  MeshModel mesh = build_mesh_model(grid.data);
+  const FeatureStats found = detect_features(mesh, 45.0, 2.0);
+  EXPECT_GT(found.candidates, found.edges);
+  const MeshData d = mesh.to_mesh_data(with_features);
+  EXPECT_EQ(step_edges(d), 0u);
+  EXPECT_EQ(step_corners(d), 0u);
+  for (int x : {0, kNx})
+    for (int y : {0, kNy})
+      for (int z : {0, kNz}) EXPECT_TRUE(mesh.is_pinned(grid.vid(x, y, z))) << x << " " << y << " " << z;
+  // The bottom edges are feature curves from end to end.
+  std::set<std::pair<VertId, VertId>> flagged;
+  for (const Segment& e : d.segments) flagged.insert(std::minmax(e.v[0], e.v[1]));
+  for (int i = 0; i < kNx; ++i) {
+    EXPECT_TRUE(flagged.count(std::minmax(grid.vid(i, 0, 0), grid.vid(i + 1, 0, 0)))) << i;
+    EXPECT_TRUE(flagged.count(std::minmax(grid.vid(i, kNy, 0), grid.vid(i + 1, kNy, 0)))) << i;
+  }
+  // Same answer for every thread count.
+  for (int threads : {1, 3}) {
+    MeshModel again = build_mesh_model(grid.data);
+    FeatureStats f;
+    run_with_thread_limit(threads, [&] { f = detect_features(again, 45.0, 2.0); });
+    EXPECT_EQ(f.edges, found.edges);
+    EXPECT_TRUE(again.to_mesh_data(with_features) == d) << threads;
+  }
+}
+
+// The default run judges features at its tolerance H (Report::feature_scale).
+TEST(Features, SimplifyJudgesFeaturesAtTheTolerance) {
+  MeshModel mesh = build_mesh_model(box().grid.data);
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.5;
+  const Report report = simplify(mesh, options);
+  EXPECT_EQ(report.feature_scale, report.tolerance);
+  EXPECT_EQ(report.feature_edges, 4u * 18);
+  EXPECT_EQ(report.feature_corners, 8u);
+  options.tolerance_rel = 0.0;  // off: the default relative tolerance still sets the scale
+  MeshModel again = build_mesh_model(box().grid.data);
+  const Report off = simplify(again, options);
+  EXPECT_EQ(off.tolerance, 0.0);
+  EXPECT_DOUBLE_EQ(off.feature_scale, report.tolerance);
 }
 
 // The default tolerance (issue #12): on without any option, 0 turns it off, and a run it stops

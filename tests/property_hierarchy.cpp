@@ -184,7 +184,7 @@ void expect_kernel_replay(const Built& b, const std::vector<std::uint8_t>& appli
   SCOPED_TRACE(what);
   const Hierarchy& h = b.hierarchy;
   MeshModel mesh = build_mesh_model(h.original);
-  detect_features(mesh, SimplifyOptions{}.feature_angle);
+  detect_features(mesh, SimplifyOptions{}.feature_angle, b.report.feature_scale);
   CollapseOptions kernel;
   kernel.quality_floor = SimplifyOptions{}.min_quality;
   const auto surfaces = SurfaceReference::from_mesh(mesh, b.report.tolerance);

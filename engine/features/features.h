@@ -4,9 +4,12 @@
 
 #include "mesh/mesh_model.h"
 #include "topotet/features.h"
+#include "topotet/simplify.h"
 
 namespace topotet {
 
 FeatureStats detect_features(MeshModel& mesh, double angle_degrees);
+FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale);
+double feature_scale(const MeshModel& mesh, const SimplifyOptions& options);
 
 }  // namespace topotet

@@ -1,6 +1,10 @@
 // MeshModel bookkeeping: counts, memory, incidence rebuild, compaction, export to MeshData.
 #include <algorithm>
+#include <limits>
 #include <numeric>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include "mesh/glm_convert.h"
 #include "mesh/mesh_model.h"
@@ -208,6 +212,16 @@ MeshData MeshModel::to_mesh_data(const MeshExportOptions& options) const {
     offset += fi.components;
   }
   return d;
+}
+
+double bounding_box_diagonal(const MeshModel& mesh) {
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (VertId v = 0; v < mesh.vertex_capacity(); ++v) {
+    if (mesh.is_dead_vertex(v)) continue;
+    lo = glm::min(lo, mesh.positions[v]);
+    hi = glm::max(hi, mesh.positions[v]);
+  }
+  return lo.x <= hi.x ? glm::length(hi - lo) : 0.0;
 }
 
 }  // namespace topotet

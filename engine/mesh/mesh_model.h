@@ -175,6 +175,9 @@ using detail::MeshModel;
 // build_tet_mesh without the handle (topotet/tet_mesh.h documents the checks and the errors).
 MeshModel build_mesh_model(const MeshData& data, const BuildOptions& options = {}, BuildNotes* notes = nullptr);
 
+// The length of the diagonal of the bounding box of the live vertices; 0 for none.
+double bounding_box_diagonal(const MeshModel& mesh);
+
 // Rebuilds the incidence of the live tets (used after compaction).
 void rebuild_incidence(MeshModel& mesh);
 

@@ -134,9 +134,11 @@ struct SimplifyOptions {
   // thread, never concurrently with itself.
   std::function<bool(double done_fraction)> on_progress;
   // Sharp features (topotet/features.h): before the first collapse, every surface edge whose two
-  // faces turn by more than this angle (degrees, between the face normals) becomes a feature
-  // curve kept like a listed polyline, and the corners it makes are pinned. 180 = off. Like
-  // Mmg's -ar (45 by default there too).
+  // faces turn by more than this angle (degrees, between the face normals) and that is a feature
+  // at the scale of the tolerance H (the surface around it departs from a plane by more than H/2:
+  // voxel staircases and other creases lower than H are left to the tolerance) becomes a feature
+  // curve kept like a listed polyline; its junctions, ends and sharp turns are pinned, its other
+  // vertices slide along it. 180 = off. Like Mmg's -ar (45 by default there too).
   double feature_angle = 45.0;
   // Diagnostics (topotet/round_log.h): with a vector here, the parallel engine appends the work and
   // times of every round to it (bench/bench_simplify's scaling model, `topotet simplify -vv`).
@@ -144,6 +146,31 @@ struct SimplifyOptions {
   // Non-null: normalise costs in these units instead of the mesh's own (CostUnits above); field
   // vectors must have field_stride() entries, else the call returns kInvalidInput.
   const CostUnits* cost_units = nullptr;
+};
+
+// Why a run stopped before its target, and what to change (issue #23): Report::stop. Filled when
+// simplify() returns kStoppedEarly with vertices left above the target. A census of the vertices
+// left: each is counted under the reason that refuses every collapse that would remove it, the
+// furthest any of them gets in the kernel's order (a placement refused by the tolerance passed
+// the pinning, inversion, quality and topology checks before it). So each share answers "what
+// would have to give for these vertices to go".
+struct StopDiagnosis {
+  bool is_filled = false;
+  std::uint64_t vertices = 0;  // live vertices examined (frozen ones are left out)
+  // Vertices by reason. pinned: the vertex is pinned; topology: no edge offers to remove it (it
+  // joins or ends curves, order 3) or the link conditions of K or K~ fail on every edge that
+  // does; inversion, quality, tolerance, field_error: the best placement fails that check;
+  // collapsible: a placement passes now (the run's bans were not lifted for it; rare).
+  std::uint64_t topology = 0, pinned = 0, inversion = 0, quality = 0, tolerance = 0, field_error = 0,
+                collapsible = 0;
+  // Live pinned vertices by why: listed corners (MEDIT Corners, Gmsh points), required vertices,
+  // feature corners (detect_features), other (pinned by the caller).
+  std::uint64_t pinned_corners = 0, pinned_required = 0, pinned_features = 0, pinned_other = 0;
+  const char* dominant = "";  // the reason with most vertices: "topology", "pinned", "inversion", ...
+  double dominant_share = 0.0;  // its share of the vertices, 0..1
+  // One change to try, with its predicted effect, in words (an option of `topotet simplify` and
+  // of SimplifyOptions); empty when nothing the options control stands in the way.
+  std::string suggestion;
 };
 
 struct Report {
@@ -170,7 +197,10 @@ struct Report {
   double apply_seconds() const { return phase_seconds[2]; }
   double compact_seconds() const { return phase_seconds[3]; }
   std::uint64_t feature_edges = 0;    // edges detect_features flagged (SimplifyOptions::feature_angle)
-  std::uint64_t feature_corners = 0;  // vertices it pinned
+  std::uint64_t feature_corners = 0;  // vertices it pinned (feature_turns included)
+  std::uint64_t feature_candidates = 0;  // creases sharper than the angle, before the scale test
+  std::uint64_t feature_turns = 0;       // inner curve points pinned because the curve turns there
+  double feature_scale = 0.0;  // the scale H features were judged at (topotet/features.h), mesh units
   double feature_seconds = 0.0;
   // The run stopped before its target (kStoppedEarly: no legal collapse left) and the tolerance
   // had refused collapses: the tolerance may be what stopped it (the message says so). Whether it
@@ -187,6 +217,7 @@ struct Report {
   std::vector<float> tet_field_bound;
   std::uint64_t field_bounds_bytes = 0;  // memory the bounds took (field_bounds.h)
   double field_bounds_setup_seconds = 0.0;
+  StopDiagnosis stop;  // why a run stopped before its target (above)
 };
 
 // Simplifies in place. The mesh is valid on return for every status.

@@ -1,0 +1,210 @@
+// diagnose_stop (stop_diagnosis.h): for every live vertex, what keeps every collapse that would
+// remove it from happening, then the dominant reason and one suggestion.
+//
+//   for each live vertex v (parallel):
+//     pinned                                   -> pinned
+//     for each edge uv, the placements of the cost model (the engines try the same) that remove
+//     v (v merges into u, or both move to the midpoint or the quadric's optimum):
+//       none (v is a curve junction or end, or of higher order than u: it stays) -> topology
+//       the link conditions of K or K~ fail    -> topology (they do not depend on the placement)
+//       else the furthest a placement gets in the kernel's order:
+//         inversion < quality < tolerance < field_error < collapsible
+//     v's reason <- the furthest over all its edges (what would have to give first)
+//   dominant <- the reason with most vertices; suggestion <- what relaxes it, and when an option
+//   cannot (topology, inversion, pinned by the input), also what relaxes the largest reason an
+//   option can
+#include "stop_diagnosis.h"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "cost/cost.h"
+#include "kernel/link_condition.h"
+#include "parallel/for_range.h"
+
+namespace topotet::detail {
+namespace {
+
+enum Verdict : int { kPinnedEnd, kTopology, kInversion, kQuality, kTolerance, kFieldError, kCollapsible, kVerdicts };
+
+// How far a placement refused for `reason` got in the kernel (may_collapse's order).
+int stage_of(CollapseReason reason) {
+  switch (reason) {
+    case CollapseReason::kOk: return kCollapsible;
+    case CollapseReason::kPinned: return kPinnedEnd;
+    case CollapseReason::kInversion: return kInversion;
+    case CollapseReason::kQuality: return kQuality;
+    case CollapseReason::kTolerance: return kTolerance;
+    case CollapseReason::kFieldError: return kFieldError;
+    case CollapseReason::kLinkK:
+    case CollapseReason::kLinkKtilde: return kTopology;
+  }
+  return kTopology;
+}
+
+std::string percent(double share) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.0f%%", 100.0 * share);
+  return buf;
+}
+
+std::string number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+}  // namespace
+
+void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
+                   Report& report) {
+  StopDiagnosis& d = report.stop;
+  d = StopDiagnosis{};
+  d.is_filled = true;
+  CostModel cost(mesh, options);
+  const std::size_t nv = mesh.vertex_capacity();
+  std::array<std::atomic<std::uint64_t>, kVerdicts> counts{};
+  parallel::for_range<std::size_t>(0, nv, 256, "diagnose_stop", [&](std::size_t begin, std::size_t end) {
+    CollapseScratch scratch;
+    std::vector<VertId> nbrs;
+    std::vector<double> fields;
+    std::array<std::uint64_t, kVerdicts> local{};
+    for (std::size_t i = begin; i < end; ++i) {
+      const VertId v = static_cast<VertId>(i);
+      if (mesh.is_dead_vertex(v) || mesh.is_frozen(v)) continue;
+      if (mesh.is_pinned(v)) {
+        ++local[kPinnedEnd];
+        continue;
+      }
+      int best = kTopology;  // no edge offers to remove v
+      mesh.neighbours(v, nbrs);
+      for (const VertId u : nbrs) {
+        if (best == kCollapsible) break;
+        if (mesh.is_frozen(u)) continue;
+        const VertId a = std::min(u, v), b = std::max(u, v);
+        CollapseCandidate cands[4];
+        const int n = cost.candidates(mesh, a, b, cands, scratch.link);
+        // The placements that remove v: v merges into u, or both move to one new point.
+        Placement placements[4];
+        CollapseCandidate kept[4];
+        int m = 0;
+        for (int k = 0; k < n; ++k)
+          if (cands[k].v == v || cands[k].placement != 0) {
+            kept[m] = cands[k];
+            placements[m++] = {cands[k].u, cands[k].v, cands[k].p};
+          }
+        if (m == 0) continue;
+        if (!gather_stars(mesh, a, b, scratch) ||
+            check_link_conditions(mesh, a, b, scratch.star_uv, scratch.link) != LinkResult::kOk)
+          continue;  // topology: the link conditions do not depend on the placement
+        if (kernel.field_bounds != nullptr && kernel.field_bounds->has_limit())
+          set_placement_fields(mesh, cost, kept, m, placements, fields);
+        for (int k = 0; k < m && best != kCollapsible; ++k) {
+          std::array<std::uint64_t, kCollapseReasonCount> rejected{};
+          CollapseReason reason = CollapseReason::kOk;
+          if (first_acceptable(mesh, &placements[k], 1, kernel, scratch, &rejected) < 0) {
+            reason = CollapseReason::kLinkK;
+            for (int r = 1; r < kCollapseReasonCount; ++r)
+              if (rejected[r] != 0) {
+                reason = static_cast<CollapseReason>(r);
+                break;
+              }
+          }
+          best = std::max(best, stage_of(reason));
+        }
+      }
+      ++local[best];
+    }
+    for (int k = 0; k < kVerdicts; ++k) counts[k].fetch_add(local[k], std::memory_order_relaxed);
+  });
+  d.topology = counts[kTopology];
+  d.pinned = counts[kPinnedEnd];
+  d.inversion = counts[kInversion];
+  d.quality = counts[kQuality];
+  d.tolerance = counts[kTolerance];
+  d.field_error = counts[kFieldError];
+  d.collapsible = counts[kCollapsible];
+  d.vertices = d.topology + d.pinned + d.inversion + d.quality + d.tolerance + d.field_error + d.collapsible;
+
+  for (VertId v = 0; v < nv; ++v) {
+    if (mesh.is_dead_vertex(v) || !mesh.is_pinned(v)) continue;
+    const std::uint8_t s = mesh.vertex_states[v];
+    if (s & vertex_state::kCorner) ++d.pinned_corners;
+    else if (s & vertex_state::kRequired) ++d.pinned_required;
+    else if (s & vertex_state::kFeatureCorner) ++d.pinned_features;
+    else ++d.pinned_other;
+  }
+
+  if (d.vertices == 0) return;
+  // The reasons, the ones an option relaxes first (ties go to the first).
+  struct Reason {
+    const char* name;
+    const char* who;
+    std::uint64_t count;
+  };
+  const Reason reasons[] = {{"tolerance", "the tolerance", d.tolerance},
+                            {"quality", "the quality floor", d.quality},
+                            {"field_error", "the field error limit", d.field_error},
+                            {"pinned", "pinned vertices", d.pinned},
+                            {"inversion", "inverted tets", d.inversion},
+                            {"topology", "the topology", d.topology},
+                            {"collapsible", "nothing", d.collapsible}};
+  const auto share_of = [&](const Reason& r) { return static_cast<double>(r.count) / static_cast<double>(d.vertices); };
+  const auto held = [&](const Reason& r) { return std::string(r.who) + " held " + percent(share_of(r)) + " of the vertices left"; };
+  // What an option changes for reason r, with its predicted effect; empty when no option does.
+  const bool features_pin = d.pinned_features > 0 && d.pinned_features >= d.pinned_corners + d.pinned_required + d.pinned_other;
+  const auto advice = [&](const Reason& r) -> std::string {
+    const std::string effect = "; it can free up to " + percent(share_of(r)) + " of them";
+    const std::string name = r.name;
+    if (name == "tolerance") {
+      const double diagonal = bounding_box_diagonal(mesh);
+      const double rel = diagonal > 0.0 ? report.tolerance / diagonal : options.tolerance_rel;
+      return "--tolerance-rel " + number(2.0 * rel) + " (SimplifyOptions::tolerance_rel, twice H = " +
+             number(report.tolerance) + ") is the next step" + effect;
+    }
+    if (name == "quality")
+      return "--min-quality " + number(options.min_quality / 2.0) +
+             " (SimplifyOptions::min_quality, half the floor) is the next step" + effect + ", with flatter tets";
+    if (name == "field_error")
+      return (options.max_field_error_rel > 0.0 ? "--max-field-error-rel " + number(2.0 * options.max_field_error_rel)
+                                                : "--max-field-error " + number(2.0 * options.max_field_error)) +
+             " (twice the limit) is the next step" + effect;
+    if (name == "pinned" && features_pin)
+      return "--feature-angle " + number(std::min(180.0, options.feature_angle + 30.0)) +
+             " (SimplifyOptions::feature_angle; 180 = no features) is the next step" + effect;
+    return {};
+  };
+  const Reason* top = &reasons[0];
+  for (const Reason& r : reasons)
+    if (r.count > top->count) top = &r;
+  d.dominant = top->name;
+  d.dominant_share = share_of(*top);
+  const std::string dominant = d.dominant;
+  std::string why;
+  if (dominant == "pinned" && !features_pin)
+    why = " (" + std::to_string(d.pinned_corners) + " listed corners, " + std::to_string(d.pinned_required) +
+          " required vertices: the input pins them; no option moves them)";
+  else if (dominant == "inversion")
+    why = " (every placement that removes them, an endpoint, the midpoint or the quadric's optimum, folds a tet; "
+          "no option relaxes that)";
+  else if (dominant == "topology")
+    why = " (they join or end curves of the substructures, or every collapse that removes them would change the "
+          "topology of the mesh or of a substructure; no option changes that)";
+  else if (dominant == "collapsible")
+    why = " (they can go now: a new run from this output continues)";
+  std::string step = advice(*top);
+  if (step.empty()) {  // the largest reason an option relaxes, if it holds a fair share
+    const Reason* next = nullptr;
+    for (const Reason& r : reasons)
+      if (!advice(r).empty() && (next == nullptr || r.count > next->count)) next = &r;
+    if (next != nullptr && share_of(*next) >= 0.05) step = held(*next) + ": " + advice(*next);
+  }
+  d.suggestion = held(*top) + why + (step.empty() ? "" : (advice(*top).empty() ? "; " : ": ") + step);
+}
+
+}  // namespace topotet::detail

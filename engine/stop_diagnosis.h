@@ -1,0 +1,18 @@
+// Why a run stopped before its target (issue #23): a census of the edges left, each with the
+// reason that refuses it, and one change to suggest (Report::stop, topotet/simplify.h).
+#pragma once
+
+#include "kernel/collapse.h"
+#include "mesh/mesh_model.h"
+#include "topotet/simplify.h"
+
+namespace topotet::detail {
+
+// Fills report.stop from the mesh as the engine left it (not compacted), with the kernel options
+// the run used (its tolerance reference and coverage, quality floor, field bounds). Reads only;
+// parallel over vertices, deterministic (the counts are sums). Costs one kernel check per live
+// edge and placement: run it only when the run stopped before its target.
+void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
+                   Report& report);
+
+}  // namespace topotet::detail

@@ -1,0 +1,131 @@
+// Report::stop (issue #23): a run that stops before its target names what holds the vertices left
+// and suggests the option that relaxes it. Each case is built so that one reason alone stops it:
+// the tolerance, the quality floor, pinned vertices, the topology.
+#include <gtest/gtest.h>
+
+#include <numeric>
+#include <string>
+
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
+#include "test_meshes.h"
+#include "topotet/generate.h"
+#include "topotet/simplify.h"
+
+namespace topotet {
+namespace {
+
+std::uint64_t share_sum(const StopDiagnosis& d) {
+  return d.topology + d.pinned + d.inversion + d.quality + d.tolerance + d.field_error + d.collapsible;
+}
+
+// The common facts of every stopped run: filled, one count per vertex left, the dominant reason
+// is the largest count and is named in the suggestion.
+void expect_consistent(const Report& r, const char* dominant) {
+  ASSERT_EQ(r.status, Status::kStoppedEarly) << r.message;
+  const StopDiagnosis& d = r.stop;
+  ASSERT_TRUE(d.is_filled);
+  EXPECT_EQ(d.vertices, r.vertices_after);
+  EXPECT_EQ(share_sum(d), d.vertices);
+  EXPECT_STREQ(d.dominant, dominant);
+  EXPECT_GT(d.dominant_share, 0.5) << d.suggestion;
+  EXPECT_FALSE(d.suggestion.empty());
+}
+
+MeshData small_cube_sphere() { return generate_mesh({"cube-sphere", 8000, 1}); }
+
+TEST(StopDiagnosis, NotFilledWhenTheTargetIsReached) {
+  MeshModel mesh = build_mesh_model(small_cube_sphere());
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.5;
+  const Report r = simplify(mesh, options);
+  EXPECT_EQ(r.status, Status::kOk);
+  EXPECT_FALSE(r.stop.is_filled);
+  EXPECT_TRUE(r.stop.suggestion.empty());
+}
+
+// A tolerance far below the surfaces' jitter: nothing on a surface can move; the interior empties.
+TEST(StopDiagnosis, OnlyTheToleranceStopsIt) {
+  MeshModel mesh = build_mesh_model(small_cube_sphere());
+  SimplifyOptions options;
+  options.tolerance_rel = 1e-5;
+  options.feature_angle = 180.0;
+  options.target_vertex_ratio = 0.02;
+  const Report r = simplify(mesh, options);
+  expect_consistent(r, "tolerance");
+  EXPECT_NE(r.stop.suggestion.find("--tolerance-rel 2e-05"), std::string::npos) << r.stop.suggestion;
+  EXPECT_NE(r.stop.suggestion.find("the tolerance held"), std::string::npos) << r.stop.suggestion;
+}
+
+// No tolerance, no features, a quality floor no collapse of this mesh can keep.
+TEST(StopDiagnosis, OnlyTheQualityFloorStopsIt) {
+  MeshModel mesh = build_mesh_model(small_cube_sphere());
+  SimplifyOptions options;
+  options.tolerance_rel = 0.0;
+  options.feature_angle = 180.0;
+  options.min_quality = 0.9;
+  options.target_vertex_ratio = 0.02;
+  const Report r = simplify(mesh, options);
+  expect_consistent(r, "quality");
+  EXPECT_EQ(r.stop.tolerance, 0u);
+  EXPECT_NE(r.stop.suggestion.find("--min-quality 0.45"), std::string::npos) << r.stop.suggestion;
+}
+
+// Every vertex listed as a corner (or required): nothing moves, and no option changes that.
+TEST(StopDiagnosis, OnlyPinnedVerticesStopIt) {
+  for (const bool required : {false, true}) {
+    testing::Grid grid = testing::make_grid(4, 3, 3, [](int, int, int) { return 1; });
+    std::vector<VertId> all(grid.data.positions.size());
+    std::iota(all.begin(), all.end(), VertId{0});
+    (required ? grid.data.required_vertices : grid.data.corners) = all;
+    MeshModel mesh = build_mesh_model(grid.data);
+    SimplifyOptions options;
+    options.target_vertex_ratio = 0.2;
+    const Report r = simplify(mesh, options);
+    expect_consistent(r, "pinned");
+    EXPECT_EQ(r.collapses, 0u);
+    EXPECT_EQ(r.stop.pinned, all.size());
+    EXPECT_EQ(required ? r.stop.pinned_required : r.stop.pinned_corners, all.size());
+    EXPECT_EQ(r.stop.pinned_features, 0u);
+    EXPECT_NE(r.stop.suggestion.find("no option moves them"), std::string::npos) << r.stop.suggestion;
+    EXPECT_EQ(r.stop.suggestion.find("--"), std::string::npos) << r.stop.suggestion;  // nothing to try
+  }
+}
+
+// Every cube of the grid its own material: every vertex but the box's corners is a junction of
+// interface curves (order 3), so once the corners are gone no vertex can go without changing the
+// topology of a substructure.
+TEST(StopDiagnosis, OnlyTheTopologyStopsIt) {
+  const testing::Grid grid = testing::make_grid(3, 3, 2, [](int i, int j, int k) { return 1 + i + 3 * j + 9 * k; });
+  MeshModel mesh = build_mesh_model(grid.data);
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.2;
+  // The topology alone: no features (the box's edges would pin its corners), no tolerance (the
+  // box corners, inside one cube each, are plain surface points and may go).
+  options.feature_angle = 180.0;
+  options.tolerance_rel = 0.0;
+  const Report r = simplify(mesh, options);
+  expect_consistent(r, "topology");
+  EXPECT_EQ(r.stop.topology, r.vertices_after);
+  EXPECT_EQ(r.stop.pinned, 0u);
+  EXPECT_NE(r.stop.suggestion.find("the topology held 100%"), std::string::npos) << r.stop.suggestion;
+  EXPECT_EQ(r.stop.suggestion.find("--"), std::string::npos) << r.stop.suggestion;
+}
+
+// Feature corners that hold a run are named with the feature angle to raise.
+TEST(StopDiagnosis, PinnedFeatureCornersSuggestTheFeatureAngle) {
+  // Pinned as detect_features pins its corners (every vertex, so that they alone stop the run).
+  testing::Grid grid = testing::make_grid(2, 2, 2, [](int, int, int) { return 1; });
+  MeshModel mesh = build_mesh_model(grid.data);
+  for (VertId v = 0; v < mesh.vertex_capacity(); ++v)
+    mesh.vertex_states[v] |= vertex_state::kPinned | vertex_state::kFeatureCorner;
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.2;
+  const Report r = simplify(mesh, options);
+  expect_consistent(r, "pinned");
+  EXPECT_EQ(r.stop.pinned_features, r.vertices_after);
+  EXPECT_NE(r.stop.suggestion.find("--feature-angle 75"), std::string::npos) << r.stop.suggestion;
+}
+
+}  // namespace
+}  // namespace topotet
