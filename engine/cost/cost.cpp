@@ -384,7 +384,7 @@ double CostModel::edge_cost_n(const MeshModel& mesh, VertId a, VertId b, LinkScr
 void CostModel::fields_at(const MeshModel& mesh, const CollapseCandidate& c, double* out) const {
   if (stride_ == 0) return;
   const double* fu = mesh.field_values.data() + static_cast<std::size_t>(c.u) * stride_;
-  if (c.placement == kAtU && mesh.is_pinned(c.u)) {  // a pinned vertex keeps its own values
+  if (c.placement == kAtU) {  // a vertex that stays where it is (pinned or not) keeps its own values
     std::copy_n(fu, stride_, out);
     return;
   }
