@@ -44,7 +44,7 @@ struct Args {
   std::vector<std::uint64_t> tets = {200000};
   double ratio = 0.1;
   double round_fraction = SimplifyOptions{}.round_fraction;
-  // The geometric defaults (sharp features, tolerance); the throughput table of the README sets
+  // The geometric defaults (sharp features, tolerance); the throughput table of docs/performance.md sets
   // both off (180, 0) to time the engine alone, as it was measured.
   double feature_angle = SimplifyOptions{}.feature_angle;
   double tolerance_rel = SimplifyOptions{}.tolerance_rel;

@@ -78,7 +78,7 @@ struct Args {
   int threads = 0;
   bool match_tets = false, first_field_only = false;
   std::string vtk_scale = "1";  // a number, or "auto"
-  // topotet's geometric defaults; VTK has neither (the README's table sets both off: 180, 0).
+  // topotet's geometric defaults; VTK has neither (docs/performance.md's table sets both off: 180, 0).
   double feature_angle = SimplifyOptions{}.feature_angle;
   double tolerance_rel = SimplifyOptions{}.tolerance_rel;
   std::string json_path;

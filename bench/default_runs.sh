@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The table of default runs (README.md "Default runs", issue #12): every family and every mesh of
+# The table of default runs (docs/performance.md "Default runs"): every family and every mesh of
 # ../shared/data simplified with default options to 10% and 2%, and again with --tolerance 0 (the
 # speed cost of the tolerance) and optionally with another binary (e.g. main's, before the
 # defaults existed). One row per run: reached vertex ratio, whether the run stopped early with collapses refused for the tolerance,

@@ -3,7 +3,7 @@
 # quality of the distributed result against the shared-memory engine at the same target.
 #   bash bench/mpi_scaling.sh [BUILD_DIR] [STRONG_TETS] [WEAK_TETS_PER_RANK] [THREADS_PER_RANK]
 # Writes one JSON line per run (bench/mpi_bench) to mpi_scaling.jsonl in the current folder and
-# prints the Markdown tables of README.md "Distributed (MPI)". Timings on a shared machine are
+# prints the Markdown tables of docs/performance.md "Distributed (MPI)". Timings on a shared machine are
 # noisy: run it niced on a quiet machine, and compare medians of several runs.
 set -euo pipefail
 build=${1:-build}

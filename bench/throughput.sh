@@ -11,7 +11,7 @@
 # speed-up, kernel evaluations and checks per collapse, peak bytes per input tet (simplification
 # process), the whole CLI run (read, build, simplify, measure, write) and its share spent in the
 # report's measurements. Inputs of ../shared/data are skipped when absent. The engine is timed
-# without the geometric defaults of issue #12 (--feature-angle 180, no tolerance), as the README's
+# without the geometric defaults of issue #12 (--feature-angle 180, no tolerance), as the throughput table of docs/performance.md
 # table was measured; bench/default_runs.sh measures what those defaults cost.
 set -euo pipefail
 build=${1:-build}

@@ -10,7 +10,7 @@
 //         model_bytes, model_bytes_per_tet, quality{...} + quality_seconds,
 //         topology_report{...} + topology_seconds
 //   verdict: topology ("pass", "fail" or "skipped") and topology_differences [lines]
-// Times are seconds and end in _seconds; counts are plain integers; names are snake_case. README.md
+// Times are seconds and end in _seconds; counts are plain integers; names are snake_case. docs/cli.md
 // ("JSON reports") lists every key.
 #pragma once
 

@@ -1,4 +1,4 @@
-// topotet: command-line front end of the library (see README.md, "The command-line tool").
+// topotet: command-line front end of the library (see docs/cli.md).
 //
 // main() parses with CLI11, runs the selected command and turns every error into one line on
 // stderr and exit code 2: bad usage (CLI11 parse errors), bad input (topotet::InputError) and any

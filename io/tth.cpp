@@ -1,4 +1,4 @@
-// The .tth hierarchy file (README.md, "Hierarchy files"): binary, little-endian, versioned.
+// The .tth hierarchy file (docs/formats.md): binary, little-endian, versioned.
 //
 //   "TOPOTETH" u32 version(=1) u32 flags(=0)
 //   original mesh:  u64 V, f64[3V] positions; u64 R (0 or V), i32[R] vertex refs;

@@ -18,7 +18,7 @@
 // Why these terms (issue #11; LOX post 513k tets to 30%, parallel engine, field 0, RMS relative to
 // the range pooled over both directions, against VTK's vtkUnstructuredGridQuadricDecimation
 // 0.0014 at the same vertex count; the step-by-step numbers below were measured while building
-// the model, on the engine before the rewritten rounds; README.md has the final ones):
+// the model, on the engine before the rewritten rounds; docs/performance.md has the current ones):
 //   - Vertical, not orthogonal, distance. The 3-flat of a tet in R^(3+k) measured orthogonally
 //     gives (f - L(x))^2 / (1 + |grad f|^2): in normalised units the gradient of a boundary layer
 //     is in the hundreds, so the steepest parts of a field, where the error is made, cost 1e-4
@@ -54,7 +54,7 @@
 // Balancing the fields by their own achievable error (weights 1 / RMS alone^2, taken from the
 // single-field runs) only moves error between them (LOX 30%: 2.01 / 1.43 / 1.51 -> 1.63 / 1.69 /
 // 1.25 times the single-field RMS): three fields within 1.2x of their own runs need about 1.33x
-// the vertices of one (README.md, "Several fields").
+// the vertices of one (docs/performance.md, "Field accuracy").
 //
 // Placement of the merged vertex (ord = order in the substructure filtration, link_condition.h):
 //   ord a > ord b : a stays where it is (a vertex on a feature never leaves it);

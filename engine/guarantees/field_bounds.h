@@ -11,7 +11,7 @@
 // samples of one simplified tet T lies inside T (convexity), f - f~ is affine on it, so the
 // error at EVERY point of it is at most bound(T, c). An original tet whose vertices are spread
 // over several simplified tets has no such guarantee between its vertices: the simplified field
-// bends inside it (measured in tests/unit_field_bounds.cpp and README "Field error bounds").
+// bends inside it (measured in tests/unit_field_bounds.cpp and docs/performance.md "Field error bounds").
 //
 // Why samples and not paper 003's accumulation rule: the paper bounds the error over the whole
 // tet by adding, at every intersection point of the old and new tets, the interpolants'

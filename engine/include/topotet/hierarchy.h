@@ -147,7 +147,7 @@ class HierarchyCursor {
   std::vector<double> fields_;         // [original vertex * field_stride + k]
 };
 
-// ---- the .tth file (README.md, "Hierarchy files") ----
+// ---- the .tth file (docs/formats.md) ----
 void write_hierarchy(const std::string& path, const Hierarchy& hierarchy);
 // Throws InputError naming the file and the byte offset of the fault on a bad or truncated file.
 Hierarchy read_hierarchy(const std::string& path);

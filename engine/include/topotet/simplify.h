@@ -97,7 +97,7 @@ struct SimplifyOptions {
   // deviation or not at all: the cost then adds up exactly the errors the reports print (relative
   // to the range); unscaled, the balance would follow the fields' units; by standard deviation it
   // follows their distributions, and moves vertices from the geometry to fields with a few extreme
-  // values (README.md, "Field accuracy", has the measurements).
+  // values (docs/performance.md, "Field accuracy", has the measurements).
   std::map<std::string, double> field_weights;
   // Geometric tolerance (like MMG's -hausd): a collapse is refused (reason "tolerance") when the
   // boundary, interface, listed surfaces or polylines around the moved vertex would leave a
@@ -106,7 +106,7 @@ struct SimplifyOptions {
   // new vertex, the centroid and edge midpoints of every new surface triangle, and at the removed
   // vertex (engine/guarantees/surface_tolerance.h says what is guaranteed); measure the result with
   // metrics/surface_distance.h. The reference is the mesh as passed to this call. On by default
-  // (kDefaultToleranceRel, chosen in README.md "Default runs"); tolerance_rel = 0 turns it off.
+  // (kDefaultToleranceRel, chosen in docs/performance.md "Default runs"); tolerance_rel = 0 turns it off.
   double tolerance = 0.0;
   double tolerance_rel = kDefaultToleranceRel;
   // Field error bounds (paper 003; engine/guarantees/field_bounds.h says exactly what is bounded): every tet
@@ -116,7 +116,7 @@ struct SimplifyOptions {
   // range (max - min over the input vertices) is refused (reason "field_error"), so the run stops
   // before any bound exceeds the limit; both given = the smaller per component. 0 = no limit.
   // With a limit or track_field_bounds, the report gives the achieved bounds. Off by default: the
-  // bounds cost memory and time (README.md, "Field error bounds"). A mesh without fields has
+  // bounds cost memory and time (docs/performance.md, "Field error bounds"). A mesh without fields has
   // nothing to bound (the limits are then ignored).
   double max_field_error = 0.0;
   double max_field_error_rel = 0.0;

@@ -73,7 +73,7 @@ struct Options {
   // would (mpi/cost_shares.h). Costs are always in the whole mesh's units. Needs the parallel
   // engine and two ranks (else shares are by count). Costs about one more local simplification
   // per pass. Measured (cube-sphere 200k to 10%, field RMS against the shared-memory engine: +8.7%
-  // at 4 ranks, +14.9% by count): README.md.
+  // at 4 ranks, +14.9% by count): docs/mpi.md.
   bool shares_by_cost = true;
 };
 
