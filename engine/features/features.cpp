@@ -305,16 +305,22 @@ glm::dvec3 curve_point_at(const MeshModel& mesh, const Curves& curves, VertId v,
   return mesh.positions[cur];
 }
 
-// The total length of the chain of `edges` each edge is on: chains are joined at the vertices
-// with exactly two of the edges, and end at the others (ends and junctions). [edge]
-std::vector<double> chain_lengths(const MeshModel& mesh, const std::vector<Candidate>& edges) {
-  std::vector<std::pair<VertId, std::uint32_t>> ends;  // (vertex, edge), sorted
+// Both ends of every edge as (vertex, edge index), sorted: the edges at one vertex are adjacent.
+std::vector<std::pair<VertId, std::uint32_t>> sorted_ends(const std::vector<Candidate>& edges) {
+  std::vector<std::pair<VertId, std::uint32_t>> ends;
   ends.reserve(2 * edges.size());
   for (std::uint32_t i = 0; i < edges.size(); ++i) {
     ends.push_back({edges[i].a, i});
     ends.push_back({edges[i].x, i});
   }
   std::sort(ends.begin(), ends.end());
+  return ends;
+}
+
+// The total length of the chain of `edges` each edge is on: chains are joined at the vertices
+// with exactly two of the edges, and end at the others (ends and junctions). [edge]
+std::vector<double> chain_lengths(const MeshModel& mesh, const std::vector<Candidate>& edges) {
+  const std::vector<std::pair<VertId, std::uint32_t>> ends = sorted_ends(edges);
   std::vector<std::uint32_t> parent(edges.size());
   for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
   const auto root = [&](std::uint32_t i) {
@@ -349,13 +355,7 @@ std::vector<double> chain_lengths(const MeshModel& mesh, const std::vector<Candi
 // interface staircase ends on a seam of the boundary (a curve already, not a candidate).
 void continue_straight(const MeshModel& mesh, const std::vector<Candidate>& edges, std::vector<char>& keep,
                        double minus_cos_theta) {
-  std::vector<std::pair<VertId, std::uint32_t>> ends;  // (vertex, edge), sorted
-  ends.reserve(2 * edges.size());
-  for (std::uint32_t i = 0; i < edges.size(); ++i) {
-    ends.push_back({edges[i].a, i});
-    ends.push_back({edges[i].x, i});
-  }
-  std::sort(ends.begin(), ends.end());
+  const std::vector<std::pair<VertId, std::uint32_t>> ends = sorted_ends(edges);
   const auto other_end = [&](std::uint32_t e, VertId v) { return edges[e].a == v ? edges[e].x : edges[e].a; };
   std::vector<std::uint32_t> work;
   for (std::uint32_t i = 0; i < edges.size(); ++i)
