@@ -223,6 +223,33 @@ py::dict to_dict(const topotet::MeshData& d) {
   return out;
 }
 
+// Why a run stopped before its target (topotet::StopDiagnosis), as `topotet simplify --json`
+// gives it; None when the run reached its target.
+py::object stop_dict(const topotet::StopDiagnosis& s) {
+  if (!s.is_filled) return py::none();
+  py::dict by_reason;
+  by_reason["topology"] = s.topology;
+  by_reason["pinned"] = s.pinned;
+  by_reason["inversion"] = s.inversion;
+  by_reason["quality"] = s.quality;
+  by_reason["tolerance"] = s.tolerance;
+  by_reason["field_error"] = s.field_error;
+  by_reason["collapsible"] = s.collapsible;
+  py::dict pinned;
+  pinned["corners"] = s.pinned_corners;
+  pinned["required"] = s.pinned_required;
+  pinned["features"] = s.pinned_features;
+  pinned["other"] = s.pinned_other;
+  py::dict d;
+  d["vertices"] = s.vertices;
+  d["by_reason"] = by_reason;
+  d["pinned_vertices"] = pinned;
+  d["dominant"] = std::string(s.dominant);
+  d["dominant_share"] = s.dominant_share;
+  d["suggestion"] = s.suggestion;
+  return d;
+}
+
 py::dict report_dict(const topotet::Report& r) {
   py::dict rejected;
   for (topotet::RejectReason reason : topotet::kRejectReasons) rejected[topotet::to_string(reason)] = r.rejected_by(reason);
@@ -247,6 +274,9 @@ py::dict report_dict(const topotet::Report& r) {
   d["phase_seconds"] = phases;
   d["max_cost"] = r.max_cost;
   d["tolerance"] = r.tolerance;
+  d["feature_edges"] = r.feature_edges;
+  d["feature_corners"] = r.feature_corners;
+  d["stopped"] = stop_dict(r.stop);
   return d;
 }
 

@@ -51,6 +51,17 @@ check(set(rep["rejected"]) == {"link_K", "link_Ktilde", "pinned", "inversion", "
 check(out["tets"].shape[1] == 4 and out["tets"].min() >= 0 and out["tets"].max() < nv, "output tets")
 check(out["fields"]["u"].shape == (nv, 3), "field shape")
 check(sorted(np.unique(out["materials"])) == [1, 2], "both materials survive")
+check(rep["stopped"] is None if rep["status"] == "ok" else rep["stopped"] is not None, "stopped iff stopped early")
+
+# A target the ball and the pinned box corners cannot reach: the report says what holds the rest.
+stuck = topotet.simplify(points, tets, materials=materials, target_vertices=2, threads=1, corners=box_corners)["report"]
+check(stuck["status"] == "stopped_early", f"status {stuck['status']}")
+why = stuck["stopped"]
+check(why is not None and why["vertices"] == stuck["vertices_after"], f"stop census {why}")
+check(sum(why["by_reason"].values()) == why["vertices"], "every vertex left has one reason")
+check(why["dominant"] in why["by_reason"] and why["by_reason"][why["dominant"]] == max(why["by_reason"].values()),
+      f"dominant reason {why['dominant']}")
+check(why["pinned_vertices"]["corners"] == len(box_corners), f"pinned {why['pinned_vertices']}")
 
 # The vertex map: total, onto the live output vertices, each input vertex lands near where it was.
 vmap = out["vertex_map"]
