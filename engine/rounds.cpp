@@ -6,12 +6,15 @@
 //        updates its proposal, as the last round's collapses asked (costs only, no kernel)
 //     2. threshold: a sampled quantile of the proposal costs, about the cheapest round_fraction;
 //        the proposals below it are this round's candidates
-//     3. verify (parallel over candidates): the whole kernel on a candidate's edges in cost order,
-//        unless it is still verified from an earlier round (no collapse touched its stars since)
+//     3. verify (parallel over candidates): the kernel on a candidate's edges in cost order,
+//        unless it is still verified from an earlier round (no collapse touched its stars since);
+//        all of it but the tolerance proof, the dearest check, which only winners need
 //     4. select: the verified candidates below the threshold, sorted by (cost, a, b), at most
 //        live - target; their stencils (the vertices of St(a) ∪ St(b)) are reserved by rank
 //        (parallel/reservations.h): the winners' stencils are disjoint
-//     5. apply (parallel over winners): collapse with the verified placement (the stencil is
+//        prove (parallel over winners): the tolerance proof of the verified placement (or of the
+//        edge's next ones); a winner that fails it gives its stencil back and proposes again
+//     5. apply (parallel over winners): collapse with the proved placement (the stencil is
 //        untouched since the verification, so the check still holds), update the quadrics, and
 //        tell the stencil's vertices that their stars changed (which of them must re-propose)
 //   stop when the target is reached or no proposal is left (after one refresh that lifts all bans)
@@ -59,6 +62,28 @@ struct ThreadScratch {
   std::vector<VertId> stencil_pool;            // stencils of the candidates verified this round
   std::vector<VertId> marked;                  // vertices the apply phase made dirty
   std::vector<std::pair<VertId, Proposals::Redo>> redo;  // one collapse's stencil
+  // The coverage placements of the winners proved this round (prove()): the first coverage_count
+  // are in use. The apply phase commits them instead of placing the items again.
+  struct KeptCoverage {
+    CollapseScratch::CoverageFor placement;
+    CoverageScratch coverage;
+  };
+  std::vector<KeptCoverage> coverage_pool;
+  std::size_t coverage_count = 0;
+};
+
+// Where verify() left a candidate's stencil (owner == nullptr: nowhere).
+struct StoredStencil {
+  const ThreadScratch* owner = nullptr;
+  std::uint32_t offset = 0, size = 0;
+};
+
+// What prove() found for a winner: the placement to apply (-1: none passed) and where it left the
+// coverage placement it computed (owner == nullptr: none, an interior collapse).
+struct Proven {
+  int placement = -1;
+  ThreadScratch* owner = nullptr;
+  std::uint32_t coverage = 0;  // index in owner->coverage_pool
 };
 
 // The vertices of St(a) ∪ St(b) (or of the given tets), each once, in the (deterministic) order
@@ -156,6 +181,10 @@ class Rounds {
         report_.message = "the cheapest remaining collapse costs more than max_cost";
         break;
       }
+
+      t0 = Clock::now();
+      prove(stats);
+      stats.phase_seconds[0] += since(t0);
 
       t0 = Clock::now();
       apply(stats);
@@ -367,6 +396,68 @@ class Rounds {
     stats.serial_seconds += since(serial_start);
   }
 
+  // --- 4b. prove ---------------------------------------------------------------------------------
+  // The tolerance proof of each winner (the verification deferred it: proposals.h, prove()), in
+  // parallel over the winners, whose stencils are reserved and unchanged. A winner none of whose
+  // placements passes gives its reservation back and proposes again in the next round; the others
+  // keep their order, so the round stays the same for every thread count.
+  void prove(RoundStats& stats) {
+    proven_.assign(winners_.size(), Proven{});
+    for (ThreadScratch& s : scratch_) s.coverage_count = 0;
+    parallel::for_range<std::size_t>(0, winners_.size(), 16, "prove", [&](std::size_t b, std::size_t e) {
+      ThreadScratch& s = scratch_.local();
+      for (std::size_t w = b; w < e; ++w) {
+        const Ranked& r = ranked_[winners_[w]];
+        CollapseScratch& kernel = s.proposal.collapse;
+        kernel.coverage_for.u = kInvalid;
+        proven_[w].placement = proposals_.prove(r.a, s.proposal);
+        if (proven_[w].placement < 0) {
+          const std::uint32_t i = winners_[w];
+          reservations_.release(stencils_.data() + stencil_offsets_[i], stencils_.data() + stencil_offsets_[i + 1]);
+          mark(r.a, Dirty::kPropose, kInvalid, s);
+          continue;
+        }
+        if (coverage_ == nullptr || kernel.coverage_for.u == kInvalid) continue;
+        // Keep the coverage placement for apply(): placing the items again there would double
+        // the price of the tolerance on every surface collapse.
+        if (s.coverage_count == s.coverage_pool.size()) s.coverage_pool.emplace_back();
+        ThreadScratch::KeptCoverage& kept = s.coverage_pool[s.coverage_count];
+        kept.placement = kernel.coverage_for;
+        swap_commit_state(kept.coverage, kernel.coverage);  // capacities are reused both ways
+        kernel.coverage_for.u = kInvalid;
+        proven_[w].owner = &s;
+        proven_[w].coverage = static_cast<std::uint32_t>(s.coverage_count++);
+      }
+    });
+    std::size_t kept = 0;
+    for (std::size_t w = 0; w < winners_.size(); ++w)
+      if (proven_[w].placement >= 0) {
+        winners_[kept] = winners_[w];
+        proven_[kept++] = proven_[w];
+      }
+    stats.winners_refused = winners_.size() - kept;
+    winners_.resize(kept);
+    proven_.resize(kept);
+  }
+
+  // What SurfaceCoverage::commit reads of a coverage placement.
+  static void swap_commit_state(CoverageScratch& x, CoverageScratch& y) {
+    std::swap(x.placed, y.placed);
+    std::swap(x.targets, y.targets);
+    std::swap(x.segment_placed, y.segment_placed);
+    std::swap(x.segment_targets, y.segment_targets);
+  }
+
+  // The coverage placement prove() kept for winner w, back in the kernel's scratch (collapse()
+  // commits it when it is for the same u, v and p; otherwise it places the items itself).
+  static void restore_coverage(const Proven& proven, CollapseScratch& kernel) {
+    kernel.coverage_for.u = kInvalid;
+    if (proven.owner == nullptr) return;
+    ThreadScratch::KeptCoverage& kept = proven.owner->coverage_pool[proven.coverage];
+    swap_commit_state(kept.coverage, kernel.coverage);
+    kernel.coverage_for = kept.placement;
+  }
+
   // --- 5. apply ----------------------------------------------------------------------------------
   void apply(RoundStats& stats) {
     std::atomic<std::uint64_t> applied{0};
@@ -388,11 +479,13 @@ class Rounds {
         CollapseCandidate* cands = s.proposal.cands;
         CollapseScratch& kernel = s.proposal.collapse;
         const int n = cost_.candidates(mesh_, r.a, r.b, cands, kernel.link);
-        const int chosen = proposals_.placement(r.a);
-        // The stencil has not changed since the verification, so neither have the candidates.
-        if (chosen < 0 || chosen >= n || cands[chosen].cost != r.cost)
+        const int chosen = proven_[w].placement;
+        // The stencil has not changed since the verification, so neither have the candidates
+        // (the proof may have moved on to a later placement of the same edge).
+        if (chosen < 0 || chosen >= n || cands[chosen].cost < r.cost)
           throw std::logic_error("parallel rounds: a verified proposal changed before it was applied");
         const CollapseCandidate& c = cands[chosen];
+        restore_coverage(proven_[w], kernel);
         cost_.fields_at(mesh_, c, s.fields.data());
         if (log_ != nullptr) log_->record(w, mesh_, c.u, c.v, c.p, s.fields.data(), c.cost);
         const float star_bound = collapse(mesh_, c.u, c.v, c.p, s.fields.data(), kernel, refs_used_, bounds_, coverage_);
@@ -499,15 +592,12 @@ class Rounds {
   // Per round.
   std::vector<VertId> dirty_list_;
   std::vector<VertId> candidates_;
-  struct StoredStencil {  // where verify() left a candidate's stencil (owner == nullptr: nowhere)
-    const ThreadScratch* owner = nullptr;
-    std::uint32_t offset = 0, size = 0;
-  };
   std::vector<StoredStencil> stored_;  // [position in candidates_]
   std::vector<Ranked> ranked_, sample_;
   std::vector<std::uint32_t> stencil_offsets_, sizes_;
   std::vector<VertId> stencils_, slots_;
   std::vector<std::uint32_t> winners_;
+  std::vector<Proven> proven_;  // [position in winners_]
   std::vector<double> applied_cost_;
 };
 

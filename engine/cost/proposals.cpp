@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace topotet::detail {
 namespace {
@@ -37,10 +38,13 @@ Proposals::Proposals(const MeshModel& mesh, CostModel& cost, const CollapseOptio
     : mesh_(mesh),
       cost_(cost),
       kernel_(kernel),
+      verify_kernel_(kernel),
       proposals_(mesh.vertex_capacity()),
       rank_cost_(mesh.vertex_capacity(), kNoCost),
       bans_(mesh.vertex_capacity()),
-      changed_round_(mesh.vertex_capacity(), 0) {}
+      changed_round_(mesh.vertex_capacity(), 0) {
+  verify_kernel_.prove_tolerance = false;
+}
 
 void Proposals::set(VertId a, const Proposal& p) {
   proposals_[a] = p;
@@ -172,7 +176,32 @@ int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
   if (kernel_.field_bounds != nullptr && kernel_.field_bounds->has_limit()) set_placement_fields(mesh_, cost_, s.cands, n, placements, s.fields);
   ++s.checks;
   cost_.hint_orders(a, b, s.collapse.link);
-  return first_acceptable(mesh_, placements, n, kernel_, s.collapse, &s.rejected);
+  return first_acceptable(mesh_, placements, n, verify_kernel_, s.collapse, &s.rejected);
+}
+
+int Proposals::prove(VertId a, ProposalScratch& s) {
+  Proposal& p = proposals_[a];
+  const int n = cost_.candidates(mesh_, a, p.b, s.cands, s.collapse.link);
+  const int from = p.placement;
+  if (from < 0 || from >= n) throw std::logic_error("parallel rounds: a verified proposal changed before it was proved");
+  const SurfaceReference* surfaces = kernel_.surfaces;
+  if (surfaces == nullptr || (!surfaces->on_surface(a) && !surfaces->on_surface(p.b))) return from;  // nothing deferred
+  Placement placements[4];
+  for (int i = from; i < n; ++i) placements[i - from] = {s.cands[i].u, s.cands[i].v, s.cands[i].p};
+  if (kernel_.field_bounds != nullptr && kernel_.field_bounds->has_limit())
+    set_placement_fields(mesh_, cost_, s.cands + from, n - from, placements, s.fields);
+  ++s.checks;
+  // The link conditions passed in the verification, on this same stencil: not again.
+  const int k = first_acceptable(mesh_, placements, n - from, kernel_, s.collapse, &s.rejected, false);
+  if (k < 0) {
+    ban(a, p.b, p.cost);
+    p.placement = -1;
+    rank_cost_[a] = p.cost;
+    return -1;
+  }
+  p.placement = static_cast<std::int8_t>(from + k);
+  rank_cost_[a] = s.cands[from + k].cost;
+  return from + k;
 }
 
 // Makes ab a's proposal (runner-up as given) with fresh costs and, if it ranks below the

@@ -69,6 +69,12 @@ class Proposals {
   bool is_verified(VertId a) const;
   // Index into CostModel::candidates(a, b) of the verified placement.
   int placement(VertId a) const { return proposals_[a].placement; }
+  // The verification leaves the tolerance proof out (CollapseOptions::prove_tolerance): a round's
+  // winner a proves it here, for its verified placement and, if that one fails, for the next ones
+  // of the same edge (the stencil is reserved and unchanged since the verification, so the link
+  // conditions still hold). Returns the index of the placement that passes, or -1: the edge is
+  // then banned and a must propose again.
+  int prove(VertId a, ProposalScratch& s);
 
   // --- ranking ---
   // The cost a competes with (its verified placement's, else its edge's); infinite for none.
@@ -111,6 +117,7 @@ class Proposals {
   const MeshModel& mesh_;
   CostModel& cost_;
   const CollapseOptions& kernel_;
+  CollapseOptions verify_kernel_;  // kernel_ without the tolerance proof (prove() does it)
   std::vector<Proposal> proposals_;
   std::vector<double> rank_cost_;             // read by every round's scans: 8 bytes per vertex
   // Edges that failed the kernel. When the vertex's star changes they are lifted: the next

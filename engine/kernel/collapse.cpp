@@ -249,6 +249,7 @@ bool within_tolerance(const MeshModel& mesh, const Placement& pl, const Collapse
   const bool surface_u = reference.on_surface(pl.u), surface_v = reference.on_surface(pl.v);
   if (!surface_u && !surface_v) return true;
   if (!surface_u) return false;
+  if (!options.prove_tolerance) return true;
   const std::array<VertId, 2> edge{std::min(pl.u, pl.v), std::max(pl.u, pl.v)};
   if (surface_edge != edge) {
     gather_surface_stencil(mesh, reference, pl.u, pl.v, s.star_u, s.star_v, s.star_uv, s.surface);

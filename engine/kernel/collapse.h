@@ -50,6 +50,12 @@ struct CollapseOptions {
   // a new face for each item it moves. Read by the check, updated by collapse(), which the
   // engines give this same pointer.
   SurfaceCoverage* coverage = nullptr;
+  // false: the tolerance check only applies its cheap rule (an interior vertex may not absorb a
+  // surface vertex) and leaves the proof and the coverage to a later full check. The parallel
+  // engine verifies its candidates so and proves only the round's winners (rounds.cpp): most
+  // verified candidates lose their reservation and are verified again, and the proof is the
+  // dearest check of a surface collapse.
+  bool prove_tolerance = true;
   // Optional field error bounds (field_bounds.h): with them, a placement whose new star would have
   // a bound above its limit is refused (kFieldError). Checked after everything else (it locates
   // every sample of the stencil), and only when a limit is set; read-only here, updated by
