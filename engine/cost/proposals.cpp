@@ -44,6 +44,7 @@ Proposals::Proposals(const MeshModel& mesh, CostModel& cost, const CollapseOptio
       bans_(mesh.vertex_capacity()),
       changed_round_(mesh.vertex_capacity(), 0) {
   verify_kernel_.prove_tolerance = false;
+  if (kernel.surfaces != nullptr) verify_with_proof_.assign(mesh.vertex_capacity(), 0);
 }
 
 void Proposals::set(VertId a, const Proposal& p) {
@@ -176,7 +177,8 @@ int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
   if (kernel_.field_bounds != nullptr && kernel_.field_bounds->has_limit()) set_placement_fields(mesh_, cost_, s.cands, n, placements, s.fields);
   ++s.checks;
   cost_.hint_orders(a, b, s.collapse.link);
-  return first_acceptable(mesh_, placements, n, verify_kernel_, s.collapse, &s.rejected);
+  const bool proof = !verify_with_proof_.empty() && verify_with_proof_[a];
+  return first_acceptable(mesh_, placements, n, proof ? kernel_ : verify_kernel_, s.collapse, &s.rejected);
 }
 
 int Proposals::prove(VertId a, ProposalScratch& s) {
@@ -194,6 +196,7 @@ int Proposals::prove(VertId a, ProposalScratch& s) {
   // The link conditions passed in the verification, on this same stencil: not again.
   const int k = first_acceptable(mesh_, placements, n - from, kernel_, s.collapse, &s.rejected, false);
   if (k < 0) {
+    verify_with_proof_[a] = 1;
     ban(a, p.b, p.cost);
     p.placement = -1;
     rank_cost_[a] = p.cost;
@@ -287,7 +290,8 @@ void Proposals::lift_all_bans() { std::fill(bans_.begin(), bans_.end(), Bans{});
 
 std::size_t Proposals::memory_bytes() const {
   return proposals_.capacity() * sizeof(Proposal) + rank_cost_.capacity() * sizeof(double) +
-         bans_.capacity() * sizeof(Bans) + changed_round_.capacity() * sizeof(std::uint32_t);
+         bans_.capacity() * sizeof(Bans) + changed_round_.capacity() * sizeof(std::uint32_t) +
+         verify_with_proof_.capacity();
 }
 
 }  // namespace topotet::detail

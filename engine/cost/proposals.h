@@ -118,6 +118,10 @@ class Proposals {
   CostModel& cost_;
   const CollapseOptions& kernel_;
   CollapseOptions verify_kernel_;  // kernel_ without the tolerance proof (prove() does it)
+  // Vertices a proof has refused once: they verify with the proof from then on. Where the
+  // tolerance binds (a curved surface near the end of a run), a winner refused after the
+  // selection costs a round per edge, while the verification tries a's next edges at once.
+  std::vector<std::uint8_t> verify_with_proof_;
   std::vector<Proposal> proposals_;
   std::vector<double> rank_cost_;             // read by every round's scans: 8 bytes per vertex
   // Edges that failed the kernel. When the vertex's star changes they are lifted: the next

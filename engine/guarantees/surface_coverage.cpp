@@ -75,23 +75,18 @@ void for_each_stencil_tet(const std::vector<TetId>& star_u, const std::vector<Te
 }  // namespace
 
 SurfaceCoverage::SurfaceCoverage(const MeshModel& mesh, const SurfaceReference& reference, double h)
-    : reference_(reference), h_(h), lists_(mesh.tet_capacity()) {
+    : reference_(reference), h_(h), held_(mesh.tet_capacity()) {
   const auto& holders = reference.triangle_holders();
   for (std::uint32_t k = 0; k < holders.size(); ++k) {
-    auto& list = lists_[holders[k].tet];
-    if (!list) list = std::make_unique<std::vector<CoverageItem>>();
     const auto& t = reference.soup().triangles[k];
     const auto& P = reference.soup().positions;
-    list->push_back({sorted({P[t[0]], P[t[1]], P[t[2]]}), k, 0.0f, 0, holders[k].local});
+    held(holders[k].tet).items.push_back({sorted({P[t[0]], P[t[1]], P[t[2]]}), k, 0.0f, 0, holders[k].local});
   }
-  segment_lists_.resize(mesh.tet_capacity());
   const auto& segment_holders = reference.segment_holders();
   for (std::uint32_t k = 0; k < segment_holders.size(); ++k) {
-    auto& list = segment_lists_[segment_holders[k].tet];
-    if (!list) list = std::make_unique<std::vector<CoverageSegment>>();
     const auto& e = reference.soup().segments[k];
     const auto& P = reference.soup().positions;
-    list->push_back({less(P[e[1]], P[e[0]]) ? std::array<glm::dvec3, 2>{P[e[1]], P[e[0]]}
+    held(segment_holders[k].tet).segments.push_back({less(P[e[1]], P[e[0]]) ? std::array<glm::dvec3, 2>{P[e[1]], P[e[0]]}
                                             : std::array<glm::dvec3, 2>{P[e[0]], P[e[1]]},
                      k, 0, segment_holders[k].local});
   }
@@ -220,9 +215,9 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
   const glm::dvec3 p = stencil.new_faces.empty() ? glm::dvec3(0.0) : stencil.new_faces.front().pts[0];
   const double move_u = glm::length(p - mesh.positions[u]), move_v = glm::length(p - mesh.positions[v]);
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
-    if (!lists_[t]) return;
+    if (!held_[t]) return;
     const auto& tv = mesh.tets[t];
-    for (const CoverageItem& item : *lists_[t]) {
+    for (const CoverageItem& item : held_[t]->items) {
       if (!moves(mesh, t, item.local, u, v)) continue;
       VertId others[3];
       int n = 0;
@@ -373,8 +368,8 @@ bool SurfaceCoverage::place_segments(const MeshModel& mesh, VertId u, VertId v, 
   s.segment_pending.clear();
   s.segment_placed.clear();
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
-    if (!segment_lists_[t]) return;
-    for (const CoverageSegment& item : *segment_lists_[t])
+    if (!held_[t]) return;
+    for (const CoverageSegment& item : held_[t]->segments)
       if (edge_moves(mesh, t, item.local, u, v)) s.segment_pending.push_back(item);
   });
   if (s.segment_pending.empty()) return true;
@@ -483,54 +478,50 @@ void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const st
                              const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, CoverageScratch& s) {
   // Triangles and segments alike: drop the moved items from the stencil's lists, then store the
   // placed ones with their new holder (`local` indexed the targets until now).
-  auto store = [&](auto& lists, const auto& placed, const auto& targets, auto&& moved) {
+  auto store = [&](auto list_of, const auto& placed, const auto& targets, auto&& moved) {
     for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
-      if (!lists[t]) return;
-      auto& list = *lists[t];
+      if (!held_[t]) return;
+      auto& list = (*held_[t]).*list_of;
       list.erase(std::remove_if(list.begin(), list.end(), [&](const auto& item) { return moved(mesh, t, item.local, u, v); }),
                  list.end());
     });
     for (auto item : placed) {
       const FaceHolder holder = targets[item.local].holder;
-      auto& list = lists[holder.tet];
-      if (!list) list = std::make_unique<typename std::decay_t<decltype(*list)>>();
       item.local = holder.local;
-      list->push_back(item);
+      (held(holder.tet).*list_of).push_back(item);
     }
   };
-  store(lists_, s.placed, s.targets, moves);
-  store(segment_lists_, s.segment_placed, s.segment_targets, edge_moves);
+  store(&Held::items, s.placed, s.targets, moves);
+  store(&Held::segments, s.segment_placed, s.segment_targets, edge_moves);
   // Lists only grow in capacity otherwise: free the empty ones (dead tets, faces that left the
   // surface) and trim the slack of the others.
   auto trim = [](auto& list) {
-    if (!list) return;
-    if (list->empty())
-      list.reset();
-    else if (list->capacity() > list->size() + list->size() / 2 + 4)
-      list->shrink_to_fit();
+    if (list.capacity() > list.size() + list.size() / 2 + 4) list.shrink_to_fit();
   };
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
-    trim(lists_[t]);
-    trim(segment_lists_[t]);
+    if (!held_[t]) return;
+    if (held_[t]->items.empty() && held_[t]->segments.empty()) {
+      held_[t].reset();
+      return;
+    }
+    trim(held_[t]->items);
+    trim(held_[t]->segments);
   });
 }
 
 std::size_t SurfaceCoverage::item_count() const {
   std::size_t n = 0;
-  for (const auto& list : lists_)
-    if (list) n += list->size();
-  for (const auto& list : segment_lists_)
-    if (list) n += list->size();
+  for (const auto& held : held_)
+    if (held) n += held->items.size() + held->segments.size();
   return n;
 }
 
 std::size_t SurfaceCoverage::memory_bytes() const {
-  std::size_t bytes = lists_.capacity() * sizeof(lists_[0]);
-  for (const auto& list : lists_)
-    if (list) bytes += sizeof(*list) + list->capacity() * sizeof(CoverageItem);
-  bytes += segment_lists_.capacity() * sizeof(segment_lists_[0]);
-  for (const auto& list : segment_lists_)
-    if (list) bytes += sizeof(*list) + list->capacity() * sizeof(CoverageSegment);
+  std::size_t bytes = held_.capacity() * sizeof(held_[0]);
+  for (const auto& held : held_)
+    if (held)
+      bytes += sizeof(Held) + held->items.capacity() * sizeof(CoverageItem) +
+               held->segments.capacity() * sizeof(CoverageSegment);
   return bytes;
 }
 

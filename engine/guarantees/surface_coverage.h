@@ -123,8 +123,8 @@ class SurfaceCoverage {
   // For the tests: calls f(item) for every item (triangle piece) held by tet t.
   template <class F>
   void for_each_item(TetId t, F&& f) const {
-    if (lists_[t])
-      for (const CoverageItem& item : *lists_[t]) f(item);
+    if (held_[t])
+      for (const CoverageItem& item : held_[t]->items) f(item);
   }
 
   // Cuts of one item in one re-placement, and pieces per re-placement, before it is refused.
@@ -140,8 +140,17 @@ class SurfaceCoverage {
 
   const SurfaceReference& reference_;
   double h_;
-  std::vector<std::unique_ptr<std::vector<CoverageItem>>> lists_;             // [tet]
-  std::vector<std::unique_ptr<std::vector<CoverageSegment>>> segment_lists_;  // [tet]
+  // What a tet's faces and edges hold. One pointer per tet (8 bytes), null for the many tets
+  // that hold nothing: per-tet lists of each kind took twice that.
+  struct Held {
+    std::vector<CoverageItem> items;
+    std::vector<CoverageSegment> segments;
+  };
+  std::vector<std::unique_ptr<Held>> held_;  // [tet]
+  Held& held(TetId t) {
+    if (!held_[t]) held_[t] = std::make_unique<Held>();
+    return *held_[t];
+  }
 };
 
 }  // namespace topotet

@@ -629,7 +629,6 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const MeshModel& m
   });
 
   SurfaceSoup soup;
-  soup.positions = mesh.positions;
   std::vector<SurfaceLabel> labels;
   std::vector<std::int32_t> polyline_refs;
   std::vector<LabelledEdge> edges;
@@ -662,6 +661,21 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const MeshModel& m
     soup.segment_label.push_back(static_cast<std::uint32_t>(
         std::lower_bound(polyline_refs.begin(), polyline_refs.end(), e.ref) - polyline_refs.begin()));
     for (VertId x : e.v) on_surface[x] = 1;
+  }
+  // The soup holds the surfaces' vertices only, numbered in the mesh's order (so that every order
+  // by id stays the same): it and Embree's float copy then cost bytes per surface vertex, not per
+  // mesh vertex.
+  {
+    std::vector<VertId> soup_id(mesh.vertex_capacity(), kInvalid);
+    for (std::size_t x = 0; x < on_surface.size(); ++x)
+      if (on_surface[x]) {
+        soup_id[x] = static_cast<VertId>(soup.positions.size());
+        soup.positions.push_back(mesh.positions[x]);
+      }
+    for (auto& t : soup.triangles)
+      for (VertId& x : t) x = soup_id[x];
+    for (auto& e : soup.segments)
+      for (VertId& x : e) x = soup_id[x];
   }
   // Border edges: the edges with exactly one face of their label.
   std::vector<std::pair<std::array<VertId, 2>, std::uint32_t>> face_edges;  // (edge, label id)
@@ -731,7 +745,7 @@ void gather_surface_stencil(const MeshModel& mesh, const SurfaceReference& refer
   std::sort(out.recs.begin(), out.recs.end());
   for (std::size_t i = 0; i < out.recs.size();) {
     std::size_t j = i + 1;
-    while (j < out.recs.size() && out.recs[j].key == out.recs[i].key) ++j;
+    while (j < out.recs.size() && out.recs[j].same_face(out.recs[i])) ++j;
     bool flagged = false;
     std::int32_t ref = kUnlistedRef;
     for (std::size_t k = i; k < j; ++k) {
@@ -766,8 +780,9 @@ void gather_surface_stencil(const MeshModel& mesh, const SurfaceReference& refer
     for (VertId& x : partner)
       if (x == (has_u ? u : v)) x = has_u ? v : u;
     std::sort(partner.begin(), partner.end());
-    auto it = std::lower_bound(out.recs.begin(), out.recs.end(), SurfaceStencil::FaceRec{partner, 0, 0});
-    for (; it != out.recs.end() && it->key == partner; ++it)
+    const SurfaceStencil::FaceRec wanted{partner, 0, 0};
+    auto it = std::lower_bound(out.recs.begin(), out.recs.end(), wanted);
+    for (; it != out.recs.end() && it->same_face(wanted); ++it)
       if (!std::binary_search(star_uv.begin(), star_uv.end(), it->tet)) {
         f.holder = {it->tet, it->local_face};
         break;

@@ -186,7 +186,15 @@ struct SurfaceStencil {
     std::array<VertId, 3> key;
     TetId tet;
     std::uint8_t local_face;
-    bool operator<(const FaceRec& o) const { return key != o.key ? key < o.key : tet < o.tet; }
+    // Element by element: std::array's own comparisons go through memcmp, which cost more
+    // than the sort itself on these 12-byte keys.
+    bool operator<(const FaceRec& o) const {
+      if (key[0] != o.key[0]) return key[0] < o.key[0];
+      if (key[1] != o.key[1]) return key[1] < o.key[1];
+      if (key[2] != o.key[2]) return key[2] < o.key[2];
+      return tet < o.tet;
+    }
+    bool same_face(const FaceRec& o) const { return key[0] == o.key[0] && key[1] == o.key[1] && key[2] == o.key[2]; }
   };
   std::vector<FaceRec> recs;
   std::vector<Face> faces;
