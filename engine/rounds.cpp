@@ -124,7 +124,7 @@ class Rounds {
         options_(options),
         target_(target),
         report_(report),
-        cost_(mesh, options),
+        cost_(mesh, options, kernel.surfaces),
         proposals_(mesh, cost_, kernel),
         reservations_(mesh.vertex_capacity()),
         scratch_([&] {

@@ -47,7 +47,7 @@ struct Entry {
 
 void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel_options,
                          FieldBounds* bounds, std::uint64_t target, Report& report, CollapseLog* log) {
-  CostModel cost(mesh, options);
+  CostModel cost(mesh, options, kernel_options.surfaces);
   CollapseScratch scratch;
   CollapseCandidate cands[4];
   std::vector<VertId> nbrs, stencil;

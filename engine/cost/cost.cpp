@@ -26,8 +26,8 @@ enum Placement : int { kAtU = 0, kMidpoint = 1, kOptimum = 2 };
 
 }  // namespace
 
-CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options)
-    : stride_(mesh.field_stride()), vertex_count_(mesh.positions.size()) {
+CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options, const SurfaceReference* surfaces)
+    : stride_(mesh.field_stride()), surfaces_(surfaces), vertex_count_(mesh.positions.size()) {
   // The quadric's field coordinates: every component of a field with a positive weight, in mesh
   // order, at most kMaxQuadricDim - 3 of them.
   std::vector<double> component_weight;
@@ -137,7 +137,7 @@ CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options)
         }
       }
       // Most vertices are interior: no special face or polyline edge to add, order 0.
-      if (is_interior_vertex(mesh, a)) {
+      if (is_interior(mesh, a)) {
         orders_[a].store(0, std::memory_order_relaxed);
         continue;
       }
@@ -221,7 +221,7 @@ void CostModel::normalise(const MeshModel& mesh, VertId v, double* x) const {
 std::uint8_t CostModel::order(const MeshModel& mesh, VertId v, LinkScratch& scratch) {
   std::uint8_t o = orders_[v].load(std::memory_order_relaxed);
   if (o == kStale || o == kStaleFeature) {
-    o = o == kStale && is_interior_vertex(mesh, v) ? 0 : classify_vertex(mesh, v, scratch.b, scratch).ktilde;
+    o = o == kStale && is_interior(mesh, v) ? 0 : classify_vertex(mesh, v, scratch.b, scratch).ktilde;
     // Relaxed: the value is a pure function of the (unchanging during evaluation) mesh.
     orders_[v].store(o, std::memory_order_relaxed);
   }

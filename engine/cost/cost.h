@@ -108,8 +108,11 @@ struct CollapseCandidate {
 
 class CostModel {
  public:
-  // Builds every vertex's quadric and order (parallel over vertices, deterministic).
-  CostModel(const MeshModel& mesh, const SimplifyOptions& options);
+  // Builds every vertex's quadric and order (parallel over vertices, deterministic). With the
+  // tolerance's reference, a vertex it does not list as on a surface or polyline, and not pinned,
+  // is interior (order 0) without a look at its star: SurfaceReference::on_surface stays exact for
+  // the whole run, since the kernel lets no such vertex absorb a surface vertex.
+  CostModel(const MeshModel& mesh, const SimplifyOptions& options, const SurfaceReference* surfaces = nullptr);
 
   int dimension() const { return n_; }
 
@@ -174,6 +177,10 @@ class CostModel {
   double* coordinates(VertId v) { return &records_[v * record_size_ + quadric_size(n_)]; }
   const double* coordinates(VertId v) const { return &records_[v * record_size_ + quadric_size(n_)]; }
   std::unique_ptr<std::atomic<std::uint8_t>[]> orders_;  // 0xFF = stale
+  const SurfaceReference* surfaces_ = nullptr;           // see the constructor
+  bool is_interior(const MeshModel& mesh, VertId v) const {
+    return surfaces_ != nullptr ? !surfaces_->on_surface(v) && !mesh.is_pinned(v) : is_interior_vertex(mesh, v);
+  }
   std::size_t vertex_count_ = 0;
 };
 

@@ -219,6 +219,15 @@ SurfaceReference::SurfaceReference(SurfaceSoup soup) : soup_(std::move(soup)), e
   const std::uint32_t geometries = soup_.face_labels + soup_.polyline_labels;
   e.indices.assign(soup_.face_labels, {});
   e.primitives.assign(geometries, {});
+  {  // exact sizes: these buffers live as long as the reference
+    std::vector<std::size_t> count(geometries, 0);
+    for (std::uint32_t g : soup_.triangle_label) ++count[g];
+    for (std::uint32_t g : soup_.segment_label) ++count[soup_.face_labels + g];
+    for (std::uint32_t g = 0; g < geometries; ++g) {
+      e.primitives[g].reserve(count[g]);
+      if (g < soup_.face_labels) e.indices[g].reserve(3 * count[g] + 1);  // + Embree's padding
+    }
+  }
   for (std::uint32_t t = 0; t < soup_.triangles.size(); ++t) {
     const std::uint32_t g = soup_.triangle_label[t];
     e.primitives[g].push_back(t);
@@ -232,6 +241,7 @@ SurfaceReference::SurfaceReference(SurfaceSoup soup) : soup_(std::move(soup)), e
   e.device = rtcNewDevice(parallel::kStdThreads ? "threads=1" : nullptr);
   if (e.device == nullptr) throw std::runtime_error("Embree: cannot create a device");
   e.scene = rtcNewScene(e.device);
+  rtcSetSceneFlags(e.scene, RTC_SCENE_FLAG_COMPACT);  // about half the BVH memory (measured: same speed here)
   e.segment_data.reserve(soup_.polyline_labels);  // no reallocation: Embree keeps pointers
   for (std::uint32_t g = 0; g < geometries; ++g) {
     RTCGeometry geom;
@@ -695,6 +705,14 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const MeshModel& m
     i = j;
   }
   faces = {};
+  // Kept for the whole run: without the slack of their growth.
+  soup.positions.shrink_to_fit();
+  soup.triangles.shrink_to_fit();
+  soup.triangle_label.shrink_to_fit();
+  soup.segments.shrink_to_fit();
+  soup.segment_label.shrink_to_fit();
+  holders.shrink_to_fit();
+  segment_holders.shrink_to_fit();
 
   auto reference = std::make_unique<SurfaceReference>(std::move(soup));
   reference->face_labels_ = std::move(labels);
