@@ -13,7 +13,9 @@
 #include "engines.h"
 #include "guarantees/field_bounds.h"
 #include "parallel/for_range.h"
+#include "features/features.h"
 #include "mesh/reorder.h"
+#include "mesh/special_faces.h"
 #include "guarantees/surface_tolerance.h"
 #include "stop_diagnosis.h"
 #include "topotet/features.h"
@@ -147,9 +149,16 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
       if (vertex_map != nullptr) mesh.merged_into.assign(mesh.vertex_capacity(), kInvalid);
       // Before the cost model and the tolerance reference are built: both see the features as
       // polylines (line quadrics; a curve label the tolerance checks).
+      // The special faces, found once for both the features and the tolerance's reference.
+      report.tolerance = options.tolerance > 0.0 ? options.tolerance : options.tolerance_rel * bounding_box_diagonal(mesh);
+      const auto special_start = std::chrono::steady_clock::now();
+      SpecialFaces special;
+      if (report.tolerance > 0.0) special = find_special_faces(mesh);
+      const double special_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - special_start).count();
       const auto feature_start = std::chrono::steady_clock::now();
       report.feature_scale = feature_scale(mesh, options);
-      const FeatureStats features = detect_features(mesh, options.feature_angle, report.feature_scale);
+      const FeatureStats features = detect_features(mesh, options.feature_angle, report.feature_scale,
+                                                    report.tolerance > 0.0 ? &special.on_face : nullptr);
       report.feature_candidates = features.candidates;
       report.feature_turns = features.turns;
       report.feature_edges = features.edges;
@@ -160,16 +169,16 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
       // The original surfaces, built before the first collapse and shared read-only by all threads.
       std::unique_ptr<SurfaceReference> surfaces;
       std::unique_ptr<SurfaceCoverage> coverage;
-      report.tolerance = options.tolerance > 0.0 ? options.tolerance : options.tolerance_rel * bounding_box_diagonal(mesh);
       if (report.tolerance > 0.0) {
         const auto setup_start = std::chrono::steady_clock::now();
-        surfaces = SurfaceReference::from_mesh(mesh, report.tolerance);
+        surfaces = SurfaceReference::from_mesh(mesh, report.tolerance, special);
+        special = {};
         coverage = std::make_unique<SurfaceCoverage>(mesh, *surfaces, report.tolerance);
         kernel.surfaces = surfaces.get();
         kernel.coverage = coverage.get();
         kernel.tolerance = report.tolerance;
         report.tolerance_setup_seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
+            special_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
       }
       // Field error bounds, only when asked for (they cost memory and a point location per sample
       // of every checked stencil). Taken after the renumbering: they are keyed by tet and vertex ids.

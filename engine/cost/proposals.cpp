@@ -183,11 +183,11 @@ int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
 
 int Proposals::prove(VertId a, ProposalScratch& s) {
   Proposal& p = proposals_[a];
-  const int n = cost_.candidates(mesh_, a, p.b, s.cands, s.collapse.link);
   const int from = p.placement;
-  if (from < 0 || from >= n) throw std::logic_error("parallel rounds: a verified proposal changed before it was proved");
   const SurfaceReference* surfaces = kernel_.surfaces;
   if (surfaces == nullptr || (!surfaces->on_surface(a) && !surfaces->on_surface(p.b))) return from;  // nothing deferred
+  const int n = cost_.candidates(mesh_, a, p.b, s.cands, s.collapse.link);
+  if (from < 0 || from >= n) throw std::logic_error("parallel rounds: a verified proposal changed before it was proved");
   Placement placements[4];
   for (int i = from; i < n; ++i) placements[i - from] = {s.cands[i].u, s.cands[i].v, s.cands[i].p};
   if (kernel_.field_bounds != nullptr && kernel_.field_bounds->has_limit())

@@ -381,6 +381,11 @@ void continue_straight(const MeshModel& mesh, const std::vector<Candidate>& edge
 }  // namespace
 
 FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale) {
+  return detect_features(mesh, angle_degrees, scale, nullptr);
+}
+
+FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale,
+                             const std::vector<std::uint8_t>* on_special_face) {
   FeatureStats stats;
   if (!(angle_degrees < 180.0)) return stats;
   if (!(scale > 0.0) || !std::isfinite(scale)) scale = 0.0;
@@ -398,7 +403,9 @@ FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale
     std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>> local_faces;
     for (std::size_t i = begin; i < end; ++i) {
       const VertId a = static_cast<VertId>(i);
-      if (mesh.is_dead_vertex(a) || is_interior_vertex(mesh, a)) continue;
+      if (mesh.is_dead_vertex(a)) continue;
+      // Creases are edges between special faces: a vertex on none has no candidate.
+      if (on_special_face != nullptr ? !(*on_special_face)[a] : is_interior_vertex(mesh, a)) continue;
       scan_vertex(mesh, a, minus_cos_theta, scratch, local, want_faces ? &local_faces : nullptr);
     }
     const std::lock_guard<std::mutex> lock(merge);

@@ -2,6 +2,9 @@
 // handle and calls this; simplify() calls it for SimplifyOptions::feature_angle).
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "mesh/mesh_model.h"
 #include "topotet/features.h"
 #include "topotet/simplify.h"
@@ -10,6 +13,10 @@ namespace topotet {
 
 FeatureStats detect_features(MeshModel& mesh, double angle_degrees);
 FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale);
+// The same, told which vertices are on a special face (SpecialFaces::on_face): the others are
+// skipped without a look at their stars.
+FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale,
+                             const std::vector<std::uint8_t>* on_special_face);
 double feature_scale(const MeshModel& mesh, const SimplifyOptions& options);
 
 }  // namespace topotet

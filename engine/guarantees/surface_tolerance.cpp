@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "guarantees/flat_patches.h"
+#include "mesh/special_faces.h"
 #include "parallel/for_range.h"
 
 namespace topotet {
@@ -546,77 +547,36 @@ struct LabelledEdge {
 }  // namespace
 
 std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const MeshModel& mesh, double tolerance) {
-  // The special faces (boundary, flagged on either side, or between two materials), found by
-  // matching each face at its smallest vertex: the faces there are few (a star's worth) and sorted
-  // in cache, where finding each face's other tet by a scan of a star cost ~80 ns per face.
-  // Blocks of vertices in parallel; the faces are then put in the order of their tet and local
-  // face, so the soup does not depend on the schedule.
+  return from_mesh(mesh, tolerance, find_special_faces(mesh));
+}
+
+std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const MeshModel& mesh, double tolerance,
+                                                              const SpecialFaces& special) {
   constexpr std::size_t kBlock = 4096;
-  const std::size_t nv = mesh.vertex_capacity();
-  const std::size_t vertex_blocks = (nv + kBlock - 1) / kBlock;
-  std::vector<std::vector<LabelledFace>> block_faces(vertex_blocks);
-  struct FaceAt {  // a face of St(a) whose smallest vertex is a, keyed by its other two
-    std::uint64_t key;
-    TetId tet;
-    std::uint8_t local;
-    bool operator<(const FaceAt& o) const { return key != o.key ? key < o.key : tet < o.tet; }
-  };
-  parallel::for_range<std::size_t>(0, vertex_blocks, 1, "surface_reference", [&](std::size_t b0, std::size_t b1) {
-    std::vector<FaceAt> at;
-    for (std::size_t b = b0; b < b1; ++b) {
-      for (std::size_t vi = b * kBlock; vi < std::min(nv, (b + 1) * kBlock); ++vi) {
-        const VertId a = static_cast<VertId>(vi);
-        if (mesh.is_dead_vertex(a)) continue;
-        at.clear();
-        mesh.for_each_tet_of(a, [&](TetId t) {
-          const auto& tv = mesh.tets[t];
-          for (int f = 0; f < 4; ++f) {
-            if (tv[f] == a) continue;  // face f is opposite local vertex f: it has a otherwise
-            VertId x = kInvalid, y = kInvalid;
-            for (int k = 0; k < 4; ++k) {
-              if (k == f || tv[k] == a) continue;
-              (x == kInvalid ? x : y) = tv[k];
-            }
-            if (x < a || y < a) continue;  // matched at its smallest vertex
-            at.push_back({(std::uint64_t{std::min(x, y)} << 32) | std::max(x, y), t, static_cast<std::uint8_t>(f)});
-          }
-        });
-        std::sort(at.begin(), at.end());
-        for (std::size_t i = 0; i < at.size();) {
-          const bool pair = i + 1 < at.size() && at[i + 1].key == at[i].key;
-          // The face is emitted by its smaller tet, as seen from there.
-          const TetId t = at[i].tet;
-          const int f = at[i].local;
-          const TetId o = pair ? at[i + 1].tet : kInvalid;
-          const int fo = pair ? at[i + 1].local : -1;
-          i += pair ? 2 : 1;
-          const bool flagged_here = is_surface_face(mesh.flags[t], f);
-          bool flagged = flagged_here;
-          std::int32_t ref = flagged_here ? normalised_ref(mesh.refs_table[mesh.tet_refs_slot[t]].face[f]) : kUnlistedRef;
-          std::int32_t m_other = kOutsideMaterial;
-          if (o != kInvalid) {
-            m_other = mesh.material[o];
-            if (is_surface_face(mesh.flags[o], fo)) {
-              const std::int32_t r = normalised_ref(mesh.refs_table[mesh.tet_refs_slot[o]].face[fo]);
-              ref = flagged ? std::max(ref, r) : r;
-              flagged = true;
-            }
-          }
-          if (o != kInvalid && !flagged) continue;  // not special
-          const std::int32_t m = mesh.material[t];
-          const auto& tv = mesh.tets[t];
-          std::array<VertId, 3> key{tv[kTetFaces[f][0]], tv[kTetFaces[f][1]], tv[kTetFaces[f][2]]};
-          block_faces[b].push_back(
-              {key, SurfaceLabel{ref, std::min(m, m_other), std::max(m, m_other)}, t, static_cast<std::uint8_t>(f)});
+  // Each special face with its label, as seen from its smaller tet (the order of `special`).
+  std::vector<LabelledFace> faces(special.faces.size());
+  parallel::for_range<std::size_t>(0, special.faces.size(), 4096, "surface_reference", [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const SpecialFace& sf = special.faces[i];
+      const TetId t = sf.tet, o = sf.other;
+      const int f = sf.local;
+      const bool flagged_here = is_surface_face(mesh.flags[t], f);
+      bool flagged = flagged_here;
+      std::int32_t ref = flagged_here ? normalised_ref(mesh.refs_table[mesh.tet_refs_slot[t]].face[f]) : kUnlistedRef;
+      std::int32_t m_other = kOutsideMaterial;
+      if (o != kInvalid) {
+        m_other = mesh.material[o];
+        if (is_surface_face(mesh.flags[o], sf.other_local)) {
+          const std::int32_t r = normalised_ref(mesh.refs_table[mesh.tet_refs_slot[o]].face[sf.other_local]);
+          ref = flagged ? std::max(ref, r) : r;
         }
       }
+      const std::int32_t m = mesh.material[t];
+      const auto& tv = mesh.tets[t];
+      faces[i] = {{tv[kTetFaces[f][0]], tv[kTetFaces[f][1]], tv[kTetFaces[f][2]]},
+                  SurfaceLabel{ref, std::min(m, m_other), std::max(m, m_other)}, t, static_cast<std::uint8_t>(f)};
     }
   });
-  std::vector<LabelledFace> faces;
-  for (const auto& bf : block_faces) faces.insert(faces.end(), bf.begin(), bf.end());
-  block_faces = {};
-  parallel::sort(faces.begin(), faces.end(),
-                 [](const LabelledFace& x, const LabelledFace& y) { return x.tet != y.tet ? x.tet < y.tet : x.local < y.local; });
 
   // Polyline edges: flagged edges of flagged tets, in tet order.
   const std::size_t nt = mesh.tet_capacity();

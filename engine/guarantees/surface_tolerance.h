@@ -71,6 +71,7 @@
 namespace topotet {
 
 struct FlatPatches;
+struct SpecialFaces;
 
 // A face of a tet: the tet and the face's local index (opposite that corner).
 struct FaceHolder {
@@ -105,6 +106,10 @@ class SurfaceReference {
   // tolerance h > 0, also the flat patches the check proves large triangles with (vertices within
   // h / 4 of their planes: build_flat_patches).
   static std::unique_ptr<SurfaceReference> from_mesh(const MeshModel& mesh, double tolerance = 0.0);
+  // The same from the mesh's special faces, found beforehand (the driver shares them with the
+  // feature detection).
+  static std::unique_ptr<SurfaceReference> from_mesh(const MeshModel& mesh, double tolerance,
+                                                     const SpecialFaces& special);
   // From raw primitives (benchmarks, tests): geometry ids are the soup's label ids; there are no
   // label values to look up and no border geometries.
   explicit SurfaceReference(SurfaceSoup soup);
