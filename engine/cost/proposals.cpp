@@ -177,7 +177,7 @@ int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
   if (kernel_.field_bounds != nullptr && kernel_.field_bounds->has_limit()) set_placement_fields(mesh_, cost_, s.cands, n, placements, s.fields);
   ++s.checks;
   cost_.hint_orders(a, b, s.collapse.link);
-  const bool proof = !verify_with_proof_.empty() && verify_with_proof_[a];
+  const bool proof = all_verify_with_proof_ || (!verify_with_proof_.empty() && verify_with_proof_[a]);
   return first_acceptable(mesh_, placements, n, proof ? kernel_ : verify_kernel_, s.collapse, &s.rejected);
 }
 

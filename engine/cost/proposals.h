@@ -75,6 +75,9 @@ class Proposals {
   // conditions still hold). Returns the index of the placement that passes, or -1: the edge is
   // then banned and a must propose again.
   int prove(VertId a, ProposalScratch& s);
+  // From now on every verification includes the proof (the rounds call it once the proof refuses
+  // many winners: where the tolerance binds everywhere, deferring it only adds rounds).
+  void verify_with_proof() { all_verify_with_proof_ = true; }
 
   // --- ranking ---
   // The cost a competes with (its verified placement's, else its edge's); infinite for none.
@@ -122,6 +125,7 @@ class Proposals {
   // tolerance binds (a curved surface near the end of a run), a winner refused after the
   // selection costs a round per edge, while the verification tries a's next edges at once.
   std::vector<std::uint8_t> verify_with_proof_;
+  bool all_verify_with_proof_ = false;
   std::vector<Proposal> proposals_;
   std::vector<double> rank_cost_;             // read by every round's scans: 8 bytes per vertex
   // Edges that failed the kernel. When the vertex's star changes they are lifted: the next
