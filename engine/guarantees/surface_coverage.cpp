@@ -8,7 +8,6 @@
 #include <glm/geometric.hpp>
 
 namespace topotet {
-
 namespace {
 
 constexpr std::uint8_t kNoGuess = 0xFF;
@@ -203,7 +202,11 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
     const glm::dvec3 c = (f.pts[0] + f.pts[1] + f.pts[2]) / 3.0;
     const double r = std::sqrt(std::max({glm::dot(f.pts[0] - c, f.pts[0] - c), glm::dot(f.pts[1] - c, f.pts[1] - c),
                                          glm::dot(f.pts[2] - c, f.pts[2] - c)}));
-    s.targets.push_back({f.pts, f.others, f.label, f.holder, c, r});
+    const glm::dvec3 n = glm::cross(f.pts[1] - f.pts[0], f.pts[2] - f.pts[0]);
+    const double n2 = glm::dot(n, n);
+    s.targets.push_back({f.pts, f.others, f.label, f.holder, c, r, n, n2 > 0.0 ? 1.0 / n2 : 0.0,
+                         {glm::cross(n, f.pts[1] - f.pts[0]), glm::cross(n, f.pts[2] - f.pts[1]),
+                          glm::cross(n, f.pts[0] - f.pts[2])}});
   }
   if (s.targets.size() >= kNoGuess) return false;  // item indices are bytes: refuse a fan that large
   s.pending.clear();
@@ -212,8 +215,20 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
   // Each item's first guess (in `local` while pending): the new face its face becomes, the one
   // with the same two vertices other than u and v (its corner at u or v moved to p). Most items
   // stay on it, and most of those need no distance at all: `bound` plus the corner's move.
-  const glm::dvec3 p = stencil.new_faces.empty() ? glm::dvec3(0.0) : stencil.new_faces.front().pts[0];
-  const double move_u = glm::length(p - mesh.positions[u]), move_v = glm::length(p - mesh.positions[v]);
+  // How far an item's guessed face moved: a face u x y becomes p x y, and every point of it moves
+  // to within dist(u, p x y) of the new face (the distance to a convex set is convex, and x and y
+  // stay), so bound + dist(u, new face) still bounds the item. That is |u - p| at most, and about
+  // 0 when p slides within the surface: most items of a fan then need no distance at all.
+  // One distance per new face and moving end, computed when first needed.
+  s.moved_by.assign(2 * s.targets.size(), -1.0);
+  const auto moved_by = [&](std::uint8_t target, bool at_u) {
+    double& d = s.moved_by[2 * target + (at_u ? 0 : 1)];
+    if (d < 0.0) {
+      const auto& f = s.targets[target];
+      d = std::sqrt(squared_distance_to_triangle(mesh.positions[at_u ? u : v], f.pts[0], f.pts[1], f.pts[2]));
+    }
+    return d;
+  };
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
     if (!held_[t]) return;
     const auto& tv = mesh.tets[t];
@@ -228,14 +243,28 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
         if (tv[k] != u && tv[k] != v) others[n++] = tv[k];
       }
       std::uint8_t guess = kNoGuess;
+      float bound = std::numeric_limits<float>::infinity();  // while pending: on the guessed face
       if (n == 2) {
         const std::array<VertId, 2> key{std::min(others[0], others[1]), std::max(others[0], others[1])};
         for (std::size_t k = 0; k < s.targets.size() && guess == kNoGuess; ++k)
           if (s.targets[k].others == key) guess = static_cast<std::uint8_t>(k);
+        if (guess != kNoGuess) bound = round_up(static_cast<double>(item.bound) + moved_by(guess, at_u));
+      } else if (n == 1) {
+        // Its face u v x vanishes into the edge p x: first try the new face through p x nearest to
+        // the item (there are two on a manifold surface), without a bound, before all the others.
+        const int label = static_cast<int>(soup.triangle_label[item.triangle]);
+        const glm::dvec3 c = (item.corners[0] + item.corners[1] + item.corners[2]) / 3.0;
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < s.targets.size(); ++k) {
+          const auto& f = s.targets[k];
+          if (f.label != label || (f.others[0] != others[0] && f.others[1] != others[0])) continue;
+          const double d = squared_distance_to_triangle(c, f.pts[0], f.pts[1], f.pts[2]);
+          if (d < best || (d == best && guess != kNoGuess && face_less(f.pts, s.targets[guess].pts))) {
+            best = d;
+            guess = static_cast<std::uint8_t>(k);
+          }
+        }
       }
-      // While pending, `bound` is the bound on the guessed face (infinite without a guess).
-      const double moved = static_cast<double>(item.bound) + (at_u ? move_u : move_v);
-      const float bound = guess == kNoGuess ? std::numeric_limits<float>::infinity() : round_up(moved);
       s.pending.push_back({item.corners, item.triangle, bound, item.depth, guess});
     }
   });
@@ -245,6 +274,14 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
     const double reach = h_ + f.radius;
     const glm::dvec3 d = x - f.centre;
     if (glm::dot(d, d) > reach * reach * (1.0 + 1e-12)) return std::numeric_limits<double>::infinity();
+    if (f.inv_normal2 > 0.0) {
+      const glm::dvec3 ax = x - f.pts[0];
+      if (glm::dot(f.edge_in[0], ax) >= 0.0 && glm::dot(f.edge_in[1], x - f.pts[1]) >= 0.0 &&
+          glm::dot(f.edge_in[2], x - f.pts[2]) >= 0.0) {
+        const double height = glm::dot(f.normal, ax);
+        return height * height * f.inv_normal2;
+      }
+    }
     return squared_distance_to_triangle(x, f.pts[0], f.pts[1], f.pts[2]);
   };
   auto near = [&](const glm::dvec3& x, const CoverageScratch::Target& f) { return dist2(x, f) <= h2; };

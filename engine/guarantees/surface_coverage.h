@@ -20,8 +20,10 @@
 // NewFace); a face whose tets all die lives on in the face it merges with, whose surviving tet
 // then holds it (gather_surface_stencil). So the items held by faces through u or v are the only
 // ones to re-check:
-//   - first on the face its face becomes (same two other vertices): when only one corner of the
-//     face moved, by d, the item's stored bound + d still bounds it, and no distance is computed;
+//   - first on the face its face becomes (same two other vertices): the face u x y becomes p x y,
+//     and the item's stored bound + dist(u, p x y) still bounds it (distance to a convex set is
+//     convex), so when that stays within h no distance to the item is computed; the face of an
+//     item whose face u v x vanishes is guessed as the nearer new face through p x;
 //   - else on the closest new face of its label within h of its three corners;
 //   - else it is cut: along the plane that bisects two adjacent new faces and separates its
 //     corners (the two sides usually fit one face each), or at its edge midpoints, and each piece
@@ -58,8 +60,8 @@ struct CoverageItem {
   std::array<glm::dvec3, 3> corners;
   std::uint32_t triangle;  // the soup triangle it is (part of): its label
   // An upper bound of the distance from its corners to the face that holds it (rounded up). When
-  // that face only has one corner moved by d, bound + d still bounds it (every point of the face
-  // moves by at most d): most re-placements then need no distance at all.
+  // that face's corner u moves to p, bound + dist(u, new face) still bounds it: most
+  // re-placements then need no distance at all.
   float bound;
   std::uint8_t depth;      // cuts from the whole triangle
   std::uint8_t local;      // the local face of the holding tet
@@ -82,8 +84,15 @@ struct CoverageScratch {
     FaceHolder holder;
     glm::dvec3 centre;  // a bounding sphere, to skip the exact distance for faces far away
     double radius;
+    // The prism over the face: its normal (unnormalised, with 1 / |normal|^2; 0 = degenerate) and
+    // its inward edge normals. A point inside it is at its plane distance from the face, which
+    // spares the general closest-point search for most queries (items lie over their faces).
+    glm::dvec3 normal;
+    double inv_normal2;
+    std::array<glm::dvec3, 3> edge_in;
   };
   std::vector<Target> targets;
+  std::vector<double> moved_by;  // [2 * target + (0: u, 1: v)] dist(old end, target); < 0: not yet
   std::vector<CoverageItem> pending;  // items and pieces to place
   std::vector<CoverageItem> placed;   // placed items; `local` indexes `targets` until commit
   std::vector<std::pair<std::uint32_t, std::uint32_t>> order;  // (triangle, pending index)
