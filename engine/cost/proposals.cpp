@@ -39,11 +39,13 @@ Proposals::Proposals(const MeshModel& mesh, CostModel& cost, const CollapseOptio
       cost_(cost),
       kernel_(kernel),
       verify_kernel_(kernel),
+      prove_kernel_(kernel),
       proposals_(mesh.vertex_capacity()),
       rank_cost_(mesh.vertex_capacity(), kNoCost),
       bans_(mesh.vertex_capacity()),
       changed_round_(mesh.vertex_capacity(), 0) {
   verify_kernel_.prove_tolerance = false;
+  prove_kernel_.screen_tolerance = false;
   if (kernel.surfaces != nullptr) verify_with_proof_.assign(mesh.vertex_capacity(), 0);
 }
 
@@ -194,7 +196,7 @@ int Proposals::prove(VertId a, ProposalScratch& s) {
     set_placement_fields(mesh_, cost_, s.cands + from, n - from, placements, s.fields);
   ++s.checks;
   // The link conditions passed in the verification, on this same stencil: not again.
-  const int k = first_acceptable(mesh_, placements, n - from, kernel_, s.collapse, &s.rejected, false);
+  const int k = first_acceptable(mesh_, placements, n - from, prove_kernel_, s.collapse, &s.rejected, false);
   if (k < 0) {
     verify_with_proof_[a] = 1;
     ban(a, p.b, p.cost);

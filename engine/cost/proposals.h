@@ -121,6 +121,7 @@ class Proposals {
   CostModel& cost_;
   const CollapseOptions& kernel_;
   CollapseOptions verify_kernel_;  // kernel_ without the tolerance proof (prove() does it)
+  CollapseOptions prove_kernel_;   // kernel_ without the screen: most winners pass their proof
   // Vertices a proof has refused once: they verify with the proof from then on. Where the
   // tolerance binds (a curved surface near the end of a run), a winner refused after the
   // selection costs a round per edge, while the verification tries a's next edges at once.

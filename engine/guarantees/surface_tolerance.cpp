@@ -907,7 +907,7 @@ bool new_surface_around(const MeshModel& mesh, VertId u, VertId v, const glm::dv
 }
 
 bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& reference, double h, VertId u,
-                                VertId v, const glm::dvec3& p, SurfaceStencil& s) {
+                                VertId v, const glm::dvec3& p, SurfaceStencil& s, bool screen) {
   if (!new_surface_around(mesh, u, v, p, s)) return false;
   const auto& P = mesh.positions;
 
@@ -924,13 +924,14 @@ bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& r
   // the edges at p) and of each new segment (midpoint). A point beyond h is a real violation, and
   // most refused placements are refused here with a handful of queries.
   for (const SurfaceStencil::NewFace& f : s.new_faces) {
+    if (!screen) break;
     const auto& q = f.pts;
     if (!reference.within((q[0] + q[1] + q[2]) / 3.0, f.label, h) || !reference.within(0.5 * (q[0] + q[1]), f.label, h) ||
         !reference.within(0.5 * (q[0] + q[2]), f.label, h))
       return false;
   }
   for (const SurfaceStencil::NewEdge& e : s.new_edges)
-    if (!reference.within(0.5 * (e.pts[0] + e.pts[1]), e.label, h)) return false;
+    if (screen && !reference.within(0.5 * (e.pts[0] + e.pts[1]), e.label, h)) return false;
 
   // Reverse: the points that leave the surface (u's and v's old positions) stay near the new one.
   const double h2 = h * h;

@@ -231,9 +231,11 @@ void gather_surface_stencil(const MeshModel& mesh, const SurfaceReference& refer
 bool new_surface_around(const MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p, SurfaceStencil& stencil);
 
 // The kernel check (see the file comment). `stencil` must have been gathered for edge uv (either
-// direction). Returns true when p is acceptable.
+// direction). Returns true when p is acceptable. `screen`: first look at a few points of each new
+// triangle, which refuses most failing placements cheaply but only adds queries to one that
+// passes; the answer is the same either way (the proofs refuse every point beyond h too).
 bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& reference, double h, VertId u,
-                                VertId v, const glm::dvec3& p, SurfaceStencil& stencil);
+                                VertId v, const glm::dvec3& p, SurfaceStencil& stencil, bool screen = true);
 
 // Exact squared distances (double precision), shared by the reference and the kernel check.
 double squared_distance_to_triangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,

@@ -255,7 +255,9 @@ bool within_tolerance(const MeshModel& mesh, const Placement& pl, const Collapse
     gather_surface_stencil(mesh, reference, pl.u, pl.v, s.star_u, s.star_v, s.star_uv, s.surface);
     surface_edge = edge;
   }
-  if (!placement_within_tolerance(mesh, reference, options.tolerance, pl.u, pl.v, pl.p, s.surface)) return false;
+  if (!placement_within_tolerance(mesh, reference, options.tolerance, pl.u, pl.v, pl.p, s.surface,
+                                  options.screen_tolerance))
+    return false;
   if (options.coverage == nullptr) return true;
   s.coverage_for.u = kInvalid;
   if (!options.coverage->place(mesh, pl.u, pl.v, s.star_u, s.star_v, s.star_uv, s.surface, s.coverage)) return false;

@@ -56,6 +56,10 @@ struct CollapseOptions {
   // verified candidates lose their reservation and are verified again, and the proof is the
   // dearest check of a surface collapse.
   bool prove_tolerance = true;
+  // Screen placements with a few point queries before the proof (placement_within_tolerance):
+  // worth it where most placements that reach the proof fail it, not where most pass (a winner's
+  // proof after a verification without it).
+  bool screen_tolerance = true;
   // Optional field error bounds (field_bounds.h): with them, a placement whose new star would have
   // a bound above its limit is refused (kFieldError). Checked after everything else (it locates
   // every sample of the stencil), and only when a limit is set; read-only here, updated by
