@@ -191,6 +191,14 @@ class Rounds {
       stats.phase_seconds[2] = since(t0);
 
       if (stats.collapses > 0) refreshed_since_collapse = false;
+      // A round without a collapse (the end of a run that the tolerance or the quality stops: the
+      // cheapest proposals all fail) lets twice the fraction compete in the next one, and a round
+      // with collapses halves it back towards the asked fraction. Without this the end of such a
+      // run took a round per 1.5% of the failing proposals: polycrystal 100k spent 1,950 of its
+      // 2,442 rounds without a collapse. The fraction is a function of the counts, so the rounds
+      // stay the same for every thread count.
+      fraction_ = stats.collapses == 0 ? std::min(1.0, 2.0 * fraction_)
+                                       : std::max(options_.round_fraction, 0.5 * fraction_);
       for (int k = 0; k < 4; ++k) report_.phase_seconds[k] += stats.phase_seconds[k];
       if (options_.round_log) options_.round_log->push_back(stats);
       ++report_.rounds;
@@ -228,7 +236,7 @@ class Rounds {
   // --- 2. threshold ------------------------------------------------------------------------------
   // The round's threshold and the proposals below it (candidates_, in vertex order).
   void threshold(RoundStats& stats) {
-    threshold_ = sampled_quantile(options_.round_fraction, stats.serial_seconds);
+    threshold_ = sampled_quantile(fraction_, stats.serial_seconds);
     const double* rank_costs = proposals_.rank_costs();
     const double threshold_cost = threshold_.cost;
     parallel::filter_map_sparse(
@@ -585,6 +593,7 @@ class Rounds {
   parallel::PerThread<ThreadScratch> scratch_;
 
   std::uint32_t round_ = 0;
+  double fraction_ = options_.round_fraction;  // the fraction of the proposals that compete (run())
   std::uint64_t live_ = 0;
   std::uint32_t refs_used_ = 0;
   Ranked threshold_{kNoCost, kInvalid, kInvalid};
