@@ -100,6 +100,7 @@ CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options, cons
   const double a_ref = std::sqrt(3.0) / 4.0 * e_ref * e_ref;
 
   orders_ = std::make_unique<std::atomic<std::uint8_t>[]>(nv);
+  curved_ = std::make_unique<std::uint8_t[]>(nv);  // zeroed: interior and dead vertices are not curved
   record_size_ = static_cast<std::size_t>(quadric_size(n_) + n_);
   records_.assign(nv * record_size_, 0.0);
   parallel::for_range<std::size_t>(0, nv, 4096, "normalise", [&](std::size_t begin, std::size_t end) {
@@ -146,13 +147,22 @@ CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options, cons
       orders_[a].store(orders.ktilde, std::memory_order_relaxed);
       normalise(mesh, a, pts);
       double fan_area = 0.0;
+      glm::dvec3 first_normal(0.0);
+      bool flat = true;
       for (const auto& face : data.special) {
         normalise(mesh, face.x, pts + n_);
         normalise(mesh, face.y, pts + 2 * n_);
         const glm::dvec3 p0(pts[0], pts[1], pts[2]), p1(pts[n_], pts[n_ + 1], pts[n_ + 2]),
             p2(pts[2 * n_], pts[2 * n_ + 1], pts[2 * n_ + 2]);
-        fan_area += 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
+        const glm::dvec3 normal = glm::cross(p1 - p0, p2 - p0);
+        fan_area += 0.5 * glm::length(normal);
+        // Every face of the fan contains a, so parallel normals mean one plane. The bound is far
+        // below any real curvature and far above the rounding of coordinates on a tilted plane.
+        if (first_normal == glm::dvec3(0.0)) first_normal = normal;
+        else if (glm::length(glm::cross(first_normal, normal)) > 1e-9 * glm::length(first_normal) * glm::length(normal))
+          flat = false;
       }
+      curved_[a] = !flat;
       const double mean_area = data.special.empty() ? 0.0 : fan_area / static_cast<double>(data.special.size());
       const double plane_scale = !(mean_area > 0.0) ? 1.0 : (a_ref / mean_area) * (a_ref / mean_area);
       const double field_per_area = fan_area > 0.0 ? kFeatureFieldWeight * v_ref * static_cast<double>(data.special.size()) / fan_area : 0.0;
@@ -331,7 +341,7 @@ int CostModel::candidates_n(const MeshModel& mesh, VertId a, VertId b, CollapseC
     add(b, a, e.xb, kAtU);
     add(a, b, e.xm, kMidpoint);
     double xo[kMaxQuadricDim];
-    if (oa == 0 && e.optimum(xo)) add(a, b, xo, kOptimum);
+    if (optimum_allowed(a, b, oa) && e.optimum(xo)) add(a, b, xo, kOptimum);
   }
   // Cheapest first; ties keep the order above (deterministic). Sorted by index: a candidate is
   // large (its quadric coordinates), and only the winner order matters.
@@ -372,7 +382,7 @@ double CostModel::edge_cost_n(const MeshModel& mesh, VertId a, VertId b, LinkScr
   }
   // The optimum minimises the quadric over all positions and field values, so when it is a
   // candidate it is the cheapest one: the three others need not be evaluated.
-  if (oa == 0 && e.optimum(x)) return e.optimum_cost(x);
+  if (optimum_allowed(a, b, oa) && e.optimum(x)) return e.optimum_cost(x);
   double best = kForbidden;
   for (const double* start : {e.xa, e.xb, e.xm}) {
     std::copy_n(start, e.n, x);
@@ -448,6 +458,7 @@ void CostModel::prefetch(VertId v) const {
 
 void CostModel::on_collapse(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_uv) {
   quadric_add(quadric(u), quadric(v), n_);
+  curved_[u] = curved_[u] | curved_[v];  // u's region holds v's: curved if either part was
   normalise(mesh, u, coordinates(u));  // u moved and took new field values
   // Which orders can change? u's star changed wholesale. A vertex x outside the removed tets St(uv)
   // is adjacent to u or to v but not both: its faces and edges through v are only renamed to u
@@ -474,7 +485,7 @@ void CostModel::on_collapse(const MeshModel& mesh, VertId u, VertId v, const std
 }
 
 std::size_t CostModel::memory_bytes() const {
-  return records_.capacity() * sizeof(double) + vertex_count_ * sizeof(std::atomic<std::uint8_t>) +
+  return records_.capacity() * sizeof(double) + vertex_count_ * (sizeof(std::atomic<std::uint8_t>) + 1) +
          (field_min_.capacity() + field_scale_.capacity()) * sizeof(double);
 }
 
