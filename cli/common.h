@@ -51,7 +51,12 @@ void add_extract_command(CLI::App& app, CommandRunner& run);
 // ---- simplification pipeline, shared by `simplify` and `demo` (simplify.cpp) ----
 struct SimplifyJob {
   std::string input_label;  // file name, or a description of a generated mesh
-  MeshData input;           // the input as read (kept for verification and field errors)
+  MeshData input;           // the input as read (for verification and field errors)
+  // Reads (or generates) the input again. When set, the input is released once the model is built
+  // and brought back only for the measurements, so it does not sit in memory beside the model
+  // during the simplification (about 26 bytes per input tet; the model keeps what the engine
+  // needs). Empty (standard input): the input stays.
+  std::function<MeshData()> reload;
   double read_seconds = 0.0;
   std::string read_verb = "read";  // "generate" for the demo
   SimplifyOptions options;     // target and engine settings (targets overridden by `levels`)

@@ -32,6 +32,7 @@ int run_demo(const DemoArgs& args) {
   }
   job.read_seconds = clock.seconds();
   job.read_verb = "generate";
+  job.reload = [generate] { return generate_mesh(generate); };  // deterministic: the same mesh
   std::fprintf(report_stream(), "topotet demo: a cube (material 1) holding a ball (material 2), an open surface patch, a polyline\n"
               "through the ball's surface and 8 pinned corners; simplify to 10%% of the vertices, in parallel.\n\n");
   job.options.target_vertex_ratio = 0.1;

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 
@@ -73,14 +74,24 @@ int cap_threads(SimplifyOptions& options) {
 
 // The engine's model of the input (it validates it); the input loses what the model left out, so
 // that the checker compares the output with what the model holds.
-TetMesh build_model(SimplifyJob& job, SimplifyRun& run) {
-  BuildNotes notes;
+TetMesh build_model(SimplifyJob& job, SimplifyRun& run, BuildNotes& notes) {
   TetMesh mesh = build_input(job.input_label, job.input, &run.build_seconds, &notes);
   drop_noted_substructures(job.input, notes);
   run.model_bytes = mesh.memory_bytes();
   run.vertices_in = job.input.vertex_count();
   run.tets_in = job.input.tet_count();
+  if (job.reload) job.input = MeshData{};  // see SimplifyJob::reload
   return mesh;
+}
+
+// The input again, as the model saw it, when the measurements need it and build_model let it go.
+void reload_input(SimplifyJob& job, const BuildNotes& notes, SimplifyRun& run) {
+  if (!job.reload || !job.metrics) return;
+  log_stage("measure: read the input again");
+  const Stopwatch clock;
+  job.input = job.reload();
+  drop_noted_substructures(job.input, notes);
+  run.times.reload = clock.seconds();
 }
 
 // ---- simplify, level by level ----
@@ -256,6 +267,24 @@ SimplifyJob job_from_args(const SimplifyArgs& args) {
   return job;
 }
 
+// Whether a file the job writes (an output level, its .sol companion, the hierarchy) may be the
+// input or its companion: then the input must stay in memory (SimplifyJob::reload).
+bool writes_over(const SimplifyJob& job, const std::string& input) {
+  const auto base = [](const std::string& path) {
+    std::filesystem::path p(path);
+    if (p.extension() == ".gz") p = p.replace_extension();
+    std::error_code error;
+    const std::filesystem::path canonical = std::filesystem::weakly_canonical(p.replace_extension(), error);
+    return error ? p.lexically_normal() : canonical;
+  };
+  const std::filesystem::path in = base(input);
+  std::vector<std::string> written{job.output_path, job.hierarchy_path};
+  for (double level : job.levels) written.push_back(level_path(job.output_path, level));
+  for (const std::string& path : written)
+    if (!path.empty() && path != "-" && base(path) == in) return true;
+  return false;
+}
+
 ReadOptions read_options_of(const SimplifyArgs& args) {
   ReadOptions read_options;
   read_options.tets_only = args.tets_only;
@@ -275,6 +304,21 @@ int extract_error_levels(const SimplifyJob& job, const std::vector<double>& leve
 int run_simplify(const SimplifyArgs& args) {
   SimplifyJob job = job_from_args(args);
   job.input = read_input(args.input, &job.read_seconds, read_options_of(args));
+  if (args.input != "-" && !writes_over(job, args.input)) {
+    std::error_code error;
+    const auto written = std::filesystem::last_write_time(args.input, error);
+    const auto size = std::filesystem::file_size(args.input, error);
+    if (!error) {
+      job.reload = [path = args.input, options = read_options_of(args), written, size] {
+        std::error_code now;
+        if (std::filesystem::last_write_time(path, now) != written || std::filesystem::file_size(path, now) != size || now)
+          throw InputError(path + ": the input changed during the run; the output is written, but it cannot be "
+                                  "measured against the input (run `topotet check` on a copy)");
+        double seconds = 0.0;
+        return read_input(path, &seconds, options);
+      };
+    }
+  }
   // A hierarchy with fields records each collapse's field error bound (Hierarchy::error_bound), so
   // that `extract --max-error` and --levels-error select by a guaranteed error, not by a cost.
   if (!job.hierarchy_path.empty() && !job.input.fields.empty() && !args.no_field_bounds)
@@ -297,8 +341,10 @@ int run_simplify_job(SimplifyJob& job) {
   // Everything runs within the thread limit, so --threads also bounds building and checking, not
   // only the simplifier.
   run_with_thread_limit(job.options.num_threads, [&] {
-    TetMesh mesh = build_model(job, run);
+    BuildNotes notes;
+    TetMesh mesh = build_model(job, run, notes);
     simplify_levels(job, mesh, run);
+    reload_input(job, notes, run);
     measure_outputs(job, run);
     print_report(job, run);
     if (!job.report_path.empty()) write_json_report(job, run);

@@ -192,6 +192,7 @@ std::string measure_text(const MeasureTimes& t, double simplify_seconds) {
   std::string s = "quality " + format_seconds(t.input_quality + t.quality) + ", fields " +
                   format_seconds(t.field_error) + ", distance " + format_seconds(t.distance) + ", topology " +
                   format_seconds(t.input_topology + t.topology);
+  if (t.reload > 0.0) s += ", input re-read " + format_seconds(t.reload);
   char share[64] = "";
   if (simplify_seconds > 0)
     std::snprintf(share, sizeof share, " = %.0f%% of the simplification", 100.0 * t.total() / simplify_seconds);
@@ -430,6 +431,7 @@ void write_json_report(const SimplifyJob& job, const SimplifyRun& run) {
   j["peak_rss_bytes_per_input_tet"] = per(static_cast<double>(run.peak_bytes), static_cast<double>(run.tets_in));
   j["measure_seconds"] = times.input_quality + times.quality + times.field_error + times.distance;
   j["verify_seconds"] = times.input_topology + times.topology;
+  j["reload_seconds"] = times.reload;
   j["metrics_seconds"] = times.total();
   j["metrics_share_of_simplify"] = per(times.total(), run.cumulative_seconds);
   j["topology_mode"] = !run.verify ? "skipped" : (run.fast_topology ? "fast" : "full");

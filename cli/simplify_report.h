@@ -46,7 +46,8 @@ struct LevelResult {
 // Times of the measurements of every level together, for the report's "measure" line.
 struct MeasureTimes {
   double input_quality = 0.0, quality = 0.0, field_error = 0.0, distance = 0.0, input_topology = 0.0, topology = 0.0;
-  double total() const { return input_quality + quality + field_error + distance + input_topology + topology; }
+  double reload = 0.0;  // reading the input again for the measurements (SimplifyJob::reload)
+  double total() const { return reload + input_quality + quality + field_error + distance + input_topology + topology; }
 };
 
 // The whole run, as the steps of run_simplify_job fill it.

@@ -76,6 +76,23 @@ expect 0 check_sequential -- "$topotet" check in.mesh seq.msh
 expect 0 simplify_levels -- "$topotet" simplify in.mesh -o lv.mesh --levels 0.5,0.2 --no-verify
 [[ -s lv_0.5.mesh && -s lv_0.2.mesh ]] && pass "level files written" || fail "level files missing"
 if grep -q '^measure *quality' simplify_parallel.out; then pass "simplify prints the measurement times"; else fail "no measure line"; fi
+# The input is released during the simplification and read again for the measurements, unless the
+# run writes over it: then it stays in memory, and the checks still compare with the original.
+if grep -q '^measure .*input re-read' simplify_parallel.out &&
+  python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["reload_seconds"] > 0 else 1)' report.json; then
+  pass "the input is read again for the measurements"
+else
+  fail "the input was not read again for the measurements"
+fi
+cp in.mesh self.mesh
+[[ -f in.sol ]] && cp in.sol self.sol
+expect 0 simplify_over_input -- "$topotet" simplify self.mesh -o self.mesh --ratio 0.3 --threads 2
+if grep -q '^topology *PASS' simplify_over_input.out && ! grep -q 'input re-read' simplify_over_input.out &&
+  cmp -s out.mesh self.mesh; then
+  pass "simplify IN -o IN keeps the input for the checks"
+else
+  fail "simplify IN -o IN: wrong checks or output"
+fi
 
 # --- --no-metrics: the same output file, only counts, times and memory in the report ---
 expect 0 simplify_no_metrics -- "$topotet" simplify in.mesh -o nm.mesh --ratio 0.3 --threads 2 --no-metrics --report nm.json
