@@ -2,6 +2,8 @@
 // parallel engine gives the same mesh for every thread count.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
 #include <numeric>
 #include <random>
 #include <thread>
@@ -123,6 +125,47 @@ TEST(Simplify, OutputDoesNotDependOnTheInputNumbering) {
   ASSERT_EQ(outputs[0].positions.size(), outputs[1].positions.size());
   // Same numbering after simplification: the renumbering depends on positions only.
   EXPECT_TRUE(outputs[0] == outputs[1]);
+}
+
+// The slab family's box and its layer interfaces are flat: the optimum placement, which curved
+// surfaces may take, would move their vertices off the plane by ~1e-5 (its tet and field terms), so
+// a flat face must keep every vertex exactly on its plane through the whole run (cost.h, the
+// placement rules). Checked on the box: every vertex of a boundary face of the output has a
+// coordinate exactly equal to the box's bound on that side.
+TEST(Simplify, FlatFacesKeepTheirVerticesExactlyOnTheirPlane) {
+  MeshModel mesh = build_mesh_model(generate_mesh({"slab", 20000, 3}));
+  std::array<double, 3> lo{}, hi{};
+  for (int c = 0; c < 3; ++c) {
+    lo[c] = hi[c] = mesh.positions[0][c];
+    for (const auto& p : mesh.positions) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+  }
+  SimplifyOptions options;  // the defaults: tolerance, features
+  options.target_vertex_ratio = 0.1;
+  const Report report = simplify(mesh, options);
+  ASSERT_EQ(report.status, Status::kOk) << report.message;
+  const MeshData out = mesh.to_mesh_data();
+  std::map<std::array<VertId, 3>, int> faces;
+  for (const auto& t : out.tets)
+    for (int f = 0; f < 4; ++f) {
+      std::array<VertId, 3> face{t[(f + 1) % 4], t[(f + 2) % 4], t[(f + 3) % 4]};
+      std::sort(face.begin(), face.end());
+      ++faces[face];
+    }
+  std::size_t boundary_vertices = 0, off_plane = 0;
+  std::vector<std::uint8_t> seen(out.positions.size(), 0);
+  for (const auto& [face, count] : faces) {
+    if (count != 1) continue;
+    for (VertId v : face) {
+      if (seen[v]++) continue;
+      ++boundary_vertices;
+      const auto& p = out.positions[v];
+      bool on_a_plane = false;
+      for (int c = 0; c < 3; ++c) on_a_plane = on_a_plane || p[c] == lo[c] || p[c] == hi[c];
+      off_plane += on_a_plane ? 0 : 1;
+    }
+  }
+  EXPECT_GT(boundary_vertices, 100u);
+  EXPECT_EQ(off_plane, 0u) << "of " << boundary_vertices << " boundary vertices";
 }
 
 // The end game: with very few proposals left the round threshold becomes infinite (everything
