@@ -283,6 +283,12 @@ void topotet_options_init(topotet_options* options) {
   options->engine = static_cast<int>(d.engine);
   options->num_threads = d.num_threads;
   options->round_fraction = d.round_fraction;
+  options->feature_angle = d.feature_angle;
+  options->max_field_error = d.max_field_error;
+  options->max_field_error_rel = d.max_field_error_rel;
+  options->field_weight_count = 0;
+  options->field_weight_names = nullptr;
+  options->field_weights = nullptr;
 }
 
 topotet_status topotet_mesh_build(const topotet_mesh_arrays* arrays, int num_threads, topotet_mesh** mesh) {
@@ -347,6 +353,16 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
     o.engine = static_cast<topotet::Engine>(c.engine);
     o.num_threads = c.num_threads;
     o.round_fraction = c.round_fraction;
+    o.feature_angle = c.feature_angle;
+    o.max_field_error = c.max_field_error;
+    o.max_field_error_rel = c.max_field_error_rel;
+    if (c.field_weight_count < 0) return fail(TOPOTET_INVALID_INPUT, "field_weight_count must be >= 0");
+    if (c.field_weight_count > 0 && (c.field_weight_names == nullptr || c.field_weights == nullptr))
+      return fail(TOPOTET_INVALID_INPUT, "field_weight_names and field_weights must not be NULL when field_weight_count > 0");
+    for (int i = 0; i < c.field_weight_count; ++i) {
+      if (c.field_weight_names[i] == nullptr) return fail(TOPOTET_INVALID_INPUT, "field_weight_names has a NULL entry");
+      o.field_weights[c.field_weight_names[i]] = c.field_weights[i];  // the library checks names and values
+    }
     mesh->has_substructures = false;
     const topotet::Report r = topotet::simplify(mesh->mesh, o, mesh->vertex_map);
     if (report != nullptr) {
@@ -370,6 +386,9 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
       report->seconds = r.seconds;
       report->max_cost = r.max_cost;
       report->tolerance = r.tolerance;
+      report->rejected_field_error = static_cast<std::int64_t>(r.rejected_by(RejectReason::kFieldError));
+      report->feature_edges = static_cast<std::int64_t>(r.feature_edges);
+      report->feature_corners = static_cast<std::int64_t>(r.feature_corners);
     }
     const topotet_status s = to_c(r.status);
     if (s != TOPOTET_OK && s != TOPOTET_STOPPED_EARLY) return fail(s, r.message);

@@ -63,6 +63,9 @@ module topotet
     real(c_double) :: max_cost, min_quality, boundary_weight, polyline_weight, tolerance, tolerance_rel
     integer(c_int) :: engine, num_threads
     real(c_double) :: round_fraction
+    real(c_double) :: feature_angle, max_field_error, max_field_error_rel
+    integer(c_int) :: field_weight_count
+    type(c_ptr) :: field_weight_names, field_weights  ! c_loc of c_ptr / real(c_double) arrays
   end type
 
   type, bind(c), public :: topotet_report
@@ -72,6 +75,7 @@ module topotet
     integer(c_int64_t) :: rejected_link_k, rejected_link_ktilde, rejected_pinned, rejected_inversion, &
                           rejected_quality, rejected_tolerance
     real(c_double) :: seconds, max_cost, tolerance
+    integer(c_int64_t) :: rejected_field_error, feature_edges, feature_corners
   end type
 
   public :: topotet_mesh_arrays_init, topotet_options_init, topotet_mesh_build, topotet_mesh_read, &

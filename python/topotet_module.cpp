@@ -1,7 +1,7 @@
 // The Python module `topotet`: numpy arrays in and out.
 //
-//   out = topotet.simplify(points, tets, materials=None, fields=None, ratio=0.25, tolerance_rel=0.0,
-//                          threads=0, ...)
+//   out = topotet.simplify(points, tets, materials=None, fields=None, ratio=0.25, tolerance_rel=0.004,
+//                          feature_angle=45, threads=0, ...)   (every default is SimplifyOptions')
 //   out["points"], out["tets"], out["materials"], out["fields"], out["vertex_map"], out["report"]
 //   mesh = topotet.read("in.mesh");  topotet.write("out.msh", mesh)
 //
@@ -17,6 +17,7 @@
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -284,7 +285,9 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
                   const py::object& fields, double ratio, std::uint64_t target_vertices, double tolerance_rel,
                   double tolerance, double min_quality, double max_cost, int threads, const std::string& engine,
                   const py::object& triangles, const py::object& triangle_refs, const py::object& segments,
-                  const py::object& segment_refs, const py::object& corners) {
+                  const py::object& segment_refs, const py::object& corners, double feature_angle,
+                  const std::map<std::string, double>& field_weights, double max_field_error,
+                  double max_field_error_rel, double boundary_weight, double polyline_weight, double round_fraction) {
   std::vector<py::array> keep;
   keep.reserve(4 + (fields.is_none() ? 0 : py::len(fields)));  // the views point into these arrays
   const topotet::MeshView input =
@@ -297,6 +300,13 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   options.min_quality = min_quality;
   options.max_cost = max_cost;
   options.num_threads = threads;
+  options.feature_angle = feature_angle;
+  options.field_weights = field_weights;
+  options.max_field_error = max_field_error;
+  options.max_field_error_rel = max_field_error_rel;
+  options.boundary_weight = boundary_weight;
+  options.polyline_weight = polyline_weight;
+  options.round_fraction = round_fraction;
   if (engine == "parallel")
     options.engine = topotet::Engine::kParallel;
   else if (engine == "sequential")
@@ -341,15 +351,26 @@ PYBIND11_MODULE(topotet, m) {
       PyErr_SetString(PyExc_ValueError, e.what());
     }
   });
+  // Every default is the library's (SimplifyOptions), so that the same call gives the same run, with
+  // the same guarantees, from C++, C, Fortran, Python and the CLI.
+  const topotet::SimplifyOptions defaults;
   m.def("simplify", &simplify, py::arg("points"), py::arg("tets"), py::kw_only(), py::arg("materials") = py::none(),
-        py::arg("fields") = py::none(), py::arg("ratio") = 0.25, py::arg("target_vertices") = 0,
-        py::arg("tolerance_rel") = 0.0, py::arg("tolerance") = 0.0, py::arg("min_quality") = 0.05,
-        py::arg("max_cost") = 0.0, py::arg("threads") = 0, py::arg("engine") = "parallel",
-        py::arg("triangles") = py::none(), py::arg("triangle_refs") = py::none(), py::arg("segments") = py::none(),
+        py::arg("fields") = py::none(), py::arg("ratio") = defaults.target_vertex_ratio,
+        py::arg("target_vertices") = defaults.target_vertices, py::arg("tolerance_rel") = defaults.tolerance_rel,
+        py::arg("tolerance") = defaults.tolerance, py::arg("min_quality") = defaults.min_quality, py::arg("max_cost") = defaults.max_cost,
+        py::arg("threads") = defaults.num_threads, py::arg("engine") = "parallel", py::arg("triangles") = py::none(),
+        py::arg("triangle_refs") = py::none(), py::arg("segments") = py::none(),
         py::arg("segment_refs") = py::none(), py::arg("corners") = py::none(),
-        "Simplifies the mesh, keeping its topology and that of every substructure. Returns a dict: points, "
-        "tets, materials, triangles, triangle_refs, segments, segment_refs, corners, fields, vertex_map "
-        "(for every input point, the output point it merged into) and report.");
+        py::arg("feature_angle") = defaults.feature_angle, py::arg("field_weights") = defaults.field_weights,
+        py::arg("max_field_error") = defaults.max_field_error, py::arg("max_field_error_rel") = defaults.max_field_error_rel,
+        py::arg("boundary_weight") = defaults.boundary_weight, py::arg("polyline_weight") = defaults.polyline_weight,
+        py::arg("round_fraction") = defaults.round_fraction,
+        "Simplifies the mesh, keeping its topology and that of every substructure. The options and their "
+        "defaults are topotet::SimplifyOptions': the geometric tolerance (tolerance_rel, 0.4% of the diagonal; "
+        "0 turns it off), features at feature_angle degrees (180 turns them off), field_weights {name: weight}, "
+        "field error limits (max_field_error in the field's units, max_field_error_rel relative to its range; "
+        "0 = none). Returns a dict: points, tets, materials, triangles, triangle_refs, segments, segment_refs, "
+        "corners, fields, vertex_map (for every input point, the output point it merged into) and report.");
   m.def(
       "read",
       [](const std::string& path) {

@@ -93,8 +93,16 @@ int main(void) {
   topotet_options options;
   topotet_options_init(&options);
   CHECK(options.target_vertex_ratio == 0.25 && options.min_quality > 0.0);
+  /* The library's defaults, guarantees included: the same call gives the same run as C++ and the CLI. */
+  CHECK(options.tolerance_rel == 0.004 && options.tolerance == 0.0 && options.feature_angle == 45.0);
+  CHECK(options.max_field_error == 0.0 && options.max_field_error_rel == 0.0 && options.field_weight_count == 0);
   options.target_vertex_ratio = 0.3;
   options.num_threads = 2;
+  static const char* weighted[] = {"temperature"};
+  static const double weights[] = {2.0};
+  options.field_weight_count = 1;
+  options.field_weight_names = weighted;
+  options.field_weights = weights;
   topotet_report report;
   const topotet_status status = topotet_simplify(mesh, &options, &report);
   CHECK(status == TOPOTET_OK || status == TOPOTET_STOPPED_EARLY);
@@ -104,6 +112,7 @@ int main(void) {
   CHECK(nv == report.vertices_after && nt == report.tets_after);
   CHECK(nv < NV / 2 && report.collapses == NV - nv);
   CHECK(report.legality_checks > 0);
+  CHECK(report.tolerance > 0.0 && report.rejected_field_error == 0); /* guarded; no field limit asked */
 
   /* The vertex map, both ways: library-owned 0-based, and copied 1-based into int64. */
   static int64_t map[NV];
@@ -156,6 +165,11 @@ int main(void) {
   CHECK(topotet_mesh_copy_field(mesh, 3, (topotet_out_view){values, TOPOTET_FLOAT64, 0}) == TOPOTET_INVALID_INPUT);
   CHECK(strstr(topotet_last_error(), "field 3") != NULL);
   CHECK(topotet_mesh_copy_tets(mesh, (topotet_out_view){values, TOPOTET_FLOAT64, 0}, 0) == TOPOTET_INVALID_INPUT);
+  static const char* unknown[] = {"pressure"};
+  options.field_weight_names = unknown;
+  CHECK(topotet_simplify(mesh, &options, NULL) == TOPOTET_INVALID_INPUT);
+  CHECK(strstr(topotet_last_error(), "pressure") != NULL);
+  options.field_weight_count = 0;
   options.target_vertex_ratio = 2.0;
   CHECK(topotet_simplify(mesh, &options, NULL) == TOPOTET_INVALID_INPUT);
   CHECK(strstr(topotet_last_error(), "target_vertex_ratio") != NULL);

@@ -53,6 +53,21 @@ check(out["fields"]["u"].shape == (nv, 3), "field shape")
 check(sorted(np.unique(out["materials"])) == [1, 2], "both materials survive")
 check(rep["stopped"] is None if rep["status"] == "ok" else rep["stopped"] is not None, "stopped iff stopped early")
 
+# The defaults are the library's, guarantees included (they once drifted: tolerance_rel was 0 here).
+diag = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
+check(abs(rep["tolerance"] - 0.004 * diag) <= 1e-9 * diag, f"default tolerance {rep['tolerance']} for diagonal {diag}")
+check(rep["feature_edges"] > 0, "the box's edges are features by default")
+off = topotet.simplify(points, tets, materials=materials, ratio=0.3, threads=1, tolerance_rel=0.0, feature_angle=180.0)
+check(off["report"]["tolerance"] == 0.0 and off["report"]["feature_edges"] == 0, "guarantees off on request")
+limited = topotet.simplify(points, tets, materials=materials, fields={"u": field}, ratio=0.05, threads=1,
+                           field_weights={"u": 2.0}, max_field_error_rel=1e-6)["report"]
+check(limited["rejected"]["field_error"] > 0 and limited["status"] == "stopped_early", f"field limit {limited['rejected']}")
+try:
+    topotet.simplify(points, tets, fields={"u": field}, field_weights={"pressure": 1.0})
+    check(False, "an unknown field weight is an error")
+except ValueError as e:
+    check("pressure" in str(e), f"message names the field: {e}")
+
 # A target the ball and the pinned box corners cannot reach: the report says what holds the rest.
 stuck = topotet.simplify(points, tets, materials=materials, target_vertices=2, threads=1, corners=box_corners)["report"]
 check(stuck["status"] == "stopped_early", f"status {stuck['status']}")

@@ -116,6 +116,12 @@ typedef struct topotet_options {
   int engine;                 /* 0 = parallel rounds (default), 1 = sequential reference */
   int num_threads;            /* 0 = all cores / the caller's arena; the result is the same for every value */
   double round_fraction;      /* default 0.015 */
+  double feature_angle;       /* sharp edges kept as curves, degrees; default 45; 180 = none */
+  double max_field_error;     /* field error bound per component, in its units; 0 = no limit */
+  double max_field_error_rel; /* the same relative to each component's range; 0 = no limit */
+  int field_weight_count;     /* entries below; 0 = every field weighs 1 in the cost */
+  const char* const* field_weight_names; /* field names (as topotet_mesh_field_info gives them) */
+  const double* field_weights;           /* their weights, >= 0 */
 } topotet_options;
 
 /* Same counters as topotet::Report. */
@@ -130,6 +136,8 @@ typedef struct topotet_report {
   double seconds;
   double max_cost;  /* largest accepted collapse cost */
   double tolerance; /* geometric tolerance used, mesh units; 0 = none */
+  int64_t rejected_field_error;           /* placements refused by the field error bound */
+  int64_t feature_edges, feature_corners; /* sharp edges kept as curves, vertices pinned at their corners */
 } topotet_report;
 
 typedef struct topotet_mesh topotet_mesh;
