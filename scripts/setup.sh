@@ -31,6 +31,7 @@ if ((all)); then
     gmsh tetgen
     clang libclang-rt-14-dev
     gfortran pkg-config pybind11-dev python3-dev python3-numpy python3-pybind11
+    python3-venv python3-setuptools python3-wheel
     openmpi-bin libopenmpi-dev libmetis-dev
   )
 fi
