@@ -389,6 +389,25 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
       report->rejected_field_error = static_cast<std::int64_t>(r.rejected_by(RejectReason::kFieldError));
       report->feature_edges = static_cast<std::int64_t>(r.feature_edges);
       report->feature_corners = static_cast<std::int64_t>(r.feature_corners);
+      if (r.stop.is_filled) {
+        const topotet::StopDiagnosis& d = r.stop;
+        const auto i64 = [](std::uint64_t x) { return static_cast<std::int64_t>(x); };
+        report->stop_vertices = i64(d.vertices);
+        report->held_topology = i64(d.topology);
+        report->held_pinned = i64(d.pinned);
+        report->held_inversion = i64(d.inversion);
+        report->held_quality = i64(d.quality);
+        report->held_tolerance = i64(d.tolerance);
+        report->held_field_error = i64(d.field_error);
+        report->held_collapsible = i64(d.collapsible);
+        report->pinned_corners = i64(d.pinned_corners);
+        report->pinned_required = i64(d.pinned_required);
+        report->pinned_features = i64(d.pinned_features);
+        report->pinned_other = i64(d.pinned_other);
+        report->stop_dominant_share = d.dominant_share;
+        std::snprintf(report->stop_dominant, sizeof report->stop_dominant, "%s", d.dominant);
+        std::snprintf(report->stop_suggestion, sizeof report->stop_suggestion, "%s", d.suggestion.c_str());
+      }
     }
     const topotet_status s = to_c(r.status);
     if (s != TOPOTET_OK && s != TOPOTET_STOPPED_EARLY) return fail(s, r.message);

@@ -76,6 +76,12 @@ module topotet
                           rejected_quality, rejected_tolerance
     real(c_double) :: seconds, max_cost, tolerance
     integer(c_int64_t) :: rejected_field_error, feature_edges, feature_corners
+    integer(c_int64_t) :: stop_vertices
+    integer(c_int64_t) :: held_topology, held_pinned, held_inversion, held_quality, held_tolerance, &
+                          held_field_error, held_collapsible
+    integer(c_int64_t) :: pinned_corners, pinned_required, pinned_features, pinned_other
+    real(c_double) :: stop_dominant_share
+    character(kind=c_char) :: stop_dominant(16), stop_suggestion(512)  ! NUL-terminated
   end type
 
   public :: topotet_mesh_arrays_init, topotet_options_init, topotet_mesh_build, topotet_mesh_read, &

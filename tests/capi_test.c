@@ -161,6 +161,19 @@ int main(void) {
   static double values[NV];
   CHECK(topotet_mesh_copy_field(mesh, 0, (topotet_out_view){values, TOPOTET_FLOAT64, 0}) == TOPOTET_OK);
 
+  /* A target the substructures cannot reach: the report says what holds the vertices left. */
+  if (status == TOPOTET_OK) CHECK(report.stop_vertices == 0 && report.stop_dominant[0] == 0); /* nothing to explain */
+  topotet_options stuck = options;
+  stuck.field_weight_count = 0;
+  stuck.target_vertices = 2;
+  CHECK(topotet_simplify(mesh, &stuck, &report) == TOPOTET_STOPPED_EARLY);
+  CHECK(report.stop_vertices == report.vertices_after && report.stop_vertices > 2);
+  CHECK(report.held_topology + report.held_pinned + report.held_inversion + report.held_quality +
+            report.held_tolerance + report.held_field_error + report.held_collapsible ==
+        report.stop_vertices);
+  CHECK(report.stop_dominant[0] != 0 && report.stop_dominant_share > 0.0 && report.stop_dominant_share <= 1.0);
+  CHECK(memchr(report.stop_suggestion, 0, sizeof report.stop_suggestion) != NULL);
+
   /* Errors: a status and a message naming the culprit; the handle is not touched. */
   CHECK(topotet_mesh_copy_field(mesh, 3, (topotet_out_view){values, TOPOTET_FLOAT64, 0}) == TOPOTET_INVALID_INPUT);
   CHECK(strstr(topotet_last_error(), "field 3") != NULL);

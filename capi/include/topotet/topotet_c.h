@@ -138,6 +138,16 @@ typedef struct topotet_report {
   double tolerance; /* geometric tolerance used, mesh units; 0 = none */
   int64_t rejected_field_error;           /* placements refused by the field error bound */
   int64_t feature_edges, feature_corners; /* sharp edges kept as curves, vertices pinned at their corners */
+  /* Why a run stopped before its target (status TOPOTET_STOPPED_EARLY; all 0 and empty when it
+     reached it), as topotet::StopDiagnosis: the vertices left, by the check that holds each one,
+     the pinned ones by cause, the dominant reason and one suggested change in words. */
+  int64_t stop_vertices;
+  int64_t held_topology, held_pinned, held_inversion, held_quality, held_tolerance, held_field_error,
+      held_collapsible;
+  int64_t pinned_corners, pinned_required, pinned_features, pinned_other;
+  double stop_dominant_share;
+  char stop_dominant[16];    /* "topology", "pinned", "inversion", "quality", "tolerance", ... */
+  char stop_suggestion[512]; /* NUL-terminated (cut to fit) */
 } topotet_report;
 
 typedef struct topotet_mesh topotet_mesh;
