@@ -19,11 +19,13 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "mesh/mesh_view.h"
 #include "topotet/error.h"
+#include "topotet/hierarchy.h"
 #include "topotet/io.h"
 #include "topotet/simplify.h"
 #include "topotet/threads.h"
@@ -287,7 +289,8 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
                   const py::object& triangles, const py::object& triangle_refs, const py::object& segments,
                   const py::object& segment_refs, const py::object& corners, double feature_angle,
                   const std::map<std::string, double>& field_weights, double max_field_error,
-                  double max_field_error_rel, double boundary_weight, double polyline_weight, double round_fraction) {
+                  double max_field_error_rel, double boundary_weight, double polyline_weight, double round_fraction,
+                  const std::optional<std::string>& hierarchy) {
   std::vector<py::array> keep;
   keep.reserve(4 + (fields.is_none() ? 0 : py::len(fields)));  // the views point into these arrays
   const topotet::MeshView input =
@@ -323,17 +326,28 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
     // The whole call, mesh build included, runs inside the thread limit.
     topotet::run_with_thread_limit(threads, [&] {
       mesh = topotet::TetMesh(std::make_unique<topotet::MeshModel>(topotet::build_mesh_model(input)));
-      report = topotet::simplify(mesh, options, map);
+      if (hierarchy) {
+        topotet::Hierarchy h;
+        report = topotet::simplify_with_hierarchy(mesh, options, h);
+        if (report.status == topotet::Status::kOk || report.status == topotet::Status::kStoppedEarly)
+          topotet::write_hierarchy(*hierarchy, h);
+      } else {
+        report = topotet::simplify(mesh, options, map);
+      }
     });
     output = mesh.to_mesh_data();
   }
   if (report.status == topotet::Status::kInvalidInput) throw py::value_error(report.message);
   if (report.status == topotet::Status::kOutOfMemory) throw std::bad_alloc();
   py::dict out = to_dict(output);
-  py::array_t<std::int64_t> vertex_map(static_cast<py::ssize_t>(map.size()));
-  auto w = vertex_map.mutable_unchecked<1>();
-  for (std::size_t i = 0; i < map.size(); ++i) w(i) = map[i] == topotet::kInvalid ? -1 : std::int64_t{map[i]};
-  out["vertex_map"] = vertex_map;
+  if (hierarchy) {
+    out["vertex_map"] = py::none();  // the hierarchy file holds every collapse instead
+  } else {
+    py::array_t<std::int64_t> vertex_map(static_cast<py::ssize_t>(map.size()));
+    auto w = vertex_map.mutable_unchecked<1>();
+    for (std::size_t i = 0; i < map.size(); ++i) w(i) = map[i] == topotet::kInvalid ? -1 : std::int64_t{map[i]};
+    out["vertex_map"] = vertex_map;
+  }
   out["report"] = report_dict(report);
   return out;
 }
@@ -364,13 +378,34 @@ PYBIND11_MODULE(topotet, m) {
         py::arg("feature_angle") = defaults.feature_angle, py::arg("field_weights") = defaults.field_weights,
         py::arg("max_field_error") = defaults.max_field_error, py::arg("max_field_error_rel") = defaults.max_field_error_rel,
         py::arg("boundary_weight") = defaults.boundary_weight, py::arg("polyline_weight") = defaults.polyline_weight,
-        py::arg("round_fraction") = defaults.round_fraction,
+        py::arg("round_fraction") = defaults.round_fraction, py::arg("hierarchy") = py::none(),
         "Simplifies the mesh, keeping its topology and that of every substructure. The options and their "
         "defaults are topotet::SimplifyOptions': the geometric tolerance (tolerance_rel, 0.4% of the diagonal; "
         "0 turns it off), features at feature_angle degrees (180 turns them off), field_weights {name: weight}, "
         "field error limits (max_field_error in the field's units, max_field_error_rel relative to its range; "
-        "0 = none). Returns a dict: points, tets, materials, triangles, triangle_refs, segments, segment_refs, "
+        "0 = none). hierarchy='h.tth' also records every collapse into that file (topotet.extract reads levels "
+        "from it; vertex_map is then None). Returns a dict: points, tets, materials, triangles, triangle_refs, segments, segment_refs, "
         "corners, fields, vertex_map (for every input point, the output point it merged into) and report.");
+  m.def(
+      "extract",
+      [](const std::string& path, std::uint64_t vertices, std::optional<double> max_error) {
+        if (vertices > 0 && max_error) throw py::value_error("extract: give vertices or max_error, not both");
+        topotet::MeshData d;
+        {
+          py::gil_scoped_release release;
+          const topotet::Hierarchy h = topotet::read_hierarchy(path);
+          const std::vector<std::uint8_t> applied =
+              max_error ? topotet::select_error(h, *max_error)
+                        : topotet::select_prefix(h, vertices > 0 ? topotet::prefix_for_vertices(h, vertices)
+                                                                 : h.collapse_count());
+          d = topotet::extract(h, applied);
+        }
+        return to_dict(d);
+      },
+      py::arg("path"), py::kw_only(), py::arg("vertices") = 0, py::arg("max_error") = py::none(),
+      "A level of detail from a hierarchy file (simplify(..., hierarchy=path) or `topotet simplify --hierarchy`): "
+      "the mesh with `vertices` vertices (the first collapses), or every collapse whose error is <= max_error "
+      "(and whose parents are applied), or, with neither, the simplified mesh itself. Returns a mesh dict.");
   m.def(
       "read",
       [](const std::string& path) {

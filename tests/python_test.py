@@ -114,6 +114,27 @@ with tempfile.TemporaryDirectory() as d:
     check(np.array_equal(back["materials"], out["materials"]), "materials round trip")
     check(np.allclose(back["fields"]["u"], out["fields"]["u"]), "field round trip")
 
+# The hierarchy: every collapse recorded into a file; levels read back by vertex count or error; all
+# of it is the simplified mesh.
+with tempfile.TemporaryDirectory() as d:
+    h = os.path.join(d, "h.tth")
+    hout = topotet.simplify(points, tets, materials=materials, fields={"u": field}, ratio=0.3, threads=2,
+                            hierarchy=h)
+    check(hout["vertex_map"] is None and os.path.getsize(h) > 0, "hierarchy written")
+    full = topotet.extract(h)
+    check(len(full["points"]) == len(hout["points"]) and len(full["tets"]) == len(hout["tets"]),
+          "the whole hierarchy is the simplified mesh")
+    half = topotet.extract(h, vertices=len(points) // 2)
+    check(len(half["points"]) == len(points) // 2, "a level by vertex count")
+    check(sorted(np.unique(half["materials"])) == [1, 2], "a level keeps the materials")
+    fine = topotet.extract(h, max_error=0.0)
+    check(len(half["points"]) >= len(hout["points"]) and len(fine["points"]) >= len(hout["points"]), "levels")
+    try:
+        topotet.extract(h, vertices=10, max_error=1.0)
+        check(False, "vertices and max_error together are an error")
+    except ValueError:
+        pass
+
 # Errors are ValueErrors with the library's message.
 bad = tets.copy()
 bad[3, 1] = len(points) + 5
