@@ -305,10 +305,10 @@ int run_simplify(const SimplifyArgs& args) {
   SimplifyJob job = job_from_args(args);
   job.input = read_input(args.input, &job.read_seconds, read_options_of(args));
   if (args.input != "-" && !writes_over(job, args.input)) {
-    std::error_code error;
-    const auto written = std::filesystem::last_write_time(args.input, error);
-    const auto size = std::filesystem::file_size(args.input, error);
-    if (!error) {
+    std::error_code time_error, size_error;
+    const auto written = std::filesystem::last_write_time(args.input, time_error);
+    const auto size = std::filesystem::file_size(args.input, size_error);
+    if (!time_error && !size_error) {  // else (not a regular file?) the input stays in memory
       job.reload = [path = args.input, options = read_options_of(args), written, size] {
         std::error_code now;
         if (std::filesystem::last_write_time(path, now) != written || std::filesystem::file_size(path, now) != size || now)
