@@ -310,6 +310,9 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   options.boundary_weight = boundary_weight;
   options.polyline_weight = polyline_weight;
   options.round_fraction = round_fraction;
+  // As `topotet simplify --hierarchy`: with fields, each collapse records its field error bound, so
+  // that extract(max_error=...) selects by a guaranteed error, not by a cost.
+  if (hierarchy && !fields.is_none()) options.track_field_bounds = true;
   if (engine == "parallel")
     options.engine = topotet::Engine::kParallel;
   else if (engine == "sequential")
