@@ -368,7 +368,12 @@ void print_failures(const SimplifyJob& job, const SimplifyRun& run) {
 }
 
 Json input_json(const SimplifyJob& job, const SimplifyRun& run) {
-  Json input = mesh_json(job.input_label, job.input, job.read_seconds);
+  // The counts come from the run: the input itself may have been released (SimplifyJob::reload)
+  // and not read again (--no-metrics).
+  Json input = {{"file", job.input_label},
+                {"vertices", run.vertices_in},
+                {"tets", run.tets_in},
+                {"read_seconds", job.read_seconds}};
   input["generated"] = job.read_verb == "generate";  // the demo's mesh: read_seconds is its generation
   input["build_seconds"] = run.build_seconds;
   input["model_bytes"] = run.model_bytes;
