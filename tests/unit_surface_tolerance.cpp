@@ -63,6 +63,68 @@ TEST(SurfaceReference, QueriesMatchBruteForce) {
   }
 }
 
+// The nearest triangle is the lexicographic minimum of (distance, index) over the label's
+// triangles within the search radius, whatever hint the search starts from: the proof of a
+// placement (triangle_within) then depends on the query alone, and the output on no thread's
+// history. A grid of unit squares split in two has ties everywhere (shared edges and corners).
+TEST(SurfaceReference, NearestTriangleIsOneFunctionOfTheQueryWhateverTheHint) {
+  SurfaceSoup soup;
+  soup.face_labels = 2;
+  constexpr int n = 12;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) soup.positions.push_back({double(i), double(j), 0.0});
+  const auto id = [](int i, int j) { return static_cast<VertId>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      soup.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      soup.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      for (int k = 0; k < 2; ++k) soup.triangle_label.push_back(static_cast<std::uint32_t>(i >= n / 2 ? 1 : 0));
+    }
+  const SurfaceSoup copy = soup;
+  const SurfaceReference reference(std::move(soup));
+  const auto& P = copy.positions;
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<int> grid(0, 2 * n);
+  std::uniform_int_distribution<std::uint32_t> any_triangle(0, static_cast<std::uint32_t>(copy.triangles.size() - 1));
+  int ties = 0;
+  for (int q = 0; q < 300; ++q) {
+    // Points on half-integer lattice positions above the plane: their nearest points are shared
+    // edges or corners as often as not.
+    const glm::dvec3 p{0.5 * grid(rng), 0.5 * grid(rng), 0.25 * (q % 3)};
+    for (int label = 0; label < 2; ++label) {
+      const double radius = 1.5;
+      double best = std::numeric_limits<double>::infinity();
+      std::uint32_t want = kInvalid;
+      int at_best = 0;
+      for (std::uint32_t t = 0; t < copy.triangles.size(); ++t) {
+        if (copy.triangle_label[t] != static_cast<std::uint32_t>(label)) continue;
+        const auto& tv = copy.triangles[t];
+        const double d2 = squared_distance_to_triangle(p, P[tv[0]], P[tv[1]], P[tv[2]]);
+        if (d2 > radius * radius) continue;
+        if (d2 < best) {
+          best = d2;
+          want = t;
+          at_best = 1;
+        } else if (d2 == best) {
+          ++at_best;
+        }
+      }
+      ties += at_best > 1 ? 1 : 0;
+      double d = -1.0;
+      EXPECT_EQ(reference.nearest_triangle(p, label, radius, &d), want) << "query " << q;
+      if (want != kInvalid) {
+        EXPECT_DOUBLE_EQ(d, std::sqrt(best));
+      }
+      for (int h = 0; h < 4; ++h)
+        EXPECT_EQ(reference.nearest_triangle(p, label, radius, &d, any_triangle(rng)), want) << "query " << q;
+      if (want != kInvalid) {
+        EXPECT_EQ(reference.nearest_triangle(p, label, radius, &d, want), want);
+      }
+    }
+  }
+  EXPECT_GT(ties, 100);  // the test exercises ties
+}
+
 TEST(SurfaceReference, LabelsOfCubeSphere) {
   GenerateOptions g;
   g.target_tets = 3000;

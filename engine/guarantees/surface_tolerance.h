@@ -158,7 +158,10 @@ class SurfaceReference {
   bool within_by_crease(const std::array<glm::dvec3, 3>& corners, int label, double h, std::uint32_t nearest) const;
   // The soup triangle of face label `label` nearest to p within max_distance (kInvalid: none),
   // and its distance. `nearest` above is this triangle for the piece's centre.
-  std::uint32_t nearest_triangle(const glm::dvec3& p, int label, double max_distance, double* distance) const;
+  // `hint` (a soup triangle near p, or kInvalid) only speeds the search up; ties in distance go to the
+  // lower index, so the answer is the same with any hint.
+  std::uint32_t nearest_triangle(const glm::dvec3& p, int label, double max_distance, double* distance,
+                                 std::uint32_t hint = kInvalid) const;
   // Is every corner of q within h of soup triangle k (so all of q, by convexity)?
   bool triangle_holds(std::uint32_t k, const std::array<glm::dvec3, 3>& q, double h) const;
 
