@@ -70,11 +70,16 @@ struct SegmentGeometry {  // user data of one polyline geometry
 
 struct SurfaceReference::Embree {
   RTCDevice device = nullptr;
-  // One scene per label (geometry), each with its one geometry: a query searches its own label
-  // only. (In one shared scene, a query also visited every coincident or nearby primitive of the
-  // other labels, to filter it out: a listed surface on an interface doubled the visits.)
+  // A label (geometry) with many primitives has a scene of its own, so that its queries visit
+  // its primitives only: in one shared scene a query also visited every coincident or nearby
+  // primitive of the other labels to filter it out (a listed surface on an interface: 56% of the
+  // visits on sphere3). The small labels share one scene: a scene costs some kilobytes however
+  // small (polycrystal 1M, thousands of grain interfaces: +17 bytes per tet with a scene each).
   std::vector<RTCScene> scenes;
-  RTCScene scene_of(int label) const { return scenes[static_cast<std::size_t>(label)]; }
+  std::vector<std::uint32_t> scene_index;  // [label] index into scenes
+  std::vector<unsigned> geometry_id;       // [label] its geometry's id in that scene
+  RTCScene scene_of(int label) const { return scenes[scene_index[static_cast<std::size_t>(label)]]; }
+  unsigned geometry_id_of(int label) const { return geometry_id[static_cast<std::size_t>(label)]; }
   std::vector<float> vertices;                        // xyz per vertex, +1 float of padding
   std::vector<std::vector<std::uint32_t>> indices;    // [face label] triangle vertex triples
   std::vector<std::vector<std::uint32_t>> primitives; // [geometry] primID -> soup triangle/segment
@@ -138,7 +143,7 @@ struct ShadowTriangle {
 struct Query {
   const SurfaceSoup* soup;
   const std::vector<std::vector<std::uint32_t>>* primitives;
-  unsigned geometry;  // the label: index into `primitives` (its scene holds that geometry alone)
+  unsigned geometry;  // the label: index into `primitives`
   bool is_segment;
   glm::dvec3 p;
   double best2;        // squared distance to beat (within: h^2, inclusive)
@@ -155,6 +160,7 @@ struct Query {
   // within_one(): the primitive must be within sqrt(best2) of each of these points, not of p.
   const glm::dvec3* corners = nullptr;
   int corner_count = 0;
+  unsigned geometry_id = 0;  // the label's geometry id in the scene searched (others are filtered out)
 };
 
 float radius_for(double distance, double slack) {
@@ -163,6 +169,7 @@ float radius_for(double distance, double slack) {
 
 bool on_primitive(RTCPointQueryFunctionArguments* args) {
   auto* q = static_cast<Query*>(args->userPtr);
+  if (args->geomID != q->geometry_id) return false;  // another label sharing the scene
   const std::uint32_t k = (*q->primitives)[q->geometry][args->primID];
   const auto& P = q->soup->positions;
   if (q->segment_patch != nullptr && (*q->segment_patch)[k] != q->patch) return false;
@@ -247,7 +254,12 @@ SurfaceReference::SurfaceReference(SurfaceSoup soup) : soup_(std::move(soup)), e
   // invisible to TSan there. Elsewhere Embree builds in the caller's task arena.
   e.device = rtcNewDevice(parallel::kStdThreads ? "threads=1" : nullptr);
   if (e.device == nullptr) throw std::runtime_error("Embree: cannot create a device");
-  e.scenes.assign(geometries, nullptr);
+  // Labels with at least this many primitives get a scene of their own (Embree::scenes).
+  constexpr std::size_t kOwnScene = 1024;
+  e.scene_index.assign(geometries, 0);
+  e.geometry_id.assign(geometries, 0);
+  e.scenes.push_back(rtcNewScene(e.device));  // [0]: the small labels
+  rtcSetSceneFlags(e.scenes[0], RTC_SCENE_FLAG_COMPACT);  // about half the BVH memory (measured: same speed here)
   e.segment_data.reserve(soup_.polyline_labels);  // no reallocation: Embree keeps pointers
   for (std::uint32_t g = 0; g < geometries; ++g) {
     RTCGeometry geom;
@@ -266,12 +278,15 @@ SurfaceReference::SurfaceReference(SurfaceSoup soup) : soup_(std::move(soup)), e
       rtcSetGeometryBoundsFunction(geom, segment_bounds, nullptr);
     }
     rtcCommitGeometry(geom);
-    e.scenes[g] = rtcNewScene(e.device);
-    rtcSetSceneFlags(e.scenes[g], RTC_SCENE_FLAG_COMPACT);  // about half the BVH memory (measured: same speed here)
-    rtcAttachGeometry(e.scenes[g], geom);
+    if (e.primitives[g].size() >= kOwnScene) {
+      e.scene_index[g] = static_cast<std::uint32_t>(e.scenes.size());
+      e.scenes.push_back(rtcNewScene(e.device));
+      rtcSetSceneFlags(e.scenes.back(), RTC_SCENE_FLAG_COMPACT);
+    }
+    e.geometry_id[g] = rtcAttachGeometry(e.scenes[e.scene_index[g]], geom);
     rtcReleaseGeometry(geom);
-    rtcCommitScene(e.scenes[g]);
   }
+  for (RTCScene scene : e.scenes) rtcCommitScene(scene);
   if (rtcGetDeviceError(e.device) != RTC_ERROR_NONE) throw std::runtime_error("Embree: building the scene failed");
 }
 
@@ -292,12 +307,13 @@ int SurfaceReference::polyline_label_id(std::int32_t ref) const {
 namespace {
 
 double run_query(const SurfaceSoup& soup, const std::vector<std::vector<std::uint32_t>>& primitives, RTCScene scene,
-                 const glm::dvec3& p, int label, double radius, double slack, bool stop_at_first, bool* found,
+                 unsigned geometry_id, const glm::dvec3& p, int label, double radius, double slack, bool stop_at_first, bool* found,
                  const glm::dvec3* corners = nullptr, int corner_count = 0, double search_radius = 0.0) {
   Query q{&soup, &primitives, static_cast<unsigned>(label), label >= static_cast<int>(soup.face_labels), p,
           radius * radius, slack, stop_at_first};
   q.corners = corners;
   q.corner_count = corner_count;
+  q.geometry_id = geometry_id;
   RTCPointQuery query;
   query.x = static_cast<float>(p.x);
   query.y = static_cast<float>(p.y);
@@ -316,7 +332,7 @@ double run_query(const SurfaceSoup& soup, const std::vector<std::vector<std::uin
 bool SurfaceReference::within(const glm::dvec3& p, int label, double h) const {
   if (label < 0 || static_cast<std::size_t>(label) >= embree_->primitives.size()) return false;
   bool found = false;
-  run_query(soup_, embree_->primitives, embree_->scene_of(label), p, label, h, slack_, true, &found);
+  run_query(soup_, embree_->primitives, embree_->scene_of(label), embree_->geometry_id_of(label), p, label, h, slack_, true, &found);
   return found;
 }
 
@@ -329,7 +345,7 @@ bool SurfaceReference::within_one(const glm::dvec3* corners, int count, int labe
   for (int i = 0; i < count; ++i) r2 = std::max(r2, glm::dot(corners[i] - centre, corners[i] - centre));
   // A primitive within h of every corner is within h + r of the centre.
   bool found = false;
-  run_query(soup_, embree_->primitives, embree_->scene_of(label), centre, label, h, slack_, true, &found, corners, count,
+  run_query(soup_, embree_->primitives, embree_->scene_of(label), embree_->geometry_id_of(label), centre, label, h, slack_, true, &found, corners, count,
             h + std::sqrt(r2));
   return found;
 }
@@ -338,7 +354,7 @@ double SurfaceReference::distance(const glm::dvec3& p, int label, double max_dis
   if (label < 0 || static_cast<std::size_t>(label) >= embree_->primitives.size())
     return std::numeric_limits<double>::infinity();
   bool found = false;
-  const double d2 = run_query(soup_, embree_->primitives, embree_->scene_of(label), p, label, max_distance, slack_, false, &found);
+  const double d2 = run_query(soup_, embree_->primitives, embree_->scene_of(label), embree_->geometry_id_of(label), p, label, max_distance, slack_, false, &found);
   return found ? std::sqrt(d2) : std::numeric_limits<double>::infinity();
 }
 
@@ -367,6 +383,7 @@ std::uint32_t SurfaceReference::nearest_triangle(const glm::dvec3& p, int label,
   if (label < 0 || static_cast<std::uint32_t>(label) >= soup_.face_labels) return kInvalid;
   Query near{&soup_, &embree_->primitives, static_cast<unsigned>(label), false, p, max_distance * max_distance, slack_,
              false};
+  near.geometry_id = embree_->geometry_id_of(label);
   // A hint near p starts the search with a small radius, so the traversal prunes more. The answer
   // does not depend on it (ties go to the lower index, on_primitive).
   if (hint != kInvalid && soup_.triangle_label[hint] == static_cast<std::uint32_t>(label)) {
