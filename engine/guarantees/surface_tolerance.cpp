@@ -715,9 +715,12 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const MeshModel& m
   reference->on_surface_ = std::move(on_surface);
   reference->holders_ = std::move(holders);
   reference->segment_holders_ = std::move(segment_holders);
-  // Patches within h / 4 of a plane: a large new triangle over one is proved in one step, at the
-  // price of a quarter of h for the patch's own curvature.
-  if (tolerance > 0.0) reference->build_flat_patches(0.25 * tolerance);
+  // Patches within h / 2 of a plane: a large new triangle over one is proved in one step, at the
+  // price of half of h for the patch's own curvature. On a coarse curved surface (original
+  // triangles several h across) a patch of h / 4 is about one triangle and proves nothing the
+  // triangle alone does not; h / 2 doubles its area (simnibs sphere3: 8% fewer instructions,
+  // 16.2% -> 15.8% of the vertices reached; the families and the 1M meshes are unchanged).
+  if (tolerance > 0.0) reference->build_flat_patches(0.5 * tolerance);
   return reference;
 }
 

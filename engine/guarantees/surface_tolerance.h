@@ -104,7 +104,7 @@ class SurfaceReference {
  public:
   // The special faces and polyline edges of the live part of `mesh` (see the file comment). With a
   // tolerance h > 0, also the flat patches the check proves large triangles with (vertices within
-  // h / 4 of their planes: build_flat_patches).
+  // h / 2 of their planes: build_flat_patches).
   static std::unique_ptr<SurfaceReference> from_mesh(const MeshModel& mesh, double tolerance = 0.0);
   // The same from the mesh's special faces, found beforehand (the driver shares them with the
   // feature detection).
