@@ -505,7 +505,7 @@ class Rounds {
           log_->depend(w, kernel.star_u, kernel.star_v);
           if (bounds_ != nullptr) log_->bound(w, star_bound);
         }
-        cost_.on_collapse(mesh_, c.u, c.v, kernel.star_uv);
+        cost_.on_collapse(mesh_, c.u, c.v);
         applied_cost_[w] = c.cost;
         ++n_applied;
         const VertId* first = stencils_.data() + stencil_offsets_[i];

@@ -157,7 +157,7 @@ void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const 
         if (bounds != nullptr) log->bound(0, star_bound);
         log->end_batch();
       }
-      cost.on_collapse(mesh, c.u, c.v, scratch.star_uv);
+      cost.on_collapse(mesh, c.u, c.v);
       report.max_cost = std::max(report.max_cost, c.cost);
       ++report.collapses;
       --live;

@@ -6,6 +6,9 @@
 //   - check_link_conditions with both ends hinted interior (interior_link_test)
 //                                      ==  the same check without hints (the general tests A-I)
 //   - CostModel::edge_cost(a, b)       ==  CostModel::candidates(a, b)[0].cost (up to rounding)
+//   - after every accepted collapse: every order the cost model still holds (all but the
+//     survivor's) == vertex_orders(x).ktilde, on the link of the collapsed edge and, every 25
+//     collapses, on every vertex
 //   - after every accepted collapse: a face's flag and ref are the same in both of its tets, a
 //     polyline edge's flag, ref and ridge bit are the same in all of its tets (collapse() only
 //     recomputes the faces and edges through the survivor).
@@ -18,6 +21,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <random>
 #include <string>
 #include <tuple>
@@ -77,6 +81,7 @@ std::uint64_t env_u64(const char* name, std::uint64_t fallback) {
 
 struct FastPathStats {
   std::uint64_t accepted = 0, interior_checks = 0, interior_rejections = 0, cost_checks = 0, order_checks = 0;
+  std::uint64_t kept_orders = 0;  // cached feature orders compared with a fresh classification
 };
 
 void run(const testing::PlantedMesh& planted, std::uint64_t seed, std::uint64_t target, FastPathStats& stats) {
@@ -153,9 +158,25 @@ void run(const testing::PlantedMesh& planted, std::uint64_t seed, std::uint64_t 
     cost.fields_at(m, c, fields.data());
     reserve_refs_headroom(m, refs_used, scratch.star_u.size() + scratch.star_v.size());
     collapse(m, c.u, c.v, c.p, fields.data(), scratch, refs_used);
-    cost.on_collapse(m, c.u, c.v, scratch.star_uv);
+    cost.on_collapse(m, c.u, c.v);
     ++accepted;
     ++stats.accepted;
+    // The cost model keeps every order but u's (cost.cpp, on_collapse): the link of uv keeps its
+    // orders through the collapse, and so does every vertex (checked in full every 25 collapses).
+    const auto order_is_current = [&](VertId x) {
+      const std::optional<std::uint8_t> known = cost.known_order(x);
+      if (!known) return;
+      ASSERT_EQ(int(*known), int(vertex_orders(m, x, link).ktilde))
+          << "vertex " << x << " after collapse " << c.v << " -> " << c.u;
+      stats.kept_orders += *known > 0 ? 1 : 0;  // the interior ones never go stale
+    };
+    for (TetId removed : scratch.star_uv)
+      for (VertId x : m.tets[removed])
+        if (x != c.v) order_is_current(x);
+    if (accepted % 25 == 0)
+      for (VertId x = 0; x < m.positions.size(); ++x)
+        if (!m.is_dead_vertex(x)) order_is_current(x);
+    if (::testing::Test::HasFatalFailure()) return;
     ASSERT_TRUE(flags_are_consistent(m)) << "after collapse " << c.v << " -> " << c.u;
     std::string differences;
     ASSERT_TRUE(topotet::same_topology(baseline, topotet::compute_topology(m.to_mesh_data()), &differences))
@@ -175,11 +196,12 @@ TEST_P(FastPaths, AgreeWithTheGeneralCodeAndKeepTheTopology) {
     if (HasFatalFailure()) return;
   }
   std::printf("[ fast paths ] %s: %llu collapses; %llu interior link checks (%llu rejected), %llu cost and %llu order "
-              "comparisons\n",
+              "comparisons, %llu kept orders compared\n",
               planted.name, (unsigned long long)stats.accepted, (unsigned long long)stats.interior_checks,
               (unsigned long long)stats.interior_rejections, (unsigned long long)stats.cost_checks,
-              (unsigned long long)stats.order_checks);
+              (unsigned long long)stats.order_checks, (unsigned long long)stats.kept_orders);
   EXPECT_GT(stats.accepted, 0u);
+  EXPECT_GT(stats.kept_orders, stats.accepted);  // every mesh has substructures: their orders were compared
   EXPECT_GT(stats.interior_checks, 0u);
 }
 

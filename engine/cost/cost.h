@@ -95,6 +95,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -140,10 +141,15 @@ class CostModel {
   // Asks the memory system for what edge_cost / candidates will read about v (see prefetch.h).
   void prefetch(VertId v) const;
 
-  // Bookkeeping after mesh collapse(u <- v): Q_u += Q_v, and the orders of u and of the vertices
-  // of the removed tets `star_uv` are recomputed on demand. Writes only u's quadric and the order
-  // bytes of vertices of St(uv), all inside the collapse's stencil.
-  void on_collapse(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_uv);
+  // Bookkeeping after mesh collapse(u <- v): Q_u += Q_v, and u's order is recomputed on demand
+  // (every other vertex keeps its order: see cost.cpp). Writes only u's quadric and order byte.
+  void on_collapse(const MeshModel& mesh, VertId u, VertId v);
+
+  // The cached order of v, or nullopt when it is to be recomputed (for tests).
+  std::optional<std::uint8_t> known_order(VertId v) const {
+    const std::uint8_t o = orders_[v].load(std::memory_order_relaxed);
+    return o >= 4 ? std::nullopt : std::optional<std::uint8_t>(o);
+  }
 
   // Order of v in the substructure filtration (cached; thread-safe for distinct or equal v:
   // concurrent recomputations write the same value).
