@@ -55,7 +55,7 @@ class TempDir {
   }
   ~TempDir() {
     std::error_code ec;
-    if (!std::getenv("KEEP_TMP")) fs::remove_all(path_, ec);
+    fs::remove_all(path_, ec);
   }
   std::string file(const std::string& name) const { return (path_ / name).string(); }
 
