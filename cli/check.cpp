@@ -21,6 +21,7 @@ struct CheckArgs {
   bool fast = false;
   double sample_spacing_rel = SurfaceDistanceOptions{}.sample_spacing_rel;
   bool has_sample_spacing = false;  // --sample-spacing-rel given: exactly that spacing
+  std::string material_array;       // --material-array: for the inputs in a VTK format
 };
 
 void print_indented(std::FILE* out, const std::string& text) {
@@ -30,8 +31,13 @@ void print_indented(std::FILE* out, const std::string& text) {
 int run_check(const CheckArgs& args) {
   check_output_folder(args.json_path);
   double read_before = 0.0, read_after = 0.0;
-  const MeshData before = read_input(args.before, &read_before);
-  const MeshData after = read_input(args.after, &read_after);
+  const auto options_for = [&](const std::string& path) {
+    ReadOptions o;
+    if (is_vtk_input(path)) o.material_array = args.material_array;
+    return o;
+  };
+  const MeshData before = read_input(args.before, &read_before, options_for(args.before));
+  const MeshData after = read_input(args.after, &read_after, options_for(args.after));
 
   topotet::TopologyOptions options;
   options.fast = args.fast;
@@ -115,6 +121,8 @@ void add_check_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("--json", args->json_path, "Also write both reports and the verdict as JSON");
   add_verbosity_flags(cmd);
   cmd->add_flag("--fast", args->fast, "Euler characteristics and components only (for huge meshes)");
+  cmd->add_option("--material-array", args->material_array,
+                  std::string(kMaterialArrayHelp) + " (for IN and OUT when they are in a VTK format)");
   cmd->add_option("--sample-spacing-rel", args->sample_spacing_rel,
                   "Surface distance: finest sampling, relative to the bounding box diagonal (error <= it / sqrt(3)); "
                   "by default the coarser of this and IN's surface resolution")

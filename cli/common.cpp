@@ -15,6 +15,9 @@
 
 #include "topotet/error.h"
 #include "topotet/io.h"
+#if TOPOTET_HAVE_VTK
+#include "topotet/io_vtk.h"
+#endif
 
 namespace topotet::cli {
 
@@ -109,6 +112,108 @@ void throw_input_error(const std::string& file, const std::string& message) {
   throw InputError(prefix_file(file, message));
 }
 
+const char* const kMaterialArrayHelp =
+    "VTK formats: the integer cell array that gives the materials (and the refs of triangles and edges); default: "
+    "the first of material, gmsh:physical, ObjectId, ElementBlockIds, CellEntityIds (Exodus II: the element block ids; "
+    "CGNS: the zone numbers)";
+
+namespace {
+bool ends_with_ci(std::string_view s, std::string_view suffix) {
+  if (s.size() < suffix.size()) return false;
+  for (std::size_t i = 0; i < suffix.size(); ++i) {
+    char c = s[s.size() - suffix.size() + i];
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+    if (c != suffix[i]) return false;
+  }
+  return true;
+}
+bool exodus_path(std::string_view path) {
+  return ends_with_ci(path, ".exo") || ends_with_ci(path, ".e") || ends_with_ci(path, ".ex2");
+}
+}  // namespace
+
+MeshData read_mesh_file(const std::string& path, const ReadOptions& options, ReadNotes* notes) {
+#if TOPOTET_HAVE_VTK
+  return read_any_mesh(path, options, notes);
+#else
+  return read_mesh(path, options, notes);
+#endif
+}
+
+void write_mesh_file(const std::string& path, const MeshData& mesh, const WriteOptions& options) {
+  if (!options.format && exodus_path(path)) {
+    std::string left;
+    const auto add = [&](std::size_t n, const char* what) {
+      if (n != 0) left += (left.empty() ? "" : ", ") + format_count(n) + " " + what;
+    };
+    add(mesh.ridges.size(), "ridges (the edges are written, not their ridge mark)");
+    add(static_cast<std::size_t>(std::count_if(mesh.vertex_refs.begin(), mesh.vertex_refs.end(), [](std::int32_t r) { return r != 0; })),
+        "vertex refs");
+    if (!left.empty()) print_warning(path, "Exodus II output: not written: " + left);
+  }
+#if TOPOTET_HAVE_VTK
+  write_any_mesh(path, mesh, options);
+#else
+  write_mesh(path, mesh, options);
+#endif
+}
+
+bool is_vtk_input(const std::string& path) {
+#if TOPOTET_HAVE_VTK
+  return path != "-" && is_vtk_path(path);
+#else
+  (void)path;
+  return false;
+#endif
+}
+
+void check_output_format(const std::string& path) {
+  for (const char* ext : {".pvtu", ".vtk", ".cgns"})
+    if (ends_with_ci(path, ext))
+      throw_input_error(path, std::string("writing ") + ext +
+                                  " is not supported (written: .mesh, .msh, .vtu, Exodus II .exo/.e/.ex2; topotet-mpi "
+                                  "--partitioned writes .pvtu)");
+#if TOPOTET_HAVE_VTK
+  if (exodus_path(path)) return;
+#endif
+  format_from_path(path);
+}
+
+void warn_about_read_notes(const std::string& path, const ReadNotes& notes, const char* tool) {
+  const auto warn = [&](const std::string& message) {
+    if (std::string_view(tool) == "topotet") return print_warning(path, message);
+    std::fprintf(stderr, "%s: warning: %s: %s\n", tool, path.c_str(), message.c_str());
+  };
+  if (notes.volume_cells() != 0) {
+    std::string what;
+    const auto add = [&](std::uint64_t n, const char* kind) {
+      if (n == 0) return;
+      what += (what.empty() ? "" : ", ") + std::to_string(n) + " " + kind;
+    };
+    add(notes.hexahedra, "hexahedra");
+    add(notes.prisms, "prisms");
+    add(notes.pyramids, "pyramids");
+    add(notes.polyhedra, "polyhedra");
+    warn("--tets-only: left out " + what + "; the output mesh covers the tets only");
+  }
+  if (notes.dropped_corners != 0)
+    warn("left out " + std::to_string(notes.dropped_corners) +
+         " Corners whose vertex index is out of range (TetGen -g lists its input points)");
+  if (notes.quadrilaterals != 0)
+    warn("left out " + std::to_string(notes.quadrilaterals) + " quadrilaterals (a quadrilateral is never a face of a tet)");
+  if (!notes.unread_arrays.empty()) {
+    std::string list, cells;
+    for (const std::string& a : notes.unread_arrays) {
+      if (a.rfind("cell array ", 0) == 0)
+        cells += (cells.empty() ? "" : ", ") + a.substr(11);
+      else
+        list += (list.empty() ? "" : "; ") + a;
+    }
+    if (!cells.empty()) list += (list.empty() ? "" : "; ") + std::string("cell arrays ") + cells + " (cell data are not carried yet)";
+    warn("not carried into the output: " + list);
+  }
+}
+
 MeshData read_input(const std::string& path, double* seconds, const ReadOptions& options) {
   const Stopwatch clock;
   // The readers name the file in their errors; a missing file is checked here so that the message
@@ -119,24 +224,8 @@ MeshData read_input(const std::string& path, double* seconds, const ReadOptions&
   log_stage("read " + path + ": start");
   try {
     ReadNotes notes;
-    data = read_mesh(path, options, &notes);
-    if (notes.volume_cells() != 0) {
-      std::string what;
-      const auto add = [&](std::uint64_t n, const char* kind) {
-        if (n == 0) return;
-        what += (what.empty() ? "" : ", ") + std::to_string(n) + " " + kind;
-      };
-      add(notes.hexahedra, "hexahedra");
-      add(notes.prisms, "prisms");
-      add(notes.pyramids, "pyramids");
-      print_warning(path, "--tets-only: left out " + what + "; the output mesh covers the tets only");
-    }
-    if (notes.dropped_corners != 0)
-      print_warning(path, "left out " + std::to_string(notes.dropped_corners) +
-                              " Corners whose vertex index is out of range (TetGen -g lists its input points)");
-    if (notes.quadrilaterals != 0)
-      print_warning(path, "left out " + std::to_string(notes.quadrilaterals) +
-                              " quadrilaterals (a quadrilateral is never a face of a tet)");
+    data = read_mesh_file(path, options, &notes);
+    warn_about_read_notes(path, notes);
   } catch (const InputError& e) {
     throw_input_error(path, e.what());
   }
@@ -204,6 +293,9 @@ std::optional<MeshFormat> parse_format(const std::string& name) {
 
 std::optional<MeshFormat> format_for(const std::string& path, const std::string& format_option) {
   if (format_option.empty()) return std::nullopt;
+#if TOPOTET_HAVE_VTK
+  if (path != "-" && is_vtk_path(path)) return std::nullopt;  // goes by its extension
+#endif
   if (path != "-") {
     try {
       format_from_path(path);

@@ -148,6 +148,21 @@ CLI::Validator whole_number_at_least(long long lo);
 // One line on stderr: "topotet: warning: <file>: <message>".
 void print_warning(const std::string& file, const std::string& message);
 
+// The reading and writing of the tools: topotet::read_mesh / write_mesh, with the VTK formats of
+// topotet/io_vtk.h (read_any_mesh / write_any_mesh) when the build has that component
+// (TOPOTET_HAVE_VTK); without it the core refuses those paths with a message that says so.
+MeshData read_mesh_file(const std::string& path, const ReadOptions& options, ReadNotes* notes);
+// Warns (print_warning) about what an Exodus II output leaves out (edges, corners).
+void write_mesh_file(const std::string& path, const MeshData& mesh, const WriteOptions& options);
+// True when `path` is read through the VTK component (never without it).
+bool is_vtk_input(const std::string& path);
+// Throws InputError unless the tools can write `path` (by its extension), before any work.
+void check_output_format(const std::string& path);
+// The warnings of ReadNotes: cells and arrays left out. `tool` prefixes the lines.
+void warn_about_read_notes(const std::string& path, const ReadNotes& notes, const char* tool = "topotet");
+// The help of --material-array (the same text on every command that reads).
+extern const char* const kMaterialArrayHelp;
+
 // read_mesh / build_tet_mesh with the file named in every error. build_input leaves out listed
 // triangles and segments that are not on any tet, and keeps a repeated one (same element, same
 // ref) once, with one warning line each (BuildOptions::skip_detached_substructures says why);

@@ -19,6 +19,7 @@ struct ConvertArgs {
   bool binary = false;
   bool validate = false;
   bool tets_only = false;
+  std::string material_array;
   bool msh22 = false;
   std::string format;
   std::optional<std::int32_t> feature_ref;
@@ -32,12 +33,13 @@ int run_convert(const ConvertArgs& args) {
     send_report_to_stderr();
     if (!output_format) throw InputError("-: the output format must be given (--format mesh, msh or vtu)");
   } else if (!output_format) {
-    format_from_path(args.output);  // an unknown output extension fails before reading
+    check_output_format(args.output);  // an unknown output extension fails before reading
   }
   check_output_folder(args.output);
   double read_seconds = 0.0, build_seconds = 0.0;
   ReadOptions read_options;
   read_options.tets_only = args.tets_only;
+  read_options.material_array = args.material_array;
   read_options.format = format_for(args.input, args.format);
   MeshData mesh = read_input(args.input, &read_seconds, read_options);
   std::string features_text;
@@ -60,7 +62,7 @@ int run_convert(const ConvertArgs& args) {
   options.binary = args.binary;
   options.msh22 = args.msh22;
   options.format = output_format;
-  write_mesh(args.output, mesh, options);
+  write_mesh_file(args.output, mesh, options);
   const double write_seconds = write_clock.seconds();
   std::fprintf(report_stream(), "%s -> %s: %s vertices, %s tets, %s triangles, %s edges, %zu field%s\n", args.input.c_str(),
               args.output.c_str(), format_count(mesh.vertex_count()).c_str(), format_count(mesh.tet_count()).c_str(),
@@ -87,6 +89,7 @@ void add_convert_command(CLI::App& app, CommandRunner& run) {
   cmd->add_flag("--msh22", args->msh22, "Write .msh as Gmsh 2.2 ASCII (for tools that read only the old format)")
       ->excludes("--binary");
   cmd->add_flag("--tets-only", args->tets_only, "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) instead of refusing it");
+  cmd->add_option("--material-array", args->material_array, kMaterialArrayHelp);
   cmd->add_option("--features", args->feature_ref,
                   "Validate, detect the sharp edges and corners simplify keeps, and write them as edges (MEDIT "
                   "ridges) with this ref and as corners");

@@ -96,7 +96,7 @@ int print_error_levels(const Hierarchy& h, const std::string& output, std::vecto
     const Stopwatch clock;
     const MeshData level = extract(h, applied);
     const double seconds = clock.seconds();
-    write_mesh(level_path(output, e), level, write_options);
+    write_mesh_file(level_path(output, e), level, write_options);
     const Checked c = check_level(original_topology, level);
     all_ok = all_ok && c.ok;
     const FieldError f = compare_fields(original, level);
@@ -169,7 +169,7 @@ int run_extract(const ExtractArgs& args) {
     const MeshData level = extract(h, applied);
     const double extract_seconds = extract_clock.seconds();
     const Stopwatch write_clock;
-    write_mesh(args.output, level, write_options);
+    write_mesh_file(args.output, level, write_options);
     const double write_seconds = write_clock.seconds();
     std::size_t applied_count = 0;
     for (std::uint8_t a : applied) applied_count += a;

@@ -21,7 +21,7 @@ struct GenerateArgs {
 };
 
 int run_generate(const GenerateArgs& args) {
-  format_from_path(args.output);  // an unknown extension fails before the work
+  check_output_format(args.output);  // an unknown extension fails before the work
   check_output_folder(args.output);
   GenerateOptions options;
   options.family = args.family;
@@ -39,7 +39,7 @@ int run_generate(const GenerateArgs& args) {
   const Stopwatch write_clock;
   WriteOptions write_options;
   write_options.binary = args.binary;
-  write_mesh(args.output, mesh, write_options);
+  write_mesh_file(args.output, mesh, write_options);
   std::fprintf(report_stream(), "%s: %s vertices, %s tets, %s triangles, %s edges, %s corners, %zu field%s\n", args.family.c_str(),
               format_count(mesh.vertex_count()).c_str(), format_count(mesh.tet_count()).c_str(),
               format_count(mesh.triangles.size()).c_str(), format_count(mesh.segments.size()).c_str(),

@@ -22,6 +22,7 @@ struct InfoArgs {
   std::string input;
   std::string json_path;
   bool tets_only = false;
+  std::string material_array;
   std::string format;
   double feature_angle = SimplifyOptions{}.feature_angle;
 };
@@ -58,6 +59,7 @@ int run_info(const InfoArgs& args) {
   double read_seconds = 0.0;
   ReadOptions read_options;
   read_options.tets_only = args.tets_only;
+  read_options.material_array = args.material_array;
   read_options.format = format_for(args.input, args.format);
   if (args.json_path == "-") send_report_to_stderr();
   const MeshData data = read_input(args.input, &read_seconds, read_options);
@@ -221,6 +223,7 @@ void add_info_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("--format", args->format, "Format of FILE when it is - (stdin): mesh or msh");
   add_verbosity_flags(cmd);
   cmd->add_flag("--tets-only", args->tets_only, "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) instead of refusing it");
+  cmd->add_option("--material-array", args->material_array, kMaterialArrayHelp);
   cmd->add_option("--feature-angle", args->feature_angle,
                   "Count the sharp edges (faces turning by more than this many degrees) and corners simplify keeps; "
                   "180 = off")

@@ -47,7 +47,7 @@ void check_outputs(const SimplifyJob& job) {
   // Data on stdout: the human-readable report moves to stderr.
   if (job.output_path == "-" || job.report_path == "-") send_report_to_stderr();
   if (!job.output_path.empty() && !job.output_format) {
-    format_from_path(job.output_path);  // unknown extensions fail before the work
+    check_output_format(job.output_path);  // unknown extensions fail before the work
     if (job.output_path.size() >= 3 && job.output_path.compare(job.output_path.size() - 3, 3, ".gz") == 0)
       throw_input_error(job.output_path, "writing compressed (.gz) files is not supported");
   }
@@ -141,9 +141,9 @@ void write_level(const SimplifyJob& job, double level, const TetMesh& mesh, Leve
     MeshExportOptions export_options;
     export_options.feature_edges = true;
     export_options.feature_ref = *job.feature_ref;
-    write_mesh(result.output_path, mesh.to_mesh_data(export_options), write_options);
+    write_mesh_file(result.output_path, mesh.to_mesh_data(export_options), write_options);
   } else {
-    write_mesh(result.output_path, result.output, write_options);
+    write_mesh_file(result.output_path, result.output, write_options);
   }
   result.write_seconds = write_clock.seconds();
   log_stage("write " + result.output_path + " in " + format_seconds(result.write_seconds));
@@ -289,6 +289,7 @@ ReadOptions read_options_of(const SimplifyArgs& args) {
   ReadOptions read_options;
   read_options.tets_only = args.tets_only;
   read_options.format = format_for(args.input, args.format);
+  read_options.material_array = args.material_array;
   return read_options;
 }
 

@@ -150,6 +150,7 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
   keep(cmd->add_flag("--tets-only", args.tets_only,
                      "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) "
                      "instead of refusing it"));
+  keep(cmd->add_option("--material-array", args.material_array, kMaterialArrayHelp));
   return set;
 }
 

@@ -52,6 +52,7 @@ struct SimplifyArgs {
   bool binary = false;
   bool tets_only = false;
   bool msh22 = false;
+  std::string material_array;  // --material-array (VTK formats)
 };
 
 // The registered options, for a tool that adds its own rules to some of them.

@@ -22,6 +22,21 @@ if(TARGET topotet-mpi)
   install(TARGETS topotet-mpi RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
 
+# topotet::io_vtk (the VTK formats) in an export set of its own, loaded only when a consumer asks
+# for the component: the package then finds VTK, and only then.
+set(TOPOTET_PACKAGE_HAS_VTK OFF)
+if(TARGET topotet_io_vtk)
+  set(TOPOTET_PACKAGE_HAS_VTK ON)
+  string(REPLACE ";" " " TOPOTET_PACKAGE_VTK_COMPONENTS "${TOPOTET_VTK_COMPONENTS}")
+  install(TARGETS topotet_io_vtk EXPORT topotetVtkTargets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
+    INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/io/vtk/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+  install(EXPORT topotetVtkTargets NAMESPACE topotet:: DESTINATION ${TOPOTET_CMAKE_DIR})
+endif()
+
 install(TARGETS ${topotet_install_targets} EXPORT topotetTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

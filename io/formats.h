@@ -32,6 +32,13 @@ void check_writable(const std::string& path, const MeshData& mesh);
 // The message of a refused mixed mesh: "<what>: topotet simplifies tetrahedral meshes only ...".
 std::string mixed_mesh_message(std::string_view what);
 
+// The formats of the VTK component (topotet/io_vtk.h), by extension: ".vtu (VTK XML)", ".exo
+// (Exodus II)", ...; empty for the others. `writable`: Exodus II, the one it writes.
+std::string vtk_format_name(std::string_view path);
+bool is_exodus_extension(std::string_view path);
+// "PATH: <format> needs the VTK component ..." (the message depends on whether this build has it).
+std::string vtk_component_message(std::string_view path, std::string_view format);
+
 // ASCII case-insensitive helpers for keywords and extensions.
 bool iequals(std::string_view a, std::string_view b);
 bool iends_with(std::string_view s, std::string_view suffix);

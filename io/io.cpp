@@ -30,6 +30,31 @@ bool iends_with(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && iequals(s.substr(s.size() - suffix.size()), suffix);
 }
 
+bool is_exodus_extension(std::string_view path) {
+  return iends_with(path, ".exo") || iends_with(path, ".e") || iends_with(path, ".ex2");
+}
+
+std::string vtk_format_name(std::string_view path) {
+  if (iends_with(path, ".vtu")) return ".vtu (VTK XML) input";
+  if (iends_with(path, ".pvtu")) return ".pvtu (VTK parallel XML) input";
+  if (iends_with(path, ".vtk")) return ".vtk (legacy VTK)";
+  if (is_exodus_extension(path)) return "Exodus II";
+  if (iends_with(path, ".cgns")) return "CGNS";
+  return {};
+}
+
+std::string vtk_component_message(std::string_view path, std::string_view format) {
+#if TOPOTET_HAVE_VTK_COMPONENT
+  return std::string(path) + ": " + std::string(format) +
+         " goes through topotet's VTK component: read_vtk_mesh, write_exodus or read_any_mesh / write_any_mesh "
+         "(topotet/io_vtk.h, library topotet::io_vtk), not read_mesh / write_mesh";
+#else
+  return std::string(path) + ": " + std::string(format) +
+         " needs topotet's VTK component, which this build does not have: install VTK 9.1 or newer (Debian: "
+         "apt-get install libvtk9-dev) and rebuild topotet";
+#endif
+}
+
 void check_writable(const std::string& path, const MeshData& mesh) {
   const auto bad = [&](const std::string& what) { throw InputError(path + ": cannot write: " + what); };
   const std::size_t nv = mesh.positions.size();
@@ -68,6 +93,7 @@ MeshFormat format_from_path(std::string_view path) {
   if (io::iends_with(p, ".msh")) return MeshFormat::kGmsh;
   if (io::iends_with(p, ".vtu")) return MeshFormat::kVtu;
   if (io::is_tetgen_path(p)) return MeshFormat::kTetgen;
+  if (const std::string vtk = io::vtk_format_name(p); !vtk.empty()) throw InputError(io::vtk_component_message(path, vtk));
   if (io::iends_with(p, ".meshb")) {
     throw InputError(std::string(path) +
                      ": binary MEDIT (.meshb) is not supported; convert it to ASCII .mesh first (e.g. "
@@ -81,7 +107,12 @@ MeshData read_mesh(const std::string& path, const ReadOptions& options, ReadNote
   ReadNotes& n = notes ? *notes : local;
   n = {};
   if (path == "-" && !options.format) throw InputError("<stdin>: the input format must be given (--format mesh or msh)");
-  switch (options.format ? *options.format : format_from_path(path)) {
+  const MeshFormat format = options.format ? *options.format : format_from_path(path);
+  if (!options.material_array.empty() && format != MeshFormat::kVtu)
+    throw InputError((path == "-" ? std::string("<stdin>") : path) +
+                     ": a material array (--material-array) applies to the VTK formats only; this format's materials "
+                     "are fixed by the file");
+  switch (format) {
     case MeshFormat::kMedit:
       return io::read_medit(path, options, n);
     case MeshFormat::kGmsh:
@@ -92,7 +123,7 @@ MeshData read_mesh(const std::string& path, const ReadOptions& options, ReadNote
     case MeshFormat::kVtu:
       break;
   }
-  throw InputError(path + ": reading .vtu is not supported (it is an output format for ParaView)");
+  throw InputError(io::vtk_component_message(path == "-" ? "<stdin>" : path, ".vtu (VTK XML) input"));
 }
 
 void write_mesh(const std::string& path, const MeshData& mesh, const WriteOptions& options) {

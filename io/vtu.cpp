@@ -1,11 +1,13 @@
 // VTK XML output for ParaView: <path>.vtu (tets, "material" cell data, one point array per
 // field) and, when the mesh lists substructures, <stem>_substructures.vtp (Lines = segments,
-// Polys = triangles, "ref" cell data; only the vertices they use).
+// Polys = triangles, "ref" cell data; only the vertices they use); without substructures, a
+// companion left from an earlier write is removed. The VTK component (io/vtk/) reads both back.
 //
 // Binary data either inline as base64 (default: a self-contained, valid XML file) or, with
 // WriteOptions::binary, appended raw after the XML (smaller and faster). Both use UInt64 block
 // headers; for base64 the header is encoded together with the data, as VTK's own writer does.
 #include <array>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <unordered_map>
@@ -253,13 +255,22 @@ void write_vtu(const std::string& path, const MeshData& m, bool binary) {
   w.finish();
 
   // A stream or device has no folder for the companion .vtp: the substructures stay out of it.
-  if ((m.triangles.empty() && m.segments.empty()) || f.is_direct()) {
+  if (f.is_direct()) {
     f.commit();
     return;
   }
   std::string stem = path;
   if (iends_with(stem, ".vtu")) stem.resize(stem.size() - 4);
-  AtomicFile sub(stem + "_substructures.vtp");
+  const std::string companion = stem + "_substructures.vtp";
+  if (m.triangles.empty() && m.segments.empty()) {
+    f.commit();
+    // A companion left from an earlier write of this stem would be read back with the new mesh
+    // (the VTK reader, topotet/io_vtk.h, attaches it).
+    std::error_code ec;
+    std::filesystem::remove(companion, ec);
+    return;
+  }
+  AtomicFile sub(companion);
   write_vtp(sub, m, binary);
   commit_all({&f, &sub});
 }

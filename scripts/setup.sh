@@ -4,8 +4,9 @@
 #   bash scripts/setup.sh            the library and the topotet CLI only: the few packages they
 #                                    need, and the targets `topotet demo` runs (README command 1)
 #   bash scripts/setup.sh --tests    everything: the test tools (gmsh, tetgen, clang for the
-#                                    fuzzers, GoogleTest), MPI and METIS, Fortran, Python; every
-#                                    target, tests and benchmarks included (README command 2, CI)
+#                                    fuzzers, GoogleTest), MPI and METIS, Fortran, Python, VTK (the
+#                                    VTK formats, io/vtk/); every target, tests and benchmarks
+#                                    included (README command 2, CI)
 # Other arguments go to the CMake configure step, e.g.
 #   bash scripts/setup.sh --tests -DTOPOTET_SANITIZE=address,undefined
 # Runs as root, or as a user with sudo, with no terminal (CI). Running the first form after the
@@ -33,6 +34,7 @@ if ((all)); then
     gfortran pkg-config pybind11-dev python3-dev python3-numpy python3-pybind11
     python3-venv python3-setuptools python3-wheel
     openmpi-bin libopenmpi-dev libmetis-dev
+    libvtk9-dev
   )
 fi
 
@@ -59,14 +61,14 @@ if ((all)); then
   # Explicit ONs: a tree first configured by the short form has these cached OFF.
   cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release \
     -DTOPOTET_BUILD_TESTS=ON -DTOPOTET_BUILD_BENCH=ON -DTOPOTET_BUILD_PYTHON=ON -DTOPOTET_BUILD_FORTRAN=ON \
-    -DTOPOTET_MPI=ON "${cmake_args[@]}"
+    -DTOPOTET_MPI=ON -DTOPOTET_VTK=ON "${cmake_args[@]}"
   cmake --build build -j "$(nproc)"
 else
   # A tree the full form configured keeps its options; a new one gets only what the CLI needs.
   options=()
   if [[ ! -f build/CMakeCache.txt ]]; then
     options=(-DTOPOTET_BUILD_TESTS=OFF -DTOPOTET_BUILD_BENCH=OFF -DTOPOTET_BUILD_PYTHON=OFF
-             -DTOPOTET_BUILD_FORTRAN=OFF -DTOPOTET_MPI=OFF)
+             -DTOPOTET_BUILD_FORTRAN=OFF -DTOPOTET_MPI=OFF -DTOPOTET_VTK=OFF)
   fi
   cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release "${options[@]}" "${cmake_args[@]}"
   cmake --build build -j "$(nproc)" --target topotet

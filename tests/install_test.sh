@@ -48,6 +48,16 @@ elif [[ -x $prefix/bin/topotet-mpi ]]; then
   echo "topotet-mpi is installed but the package has no topotet::mpi"; exit 1
 fi
 
+if [[ -x $work/consumer/convert_vtk ]]; then
+  mkdir -p "$work/vtk"
+  "$cli" generate cube-sphere --tets 3000 -o "$work/vtk/in.vtu" -q
+  "$work/consumer/convert_vtk" "$work/vtk/in.vtu" "$work/vtk/out.exo"
+  "$cli" check "$work/vtk/in.vtu" "$work/vtk/out.exo" --fast >"$work/check.log" || { cat "$work/check.log"; exit 1; }
+  echo "VTK component (topotet::io_vtk from the package): .vtu -> .exo, topology check passed"
+elif compgen -G "$prefix/lib*/libtopotet_io_vtk*" >/dev/null; then
+  echo "libtopotet_io_vtk is installed but the package has no topotet::io_vtk"; exit 1
+fi
+
 echo "--- pkg-config"
 export PKG_CONFIG_PATH=$(dirname "$pc")
 

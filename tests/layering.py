@@ -26,7 +26,7 @@ FLOORS = [
 ]
 rank = {folder: i for i, floor in enumerate(FLOORS) for folder in floor}
 # Where a quoted include is looked up, in order (the include directories the build gives).
-SEARCH = ["", "engine", "engine/include", "io/include", "generate/include", "metrics/include",
+SEARCH = ["", "engine", "engine/include", "io/include", "io/vtk/include", "generate/include", "metrics/include",
           "capi/include", "mpi/include", "mpi"]  # mpi: topotet-mpi sees exchange.h
 
 

@@ -57,6 +57,7 @@ int run(MPI_Comm comm, const MpiSimplifyArgs& args) {
   topotet::ReadOptions read_options;
   read_options.tets_only = a.tets_only;
   read_options.format = topotet::cli::format_for(a.input, a.format);
+  read_options.material_array = a.material_array;
   topotet::cli::mpi::Input input = topotet::cli::mpi::read_input(comm, a.input, 1, read_options);
   topotet::mpi::DistributedMesh& mesh = input.part;
   const std::uint64_t input_tets = input.tets;
@@ -78,7 +79,7 @@ int run(MPI_Comm comm, const MpiSimplifyArgs& args) {
     write_options.binary = a.binary;
     write_options.msh22 = a.msh22;
     write_options.format = topotet::cli::format_for(a.output, a.format);
-    topotet::write_mesh(a.output, out, write_options);
+    topotet::cli::write_mesh_file(a.output, out, write_options);
   }
   const double write_seconds = seconds() - gather_start;
   const topotet::Report& r = result.report;

@@ -84,7 +84,7 @@ void check_mpi_simplify_args(const CLI::App& app, const MpiSimplifyArgs& args) {
     throw InputError("--binary: --partitioned writes its pieces as ASCII .vtu");
   parse_format(a.format);  // a bad --format fails before reading
   // As topotet simplify does: a typo in -o or --json fails before the run, not after it.
-  if (!args.partitioned && !format_for(a.output, a.format)) format_from_path(a.output);
+  if (!args.partitioned && !format_for(a.output, a.format)) check_output_format(a.output);
   check_output_folder(a.output);
   check_output_folder(a.report);
 }

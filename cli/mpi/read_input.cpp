@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common.h"  // read_mesh_file
 #include "exchange.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
@@ -42,6 +43,7 @@ void warn_about_left_out_cells(const std::string& path, const ReadNotes& notes) 
   add(notes.hexahedra, "hexahedra");
   add(notes.prisms, "prisms");
   add(notes.pyramids, "pyramids");
+  add(notes.polyhedra, "polyhedra");
   std::fprintf(stderr, "topotet-mpi: warning: %s: --tets-only: left out %s; the output mesh covers the tets only\n",
                path.c_str(), what.c_str());
 }
@@ -50,7 +52,7 @@ void warn_about_left_out_cells(const std::string& path, const ReadNotes& notes) 
 // elements the builder leaves out dropped, so that the checker later compares like with like.
 MeshData read_checked(const std::string& path, ReadOptions options, ReadNotes* notes) {  // notes: never null
   options.keep_partitions = true;
-  MeshData data = read_mesh(path, options, notes);
+  MeshData data = read_mesh_file(path, options, notes);  // with the VTK formats when built
   warn_about_left_out_cells(path, *notes);
   BuildOptions build;
   build.skip_detached_substructures = true;

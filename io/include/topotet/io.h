@@ -1,6 +1,9 @@
 // Mesh files: MEDIT .mesh (+ .sol), Gmsh .msh (4.1 read/write, ASCII or binary; 2.x ASCII/binary
 // read), VTK .vtu (write). The format is chosen by the file extension; a trailing ".gz" is read
 // transparently (writing .gz is refused). Binary MEDIT (.meshb) is refused with a clear message.
+// The VTK formats (.vtu/.pvtu/.vtk input, Exodus II, CGNS) are the optional component
+// topotet::io_vtk (topotet/io_vtk.h: read_vtk_mesh, write_exodus, read_any_mesh); read_mesh and
+// write_mesh refuse them with a message that names it.
 //
 // read_mesh throws InputError naming the file and line ("box.mesh:12: ...", or "x.msh: byte N:"
 // inside Gmsh binary data) on malformed input; it never crashes on bad bytes. It rejects NaN/inf
@@ -50,9 +53,15 @@ struct ReadOptions {
   // Gmsh 4.1: fill ReadNotes::node_tags and ReadNotes::tet_partition (topotet-mpi reads the parts
   // of a partitioned file with them).
   bool keep_partitions = false;
+  // VTK formats only (topotet/io_vtk.h): the integer cell array that gives the materials and the
+  // refs of triangles and edges; empty = the first present of "material", "gmsh:physical",
+  // "ObjectId", "ElementBlockIds", "CellEntityIds" (Exodus: element block ids). read_mesh refuses it for the other
+  // formats, whose materials are fixed by the format.
+  std::string material_array;
 };
 struct ReadNotes {
   std::uint64_t hexahedra = 0, prisms = 0, pyramids = 0;  // left out (tets_only)
+  std::uint64_t polyhedra = 0;  // VTK polyhedra, pentagonal and hexagonal prisms: left out (tets_only)
   std::uint64_t quadrilaterals = 0;                        // left out
   std::uint64_t dropped_corners = 0;  // MEDIT Corners with an out-of-range vertex (TetGen -g): left out
   // Gmsh 4.1 partitioned files (gmsh -part N, with or without -part_split): N, from
@@ -63,7 +72,10 @@ struct ReadNotes {
   // 0 for a tet on an unpartitioned entity.
   std::vector<std::uint64_t> node_tags;
   std::vector<std::int32_t> tet_partition;
-  std::uint64_t volume_cells() const { return hexahedra + prisms + pyramids; }
+  // VTK formats: the arrays that are not carried into MeshData, one line each ("cell array
+  // 'pressure'", "point array 'name' (not numeric)"); cell data are not carried yet.
+  std::vector<std::string> unread_arrays;
+  std::uint64_t volume_cells() const { return hexahedra + prisms + pyramids + polyhedra; }
 };
 
 MeshData read_mesh(const std::string& path, const ReadOptions& options = {}, ReadNotes* notes = nullptr);
