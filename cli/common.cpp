@@ -16,7 +16,7 @@
 #include "topotet/error.h"
 #include "topotet/io.h"
 #if TOPOTET_HAVE_VTK
-#include "topotet/io_vtk.h"
+#include "vtk_loader.h"
 #endif
 
 namespace topotet::cli {
@@ -134,7 +134,10 @@ bool exodus_path(std::string_view path) {
 
 MeshData read_mesh_file(const std::string& path, const ReadOptions& options, ReadNotes* notes) {
 #if TOPOTET_HAVE_VTK
-  return read_any_mesh(path, options, notes);
+  // As topotet::read_any_mesh (topotet/io_vtk.h), through the module loaded on first use.
+  if (options.format ? *options.format == MeshFormat::kVtu : path != "-" && is_vtk_path(path))
+    return read_vtk_via_module(path, options, notes);
+  return read_mesh(path, options, notes);
 #else
   return read_mesh(path, options, notes);
 #endif
@@ -152,7 +155,8 @@ void write_mesh_file(const std::string& path, const MeshData& mesh, const WriteO
     if (!left.empty()) print_warning(path, "Exodus II output: not written: " + left);
   }
 #if TOPOTET_HAVE_VTK
-  write_any_mesh(path, mesh, options);
+  if (!options.format && is_exodus_path(path)) return write_exodus_via_module(path, mesh);
+  write_mesh(path, mesh, options);
 #else
   write_mesh(path, mesh, options);
 #endif

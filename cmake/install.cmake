@@ -56,6 +56,9 @@ endif()
 if(TARGET topotet)
   install(TARGETS topotet RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
+if(TARGET topotet_vtk)  # the tools' VTK module (cli/vtk_loader.cpp looks for it there)
+  install(TARGETS topotet_vtk LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/topotet)
+endif()
 
 install(EXPORT topotetTargets NAMESPACE topotet:: DESTINATION ${TOPOTET_CMAKE_DIR})
 configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/topotetConfig.cmake.in

@@ -86,6 +86,9 @@ void check_writable(const std::string& path, const MeshData& mesh) {
 
 }  // namespace io
 
+bool is_vtk_path(std::string_view path) { return !io::vtk_format_name(path).empty(); }
+bool is_exodus_path(std::string_view path) { return io::is_exodus_extension(path); }
+
 MeshFormat format_from_path(std::string_view path) {
   std::string_view p = path;
   if (io::iends_with(p, ".gz")) p.remove_suffix(3);

@@ -830,8 +830,6 @@ class Converter {
 
 }  // namespace
 
-bool is_vtk_path(std::string_view path) { return kind_of_path(path).has_value(); }
-bool is_exodus_path(std::string_view path) { return io::is_exodus_extension(path); }
 
 MeshData read_vtk_mesh(const std::string& path, const ReadOptions& options, ReadNotes* notes) {
   ReadNotes local;

@@ -40,6 +40,12 @@ enum class MeshFormat { kMedit, kGmsh, kVtu, kTetgen };
 // Throws InputError for an unknown extension.
 MeshFormat format_from_path(std::string_view path);
 
+// The paths of the VTK component (topotet/io_vtk.h), by extension, case-insensitive: .vtu .pvtu
+// .vtk .exo .e .ex2 .cgns (is_vtk_path: what read_vtk_mesh reads), .exo .e .ex2 (is_exodus_path:
+// what write_exodus writes). In the core so that a program can route paths without loading VTK.
+bool is_vtk_path(std::string_view path);
+bool is_exodus_path(std::string_view path);
+
 // Mixed meshes. topotet simplifies tetrahedral meshes: hexahedra, prisms and pyramids are refused
 // by default (InputError naming the file and the line of the first one), because dropping them
 // silently leaves holes in the output. With tets_only they are left out and counted in ReadNotes.

@@ -35,11 +35,7 @@
 
 namespace topotet {
 
-// True for the extensions read_vtk_mesh reads (case-insensitive): .vtu .pvtu .vtk .exo .e .ex2
-// .cgns.
-bool is_vtk_path(std::string_view path);
-// True for the extensions write_exodus writes: .exo .e .ex2.
-bool is_exodus_path(std::string_view path);
+// is_vtk_path / is_exodus_path (which paths go here) are in topotet/io.h.
 
 // Reads a VTK-format mesh. ReadOptions::format == MeshFormat::kVtu reads `path` as .vtu whatever
 // its extension ("-": standard input, without substructures). ReadOptions::material_array names the
