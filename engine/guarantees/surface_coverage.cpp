@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include <glm/geometric.hpp>
@@ -79,7 +80,7 @@ SurfaceCoverage::SurfaceCoverage(const MeshModel& mesh, const SurfaceReference& 
   for (std::uint32_t k = 0; k < holders.size(); ++k) {
     const auto& t = reference.soup().triangles[k];
     const auto& P = reference.soup().positions;
-    held(holders[k].tet).items.push_back({sorted({P[t[0]], P[t[1]], P[t[2]]}), k, 0.0f, 0, holders[k].local});
+    append(held(holders[k].tet).items, {sorted({P[t[0]], P[t[1]], P[t[2]]}), k, 0.0f, 0, holders[k].local});
   }
   const auto& segment_holders = reference.segment_holders();
   for (std::uint32_t k = 0; k < segment_holders.size(); ++k) {
@@ -232,8 +233,10 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
     if (!held_[t]) return;
     const auto& tv = mesh.tets[t];
-    for (const CoverageItem& item : held_[t]->items) {
-      if (!moves(mesh, t, item.local, u, v)) continue;
+    const auto& list = held_[t]->items;
+    for (std::size_t i = 0; i < list.size(); i += records_of(list[i])) {
+      if (!moves(mesh, t, list[i].local, u, v)) continue;
+      const CoverageItem item = decode(&list[i]);
       VertId others[3];
       int n = 0;
       bool at_u = false;
@@ -515,21 +518,34 @@ void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const st
                              const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, CoverageScratch& s) {
   // Triangles and segments alike: drop the moved items from the stencil's lists, then store the
   // placed ones with their new holder (`local` indexed the targets until now).
-  auto store = [&](auto list_of, const auto& placed, const auto& targets, auto&& moved) {
-    for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
-      if (!held_[t]) return;
-      auto& list = (*held_[t]).*list_of;
-      list.erase(std::remove_if(list.begin(), list.end(), [&](const auto& item) { return moved(mesh, t, item.local, u, v); }),
-                 list.end());
-    });
-    for (auto item : placed) {
-      const FaceHolder holder = targets[item.local].holder;
-      item.local = holder.local;
-      (held(holder.tet).*list_of).push_back(item);
+  for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
+    if (!held_[t]) return;
+    auto& items = held_[t]->items;
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < items.size();) {
+      const std::size_t n = records_of(items[i]);
+      if (!moves(mesh, t, items[i].local, u, v)) {
+        if (out != i) std::copy(items.begin() + i, items.begin() + i + n, items.begin() + out);
+        out += n;
+      }
+      i += n;
     }
-  };
-  store(&Held::items, s.placed, s.targets, moves);
-  store(&Held::segments, s.segment_placed, s.segment_targets, edge_moves);
+    items.resize(out);
+    auto& segments = held_[t]->segments;
+    segments.erase(std::remove_if(segments.begin(), segments.end(),
+                                  [&](const CoverageSegment& item) { return edge_moves(mesh, t, item.local, u, v); }),
+                   segments.end());
+  });
+  for (CoverageItem item : s.placed) {
+    const FaceHolder holder = s.targets[item.local].holder;
+    item.local = holder.local;
+    append(held(holder.tet).items, item);
+  }
+  for (CoverageSegment item : s.segment_placed) {
+    const FaceHolder holder = s.segment_targets[item.local].holder;
+    item.local = holder.local;
+    held(holder.tet).segments.push_back(item);
+  }
   // Lists only grow in capacity otherwise: free the empty ones (dead tets, faces that left the
   // surface) and trim the slack of the others.
   auto trim = [](auto& list) {
@@ -548,16 +564,39 @@ void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const st
 
 std::size_t SurfaceCoverage::item_count() const {
   std::size_t n = 0;
-  for (const auto& held : held_)
-    if (held) n += held->items.size() + held->segments.size();
+  for (const auto& held : held_) {
+    if (!held) continue;
+    n += held->segments.size();
+    for (std::size_t i = 0; i < held->items.size(); i += records_of(held->items[i])) ++n;
+  }
   return n;
+}
+
+void SurfaceCoverage::append(std::vector<ItemRecord>& list, const CoverageItem& item) {
+  list.push_back({item.triangle, item.bound, item.depth, item.local});
+  if (item.depth == 0) return;  // a whole triangle: its corners are the soup's
+  const std::size_t at = list.size();
+  list.resize(at + kCornerRecords);
+  std::memcpy(static_cast<void*>(&list[at]), item.corners.data(), sizeof(item.corners));
+}
+
+CoverageItem SurfaceCoverage::decode(const ItemRecord* head) const {
+  CoverageItem item{{}, head->triangle, head->bound, head->depth, head->local};
+  if (head->depth == 0) {
+    const auto& soup = reference_.soup();
+    const auto& t = soup.triangles[head->triangle];
+    item.corners = sorted({soup.positions[t[0]], soup.positions[t[1]], soup.positions[t[2]]});
+  } else {
+    std::memcpy(item.corners.data(), static_cast<const void*>(head + 1), sizeof(item.corners));
+  }
+  return item;
 }
 
 std::size_t SurfaceCoverage::memory_bytes() const {
   std::size_t bytes = held_.capacity() * sizeof(held_[0]);
   for (const auto& held : held_)
     if (held)
-      bytes += sizeof(Held) + held->items.capacity() * sizeof(CoverageItem) +
+      bytes += sizeof(Held) + held->items.capacity() * sizeof(ItemRecord) +
                held->segments.capacity() * sizeof(CoverageSegment);
   return bytes;
 }
