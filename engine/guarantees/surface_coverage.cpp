@@ -80,13 +80,13 @@ SurfaceCoverage::SurfaceCoverage(const MeshModel& mesh, const SurfaceReference& 
   for (std::uint32_t k = 0; k < holders.size(); ++k) {
     const auto& t = reference.soup().triangles[k];
     const auto& P = reference.soup().positions;
-    append(held(holders[k].tet).items, {sorted({P[t[0]], P[t[1]], P[t[2]]}), k, 0.0f, 0, holders[k].local});
+    append(held_[holders[k].tet], CoverageItem{sorted({P[t[0]], P[t[1]], P[t[2]]}), k, 0.0f, 0, holders[k].local});
   }
   const auto& segment_holders = reference.segment_holders();
   for (std::uint32_t k = 0; k < segment_holders.size(); ++k) {
     const auto& e = reference.soup().segments[k];
     const auto& P = reference.soup().positions;
-    held(segment_holders[k].tet).segments.push_back({less(P[e[1]], P[e[0]]) ? std::array<glm::dvec3, 2>{P[e[1]], P[e[0]]}
+    append(held_[segment_holders[k].tet], CoverageSegment{less(P[e[1]], P[e[0]]) ? std::array<glm::dvec3, 2>{P[e[1]], P[e[0]]}
                                             : std::array<glm::dvec3, 2>{P[e[0]], P[e[1]]},
                      k, 0, segment_holders[k].local});
   }
@@ -231,11 +231,10 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
     return d;
   };
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
-    if (!held_[t]) return;
     const auto& tv = mesh.tets[t];
-    const auto& list = held_[t]->items;
+    const Records& list = held_[t];
     for (std::size_t i = 0; i < list.size(); i += records_of(list[i])) {
-      if (!moves(mesh, t, list[i].local, u, v)) continue;
+      if (is_segment(list[i]) || !moves(mesh, t, list[i].local, u, v)) continue;
       const CoverageItem item = decode(&list[i]);
       VertId others[3];
       int n = 0;
@@ -408,9 +407,10 @@ bool SurfaceCoverage::place_segments(const MeshModel& mesh, VertId u, VertId v, 
   s.segment_pending.clear();
   s.segment_placed.clear();
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
-    if (!held_[t]) return;
-    for (const CoverageSegment& item : held_[t]->segments)
-      if (edge_moves(mesh, t, item.local, u, v)) s.segment_pending.push_back(item);
+    const Records& list = held_[t];
+    for (std::size_t i = 0; i < list.size(); i += records_of(list[i]))
+      if (is_segment(list[i]) && edge_moves(mesh, t, list[i].local & ~kSegment, u, v))
+        s.segment_pending.push_back(decode_segment(&list[i]));
   });
   if (s.segment_pending.empty()) return true;
   const SurfaceSoup& soup = reference_.soup();
@@ -518,66 +518,104 @@ void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const st
                              const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, CoverageScratch& s) {
   // Triangles and segments alike: drop the moved items from the stencil's lists, then store the
   // placed ones with their new holder (`local` indexed the targets until now).
+  // Drop the moved items and segments from the stencil's lists, then store the placed ones with
+  // their new holder (`local` indexed the targets until now).
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
-    if (!held_[t]) return;
-    auto& items = held_[t]->items;
+    Records& list = held_[t];
     std::size_t out = 0;
-    for (std::size_t i = 0; i < items.size();) {
-      const std::size_t n = records_of(items[i]);
-      if (!moves(mesh, t, items[i].local, u, v)) {
-        if (out != i) std::copy(items.begin() + i, items.begin() + i + n, items.begin() + out);
+    for (std::size_t i = 0; i < list.size();) {
+      const ItemRecord& head = list[i];
+      const std::size_t n = records_of(head);
+      const bool moved = is_segment(head) ? edge_moves(mesh, t, head.local & ~kSegment, u, v)
+                                          : moves(mesh, t, head.local, u, v);
+      if (!moved) {
+        for (std::size_t k = 0; k < n && out != i; ++k) list[out + k] = list[i + k];
         out += n;
       }
       i += n;
     }
-    items.resize(out);
-    auto& segments = held_[t]->segments;
-    segments.erase(std::remove_if(segments.begin(), segments.end(),
-                                  [&](const CoverageSegment& item) { return edge_moves(mesh, t, item.local, u, v); }),
-                   segments.end());
+    list.resize(out);
   });
   for (CoverageItem item : s.placed) {
     const FaceHolder holder = s.targets[item.local].holder;
     item.local = holder.local;
-    append(held(holder.tet).items, item);
+    append(held_[holder.tet], item);
   }
   for (CoverageSegment item : s.segment_placed) {
     const FaceHolder holder = s.segment_targets[item.local].holder;
     item.local = holder.local;
-    held(holder.tet).segments.push_back(item);
+    append(held_[holder.tet], item);
   }
   // Lists only grow in capacity otherwise: free the empty ones (dead tets, faces that left the
   // surface) and trim the slack of the others.
-  auto trim = [](auto& list) {
-    if (list.capacity() > list.size() + list.size() / 2 + 4) list.shrink_to_fit();
-  };
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
-    if (!held_[t]) return;
-    if (held_[t]->items.empty() && held_[t]->segments.empty()) {
-      held_[t].reset();
-      return;
-    }
-    trim(held_[t]->items);
-    trim(held_[t]->segments);
+    Records& list = held_[t];
+    if (list.capacity() > list.size() + list.size() / 2 + 4 || list.size() == 0) list.shrink_to_fit();
   });
 }
 
 std::size_t SurfaceCoverage::item_count() const {
   std::size_t n = 0;
-  for (const auto& held : held_) {
-    if (!held) continue;
-    n += held->segments.size();
-    for (std::size_t i = 0; i < held->items.size(); i += records_of(held->items[i])) ++n;
-  }
+  for (const Records& list : held_)
+    for (std::size_t i = 0; i < list.size(); i += records_of(list[i])) ++n;
   return n;
 }
 
-void SurfaceCoverage::append(std::vector<ItemRecord>& list, const CoverageItem& item) {
-  list.push_back({item.triangle, item.bound, item.depth, item.local});
-  if (item.depth == 0) return;  // a whole triangle: its corners are the soup's
+SurfaceCoverage::Records::Header SurfaceCoverage::Records::header() const {
+  Header h;
+  std::memcpy(&h, &data_[0], sizeof h);
+  return h;
+}
+
+void SurfaceCoverage::Records::set_header(std::uint32_t size, std::uint32_t capacity) {
+  const Header h{size, capacity, 0};
+  std::memcpy(&data_[0], &h, sizeof h);
+}
+
+void SurfaceCoverage::Records::resize(std::size_t n) {
+  const std::size_t old = size();
+  if (n > capacity()) {
+    const std::size_t cap = std::max(n, 2 * capacity());
+    std::unique_ptr<ItemRecord[]> grown(new ItemRecord[cap + 1]);
+    for (std::size_t i = 0; i < old; ++i) grown[i + 1] = data_[i + 1];
+    data_ = std::move(grown);
+    set_header(static_cast<std::uint32_t>(old), static_cast<std::uint32_t>(cap));
+  }
+  if (data_) set_header(static_cast<std::uint32_t>(n), header().capacity);
+}
+
+void SurfaceCoverage::Records::shrink_to_fit() {
+  const std::size_t n = size();
+  if (n == 0) {
+    data_.reset();
+    return;
+  }
+  if (n == capacity()) return;
+  std::unique_ptr<ItemRecord[]> fit(new ItemRecord[n + 1]);
+  for (std::size_t i = 0; i < n; ++i) fit[i + 1] = data_[i + 1];
+  data_ = std::move(fit);
+  set_header(static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(n));
+}
+
+void SurfaceCoverage::append(Records& list, const CoverageItem& item) {
   const std::size_t at = list.size();
-  list.resize(at + kCornerRecords);
-  std::memcpy(static_cast<void*>(&list[at]), item.corners.data(), sizeof(item.corners));
+  list.resize(at + (item.depth == 0 ? 1 : 1 + kCornerRecords));
+  list[at] = {item.triangle, item.bound, item.depth, item.local};
+  // (a whole triangle: its corners are the soup's)
+  if (item.depth > 0) std::memcpy(static_cast<void*>(&list[at + 1]), item.corners.data(), sizeof(item.corners));
+}
+
+void SurfaceCoverage::append(Records& list, const CoverageSegment& item) {
+  const std::size_t at = list.size();
+  list.resize(at + 1 + kEndRecords);
+  list[at] = {item.segment, 0.0f, item.depth, static_cast<std::uint8_t>(item.local | kSegment)};
+  std::memcpy(static_cast<void*>(&list[at + 1]), item.ends.data(), sizeof(item.ends));
+}
+
+CoverageSegment SurfaceCoverage::decode_segment(const ItemRecord* head) {
+  CoverageSegment item{{}, head->triangle, head->depth, static_cast<std::uint8_t>(head->local & ~kSegment)};
+  std::memcpy(item.ends.data(), static_cast<const void*>(head + 1), sizeof(item.ends));
+  return item;
 }
 
 CoverageItem SurfaceCoverage::decode(const ItemRecord* head) const {
@@ -594,10 +632,8 @@ CoverageItem SurfaceCoverage::decode(const ItemRecord* head) const {
 
 std::size_t SurfaceCoverage::memory_bytes() const {
   std::size_t bytes = held_.capacity() * sizeof(held_[0]);
-  for (const auto& held : held_)
-    if (held)
-      bytes += sizeof(Held) + held->items.capacity() * sizeof(ItemRecord) +
-               held->segments.capacity() * sizeof(CoverageSegment);
+  for (const Records& list : held_)
+    if (list) bytes += (list.capacity() + 1) * sizeof(ItemRecord);
   return bytes;
 }
 

@@ -132,9 +132,9 @@ class SurfaceCoverage {
   // For the tests: calls f(item) for every item (triangle piece) held by tet t.
   template <class F>
   void for_each_item(TetId t, F&& f) const {
-    if (!held_[t]) return;
-    const auto& list = held_[t]->items;
-    for (std::size_t i = 0; i < list.size(); i += records_of(list[i])) f(decode(&list[i]));
+    const Records& list = held_[t];
+    for (std::size_t i = 0; i < list.size(); i += records_of(list[i]))
+      if (!is_segment(list[i])) f(decode(&list[i]));
   }
 
   // Cuts of one item in one re-placement, and pieces per re-placement, before it is refused.
@@ -150,34 +150,58 @@ class SurfaceCoverage {
 
   // How a tet's list stores an item: 12 bytes. A whole original triangle (depth 0: most items) is
   // its index, its corners are the soup's; a piece is followed by its three corners, in
-  // kCornerRecords more records. Items stored with their corners took 88 bytes each, and moving
+  // kCornerRecords more records. A polyline segment (kSegment in `local`) is followed by its two
+  // ends, in kEndRecords records. Items stored with their corners took 88 bytes each, and moving
   // them from tet to tet left as much heap again free but held (slab 1M: 26 MB of items, 46 MB
   // free in the heap at the end of the run).
   struct ItemRecord {
-    std::uint32_t triangle;
+    std::uint32_t triangle;  // or the segment
     float bound;
     std::uint8_t depth;
     std::uint8_t local;
   };
+  static constexpr std::uint8_t kSegment = 0x80;
   static constexpr std::size_t kCornerRecords = sizeof(std::array<glm::dvec3, 3>) / sizeof(ItemRecord);
-  static_assert(sizeof(ItemRecord) == 12 && kCornerRecords * sizeof(ItemRecord) == sizeof(std::array<glm::dvec3, 3>));
-  static std::size_t records_of(const ItemRecord& head) { return head.depth == 0 ? 1 : 1 + kCornerRecords; }
-  static void append(std::vector<ItemRecord>& list, const CoverageItem& item);
+  static constexpr std::size_t kEndRecords = sizeof(std::array<glm::dvec3, 2>) / sizeof(ItemRecord);
+  static_assert(sizeof(ItemRecord) == 12 && kCornerRecords * sizeof(ItemRecord) == sizeof(std::array<glm::dvec3, 3>) &&
+                kEndRecords * sizeof(ItemRecord) == sizeof(std::array<glm::dvec3, 2>));
+  static bool is_segment(const ItemRecord& head) { return (head.local & kSegment) != 0; }
+  static std::size_t records_of(const ItemRecord& head) {
+    return is_segment(head) ? 1 + kEndRecords : head.depth == 0 ? 1 : 1 + kCornerRecords;
+  }
+
+  // A tet's records in one allocation, 8 bytes when empty: a header record (count and capacity)
+  // then the records. The 137k tets of a 1M slab that hold one triangle at the start took a
+  // 48-byte object of two vectors behind a pointer, and a block for the vector: 96 bytes of heap
+  // each where this takes 32.
+  class Records {
+   public:
+    explicit operator bool() const { return data_ != nullptr; }
+    std::size_t size() const { return data_ ? header().size : 0; }
+    std::size_t capacity() const { return data_ ? header().capacity : 0; }
+    ItemRecord& operator[](std::size_t i) { return data_[i + 1]; }
+    const ItemRecord& operator[](std::size_t i) const { return data_[i + 1]; }
+    void resize(std::size_t n);  // keeps the first min(n, size()) records
+    void shrink_to_fit();        // frees the block when empty
+    void reset() { data_.reset(); }
+
+   private:
+    struct Header {
+      std::uint32_t size, capacity, unused;
+    };
+    static_assert(sizeof(Header) == sizeof(ItemRecord));
+    Header header() const;
+    void set_header(std::uint32_t size, std::uint32_t capacity);
+    std::unique_ptr<ItemRecord[]> data_;
+  };
+  static void append(Records& list, const CoverageItem& item);
+  static void append(Records& list, const CoverageSegment& item);
   CoverageItem decode(const ItemRecord* head) const;  // the item whose records start at head
+  static CoverageSegment decode_segment(const ItemRecord* head);
 
   const SurfaceReference& reference_;
   double h_;
-  // What a tet's faces and edges hold. One pointer per tet (8 bytes), null for the many tets
-  // that hold nothing: per-tet lists of each kind took twice that.
-  struct Held {
-    std::vector<ItemRecord> items;
-    std::vector<CoverageSegment> segments;
-  };
-  std::vector<std::unique_ptr<Held>> held_;  // [tet]
-  Held& held(TetId t) {
-    if (!held_[t]) held_[t] = std::make_unique<Held>();
-    return *held_[t];
-  }
+  std::vector<Records> held_;  // [tet] what its faces and edges hold
 };
 
 }  // namespace topotet
