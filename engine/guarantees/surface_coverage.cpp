@@ -516,8 +516,6 @@ void SurfaceCoverage::cut(const CoverageSegment& item, int label, CoverageScratc
 
 void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
                              const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, CoverageScratch& s) {
-  // Triangles and segments alike: drop the moved items from the stencil's lists, then store the
-  // placed ones with their new holder (`local` indexed the targets until now).
   // Drop the moved items and segments from the stencil's lists, then store the placed ones with
   // their new holder (`local` indexed the targets until now).
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
