@@ -38,6 +38,13 @@ std::array<glm::dvec3, 3> sorted(std::array<glm::dvec3, 3> q) {
   return q;
 }
 
+// The corners of a whole original triangle, as every item of depth 0 has them: a stored whole
+// triangle keeps only its index, so this is also how its corners are read back.
+std::array<glm::dvec3, 3> whole_corners(const SurfaceSoup& soup, std::uint32_t triangle) {
+  const auto& t = soup.triangles[triangle];
+  return sorted({soup.positions[t[0]], soup.positions[t[1]], soup.positions[t[2]]});
+}
+
 // A float not below x (bounds are stored as floats and must stay upper bounds).
 float round_up(double x) {
   const auto f = static_cast<float>(x);
@@ -77,11 +84,8 @@ void for_each_stencil_tet(const std::vector<TetId>& star_u, const std::vector<Te
 SurfaceCoverage::SurfaceCoverage(const MeshModel& mesh, const SurfaceReference& reference, double h)
     : reference_(reference), h_(h), held_(mesh.tet_capacity()) {
   const auto& holders = reference.triangle_holders();
-  for (std::uint32_t k = 0; k < holders.size(); ++k) {
-    const auto& t = reference.soup().triangles[k];
-    const auto& P = reference.soup().positions;
-    append(held_[holders[k].tet], CoverageItem{sorted({P[t[0]], P[t[1]], P[t[2]]}), k, 0.0f, 0, holders[k].local});
-  }
+  for (std::uint32_t k = 0; k < holders.size(); ++k)
+    append(held_[holders[k].tet], CoverageItem{whole_corners(reference.soup(), k), k, 0.0f, 0, holders[k].local});
   const auto& segment_holders = reference.segment_holders();
   for (std::uint32_t k = 0; k < segment_holders.size(); ++k) {
     const auto& e = reference.soup().segments[k];
@@ -310,7 +314,6 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
     s.order.clear();
     for (std::uint32_t i = 0; i < s.pending.size(); ++i) s.order.push_back({s.pending[i].triangle, i});
     std::sort(s.order.begin(), s.order.end());
-    const auto& P = soup.positions;
     s.healed_items.clear();
     for (std::size_t i = 0; i < s.order.size();) {
       std::size_t j = i + 1;
@@ -320,8 +323,7 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
       int heal = -1;
       double heal_d = 0.0;
       const std::uint32_t tri = s.order[i].first;
-      const auto& t = soup.triangles[tri];
-      const std::array<glm::dvec3, 3> whole = sorted({P[t[0]], P[t[1]], P[t[2]]});
+      const std::array<glm::dvec3, 3> whole = whole_corners(soup, tri);
       if (pieces) {
         const int label = static_cast<int>(soup.triangle_label[tri]);
         for (std::size_t k = i; k < j; ++k) {
@@ -527,7 +529,7 @@ void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const st
       const bool moved = is_segment(head) ? edge_moves(mesh, t, head.local & ~kSegment, u, v)
                                           : moves(mesh, t, head.local, u, v);
       if (!moved) {
-        for (std::size_t k = 0; k < n && out != i; ++k) list[out + k] = list[i + k];
+        if (out != i) std::copy_n(&list[i], n, &list[out]);  // out < i: a forward copy is safe
         out += n;
       }
       i += n;
@@ -570,29 +572,24 @@ void SurfaceCoverage::Records::set_header(std::uint32_t size, std::uint32_t capa
   std::memcpy(&data_[0], &h, sizeof h);
 }
 
+void SurfaceCoverage::Records::reallocate(std::size_t capacity) {
+  const std::size_t n = size();  // <= capacity: callers only grow it or fit it
+  std::unique_ptr<ItemRecord[]> block(new ItemRecord[capacity + 1]);
+  if (n > 0) std::copy_n(&data_[1], n, &block[1]);
+  data_ = std::move(block);
+  set_header(static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(capacity));
+}
+
 void SurfaceCoverage::Records::resize(std::size_t n) {
-  const std::size_t old = size();
-  if (n > capacity()) {
-    const std::size_t cap = std::max(n, 2 * capacity());
-    std::unique_ptr<ItemRecord[]> grown(new ItemRecord[cap + 1]);
-    for (std::size_t i = 0; i < old; ++i) grown[i + 1] = data_[i + 1];
-    data_ = std::move(grown);
-    set_header(static_cast<std::uint32_t>(old), static_cast<std::uint32_t>(cap));
-  }
+  if (n > capacity()) reallocate(std::max(n, 2 * capacity()));
   if (data_) set_header(static_cast<std::uint32_t>(n), header().capacity);
 }
 
 void SurfaceCoverage::Records::shrink_to_fit() {
-  const std::size_t n = size();
-  if (n == 0) {
+  if (size() == 0)
     data_.reset();
-    return;
-  }
-  if (n == capacity()) return;
-  std::unique_ptr<ItemRecord[]> fit(new ItemRecord[n + 1]);
-  for (std::size_t i = 0; i < n; ++i) fit[i + 1] = data_[i + 1];
-  data_ = std::move(fit);
-  set_header(static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(n));
+  else if (size() < capacity())
+    reallocate(size());
 }
 
 void SurfaceCoverage::append(Records& list, const CoverageItem& item) {
@@ -618,13 +615,10 @@ CoverageSegment SurfaceCoverage::decode_segment(const ItemRecord* head) {
 
 CoverageItem SurfaceCoverage::decode(const ItemRecord* head) const {
   CoverageItem item{{}, head->triangle, head->bound, head->depth, head->local};
-  if (head->depth == 0) {
-    const auto& soup = reference_.soup();
-    const auto& t = soup.triangles[head->triangle];
-    item.corners = sorted({soup.positions[t[0]], soup.positions[t[1]], soup.positions[t[2]]});
-  } else {
+  if (head->depth == 0)
+    item.corners = whole_corners(reference_.soup(), head->triangle);
+  else
     std::memcpy(item.corners.data(), static_cast<const void*>(head + 1), sizeof(item.corners));
-  }
   return item;
 }
 

@@ -183,7 +183,6 @@ class SurfaceCoverage {
     const ItemRecord& operator[](std::size_t i) const { return data_[i + 1]; }
     void resize(std::size_t n);  // keeps the first min(n, size()) records
     void shrink_to_fit();        // frees the block when empty
-    void reset() { data_.reset(); }
 
    private:
     struct Header {
@@ -192,6 +191,7 @@ class SurfaceCoverage {
     static_assert(sizeof(Header) == sizeof(ItemRecord));
     Header header() const;
     void set_header(std::uint32_t size, std::uint32_t capacity);
+    void reallocate(std::size_t capacity);  // a block of that capacity, the records kept
     std::unique_ptr<ItemRecord[]> data_;
   };
   static void append(Records& list, const CoverageItem& item);
