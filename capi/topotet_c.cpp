@@ -289,6 +289,7 @@ void topotet_options_init(topotet_options* options) {
   options->field_weight_count = 0;
   options->field_weight_names = nullptr;
   options->field_weights = nullptr;
+  options->optimize = static_cast<int>(d.optimize);
 }
 
 topotet_status topotet_mesh_build(const topotet_mesh_arrays* arrays, int num_threads, topotet_mesh** mesh) {
@@ -356,6 +357,8 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
     o.feature_angle = c.feature_angle;
     o.max_field_error = c.max_field_error;
     o.max_field_error_rel = c.max_field_error_rel;
+    if (c.optimize < 0 || c.optimize > 2) return fail(TOPOTET_INVALID_INPUT, "optimize must be 0 (none), 1 (light) or 2 (full)");
+    o.optimize = static_cast<topotet::Optimize>(c.optimize);
     if (c.field_weight_count < 0) return fail(TOPOTET_INVALID_INPUT, "field_weight_count must be >= 0");
     if (c.field_weight_count > 0 && (c.field_weight_names == nullptr || c.field_weights == nullptr))
       return fail(TOPOTET_INVALID_INPUT, "field_weight_names and field_weights must not be NULL when field_weight_count > 0");
@@ -389,6 +392,8 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
       report->rejected_field_error = static_cast<std::int64_t>(r.rejected_by(RejectReason::kFieldError));
       report->feature_edges = static_cast<std::int64_t>(r.feature_edges);
       report->feature_corners = static_cast<std::int64_t>(r.feature_corners);
+      report->optimize_moves = static_cast<std::int64_t>(r.optimize_moves);
+      report->optimize_flips = static_cast<std::int64_t>(r.optimize_flips);
       if (r.stop.is_filled) {
         const topotet::StopDiagnosis& d = r.stop;
         const auto i64 = [](std::uint64_t x) { return static_cast<std::int64_t>(x); };

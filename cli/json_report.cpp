@@ -38,7 +38,9 @@ Json quality_json(const QualityStats& q) {
           {"std_dev_face_rad", q.face_deg.std_dev * kRadiansPerDegree},
           {"min_mean_ratio", q.mean_ratio.min},
           {"inverted_tets", q.inverted},
-          {"zero_volume_tets", q.zero_volume}};
+          {"zero_volume_tets", q.zero_volume},
+          {"tets_under_10_deg", q.under_10_deg},
+          {"tets_under_5_deg", q.under_5_deg}};
 }
 
 Json topology_report_json(const topotet::TopologyReport& r) { return Json::parse(topotet::topology_to_json(r)); }

@@ -86,6 +86,11 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
   keep(cmd->add_option("--feature-ref", args.feature_ref,
                        "Also write the detected feature curves as edges (MEDIT ridges) with this ref, their corners "
                        "as corners (to inspect them)"));
+  keep(cmd->add_option("--optimize", args.optimize,
+                       "After the collapses, move the interior vertices of badly shaped tets to better places: "
+                       "none, light (tets below mean ratio 0.3, 8 passes) or full (below 0.4, 32 passes)")
+           ->check(CLI::IsMember({"none", "light", "full"}))
+           ->capture_default_str());
   keep(cmd->add_flag("--sequential", args.sequential, "Use the sequential reference engine (lazy priority queue)"));
   keep(cmd->add_option("--threads", args.threads, "Threads (0 = all cores; the output is the same for every value)")
            ->check(whole_number_at_least(0))
@@ -171,6 +176,7 @@ SimplifyOptions engine_options(const SimplifyArgs& args) {
   o.track_field_bounds = args.field_bounds;
   o.feature_angle = args.feature_angle;
   o.engine = args.sequential ? Engine::kSequential : Engine::kParallel;
+  o.optimize = args.optimize == "none" ? Optimize::kNone : (args.optimize == "full" ? Optimize::kFull : Optimize::kLight);
   o.num_threads = args.threads;
   o.round_fraction = args.round_fraction;
   for (const std::string& entry : args.field_weights) {
@@ -199,6 +205,7 @@ std::string options_text(const SimplifyOptions& o, const std::vector<double>& le
                              : std::string(", no tolerance");
   s += o.feature_angle < 180.0 ? ", feature angle " + format_number(o.feature_angle) : std::string(", no features");
   if (o.engine == Engine::kParallel) s += ", round fraction " + format_number(o.round_fraction);
+  s += std::string(", optimize ") + to_string(o.optimize);
   s += ", boundary weight " + format_number(o.boundary_weight) + ", polyline weight " + format_number(o.polyline_weight);
   for (const auto& [name, weight] : o.field_weights) s += ", weight of " + name + " " + format_number(weight);
   return s;

@@ -39,6 +39,7 @@ struct SimplifyArgs {
   bool no_field_bounds = false;  // --hierarchy without the bounds (cheaper; levels by cost)
   double feature_angle = SimplifyOptions{}.feature_angle;
   std::optional<std::int32_t> feature_ref;
+  std::string optimize = to_string(SimplifyOptions{}.optimize);  // --optimize none|light|full
   bool sequential = false;
   int threads = 0;
   double round_fraction = SimplifyOptions{}.round_fraction;

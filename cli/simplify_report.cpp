@@ -116,6 +116,11 @@ Json level_json(const LevelResult& l) {
   j["feature_turns"] = r.feature_turns;
   j["feature_scale"] = r.feature_scale;
   j["feature_seconds"] = r.feature_seconds;
+  j["optimize_moves"] = r.optimize_moves;
+  j["optimize_candidates"] = r.optimize_candidates;
+  j["optimize_passes"] = r.optimize_passes;
+  j["optimize_flips"] = r.optimize_flips;
+  j["optimize_seconds"] = r.optimize_seconds;
   j["stopped"] = stop_report_json(r);
   j["surface_distance"] = l.measured ? surface_distance_json(l.distance) : Json(nullptr);
   j["surface_distance_seconds"] = l.distance_seconds;
@@ -292,8 +297,16 @@ void print_quality(const SimplifyRun& run) {
   row("quality", "std dev dihedral/solid/face " + angles_text(run.input_quality) + " -> " + angles_text(last.quality) +
                      " (rad/sr/rad)");
   row("", "min mean ratio " + format_number(run.input_quality.mean_ratio.min) + " -> " +
-              format_number(last.quality.mean_ratio.min) + ", inverted tets " + std::to_string(last.quality.inverted) +
-              " (" + format_seconds(run.times.input_quality + last.quality_seconds) + ")");
+              format_number(last.quality.mean_ratio.min) + ", min dihedral " +
+              format_number(run.input_quality.dihedral_deg.min) + " -> " + format_number(last.quality.dihedral_deg.min) +
+              " degrees, inverted tets " + std::to_string(last.quality.inverted) + " (" +
+              format_seconds(run.times.input_quality + last.quality_seconds) + ")");
+  const auto share = [](std::size_t n, std::size_t of) { return format_number(of ? 100.0 * static_cast<double>(n) / static_cast<double>(of) : 0.0); };
+  row("", "tets with a dihedral under 10 degrees " + format_count(run.input_quality.under_10_deg) + " (" +
+              share(run.input_quality.under_10_deg, run.input_quality.tet_count) + "%) -> " +
+              format_count(last.quality.under_10_deg) + " (" + share(last.quality.under_10_deg, last.quality.tet_count) +
+              "%), under 5 degrees " + format_count(run.input_quality.under_5_deg) + " -> " +
+              format_count(last.quality.under_5_deg));
   if (last.field_error) {
     row("fields", field_text(*last.field_error) + " (" + format_seconds(last.field_error_seconds) + ")");
     if (verbosity() >= Verbosity::kVerbose) print_field_components(*last.field_error);
@@ -310,6 +323,14 @@ void print_features(const SimplifyJob& job, const SimplifyRun& run) {
                       " degrees), " + format_count(corners) + " corners pinned (found in " +
                       format_seconds(run.levels.front().report.feature_seconds) + ")" +
                       (job.feature_ref ? "; written as edges with ref " + std::to_string(*job.feature_ref) : ""));
+}
+
+void print_optimize(const SimplifyJob& job, const Report& r) {
+  row("optimize", std::string(to_string(job.options.optimize)) + ": " + format_count(r.optimize_moves) +
+                      " vertex moves in " + std::to_string(r.optimize_passes) + " passes, from " +
+                      format_count(r.optimize_candidates) + " free vertices of badly shaped tets; " +
+                      format_count(r.optimize_flips) + " face and edge flips (" +
+                      format_seconds(r.optimize_seconds) + ")");
 }
 
 void print_tolerance(const SimplifyJob& job, const Report& r) {
@@ -399,6 +420,7 @@ Json options_json(const SimplifyJob& job, const SimplifyRun& run) {
           {"max_field_error", job.options.max_field_error},
           {"max_field_error_rel", job.options.max_field_error_rel},
           {"feature_angle", job.options.feature_angle},
+          {"optimize", to_string(job.options.optimize)},
           {"field_weights", job.options.field_weights},
           {"verify", run.verify},
           {"metrics", job.metrics}};
@@ -417,6 +439,7 @@ void print_report(const SimplifyJob& job, const SimplifyRun& run) {
     print_memory(run);
     if (job.levels.empty() && job.metrics) print_quality(run);
     if (job.options.feature_angle < 180.0) print_features(job, run);
+    if (job.levels.empty() && job.options.optimize != Optimize::kNone && job.hierarchy_path.empty()) print_optimize(job, r);
     if (job.levels.empty() && r.tolerance > 0) print_tolerance(job, r);
     if (job.levels.empty() && r.field_bounds) print_field_bounds(job, last);
     if (job.levels.empty() && job.metrics)

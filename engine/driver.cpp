@@ -16,6 +16,7 @@
 #include "features/features.h"
 #include "mesh/reorder.h"
 #include "mesh/special_faces.h"
+#include "optimize/optimize.h"
 #include "guarantees/surface_tolerance.h"
 #include "stop_diagnosis.h"
 #include "topotet/features.h"
@@ -31,6 +32,15 @@ const char* to_string(Status status) {
     case Status::kOutOfMemory: return "out_of_memory";
     case Status::kCancelled: return "cancelled";
     case Status::kInternalError: return "internal_error";
+  }
+  return "?";
+}
+
+const char* to_string(Optimize optimize) {
+  switch (optimize) {
+    case Optimize::kNone: return "none";
+    case Optimize::kLight: return "light";
+    case Optimize::kFull: return "full";
   }
   return "?";
 }
@@ -193,10 +203,20 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
         report.field_bounds_setup_seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
       }
+      // Once the collapses are done, with the engine's cost model: why the run stopped early (it
+      // tries collapses on the mesh as the collapses left it, with the coverage, which knows that
+      // mesh's tets), then the optimisation. Not with a collapse log: a hierarchy's levels are
+      // collapse sequences, and a moved vertex would make its finest level differ from the output.
+      const detail::FinishStep finish = [&](CostModel& cost) {
+        if (report.status == Status::kStoppedEarly && report.message == "no legal collapse left" &&
+            mesh.live_vertex_count() > target)
+          detail::diagnose_stop(mesh, options, kernel, report);  // Report::stop: why, and what to change
+        if (log == nullptr) optimize_after_collapses(mesh, options, cost, bounds.get(), report);
+      };
       if (options.engine == Engine::kSequential)
-        detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report, log);
+        detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report, log, finish);
       else
-        detail::simplify_parallel(mesh, options, kernel, bounds.get(), target, report, log);
+        detail::simplify_parallel(mesh, options, kernel, bounds.get(), target, report, log, finish);
       if (bounds != nullptr) {
         report.field_bound = bounds->max_bounds(mesh);
         report.field_bound_rel = bounds->max_bound_rel(mesh);
@@ -208,9 +228,6 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
       }
       // Once, at the end: renumbering mid-run would have to remap every per-vertex array of the
       // engines (proposals, quadrics, orders) for a locality gain the runs here did not need.
-      if (report.status == Status::kStoppedEarly && report.message == "no legal collapse left" &&
-          mesh.live_vertex_count() > target)
-        detail::diagnose_stop(mesh, options, kernel, report);  // Report::stop: why, and what to change
       if (report.status == Status::kStoppedEarly && report.tolerance > 0.0 &&
           report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)] > 0 &&
           report.message == "no legal collapse left") {

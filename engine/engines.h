@@ -4,8 +4,10 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
+#include "cost/cost.h"
 #include "kernel/collapse.h"
 #include "hierarchy/hierarchy_log.h"
 #include "mesh/mesh_model.h"
@@ -30,15 +32,21 @@ class Progress {
   std::uint64_t start_, target_;
 };
 
+// What the driver does once the collapses are done, while the engine's cost model still lives
+// (the stop diagnosis, then the optimisation of optimize/optimize.h, which needs the quadrics).
+using FinishStep = std::function<void(CostModel&)>;
+
 // `kernel` carries the kernel settings derived from the options (quality floor, tolerance, the
 // field bound limits); `bounds` (kernel.field_bounds, writable; nullptr = none) is updated by
 // every applied collapse. `log`, when given, records every accepted collapse (hierarchy_log.h),
-// with the field bound of its new star when `bounds` is given.
+// with the field bound of its new star when `bounds` is given. `finish` (may be empty) runs at the
+// end unless the run was cancelled.
 void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
                          FieldBounds* bounds, std::uint64_t target_vertices, Report& report,
-                         CollapseLog* log = nullptr);
+                         CollapseLog* log = nullptr, const FinishStep& finish = {});
 void simplify_parallel(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                       FieldBounds* bounds, std::uint64_t target_vertices, Report& report, CollapseLog* log = nullptr);
+                       FieldBounds* bounds, std::uint64_t target_vertices, Report& report, CollapseLog* log = nullptr,
+                       const FinishStep& finish = {});
 
 // simplify() with a collapse log (topotet::simplify_with_hierarchy). new2old receives the
 // locality renumbering (reorder.h) that the log's vertex ids are in (old = the mesh as passed).

@@ -580,6 +580,11 @@ class Rounds {
     for (VertId v : dirty_list_) dirty_[v] = Dirty::kPropose;
   }
 
+
+ public:
+  CostModel& cost() { return cost_; }  // for the optimisation after the run (optimize/smooth.h)
+
+ private:
   MeshModel& mesh_;
   FieldBounds* bounds_;  // nullptr = none; each collapse updates its own stencil's bounds
   SurfaceCoverage* coverage_;  // nullptr = none; each collapse moves its own stencil's surface items
@@ -617,9 +622,11 @@ class Rounds {
 }  // namespace
 
 void simplify_parallel(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                       FieldBounds* bounds, std::uint64_t target, Report& report, CollapseLog* log) {
+                       FieldBounds* bounds, std::uint64_t target, Report& report, CollapseLog* log,
+                       const FinishStep& finish) {
   Rounds rounds(mesh, options, kernel, bounds, target, report, log);
   rounds.run();
+  if (finish && report.status != Status::kCancelled) finish(rounds.cost());
 }
 
 }  // namespace topotet::detail

@@ -46,7 +46,8 @@ struct Entry {
 }  // namespace
 
 void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel_options,
-                         FieldBounds* bounds, std::uint64_t target, Report& report, CollapseLog* log) {
+                         FieldBounds* bounds, std::uint64_t target, Report& report, CollapseLog* log,
+                         const FinishStep& finish) {
   CostModel cost(mesh, options, kernel_options.surfaces);
   CollapseScratch scratch;
   CollapseCandidate cands[4];
@@ -98,7 +99,7 @@ void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const 
     if (options.max_cost > 0.0 && e.cost > options.max_cost) {
       report.status = Status::kStoppedEarly;
       report.message = "the cheapest remaining collapse costs more than max_cost";
-      return;
+      break;
     }
     const int n = cost.candidates(mesh, e.a, e.b, cands, scratch.link);
     ++report.evaluations;
@@ -193,10 +194,11 @@ void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const 
     }
   }
   progress.update(live);
-  if (live > target) {
+  if (live > target && report.status == Status::kOk) {
     report.status = Status::kStoppedEarly;
     report.message = "no legal collapse left";
   }
+  if (finish) finish(cost);
 }
 
 }  // namespace topotet::detail

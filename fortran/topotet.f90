@@ -66,6 +66,7 @@ module topotet
     real(c_double) :: feature_angle, max_field_error, max_field_error_rel
     integer(c_int) :: field_weight_count
     type(c_ptr) :: field_weight_names, field_weights  ! c_loc of c_ptr / real(c_double) arrays
+    integer(c_int) :: optimize  ! 0 = none, 1 = light (default), 2 = full
   end type
 
   type, bind(c), public :: topotet_report
@@ -82,6 +83,7 @@ module topotet
     integer(c_int64_t) :: pinned_corners, pinned_required, pinned_features, pinned_other
     real(c_double) :: stop_dominant_share
     character(kind=c_char) :: stop_dominant(16), stop_suggestion(512)  ! NUL-terminated
+    integer(c_int64_t) :: optimize_moves, optimize_flips
   end type
 
   public :: topotet_mesh_arrays_init, topotet_options_init, topotet_mesh_build, topotet_mesh_read, &

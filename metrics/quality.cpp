@@ -102,16 +102,16 @@ struct Moments {
 
 struct BlockSums {
   ShiftedSums dihedral, solid, face, mean_ratio;
-  std::size_t inverted = 0, zero_volume = 0;
+  std::size_t inverted = 0, zero_volume = 0, under_10 = 0, under_5 = 0;
 };
 
 struct BlockSummary {
   Moments dihedral, solid, face, mean_ratio;
-  std::size_t inverted = 0, zero_volume = 0;
+  std::size_t inverted = 0, zero_volume = 0, under_10 = 0, under_5 = 0;
 
   static BlockSummary of(const BlockSums& s) {
     return {Moments::of(s.dihedral), Moments::of(s.solid), Moments::of(s.face), Moments::of(s.mean_ratio),
-            s.inverted, s.zero_volume};
+            s.inverted, s.zero_volume, s.under_10, s.under_5};
   }
   void merge(const BlockSummary& o) {
     dihedral.merge(o.dihedral);
@@ -120,6 +120,8 @@ struct BlockSummary {
     mean_ratio.merge(o.mean_ratio);
     inverted += o.inverted;
     zero_volume += o.zero_volume;
+    under_10 += o.under_10;
+    under_5 += o.under_5;
   }
 };
 
@@ -186,7 +188,13 @@ void add_tet(const std::array<glm::dvec3, 4>& p, BlockSums& s) {
   double angle[18];
   for (int i = 0; i < 18; ++i) angle[i] = metrics::detail::atan2_nonnegative(y[i], x[i]);
 
-  for (int k = 0; k < 6; ++k) s.dihedral.add(angle[k] * kDeg);
+  double smallest = angle[0] * kDeg;
+  for (int k = 0; k < 6; ++k) {
+    s.dihedral.add(angle[k] * kDeg);
+    smallest = std::min(smallest, angle[k] * kDeg);
+  }
+  if (smallest < 10.0) ++s.under_10;
+  if (smallest < 5.0) ++s.under_5;
   for (int i = 0; i < 4; ++i) s.solid.add(2.0 * angle[6 + i]);
   // The third angle of a triangle is pi minus the other two, unless an edge has zero length (then
   // all three are 0).
@@ -245,6 +253,8 @@ QualityStats compute_quality(const MeshData& mesh) {
   q.mean_ratio = total.mean_ratio.stats();
   q.inverted = total.inverted;
   q.zero_volume = total.zero_volume;
+  q.under_10_deg = total.under_10;
+  q.under_5_deg = total.under_5;
   return q;
 }
 

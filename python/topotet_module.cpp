@@ -279,6 +279,8 @@ py::dict report_dict(const topotet::Report& r) {
   d["tolerance"] = r.tolerance;
   d["feature_edges"] = r.feature_edges;
   d["feature_corners"] = r.feature_corners;
+  d["optimize_moves"] = r.optimize_moves;
+  d["optimize_flips"] = r.optimize_flips;
   d["stopped"] = stop_dict(r.stop);
   return d;
 }
@@ -290,7 +292,7 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
                   const py::object& segment_refs, const py::object& corners, double feature_angle,
                   const std::map<std::string, double>& field_weights, double max_field_error,
                   double max_field_error_rel, double boundary_weight, double polyline_weight, double round_fraction,
-                  const std::optional<std::string>& hierarchy) {
+                  const std::optional<std::string>& hierarchy, const std::string& optimize) {
   std::vector<py::array> keep;
   keep.reserve(4 + (fields.is_none() ? 0 : py::len(fields)));  // the views point into these arrays
   const topotet::MeshView input =
@@ -310,6 +312,14 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   options.boundary_weight = boundary_weight;
   options.polyline_weight = polyline_weight;
   options.round_fraction = round_fraction;
+  if (optimize == "none")
+    options.optimize = topotet::Optimize::kNone;
+  else if (optimize == "light")
+    options.optimize = topotet::Optimize::kLight;
+  else if (optimize == "full")
+    options.optimize = topotet::Optimize::kFull;
+  else
+    throw py::value_error("optimize must be 'none', 'light' or 'full', got '" + optimize + "'");
   // As `topotet simplify --hierarchy`: with fields, each collapse records its field error bound, so
   // that extract(max_error=...) selects by a guaranteed error, not by a cost.
   if (hierarchy && !fields.is_none()) options.track_field_bounds = true;
@@ -382,11 +392,12 @@ PYBIND11_MODULE(topotet, m) {
         py::arg("max_field_error") = defaults.max_field_error, py::arg("max_field_error_rel") = defaults.max_field_error_rel,
         py::arg("boundary_weight") = defaults.boundary_weight, py::arg("polyline_weight") = defaults.polyline_weight,
         py::arg("round_fraction") = defaults.round_fraction, py::arg("hierarchy") = py::none(),
+        py::arg("optimize") = topotet::to_string(defaults.optimize),
         "Simplifies the mesh, keeping its topology and that of every substructure. The options and their "
         "defaults are topotet::SimplifyOptions': the geometric tolerance (tolerance_rel, 0.4% of the diagonal; "
         "0 turns it off), features at feature_angle degrees (180 turns them off), field_weights {name: weight}, "
         "field error limits (max_field_error in the field's units, max_field_error_rel relative to its range; "
-        "0 = none). hierarchy='h.tth' also records every collapse into that file (topotet.extract reads levels "
+        "0 = none), optimize ('none', 'light' or 'full': smoothing and flips after the collapses). hierarchy='h.tth' also records every collapse into that file (topotet.extract reads levels "
         "from it; vertex_map is then None). Returns a dict: points, tets, materials, triangles, triangle_refs, segments, segment_refs, "
         "corners, fields, vertex_map (for every input point, the output point it merged into) and report.");
   m.def(

@@ -96,6 +96,7 @@ int main(void) {
   /* The library's defaults, guarantees included: the same call gives the same run as C++ and the CLI. */
   CHECK(options.tolerance_rel == 0.004 && options.tolerance == 0.0 && options.feature_angle == 45.0);
   CHECK(options.max_field_error == 0.0 && options.max_field_error_rel == 0.0 && options.field_weight_count == 0);
+  CHECK(options.optimize == 1); /* light */
   options.target_vertex_ratio = 0.3;
   options.num_threads = 2;
   static const char* weighted[] = {"temperature"};

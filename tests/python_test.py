@@ -59,6 +59,14 @@ check(abs(rep["tolerance"] - 0.004 * diag) <= 1e-9 * diag, f"default tolerance {
 check(rep["feature_edges"] > 0, "the box's edges are features by default")
 off = topotet.simplify(points, tets, materials=materials, ratio=0.3, threads=1, tolerance_rel=0.0, feature_angle=180.0)
 check(off["report"]["tolerance"] == 0.0 and off["report"]["feature_edges"] == 0, "guarantees off on request")
+plain = topotet.simplify(points, tets, materials=materials, ratio=0.3, threads=1, optimize="none")["report"]
+check(plain["optimize_moves"] == 0 and plain["optimize_flips"] == 0, "optimize='none' moves and flips nothing")
+check(rep["optimize_moves"] + rep["optimize_flips"] >= 0, "the report counts the optimisation")
+try:
+    topotet.simplify(points, tets, optimize="heavy")
+    check(False, "an unknown optimize level is an error")
+except ValueError as e:
+    check("heavy" in str(e), f"message names the value: {e}")
 limited = topotet.simplify(points, tets, materials=materials, fields={"u": field}, ratio=0.05, threads=1,
                            field_weights={"u": 2.0}, max_field_error_rel=1e-6)["report"]
 check(limited["rejected"]["field_error"] > 0 and limited["status"] == "stopped_early", f"field limit {limited['rejected']}")
@@ -84,10 +92,14 @@ check(vmap.shape == (len(points),), "map size")
 check(vmap.min() >= 0 and vmap.max() < nv, "every input vertex maps to a live output vertex")
 check(len(np.unique(vmap)) == nv, "every output vertex is some input vertex")
 # Collapses only rename vertices: the output tets are the input tets renamed through the map, less
-# those whose four images are not distinct.
+# those whose four images are not distinct. The flips of the optimisation make new tets, so this
+# holds without it; the map is the same with it (it moves no vertex between input ids).
+plain = topotet.simplify(points_f32, tets_i32, materials=materials, fields={"u": field}, ratio=0.3, threads=1,
+                         corners=box_corners, optimize="none")
+check(np.array_equal(plain["vertex_map"], vmap), "the optimisation leaves the vertex map as it is")
 renamed = np.sort(vmap[tets], axis=1)
 renamed = renamed[(np.diff(renamed, axis=1) != 0).all(axis=1)]
-output_tets = np.sort(out["tets"], axis=1)
+output_tets = np.sort(plain["tets"], axis=1)
 check(len(renamed) == len(output_tets), "as many renamed input tets as output tets")
 check(np.array_equal(renamed[np.lexsort(renamed.T[::-1])], output_tets[np.lexsort(output_tets.T[::-1])]),
       "the output tets are the input tets renamed through the vertex map")

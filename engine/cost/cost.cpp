@@ -450,6 +450,35 @@ void CostModel::fields_at(const MeshModel& mesh, const CollapseCandidate& c, dou
   }
 }
 
+void CostModel::fields_at_point(const MeshModel& mesh, VertId v, const glm::dvec3& p, double* out) const {
+  if (stride_ == 0) return;
+  // A "collapse" of v with itself at p: every tet of St(v) is searched for p, and the quadric's
+  // best field values at p (v's current ones where its field block cannot be trusted) are blended in.
+  CollapseCandidate c;
+  c.u = v;
+  c.v = v;
+  c.p = p;
+  c.placement = kOptimum;
+  normalise(mesh, v, c.x);
+  const glm::dvec3 x = (p - origin_) * inv_diag_;
+  c.x[0] = x.x;
+  c.x[1] = x.y;
+  c.x[2] = x.z;
+  quadric_minimize_fields(quadric(v), n_, c.x);
+  fields_at(mesh, c, out);
+}
+
+double CostModel::point_cost(const MeshModel& mesh, VertId v, const glm::dvec3& p) const {
+  double x[kMaxQuadricDim];
+  normalise(mesh, v, x);
+  const glm::dvec3 y = (p - origin_) * inv_diag_;
+  x[0] = y.x;
+  x[1] = y.y;
+  x[2] = y.z;
+  quadric_minimize_fields(quadric(v), n_, x);
+  return quadric_eval(quadric(v), n_, x);
+}
+
 void CostModel::prefetch(VertId v) const {
   const double* record = quadric(v);
   for (std::size_t offset = 0; offset < record_size_; offset += 8) topotet::prefetch(record + offset);  // 64-byte lines

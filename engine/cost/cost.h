@@ -138,6 +138,14 @@ class CostModel {
   // Field values (mesh units, field_stride() of them) for u after collapsing with candidate c.
   void fields_at(const MeshModel& mesh, const CollapseCandidate& c, double* out) const;
 
+  // Field values (mesh units) for vertex v moved to p without a collapse (optimize/smooth.h): as
+  // fields_at for a placement at p, from v's own quadric and the mesh's field at p in v's star.
+  void fields_at_point(const MeshModel& mesh, VertId v, const glm::dvec3& p, double* out) const;
+  // v's quadric error were it at p with the best field values there (normalised units, as costs).
+  double point_cost(const MeshModel& mesh, VertId v, const glm::dvec3& p) const;
+  // Bookkeeping after v moved (and took new field values) without a collapse: its normalised
+  // coordinates follow. Writes only v's record.
+  void on_move(const MeshModel& mesh, VertId v) { normalise(mesh, v, coordinates(v)); }
   // Asks the memory system for what edge_cost / candidates will read about v (see prefetch.h).
   void prefetch(VertId v) const;
 

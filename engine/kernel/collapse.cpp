@@ -9,6 +9,7 @@
 #include <span>
 #include <stdexcept>
 
+#include "mesh/moved_corner.h"
 #include "mesh/orient.h"
 #include "mesh/prefetch.h"
 
@@ -143,18 +144,6 @@ bool gather_stars(const MeshModel& mesh, VertId u, VertId v, CollapseScratch& s)
 
 namespace {
 
-// (mean ratio)^3 = 15552 V^2 / S^3 (signed like V): monotone in the mean ratio, and free of the
-// cube root, which dominated the quality check.
-double mean_ratio_cubed(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
-  const double vol = signed_volume6(a, b, c, d) / 6.0;
-  const glm::dvec3 e[6] = {b - a, c - a, d - a, c - b, d - b, d - c};
-  double s = 0.0;
-  for (const glm::dvec3& x : e) s += x.x * x.x + x.y * x.y + x.z * x.z;
-  if (!(s > 0.0)) return 0.0;
-  const double q3 = 15552.0 * vol * vol / (s * s * s);
-  return vol < 0.0 ? -q3 : q3;
-}
-
 // Worst (cubed) mean ratio of St(u) ∪ St(v) before the collapse.
 double old_star_quality(const MeshModel& mesh, const CollapseScratch& s) {
   const auto& P = mesh.positions;
@@ -172,38 +161,19 @@ double old_star_quality(const MeshModel& mesh, const CollapseScratch& s) {
 }
 
 // The geometric test of one placement reads, for every tet of the new star, only the three corners
-// that stay and p. Writing the moving corner second, (a, p, c, d) is an even permutation of the
-// tet's corners (a, c, d = kTetFaces[corner]), so its orientation is
-//     det[p - a, c - a, d - a] = (p - a) . ((c - a) x (d - a)),
-// which is orient3d_sign(a, p, c, d) term by term: the cross product and the permanent's matching
-// terms are the same for every placement and are computed once per edge. The certified sign is
-// therefore exactly orient3d_sign's. Quality needs the six squared edge lengths, three of them fixed.
+// that stay and p (mesh/moved_corner.h).
 void prepare_moved_tet(const MeshModel& mesh, CollapseScratch& s, std::size_t i) {
   const auto& P = mesh.positions;
   const auto& [t, corner, at] = s.new_star[i];
   const auto& tv = mesh.tets[t];
-  CollapseScratch::MovedTet& m = s.moved[i];
-  m.a = P[tv[kTetFaces[corner][0]]];
-  m.c = P[tv[kTetFaces[corner][1]]];
-  m.d = P[tv[kTetFaces[corner][2]]];
-  const double bdx = m.c.x - m.a.x, bdy = m.c.y - m.a.y, bdz = m.c.z - m.a.z;
-  const double cdx = m.d.x - m.a.x, cdy = m.d.y - m.a.y, cdz = m.d.z - m.a.z;
-  const double m1 = bdy * cdz, m2 = bdz * cdy, m3 = bdz * cdx, m4 = bdx * cdz, m5 = bdx * cdy, m6 = bdy * cdx;
-  m.normal = {m1 - m2, m3 - m4, m5 - m6};
-  m.normal_bound = {std::fabs(m1) + std::fabs(m2), std::fabs(m3) + std::fabs(m4), std::fabs(m5) + std::fabs(m6)};
-  const double ex = m.d.x - m.c.x, ey = m.d.y - m.c.y, ez = m.d.z - m.c.z;
-  m.fixed_edges_sq = (bdx * bdx + bdy * bdy + bdz * bdz) + (cdx * cdx + cdy * cdy + cdz * cdz) + (ex * ex + ey * ey + ez * ez);
+  s.moved[i] = prepare_moved_corner(P[tv[kTetFaces[corner][0]]], P[tv[kTetFaces[corner][1]]], P[tv[kTetFaces[corner][2]]]);
 }
 
 // Places the moving corner of every new tet at p. Returns false when a tet would be inverted or
-// flat (sign not certainly positive); otherwise `worst_q3` is the worst (mean ratio)^3 of the new
-// star, with (mean ratio)^3 = 15552 V^2 / S^3 = 432 det^2 / S^3 (S the sum of squared edge
-// lengths): monotone in the mean ratio and free of the cube root.
+// flat (sign not certainly positive); otherwise `worst_q3` is the worst (mean ratio)^3 of the new star.
 // Most placements fail on one of the first tets, so the per-tet data is prepared lazily: tet i
 // is prepared the first time a placement of this edge gets that far.
 bool new_star_geometry(const MeshModel& mesh, CollapseScratch& s, const glm::dvec3& p, VertId staying, double& worst_q3) {
-  constexpr double eps = std::numeric_limits<double>::epsilon() * 0.5;
-  constexpr double bound = 4.0 * (7.0 + 56.0 * eps) * eps;  // orient3d_sign's (orient.cpp)
   double worst = 1.0;
   if (s.moved.size() < s.new_star.size()) s.moved.resize(s.new_star.size());
   if (s.prepared.size() < s.new_star.size()) s.prepared.resize(s.new_star.size(), 0);
@@ -215,12 +185,8 @@ bool new_star_geometry(const MeshModel& mesh, CollapseScratch& s, const glm::dve
       prepare_moved_tet(mesh, s, i);
       s.prepared[i] = 1;
     }
-    const CollapseScratch::MovedTet& m = s.moved[i];
-    const double adx = p.x - m.a.x, ady = p.y - m.a.y, adz = p.z - m.a.z;
-    const double det = adx * m.normal.x + ady * m.normal.y + adz * m.normal.z;
-    const double permanent =
-        std::fabs(adx) * m.normal_bound.x + std::fabs(ady) * m.normal_bound.y + std::fabs(adz) * m.normal_bound.z;
-    if (!(det > bound * permanent)) {  // also false for NaN and infinities
+    double q3 = 0.0;
+    if (!moved_corner_quality(s.moved[i], p, q3)) {
       // The next placement is likely to fail on the same tet: test it first (move to front).
       if (i != 0) {
         std::swap(s.new_star[i], s.new_star[0]);
@@ -229,10 +195,6 @@ bool new_star_geometry(const MeshModel& mesh, CollapseScratch& s, const glm::dve
       }
       return false;
     }
-    const glm::dvec3 pc = p - m.c, pd = p - m.d;
-    const double edges_sq = m.fixed_edges_sq + (adx * adx + ady * ady + adz * adz) +
-                            (pc.x * pc.x + pc.y * pc.y + pc.z * pc.z) + (pd.x * pd.x + pd.y * pd.y + pd.z * pd.z);
-    const double q3 = edges_sq > 0.0 ? 432.0 * det * det / (edges_sq * edges_sq * edges_sq) : 0.0;
     worst = std::min(worst, q3);
   }
   worst_q3 = worst;

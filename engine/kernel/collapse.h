@@ -22,6 +22,7 @@
 #include "guarantees/surface_coverage.h"
 #include "guarantees/surface_tolerance.h"
 #include "mesh/mesh_model.h"
+#include "mesh/moved_corner.h"
 
 namespace topotet {
 
@@ -84,15 +85,9 @@ struct CollapseScratch {
   };
   std::vector<NewStarTet> new_star;
   // The same tets seen from the moving corner, with everything that does not depend on p
-  // precomputed (see MovedTet in collapse.cpp): a placement then costs ~30 flops per tet.
+  // precomputed (mesh/moved_corner.h): a placement then costs ~30 flops per tet.
   // Filled on demand by the geometric test (moved[i] is ready when prepared[i]; gather_stars resets).
-  struct MovedTet {
-    glm::dvec3 a, c, d;        // the three fixed corners, in the order that makes (a, p, c, d) positive
-    glm::dvec3 normal;         // (c - a) x (d - a), rounded exactly as orient3d_sign rounds it
-    glm::dvec3 normal_bound;   // the matching terms of orient3d_sign's permanent
-    double fixed_edges_sq;     // |c - a|^2 + |d - a|^2 + |d - c|^2
-  };
-  std::vector<MovedTet> moved;
+  std::vector<MovedCorner> moved;
   std::vector<std::uint8_t> prepared;
   LinkScratch link;
   // Flagged faces and edges through u after the collapse (v renamed to u), keyed by their other

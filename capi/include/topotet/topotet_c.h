@@ -122,6 +122,7 @@ typedef struct topotet_options {
   int field_weight_count;     /* entries below; 0 = every field weighs 1 in the cost */
   const char* const* field_weight_names; /* field names (as topotet_mesh_field_info gives them) */
   const double* field_weights;           /* their weights, >= 0 */
+  int optimize;               /* after the collapses: 0 = none, 1 = light (default), 2 = full */
 } topotet_options;
 
 /* Same counters as topotet::Report. */
@@ -148,6 +149,7 @@ typedef struct topotet_report {
   double stop_dominant_share;
   char stop_dominant[16];    /* "topology", "pinned", "inversion", "quality", "tolerance", ... */
   char stop_suggestion[512]; /* NUL-terminated (cut to fit) */
+  int64_t optimize_moves, optimize_flips; /* the optimisation: vertices moved, 2-3 and 3-2 flips */
 } topotet_report;
 
 typedef struct topotet_mesh topotet_mesh;

@@ -41,6 +41,13 @@ enum class Engine : std::uint8_t {
   kSequential,  // the reference: one lazy priority queue (engine/sequential.cpp)
 };
 
+// Mesh improvement after the collapses (issue #26): the interior vertices of stars with a tet below
+// a mean ratio move to better places (engine/optimize/smooth.h), then 2-3 and 3-2 flips replace
+// such tets inside one material (engine/optimize/swap.h); both say why every guarantee holds.
+// none; light = tets below 0.3, 4 smoothing and 4 flip passes; full = below 0.4, 32 and 16 passes.
+enum class Optimize : std::uint8_t { kNone, kLight, kFull };
+const char* to_string(Optimize optimize);  // "none", "light", "full"
+
 // The default geometric tolerance, relative to the bounding box diagonal (SimplifyOptions).
 inline constexpr double kDefaultToleranceRel = 0.004;
 
@@ -122,6 +129,10 @@ struct SimplifyOptions {
   double max_field_error_rel = 0.0;
   bool track_field_bounds = false;
   Engine engine = Engine::kParallel;
+  // Smoothing of the interior vertices of badly shaped stars after the collapses (Optimize above).
+  // Not run when the collapses are recorded for a hierarchy (simplify_with_hierarchy): its levels
+  // are collapse sequences, and a moved vertex would make the finest level differ from the output.
+  Optimize optimize = Optimize::kLight;
   int num_threads = 0;  // 0 = the caller's current task arena; the output is identical for every value
   // Parallel rounds: about this fraction of the cheapest proposals is verified and competes in
   // one round. Smaller means closer to the greedy order and fewer verified proposals that lose to
@@ -217,6 +228,12 @@ struct Report {
   std::vector<float> tet_field_bound;
   std::uint64_t field_bounds_bytes = 0;  // memory the bounds took (field_bounds.h)
   double field_bounds_setup_seconds = 0.0;
+  // The optimisation after the collapses (SimplifyOptions::optimize): vertices moved, passes run,
+  // free vertices of bad stars it started from, face and edge flips made, and its time (included
+  // in `seconds`).
+  std::uint64_t optimize_moves = 0, optimize_candidates = 0, optimize_flips = 0;
+  int optimize_passes = 0;
+  double optimize_seconds = 0.0;
   StopDiagnosis stop;  // why a run stopped before its target (above)
 };
 

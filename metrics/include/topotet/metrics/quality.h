@@ -52,6 +52,10 @@ struct QualityStats {
   // flat, or flat to within rounding); `inverted` ones have a certified negative sign.
   std::size_t inverted = 0;
   std::size_t zero_volume = 0;
+  // Tets with a dihedral angle under 10 and under 5 degrees: the slivers a solver pays for (the
+  // thresholds issue #26 measures against a remesher).
+  std::size_t under_10_deg = 0;
+  std::size_t under_5_deg = 0;
   friend bool operator==(const QualityStats&, const QualityStats&) = default;
 };
 

@@ -1,0 +1,40 @@
+// The optimisation after the collapses (see optimize.h).
+#include "optimize/optimize.h"
+
+#include <chrono>
+
+#include "optimize/smooth.h"
+#include "optimize/swap.h"
+
+namespace topotet {
+
+void optimize_after_collapses(MeshModel& mesh, const SimplifyOptions& options, CostModel& cost, FieldBounds* bounds,
+                              Report& report) {
+  if (options.optimize == Optimize::kNone) return;
+  const auto start = std::chrono::steady_clock::now();
+  const bool full = options.optimize == Optimize::kFull;
+  SmoothOptions smooth;
+  SwapOptions swap;
+  smooth.target_quality = swap.target_quality = full ? 0.4 : 0.3;
+  smooth.max_passes = full ? 8 : 2;
+  swap.max_passes = full ? 4 : 2;
+  // Smoothing and flips alternate: a flip changes the stars a smoothing could not improve, a move
+  // makes flips possible that were not.
+  const int rounds = full ? 4 : 2;
+  for (int round = 0; round < rounds; ++round) {
+    const SmoothStats moved = smooth_vertices(mesh, smooth, &cost, bounds);
+    if (round == 0) report.optimize_candidates = moved.candidates;
+    report.optimize_moves += moved.moves;
+    report.optimize_passes += moved.passes;
+    std::uint64_t flips = 0;
+    if (bounds == nullptr) {
+      const SwapStats swapped = swap_bad_tets(mesh, swap);
+      flips = swapped.flips_23 + swapped.flips_32;
+      report.optimize_flips += flips;
+    }
+    if (moved.moves == 0 && flips == 0) break;
+  }
+  report.optimize_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace topotet

@@ -1,0 +1,59 @@
+// Vertex smoothing after the collapses (issue #26): interior vertices of badly shaped stars move to
+// where the worst tet of their star is better, so that fewer slivers reach a solver.
+//
+// Which vertices. Only *free* ones: live, not pinned or frozen, every tet of the star of one
+// material, no surface face and no polyline edge through the vertex, and not on the boundary
+// (every face through it is shared by two tets of its star). Such a vertex lies on no substructure,
+// so moving it inside its star (no tet of the star inverts) changes neither the topology of the
+// mesh nor that of any substructure, nor any surface: the tolerance proof and the coverage are
+// untouched. Vertices on surfaces and curves stay where the collapses put them (constrained moves
+// would have to re-prove the tolerance; not done).
+//
+// Where to. The move maximises the star's worst (mean ratio)^3 (mesh/moved_corner.h): first the
+// centroid of the link (Laplacian) if it is better, then steps along the gradient of the worst tets'
+// log quality (the tets within 1% of the worst: the direction that lifts them together), each
+// accepted only when the star's worst tet improves and every tet stays certainly positive. So the
+// worst quality of the mesh never decreases, and a move never inverts a tet.
+//
+// Fields. The moved vertex takes the values of the mesh's field at its new point, interpolated in
+// the tet of its old star that holds the point (the star does not change as a point set: the
+// move keeps the link's polyhedron star-shaped from the new point). Linear fields stay exact.
+// With field error bounds (guarantees/field_bounds.h) the move re-locates the samples of the star
+// like a collapse without removed tets; under a limit a move that would exceed it is not made.
+//
+// Determinism. Passes of: evaluate every candidate (read-only, parallel); select the candidates
+// whose key (worst quality of the star, vertex id) is the smallest among the candidates they share
+// a tet with (two winners never share a tet, so their moves commute); apply the winners
+// (parallel, each writes its own vertex and its star's bounds). The next pass evaluates the losers,
+// the winners and the winners' neighbours. The result is the same for every thread count.
+#pragma once
+
+#include <cstdint>
+
+#include "cost/cost.h"
+#include "guarantees/field_bounds.h"
+#include "mesh/mesh_model.h"
+
+namespace topotet {
+
+struct SmoothOptions {
+  // Vertices whose star has a tet below this mean ratio are smoothed (1 = regular tet).
+  double target_quality = 0.3;
+  int max_passes = 4;
+};
+
+struct SmoothStats {
+  std::uint64_t candidates = 0;  // free vertices of bad stars at the start
+  std::uint64_t moves = 0;       // moves applied over all passes
+  int passes = 0;
+};
+
+// Nothing else may touch the mesh during the call; runs in the caller's task arena. `cost` (may be
+// nullptr: the field is then interpolated) gives a moved vertex its field values and follows it.
+SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostModel* cost, FieldBounds* bounds);
+
+
+// The vertex lies on no substructure and not on the boundary, and may move (see above).
+bool is_free_vertex(const MeshModel& mesh, VertId v);
+
+}  // namespace topotet
