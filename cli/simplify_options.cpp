@@ -88,7 +88,8 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
                        "as corners (to inspect them)"));
   keep(cmd->add_option("--optimize", args.optimize,
                        "After the collapses, move the interior vertices of badly shaped tets to better places: "
-                       "none, light (tets below mean ratio 0.3, 8 passes) or full (below 0.4, 32 passes)")
+                       "none, light (tets below mean ratio 0.4: one smoothing pass, then face and edge flips) or full "
+                       "(6 rounds of 2 smoothing passes and the flips; more field error)")
            ->check(CLI::IsMember({"none", "light", "full"}))
            ->capture_default_str());
   keep(cmd->add_flag("--sequential", args.sequential, "Use the sequential reference engine (lazy priority queue)"));

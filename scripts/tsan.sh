@@ -8,7 +8,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTOPOTET_SANITIZE=thread \
   -DTOPOTET_BUILD_BENCH=OFF -DTOPOTET_BUILD_CLI=OFF
 tests=(unit_simplify unit_vertex_map unit_tet_mesh unit_mesh_view unit_generate property_hierarchy)
-cmake --build build-tsan -j "$(nproc)" --target "${tests[@]}" unit_field_bounds unit_surface_tolerance
+cmake --build build-tsan -j "$(nproc)" --target "${tests[@]}" unit_field_bounds unit_surface_tolerance property_optimize
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
 for t in "${tests[@]}"; do
   echo "--- TSan: $t"
@@ -22,4 +22,7 @@ build-tsan/tests/unit_field_bounds --gtest_brief=1 --gtest_filter='FieldBounds.S
 # The tolerance's surface items (engine/guarantees/surface_coverage.h) move in the parallel apply phase.
 echo "--- TSan: unit_surface_tolerance (parallel engine with the tolerance, 1/2/4 threads)"
 build-tsan/tests/unit_surface_tolerance --gtest_brief=1 --gtest_filter='SimplifyTolerance.ParallelOutputIsIdenticalForEveryThreadCount'
+# The smoothing after the collapses (engine/optimize/smooth.h) moves vertices in parallel.
+echo "--- TSan: property_optimize (smoothing and flips after the parallel engine, 1 and 2 threads)"
+build-tsan/tests/property_optimize --gtest_brief=1 --gtest_filter='*seed1_half_light:*seed7_small_full'
 echo "TSan: no data race reported"

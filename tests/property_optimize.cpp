@@ -1,5 +1,5 @@
 // The optimisation after the collapses (SimplifyOptions::optimize; engine/optimize/): smoothing of
-// free vertices and 2-3 / 3-2 flips.
+// free vertices, 2-3 flips and edge removals.
 //
 // Property (every planted mesh, several jitter seeds, two targets, light and full): the run with
 // the optimisation keeps the Betti numbers of the mesh and of every substructure (the independent
@@ -7,7 +7,7 @@
 // moves only free vertices (interior of one material, on no substructure) and keeps every other
 // vertex, its field values, every listed triangle and segment exactly; and it gives the same mesh
 // for 1 and 2 threads.
-// Unit: a planted sliver is improved, not kept; a 2-3 and a 3-2 flip happen where they lift the
+// Unit: a planted sliver is improved, not kept; a 2-3 flip and a 3-2 edge removal happen where they lift the
 // worst tet, and not across a listed face or between two materials.
 #include <gtest/gtest.h>
 
@@ -165,7 +165,7 @@ void expect_one_flip(double h, bool three, std::uint64_t SwapStats::*kind, std::
   const SwapStats stats = swap_bad_tets(m, SwapOptions{});
   compact(m);
   EXPECT_EQ(stats.*kind, 1u);
-  EXPECT_EQ(stats.flips_23 + stats.flips_32, 1u);
+  EXPECT_EQ(stats.flips_23 + stats.edge_removals, 1u);
   EXPECT_EQ(m.live_tet_count(), tets_after);
   const MeshData out = m.to_mesh_data();
   EXPECT_GT(compute_quality(out).mean_ratio.min, before);
@@ -177,7 +177,7 @@ void expect_one_flip(double h, bool three, std::uint64_t SwapStats::*kind, std::
 TEST(OptimizeSwap, TwoThreeFlipWhereItLiftsTheWorstTet) { expect_one_flip(0.05, false, &SwapStats::flips_23, 3); }
 
 // h = 2: three needles around a long axis (0.24); the two tets on the triangle are better (0.68).
-TEST(OptimizeSwap, ThreeTwoFlipWhereItLiftsTheWorstTet) { expect_one_flip(2.0, true, &SwapStats::flips_32, 2); }
+TEST(OptimizeSwap, ThreeTwoFlipWhereItLiftsTheWorstTet) { expect_one_flip(2.0, true, &SwapStats::edge_removals, 2); }
 
 TEST(OptimizeSwap, NoFlipAcrossAListedFaceOrBetweenMaterials) {
   MeshData listed = bipyramid(0.05, false);
@@ -189,9 +189,9 @@ TEST(OptimizeSwap, NoFlipAcrossAListedFaceOrBetweenMaterials) {
   MeshModel b = build_mesh_model(two);
   EXPECT_EQ(swap_bad_tets(b, SwapOptions{}).flips_23, 0u);
   MeshData edge = bipyramid(2.0, true);
-  edge.segments.push_back({{3, 4}, 9});  // the axis is a polyline: the 3-2 flip would remove it
+  edge.segments.push_back({{3, 4}, 9});  // the axis is a polyline: the edge removal would remove it
   MeshModel c = build_mesh_model(edge);
-  EXPECT_EQ(swap_bad_tets(c, SwapOptions{}).flips_32, 0u);
+  EXPECT_EQ(swap_bad_tets(c, SwapOptions{}).edge_removals, 0u);
 }
 
 TEST(OptimizeSwap, FlipsKeepTheFlagsOfTheFacesTheyKeep) {

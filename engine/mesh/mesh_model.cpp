@@ -119,6 +119,23 @@ void compact(MeshModel& m) {
   rebuild_incidence(m);
 }
 
+void compact_tets(MeshModel& m) {
+  TetId nt_new = 0;
+  for (TetId t = 0; t < m.tets.size(); ++t) {
+    if (m.is_dead_tet(t)) continue;
+    m.tets[nt_new] = m.tets[t];
+    m.material[nt_new] = m.material[t];
+    m.flags[nt_new] = m.flags[t];
+    m.tet_refs_slot[nt_new] = m.tet_refs_slot[t];
+    ++nt_new;
+  }
+  m.tets.resize(nt_new);
+  m.material.resize(nt_new);
+  m.flags.resize(nt_new);
+  m.tet_refs_slot.resize(nt_new);
+  rebuild_incidence(m);
+}
+
 namespace {
 
 template <std::size_t N>

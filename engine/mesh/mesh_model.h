@@ -185,4 +185,8 @@ void rebuild_incidence(MeshModel& mesh);
 // rebuilds the incidence and packs the side table.
 void compact(MeshModel& mesh);
 
+// Drops dead tets only (vertex ids, and everything keyed by them, stay), then rebuilds the
+// incidence. Whatever is keyed by tet ids (field bounds, coverage) is invalid afterwards.
+void compact_tets(MeshModel& mesh);
+
 }  // namespace topotet

@@ -38,8 +38,8 @@ namespace topotet {
 
 struct SmoothOptions {
   // Vertices whose star has a tet below this mean ratio are smoothed (1 = regular tet).
-  double target_quality = 0.3;
-  int max_passes = 4;
+  double target_quality = 0.4;
+  int max_passes = 1;
 };
 
 struct SmoothStats {

@@ -3,6 +3,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
+#include <functional>
+#include <queue>
 #include <tuple>
 #include <vector>
 
@@ -106,20 +110,86 @@ bool contains(const std::array<VertId, 4>& tv, VertId x) {
   return tv[0] == x || tv[1] == x || tv[2] == x || tv[3] == x;
 }
 
-// One flip: the tets it replaces and the tets it makes (3 -> 2 or 2 -> 3).
+// Edge removal handles rings of up to this many tets (Catalan(5) = 42 triangulations of the ring's
+// heptagon, searched by dynamic programming): longer rings are rare around the bad tets.
+constexpr int kMaxRing = 7;
+
+// One flip: the tets it replaces and the tets it makes (edge removal n -> 2n - 4, or 2 -> 3).
 struct Flip {
-  std::array<TetId, 3> old{kInvalid, kInvalid, kInvalid};
+  std::array<TetId, kMaxRing> old{};
   int old_count = 0;
-  std::array<std::array<VertId, 4>, 3> made{};
+  std::array<std::array<VertId, 4>, 2 * kMaxRing - 4> made{};
   int made_count = 0;
   double quality = 0.0;  // the worst (mean ratio)^3 of the tets it makes
 };
 
-class Swapper {
- public:
-  explicit Swapper(MeshModel& m) : m_(m), touched_(m.vertex_capacity(), 0) {}
+// Applies a flip: writes the new tets into the old slots (appending the extra ones, killing the
+// unused ones), with the flags of the region, and marks every vertex of the region as touched.
+void apply_flip(MeshModel& m, const Flip& f, RegionFlags& region, std::vector<std::uint8_t>& touched) {
+  region.clear();
+  const std::int32_t material = m.material[f.old[0]];
+  for (int i = 0; i < f.old_count; ++i) {
+    region.add(m, f.old[static_cast<std::size_t>(i)]);
+    for (VertId x : m.tets[f.old[static_cast<std::size_t>(i)]]) touched[x] = 1;
+  }
+  for (int i = 0; i < f.made_count; ++i) {
+    const TetId slot = i < f.old_count ? f.old[static_cast<std::size_t>(i)] : static_cast<TetId>(m.tets.size());
+    write_tet(m, slot, f.made[static_cast<std::size_t>(i)], material, region);
+  }
+  for (int i = f.made_count; i < f.old_count; ++i) {
+    const TetId t = f.old[static_cast<std::size_t>(i)];
+    m.flags[t] = tet_flag::kDead;
+    m.tet_refs_slot[t] = kInvalid;
+  }
+}
 
-  void reset() { std::fill(touched_.begin(), touched_.end(), 0); }
+// The tets of each vertex, kept exact through every flip (the mesh's own incidence has no room for
+// a star that grows), so that one pass can flip next to an earlier flip.
+using Stars = std::vector<std::vector<TetId>>;
+
+// The piecewise-linear field of `tets` at x (the tet holding x: the largest smallest barycentric
+// coordinate; x lies in their union), component c of stride k.
+double interpolate(const MeshModel& m, const std::array<VertId, 4>* tets, int count, const glm::dvec3& x, int k, int c) {
+  const auto& P = m.positions;
+  double best = -std::numeric_limits<double>::infinity(), value = 0.0;
+  for (int i = 0; i < count; ++i) {
+    const auto& tv = tets[i];
+    const double total = signed_volume6(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]);
+    if (!(total > 0.0)) continue;
+    std::array<double, 4> l{signed_volume6(x, P[tv[1]], P[tv[2]], P[tv[3]]) / total,
+                            signed_volume6(P[tv[0]], x, P[tv[2]], P[tv[3]]) / total,
+                            signed_volume6(P[tv[0]], P[tv[1]], x, P[tv[3]]) / total, 0.0};
+    l[3] = 1.0 - l[0] - l[1] - l[2];
+    const double lo = std::min(std::min(l[0], l[1]), std::min(l[2], l[3]));
+    if (lo <= best) continue;
+    best = lo;
+    value = 0.0;
+    for (int j = 0; j < 4; ++j) value += l[static_cast<std::size_t>(j)] * m.field_values[static_cast<std::size_t>(tv[j]) * k + c];
+  }
+  return value;
+}
+
+// Finds the best flip that removes a tet. Reads the mesh and the stars only.
+class FlipFinder {
+ public:
+  FlipFinder(const MeshModel& m, const Stars& stars, const SwapOptions& options) : m_(m), stars_(stars) {
+    // Each field component's range over the live vertices: the unit of max_field_change.
+    const int k = m.field_stride();
+    std::vector<double> lo(static_cast<std::size_t>(k), std::numeric_limits<double>::infinity());
+    std::vector<double> hi(static_cast<std::size_t>(k), -std::numeric_limits<double>::infinity());
+    for (VertId v = 0; v < m.vertex_capacity(); ++v) {
+      if (m.is_dead_vertex(v)) continue;
+      for (int c = 0; c < k; ++c) {
+        const double f = m.field_values[static_cast<std::size_t>(v) * k + c];
+        lo[static_cast<std::size_t>(c)] = std::min(lo[static_cast<std::size_t>(c)], f);
+        hi[static_cast<std::size_t>(c)] = std::max(hi[static_cast<std::size_t>(c)], f);
+      }
+    }
+    for (int c = 0; c < k; ++c) {
+      const double range = hi[static_cast<std::size_t>(c)] - lo[static_cast<std::size_t>(c)];
+      allowed_.push_back(range > 0.0 ? options.max_field_change * range : 0.0);
+    }
+  }
 
   // The best flip that removes tet t (worst quality q), if one beats q.
   bool best_flip(TetId t, double q, Flip& best) {
@@ -127,55 +197,74 @@ class Swapper {
     bool found = false;
     const auto& tv = m_.tets[t];
     for (VertId x : tv)
-      if (touched_[x] || m_.is_frozen(x)) return false;
+      if (m_.is_frozen(x)) return false;
     Flip f;
     for (int e = 0; e < 6; ++e)
-      if (edge_flip(t, tv[kTetEdges[e][0]], tv[kTetEdges[e][1]], f) && f.quality > best.quality) {
+      if (edge_flip(t, tv[kTetEdges[e][0]], tv[kTetEdges[e][1]], best.quality, f) && field_kept(f)) {
         best = f;
         found = true;
       }
     for (int k = 0; k < 4; ++k)
-      if (face_flip(t, k, f) && f.quality > best.quality) {
+      if (face_flip(t, k, best.quality, f) && field_kept(f)) {
         best = f;
         found = true;
       }
     return found;
   }
 
-  void apply(const Flip& f) {
-    region_.clear();
-    const std::int32_t material = m_.material[f.old[0]];
-    for (int i = 0; i < f.old_count; ++i) {
-      region_.add(m_, f.old[static_cast<std::size_t>(i)]);
-      for (VertId x : m_.tets[f.old[static_cast<std::size_t>(i)]]) touched_[x] = 1;
-    }
-    for (int i = 0; i < f.made_count; ++i) {
-      const TetId slot = i < f.old_count ? f.old[static_cast<std::size_t>(i)] : static_cast<TetId>(m_.tets.size());
-      write_tet(m_, slot, f.made[static_cast<std::size_t>(i)], material, region_);
-    }
-    for (int i = f.made_count; i < f.old_count; ++i) {
-      const TetId t = f.old[static_cast<std::size_t>(i)];
-      m_.flags[t] = tet_flag::kDead;
-      m_.tet_refs_slot[t] = kInvalid;
-    }
+ private:
+  // Does the flip change the field by at most the allowed amount? The difference of the old and
+  // new interpolants is piecewise linear over their common refinement, largest where their edges
+  // cross the other's faces; it is measured at the centroids and edge midpoints of the old and the
+  // new tets (each located in the other triangulation), which include the midpoint of the edge a
+  // flip removes or makes and the centroid of the face it removes or makes.
+  bool field_kept(const Flip& f) {
+    const int k = m_.field_stride();
+    if (k == 0) return true;
+    old_.clear();
+    for (int i = 0; i < f.old_count; ++i) old_.push_back(m_.tets[f.old[static_cast<std::size_t>(i)]]);
+    const auto& P = m_.positions;
+    const auto check = [&](const std::array<VertId, 4>* from, int from_count, const std::array<VertId, 4>* to, int to_count) {
+      for (int i = 0; i < from_count; ++i) {
+        const auto& tv = from[i];
+        points_.clear();
+        points_.push_back(0.25 * (P[tv[0]] + P[tv[1]] + P[tv[2]] + P[tv[3]]));
+        for (const auto& e : kTetEdges) points_.push_back(0.5 * (P[tv[e[0]]] + P[tv[e[1]]]));
+        for (int f3 = 0; f3 < 4; ++f3)
+          points_.push_back((P[tv[kTetFaces[f3][0]]] + P[tv[kTetFaces[f3][1]]] + P[tv[kTetFaces[f3][2]]]) / 3.0);
+        for (const glm::dvec3& x : points_)
+          for (int c = 0; c < k; ++c) {
+            const double a = interpolate(m_, from, from_count, x, k, c), b = interpolate(m_, to, to_count, x, k, c);
+            if (std::fabs(a - b) > allowed_[static_cast<std::size_t>(c)]) return false;
+          }
+      }
+      return true;
+    };
+    return check(old_.data(), f.old_count, f.made.data(), f.made_count) &&
+           check(f.made.data(), f.made_count, old_.data(), f.old_count);
   }
 
- private:
-  // 3 -> 2 around edge ab of tet t: ab has exactly three tets, one material, a closed ring pqr, and
-  // neither ab nor a face through it is flagged.
-  bool edge_flip(TetId t, VertId a, VertId b, Flip& f) {
+  // Edge removal around edge ab of tet t (3 -> 2 is its smallest case): ab has n <= kMaxRing tets,
+  // one material, a closed ring r_0 .. r_{n-1} of vertices, and neither ab nor a face through it is
+  // flagged. The ring polygon is triangulated (no diagonal may already be an edge of the mesh) and
+  // each triangle pqr gives the tets pqra and qprb: the triangulation with the best worst tet wins
+  // (dynamic programming over sub-polygons, as in Shewchuk's edge removal).
+  // Only triangulations whose worst tet beats `floor` count (a tet at or below it is not even
+  // tested for orientation: most candidate tets are, and that saves the robust predicate).
+  bool edge_flip(TetId t, VertId a, VertId b, double floor, Flip& f) {
     ring_.clear();
     bool ok = true;
-    m_.for_each_tet_of(a, [&](TetId s) {
+    for (TetId s : stars_[a])
       if (ok && contains(m_.tets[s], b)) {
-        if (ring_.size() == 3) ok = false;
+        if (ring_.size() == kMaxRing) ok = false;
         else ring_.push_back(s);
       }
-    });
-    if (!ok || ring_.size() != 3) return false;
-    std::array<VertId, 6> others{};
-    std::size_t n = 0;
-    for (TetId s : ring_) {
+    const int n = static_cast<int>(ring_.size());
+    if (!ok || n < 3) return false;
+    // Each ring tet gives one edge of the ring polygon (its two vertices other than a and b).
+    std::array<std::array<VertId, 2>, kMaxRing> sides{};
+    for (int i = 0; i < n; ++i) {
+      const TetId s = ring_[static_cast<std::size_t>(i)];
       if (m_.material[s] != m_.material[t]) return false;
       const auto& sv = m_.tets[s];
       const TetFlags fl = m_.flags[s];
@@ -185,60 +274,132 @@ class Swapper {
         if (sv[k] == b) lb = k;
       }
       if (is_polyline_edge(fl, local_edge_index(la, lb))) return false;
+      int m = 0;
       for (int k = 0; k < 4; ++k) {
         if (k == la || k == lb) continue;
-        // Face k (opposite corner k) holds a and b: it disappears.
-        if (is_surface_face(fl, k)) return false;
-        others[n++] = sv[k];
+        if (is_surface_face(fl, k)) return false;  // face k holds a and b: it disappears
+        sides[static_cast<std::size_t>(i)][static_cast<std::size_t>(m++)] = sv[k];
       }
     }
-    std::sort(others.begin(), others.end());
-    // A closed ring: three vertices, each in two of the tets (an open fan of three has four).
-    if (!(others[0] == others[1] && others[2] == others[3] && others[4] == others[5] && others[1] != others[2] &&
-          others[3] != others[4]))
-      return false;
-    VertId p = others[0], q = others[2], r = others[4];
-    for (VertId x : {p, q, r})
-      if (touched_[x] || m_.is_frozen(x)) return false;
+    // Chain the sides into a cycle; an open fan (ab on the boundary) or a pinched ring fails.
+    std::array<VertId, kMaxRing> r{};
+    std::array<std::uint8_t, kMaxRing> used{};
+    r[0] = sides[0][0];
+    r[1] = sides[0][1];
+    used[0] = 1;
+    for (int k = 2; k <= n; ++k) {
+      bool found = false;
+      for (int i = 0; i < n && !found; ++i) {
+        if (used[static_cast<std::size_t>(i)]) continue;
+        const auto& sd = sides[static_cast<std::size_t>(i)];
+        const VertId last = r[static_cast<std::size_t>(k - 1)];
+        if (sd[0] != last && sd[1] != last) continue;
+        used[static_cast<std::size_t>(i)] = 1;
+        const VertId next = sd[0] == last ? sd[1] : sd[0];
+        if (k == n) {
+          if (next != r[0]) return false;
+        } else {
+          r[static_cast<std::size_t>(k)] = next;
+        }
+        found = true;
+      }
+      if (!found) return false;
+    }
+    for (int i = 0; i < n; ++i) {
+      const VertId x = r[static_cast<std::size_t>(i)];
+      if (m_.is_frozen(x)) return false;
+      for (int j = 0; j < i; ++j)
+        if (r[static_cast<std::size_t>(j)] == x) return false;
+    }
+    // Which diagonals are already edges of the mesh.
+    std::array<std::array<std::uint8_t, kMaxRing>, kMaxRing> joined{};
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 2; j < n; ++j) {
+        if (i == 0 && j == n - 1) continue;  // a side
+        const VertId x = r[static_cast<std::size_t>(i)], y = r[static_cast<std::size_t>(j)];
+        bool e = false;
+        for (TetId s : stars_[x]) e = e || contains(m_.tets[s], y);
+        joined[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = e ? 1 : 0;
+      }
+    // The ring's direction: a on the positive side of the triangles taken in ring order.
     const auto& P = m_.positions;
-    const int side = orient3d_sign(P[p], P[q], P[r], P[a]);
+    const int side = orient3d_sign(P[r[0]], P[r[1]], P[r[2]], P[a]);
     if (side == 0) return false;
-    if (side < 0) std::swap(q, r);
-    f.old = {ring_[0], ring_[1], ring_[2]};
-    f.old_count = 3;
-    f.made[0] = {p, q, r, a};
-    f.made[1] = {q, p, r, b};
-    f.made_count = 2;
-    if (!positive(m_, f.made[0]) || !positive(m_, f.made[1])) return false;
-    f.quality = std::min(quality(m_, f.made[0]), quality(m_, f.made[1]));
+    if (side < 0) std::reverse(r.begin(), r.begin() + n);
+    // best[i][j]: the best worst tet over the triangulations of the sub-polygon r_i .. r_j (j > i + 1),
+    // apex[i][j] the apex of its triangle on side ij.
+    constexpr double kNone = -1.0;
+    std::array<std::array<double, kMaxRing>, kMaxRing> best{};
+    std::array<std::array<std::int8_t, kMaxRing>, kMaxRing> apex{};
+    for (int len = 2; len < n; ++len)
+      for (int i = 0; i + len < n; ++i) {
+        const int j = i + len;
+        double& bq = best[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+        bq = kNone;
+        if (len < n - 1 && joined[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]) continue;
+        for (int k = i + 1; k < j; ++k) {
+          const double left = k == i + 1 ? 1.0 : best[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+          const double right = k == j - 1 ? 1.0 : best[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)];
+          if (!(left > kNone) || !(right > kNone)) continue;
+          const std::array<VertId, 4> up{r[static_cast<std::size_t>(i)], r[static_cast<std::size_t>(k)],
+                                         r[static_cast<std::size_t>(j)], a};
+          const std::array<VertId, 4> down{r[static_cast<std::size_t>(k)], r[static_cast<std::size_t>(i)],
+                                           r[static_cast<std::size_t>(j)], b};
+          const double q = std::min({left, right, quality(m_, up), quality(m_, down)});
+          if (!(q > floor) || !positive(m_, up) || !positive(m_, down)) continue;
+          if (q > bq) {
+            bq = q;
+            apex[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = static_cast<std::int8_t>(k);
+          }
+        }
+      }
+    const double q = best[0][static_cast<std::size_t>(n - 1)];
+    if (!(q > kNone)) return false;
+    f.old_count = n;
+    for (int i = 0; i < n; ++i) f.old[static_cast<std::size_t>(i)] = ring_[static_cast<std::size_t>(i)];
+    f.made_count = 0;
+    emit(r, apex, 0, n - 1, a, b, f);
+    f.quality = q;
     return true;
+  }
+
+  // The tets of the chosen triangulation of sub-polygon r_i .. r_j.
+  void emit(const std::array<VertId, kMaxRing>& r, const std::array<std::array<std::int8_t, kMaxRing>, kMaxRing>& apex,
+            int i, int j, VertId a, VertId b, Flip& f) {
+    if (j < i + 2) return;
+    const int k = apex[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+    const VertId ri = r[static_cast<std::size_t>(i)], rk = r[static_cast<std::size_t>(k)], rj = r[static_cast<std::size_t>(j)];
+    f.made[static_cast<std::size_t>(f.made_count++)] = {ri, rk, rj, a};
+    f.made[static_cast<std::size_t>(f.made_count++)] = {rk, ri, rj, b};
+    emit(r, apex, i, k, a, b, f);
+    emit(r, apex, k, j, a, b, f);
   }
 
   // 2 -> 3 through face k of tet t (opposite its corner k): an unflagged face between two tets of
   // one material, whose apexes a and b are not yet joined by an edge.
-  bool face_flip(TetId t, int k, Flip& f) {
+  bool face_flip(TetId t, int k, double floor, Flip& f) {
     const auto& tv = m_.tets[t];
     if (is_surface_face(m_.flags[t], k)) return false;
     VertId x = tv[kTetFaces[k][0]], y = tv[kTetFaces[k][1]], z = tv[kTetFaces[k][2]];
     const VertId a = tv[k];
     TetId nb = kInvalid;
-    m_.for_each_tet_of(x, [&](TetId s) {
+    for (TetId s : stars_[x])
       if (s != t && contains(m_.tets[s], y) && contains(m_.tets[s], z)) nb = s;
-    });
     if (nb == kInvalid || m_.material[nb] != m_.material[t]) return false;
     VertId b = kInvalid;
     for (VertId w : m_.tets[nb])
       if (w != x && w != y && w != z) b = w;
-    if (touched_[b] || m_.is_frozen(b)) return false;
+    if (m_.is_frozen(b)) return false;
     bool joined = false;
-    m_.for_each_tet_of(a, [&](TetId s) { joined = joined || contains(m_.tets[s], b); });
+    for (TetId s : stars_[a]) joined = joined || contains(m_.tets[s], b);
     if (joined) return false;
     const auto& P = m_.positions;
     const int side = orient3d_sign(P[x], P[y], P[z], P[a]);
     if (side == 0) return false;
     if (side < 0) std::swap(y, z);
     // Each new tet is (x, y, z, a) with one face vertex replaced by b: positive iff ab crosses the face.
-    f.old = {t, nb, kInvalid};
+    f.old[0] = t;
+    f.old[1] = nb;
     f.old_count = 2;
     f.made[0] = {b, y, z, a};
     f.made[1] = {x, b, z, a};
@@ -246,16 +407,18 @@ class Swapper {
     f.made_count = 3;
     f.quality = 1.0;
     for (int i = 0; i < 3; ++i) {
-      if (!positive(m_, f.made[static_cast<std::size_t>(i)])) return false;
       f.quality = std::min(f.quality, quality(m_, f.made[static_cast<std::size_t>(i)]));
+      if (!(f.quality > floor) || !positive(m_, f.made[static_cast<std::size_t>(i)])) return false;
     }
     return true;
   }
 
-  MeshModel& m_;
-  std::vector<std::uint8_t> touched_;  // [vertex] its star changed in this pass
+  const MeshModel& m_;
+  const Stars& stars_;
+  std::vector<double> allowed_;  // [field component] the largest change a flip may make
   std::vector<TetId> ring_;
-  RegionFlags region_;
+  std::vector<std::array<VertId, 4>> old_;
+  std::vector<glm::dvec3> points_;
 };
 
 }  // namespace
@@ -263,30 +426,65 @@ class Swapper {
 SwapStats swap_bad_tets(MeshModel& mesh, const SwapOptions& options) {
   SwapStats stats;
   const double target3 = options.target_quality * options.target_quality * options.target_quality;
-  Swapper swapper(mesh);
-  std::vector<std::pair<double, TetId>> bad;
-  for (int pass = 0; pass < options.max_passes; ++pass) {
-    bad.clear();
+  compact_tets(mesh);  // dense tets: the collapses left ~90% of them dead
+  Stars stars(mesh.vertex_capacity());
+  for (TetId t = 0; t < mesh.tets.size(); ++t)
+    for (VertId x : mesh.tets[t]) stars[x].push_back(t);
+  // Worst tet first: a min-heap of (quality, tet, version); a slot a flip rewrote has a new version,
+  // so its old entries are stale. Sequential and keyed by quality and id: deterministic.
+  using Entry = std::tuple<double, TetId, std::uint32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
+  std::vector<std::uint32_t> version(mesh.tets.size(), 0);
+  auto push_if_bad = [&](TetId t) {
+    const double q = quality(mesh, mesh.tets[t]);
+    if (q < target3) heap.emplace(q, t, version[t]);
+  };
+  for (TetId t = 0; t < mesh.tets.size(); ++t) push_if_bad(t);
+  // A tet that found no flip is looked at again only after a flip next to it (its options changed);
+  // every flip lifts the worst tet of its region, so this ends, and the cap bounds the work.
+  std::uint64_t budget = 16 * heap.size() + 1024;
+  FlipFinder finder(mesh, stars, options);
+  RegionFlags region;
+  std::vector<std::uint8_t> touched(mesh.vertex_capacity(), 0);
+  std::vector<TetId> nearby;
+  Flip flip;
+  for (int pass = 0; pass < options.max_passes && !heap.empty(); ++pass) {
+    std::uint64_t applied = 0;
+    std::fill(touched.begin(), touched.end(), 0);
+    while (!heap.empty() && budget > 0) {
+      const auto [q, t, v] = heap.top();
+      heap.pop();
+      if (v != version[t] || mesh.is_dead_tet(t)) continue;
+      --budget;
+      if (!finder.best_flip(t, q, flip)) continue;
+      // The stars of the region's vertices lose the old tets and gain the new ones.
+      for (int k = 0; k < flip.old_count; ++k) {
+        const TetId old = flip.old[static_cast<std::size_t>(k)];
+        for (VertId x : mesh.tets[old]) std::erase(stars[x], old);
+        ++version[old];
+      }
+      const std::size_t first_new = mesh.tets.size();
+      apply_flip(mesh, flip, region, touched);
+      version.resize(mesh.tets.size(), 0);
+      for (int k = 0; k < flip.made_count; ++k) {
+        const TetId made = k < flip.old_count ? flip.old[static_cast<std::size_t>(k)]
+                                              : static_cast<TetId>(first_new + static_cast<std::size_t>(k - flip.old_count));
+        for (VertId x : mesh.tets[made]) stars[x].push_back(made);
+        push_if_bad(made);
+      }
+      ++(flip.old_count == 2 ? stats.flips_23 : stats.edge_removals);
+      ++applied;
+    }
+    if (applied == 0) break;
+    stats.passes = pass + 1;
+    // The bad tets next to a flip of this pass (a vertex of theirs touched) may have a flip now.
     for (TetId t = 0; t < mesh.tets.size(); ++t) {
       if (mesh.is_dead_tet(t)) continue;
-      const double q = quality(mesh, mesh.tets[t]);
-      if (q < target3) bad.emplace_back(q, t);
+      const auto& tv = mesh.tets[t];
+      if (touched[tv[0]] | touched[tv[1]] | touched[tv[2]] | touched[tv[3]]) push_if_bad(t);
     }
-    std::sort(bad.begin(), bad.end());
-    swapper.reset();
-    std::uint64_t flips = 0;
-    Flip flip;
-    for (const auto& [q, t] : bad) {
-      // A tet an earlier flip of this pass replaced has a touched vertex: best_flip refuses it.
-      if (!swapper.best_flip(t, q, flip)) continue;
-      swapper.apply(flip);
-      ++(flip.old_count == 3 ? stats.flips_32 : stats.flips_23);
-      ++flips;
-    }
-    if (flips == 0) break;
-    stats.passes = pass + 1;
-    rebuild_incidence(mesh);
   }
+  compact_tets(mesh);
   return stats;
 }
 

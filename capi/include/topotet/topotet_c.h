@@ -149,7 +149,7 @@ typedef struct topotet_report {
   double stop_dominant_share;
   char stop_dominant[16];    /* "topology", "pinned", "inversion", "quality", "tolerance", ... */
   char stop_suggestion[512]; /* NUL-terminated (cut to fit) */
-  int64_t optimize_moves, optimize_flips; /* the optimisation: vertices moved, 2-3 and 3-2 flips */
+  int64_t optimize_moves, optimize_flips; /* the optimisation: vertices moved, flips and edge removals */
 } topotet_report;
 
 typedef struct topotet_mesh topotet_mesh;

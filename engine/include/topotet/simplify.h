@@ -42,9 +42,10 @@ enum class Engine : std::uint8_t {
 };
 
 // Mesh improvement after the collapses (issue #26): the interior vertices of stars with a tet below
-// a mean ratio move to better places (engine/optimize/smooth.h), then 2-3 and 3-2 flips replace
-// such tets inside one material (engine/optimize/swap.h); both say why every guarantee holds.
-// none; light = tets below 0.3, 4 smoothing and 4 flip passes; full = below 0.4, 32 and 16 passes.
+// a mean ratio move to better places (engine/optimize/smooth.h), and 2-3 flips and edge removals
+// replace such tets inside one material (engine/optimize/swap.h); both say why every guarantee
+// holds. none; light = tets below mean ratio 0.4, one smoothing pass, then flips until none helps;
+// full = 6 rounds of 2 smoothing passes and the flips (engine/optimize/optimize.cpp).
 enum class Optimize : std::uint8_t { kNone, kLight, kFull };
 const char* to_string(Optimize optimize);  // "none", "light", "full"
 
