@@ -7,6 +7,13 @@
 #                                    fuzzers, GoogleTest), MPI and METIS, Fortran, Python, VTK (the
 #                                    VTK formats, io/vtk/); every target, tests and benchmarks
 #                                    included (README command 2, CI)
+#   bash scripts/setup.sh --paraview the ParaView plugin (paraview/, docs/paraview.md): ParaView 5.11's
+#                                    packages, and a tree of its own, build-paraview/, on ParaView's
+#                                    VTK: the plugin, the CLI and the plugin's tests. Not with
+#                                    --tests: Debian's python3-paraview (which ParaView's CMake
+#                                    package needs) conflicts with libvtk9-dev, so apt removes
+#                                    libvtk9-dev here, and --tests would put it back (removing
+#                                    python3-paraview). Not run by CI (.ci/run): about 8 min more.
 # Other arguments go to the CMake configure step, e.g.
 #   bash scripts/setup.sh --tests -DTOPOTET_SANITIZE=address,undefined
 # Runs as root, or as a user with sudo, with no terminal (CI). Running the first form after the
@@ -15,10 +22,15 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 all=0
+paraview=0
 cmake_args=()
 for a in "$@"; do
-  if [[ $a == --tests ]]; then all=1; else cmake_args+=("$a"); fi
+  if [[ $a == --tests ]]; then all=1; elif [[ $a == --paraview ]]; then paraview=1; else cmake_args+=("$a"); fi
 done
+if ((all && paraview)); then
+  echo "setup: --tests and --paraview cannot be combined: Debian's libvtk9-dev and python3-paraview conflict" >&2
+  exit 2
+fi
 
 # What the library and the CLI need to build and run.
 packages=(
@@ -38,11 +50,20 @@ if ((all)); then
   )
 fi
 
+if ((paraview)); then
+  # ParaView's own VTK serves the VTK formats in build-paraview/; GoogleTest for the filter's test.
+  packages+=(paraview paraview-dev python3-paraview libgtest-dev)
+fi
+
 missing=()
 for p in "${packages[@]}"; do
   if [[ $(dpkg-query -W -f='${Status}' "$p" 2>/dev/null) != "install ok installed" ]]; then missing+=("$p"); fi
 done
 
+if ((paraview)) && [[ $(dpkg-query -W -f='${Status}' libvtk9-dev 2>/dev/null) == "install ok installed" ]]; then
+  echo "setup: python3-paraview conflicts with libvtk9-dev: apt removes libvtk9-dev (and python3-vtk9);" \
+       "a build/ tree reconfigured without it loses the VTK formats until setup.sh --tests puts it back"
+fi
 if ((${#missing[@]} > 0)); then
   echo "setup: installing ${missing[*]}"
   sudo=()
@@ -52,6 +73,19 @@ if ((${#missing[@]} > 0)); then
   "${sudo[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
 else
   echo "setup: all ${#packages[@]} packages already installed"
+fi
+
+if ((paraview)); then
+  # A tree of its own (paraview/README.md says why): the plugin, the CLI (its pvbatch test runs
+  # `topotet check`) and the tests, on ParaView's VTK.
+  generator=()
+  if [[ ! -f build-paraview/CMakeCache.txt ]]; then generator=(-G Ninja); fi
+  cmake -S . -B build-paraview "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DTOPOTET_BUILD_PARAVIEW=ON \
+    -DTOPOTET_BUILD_TESTS=ON -DTOPOTET_BUILD_BENCH=OFF -DTOPOTET_BUILD_PYTHON=OFF -DTOPOTET_BUILD_FORTRAN=OFF \
+    -DTOPOTET_MPI=OFF "${cmake_args[@]}"
+  cmake --build build-paraview -j "$(nproc)" --target TopotetSimplify topotet paraview_filter
+  echo "setup: plugin in build-paraview/lib/topotet/paraview/; test: ctest --test-dir build-paraview -R 'ParaView|paraview'"
+  exit 0
 fi
 
 # An existing build tree keeps its generator; a new one uses Ninja.

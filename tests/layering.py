@@ -21,13 +21,13 @@ FLOORS = [
     ["io", "generate"],
     ["metrics"],
     ["capi", "python", "mpi"],
-    ["cli"],
+    ["cli", "paraview"],  # paraview/: the ParaView plugin, built in a tree of its own (docs/paraview.md)
     ["bench", "tests", "examples"],
 ]
 rank = {folder: i for i, floor in enumerate(FLOORS) for folder in floor}
 # Where a quoted include is looked up, in order (the include directories the build gives).
 SEARCH = ["", "engine", "engine/include", "io/include", "io/vtk/include", "generate/include", "metrics/include",
-          "capi/include", "mpi/include", "mpi"]  # mpi: topotet-mpi sees exchange.h
+          "capi/include", "mpi/include", "mpi", "paraview/filter"]  # mpi: topotet-mpi sees exchange.h
 
 
 def folder_of(path):
@@ -46,7 +46,7 @@ for dirpath, dirnames, filenames in os.walk(root):
     rel_dir = os.path.relpath(dirpath, root)
     dirnames[:] = [d for d in dirnames if not d.startswith(".") and not d.startswith("build")]
     for name in filenames:
-        if not name.endswith((".h", ".cpp", ".c")):
+        if not name.endswith((".h", ".cpp", ".c", ".cxx")):  # .cxx: VTK classes (paraview/)
             continue
         src = os.path.normpath(os.path.join(rel_dir, name))
         here = folder_of(src)

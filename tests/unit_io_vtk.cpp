@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "io/vtk/exodus_writer.h"
+#include "io/vtk/vtk_grid.h"
 #include "test_meshes.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
@@ -194,6 +195,30 @@ TEST(VtkRead, OwnVtuWithSubstructuresRoundTrips) {
   write_mesh(dir.file("a.vtu"), plain);
   EXPECT_FALSE(fs::exists(dir.file("a_substructures.vtp")));
   expect_same_mesh(plain, read_vtk_mesh(dir.file("a.vtu")));
+}
+
+// The in-memory form a VTK filter sees (io/vtk/vtk_grid.h, paraview/): substructures as cells of
+// the grid, refs in the material array, and the array's name reported and kept.
+TEST(VtkGrid, MeshRoundTripsThroughAGridInMemory) {
+  MeshData m = sample_mesh();
+  m.corners = {0, 5};
+  ReadNotes notes;
+  const MeshData back = io::vtk::mesh_from_grid(io::vtk::grid_from_mesh(m), "grid", {}, &notes);
+  expect_same_mesh(m, back);
+  EXPECT_EQ(back.corners, m.corners);
+  EXPECT_EQ(notes.material_array, "material");
+  EXPECT_TRUE(notes.unread_arrays.empty());
+
+  ReadOptions named;
+  named.material_array = "zone";
+  expect_same_mesh(m, io::vtk::mesh_from_grid(io::vtk::grid_from_mesh(m, "zone"), "grid", named, &notes));
+  EXPECT_EQ(notes.material_array, "zone");
+  try {
+    io::vtk::mesh_from_grid(io::vtk::grid_from_mesh(m, "zone"), "grid", ReadOptions{.material_array = "material"});
+    ADD_FAILURE() << "a missing material array must be an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("grid: no cell array 'material'"), std::string::npos) << e.what();
+  }
 }
 
 TEST(VtkRead, CompanionPointNotOnTheMeshIsAnError) {

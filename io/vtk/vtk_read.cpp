@@ -56,6 +56,7 @@
 
 #include "io/formats.h"
 #include "io/vtk/vtk_check.h"
+#include "io/vtk/vtk_grid.h"
 #include "io/vtk/vtk_quiet.h"
 #include "topotet/error.h"
 #include "topotet/io_vtk.h"
@@ -621,6 +622,7 @@ class Converter {
     vtkCellData* cd = ds->GetCellData();
     std::string used;
     const std::vector<std::int32_t> refs = cell_refs(p, used);
+    if (p.role == Role::kVolume && !used.empty()) notes_.material_array = used;
     const std::int32_t fallback = p.ref.value_or(0);
     const auto ref_of = [&](vtkIdType c) { return refs.empty() ? fallback : refs[static_cast<std::size_t>(c)]; };
     for (int i = 0; i < cd->GetNumberOfArrays(); ++i) {
@@ -876,3 +878,23 @@ MeshData read_any_mesh(const std::string& path, const ReadOptions& options, Read
 }
 
 }  // namespace topotet
+
+namespace topotet::io::vtk {
+
+// A dataset in memory (a VTK filter's input) as one lone piece: the conversion of a .vtu without
+// its companion file.
+MeshData mesh_from_grid(vtkDataSet* grid, const std::string& name, const ReadOptions& options, ReadNotes* notes) {
+  ReadNotes local;
+  ReadNotes& n = notes ? *notes : local;
+  n = {};
+  if (!grid) throw InputError(name + ": no dataset");
+  Source source;
+  Piece p;
+  p.data = grid;
+  p.file = name;
+  source.pieces.push_back(std::move(p));
+  Converter converter(name, options, n);
+  return converter.convert(source);
+}
+
+}  // namespace topotet::io::vtk

@@ -81,6 +81,10 @@ struct ReadNotes {
   // VTK formats: the arrays that are not carried into MeshData, one line each ("cell array
   // 'pressure'", "point array 'name' (not numeric)"); cell data are not carried yet.
   std::vector<std::string> unread_arrays;
+  // VTK formats: the cell array the materials were taken from (ReadOptions::material_array or the
+  // first default present; "ObjectId" for Exodus block ids); empty when there was none (CGNS
+  // zones, or every material 0). paraview/ names its output's material array the same.
+  std::string material_array;
   std::uint64_t volume_cells() const { return hexahedra + prisms + pyramids + polyhedra; }
 };
 
