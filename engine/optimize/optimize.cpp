@@ -28,7 +28,7 @@ void optimize_after_collapses(MeshModel& mesh, const SimplifyOptions& options, C
   // makes flips possible that were not.
   const int rounds = full ? 6 : 1;
   for (int round = 0; round < rounds; ++round) {
-    const SmoothStats moved = smooth_vertices(mesh, smooth, &cost, bounds);
+    const SmoothStats moved = smooth_vertices(mesh, smooth, cost, bounds);
     if (round == 0) report.optimize_candidates = moved.candidates;
     report.optimize_moves += moved.moves;
     report.optimize_passes += moved.passes;

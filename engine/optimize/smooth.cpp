@@ -10,7 +10,6 @@
 
 #include "cost/cost.h"
 #include "mesh/moved_corner.h"
-#include "mesh/orient.h"
 #include "parallel/filter.h"
 #include "parallel/for_range.h"
 #include "parallel/scratch.h"
@@ -117,7 +116,7 @@ struct Proposal {
 // The best point found for free vertex v, if it lifts the star's worst tet by kMinGain at least.
 // `known_free[v]`: 0 = not yet known, 1 = free, 2 = not free (a move keeps the star's combinatorics,
 // so the answer holds for the whole call); written only by the thread evaluating v.
-bool propose(const MeshModel& mesh, const CostModel* cost, VertId v, double target3, Scratch& s,
+bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double target3, Scratch& s,
              std::uint8_t& known_free, Proposal& out) {
   if (known_free == 2) return false;
   if (known_free == 0) known_free = free_star(mesh, v, s) ? 1 : 2;
@@ -181,67 +180,27 @@ bool propose(const MeshModel& mesh, const CostModel* cost, VertId v, double targ
     if (!improved) break;
   }
   if (!(q > q0 * kMinGain)) return false;
-  // The field: the moved vertex takes the values its quadric likes best at the new point, and the
-  // quadric error there may exceed the one at the old point by kCostBudget at most (pulled back
-  // toward the old point until it does): the quadric placed the vertex where it fits the field, and
-  // unguarded moves cost 9-20% of field RMS on the families (10%, 100k tets); guarded, 1-4%.
-  if (cost != nullptr) {
-    const double limit = cost->point_cost(mesh, v, x0) * kCostBudget + 1e-300;
-    double qx = q;
-    int tries = 0;
-    for (; tries < 8 && cost->point_cost(mesh, v, x) > limit; ++tries) {
-      x = 0.5 * (x0 + x);
-      qx = star_quality(s.moved, x);
-    }
-    if (tries == 8 || !(qx > q0 * kMinGain)) return false;
+  // The field (smooth.h): the quadric's error at the new point may exceed the one at the old
+  // point by kCostBudget at most; pulled back toward the old point until it does.
+  const double limit = cost.point_cost(mesh, v, x0) * kCostBudget + 1e-300;
+  double qx = q;
+  int tries = 0;
+  for (; tries < 8 && cost.point_cost(mesh, v, x) > limit; ++tries) {
+    x = 0.5 * (x0 + x);
+    qx = star_quality(s.moved, x);
   }
+  if (tries == 8 || !(qx > q0 * kMinGain)) return false;
   out = {v, x, q0};
   return true;
 }
 
-// Field values at p, interpolated in the tet of v's (current) star holding p: the one with the
-// largest smallest barycentric coordinate (the first in star order on ties).
-void interpolate_fields(const MeshModel& mesh, const Scratch& s, const glm::dvec3& p, double* out) {
-  const int k = mesh.field_stride();
-  const auto& P = mesh.positions;
-  double best = -std::numeric_limits<double>::infinity();
-  std::array<double, 4> lambda{};
-  TetId holder = s.star[0];
-  for (TetId t : s.star) {
-    const auto& tv = mesh.tets[t];
-    const double total = signed_volume6(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]);
-    std::array<double, 4> l{};
-    l[0] = signed_volume6(p, P[tv[1]], P[tv[2]], P[tv[3]]) / total;
-    l[1] = signed_volume6(P[tv[0]], p, P[tv[2]], P[tv[3]]) / total;
-    l[2] = signed_volume6(P[tv[0]], P[tv[1]], p, P[tv[3]]) / total;
-    l[3] = 1.0 - l[0] - l[1] - l[2];
-    const double lo = std::min(std::min(l[0], l[1]), std::min(l[2], l[3]));
-    if (lo > best) {
-      best = lo;
-      lambda = l;
-      holder = t;
-    }
-  }
-  const auto& tv = mesh.tets[holder];
-  for (int c = 0; c < k; ++c) {
-    double f = 0.0;
-    for (int j = 0; j < 4; ++j) f += lambda[j] * mesh.field_values[static_cast<std::size_t>(tv[j]) * k + c];
-    out[c] = f;
-  }
-}
-
 // Moves v to p with its new field values (and the star's field bounds). False (nothing written)
 // when the field bounds' limit refuses the move.
-bool apply_move(MeshModel& mesh, const Proposal& pr, CostModel* cost, FieldBounds* bounds, Scratch& s) {
+bool apply_move(MeshModel& mesh, const Proposal& pr, CostModel& cost, FieldBounds* bounds, Scratch& s) {
   gather_star(mesh, pr.v, s);
   const int k = mesh.field_stride();
   s.values.resize(static_cast<std::size_t>(k));
-  if (k > 0) {
-    if (cost != nullptr)
-      cost->fields_at_point(mesh, pr.v, pr.p, s.values.data());
-    else
-      interpolate_fields(mesh, s, pr.p, s.values.data());
-  }
+  cost.fields_at_point(mesh, pr.v, pr.p, s.values.data());
   if (bounds != nullptr) {
     s.bounds.star.clear();
     for (std::size_t i = 0; i < s.star.size(); ++i) s.bounds.star.push_back({s.star[i], s.corner[i]});
@@ -251,7 +210,7 @@ bool apply_move(MeshModel& mesh, const Proposal& pr, CostModel* cost, FieldBound
   }
   mesh.positions[pr.v] = pr.p;
   for (int c = 0; c < k; ++c) mesh.field_values[static_cast<std::size_t>(pr.v) * k + c] = s.values[static_cast<std::size_t>(c)];
-  if (cost != nullptr) cost->on_move(mesh, pr.v);
+  cost.on_move(mesh, pr.v);
   return true;
 }
 
@@ -262,7 +221,7 @@ bool is_free_vertex(const MeshModel& mesh, VertId v) {
   return free_star(mesh, v, s);
 }
 
-SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostModel* cost, FieldBounds* bounds) {
+SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostModel& cost, FieldBounds* bounds) {
   SmoothStats stats;
   const double target3 = options.target_quality * options.target_quality * options.target_quality;
   const std::size_t nv = mesh.vertex_capacity();
