@@ -226,8 +226,6 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
           for (int c = 0; c < bounds->components(); ++c) report.tet_field_bound.push_back(bounds->bound(t, c));
         }
       }
-      // Once, at the end: renumbering mid-run would have to remap every per-vertex array of the
-      // engines (proposals, quadrics, orders) for a locality gain the runs here did not need.
       if (report.status == Status::kStoppedEarly && report.tolerance > 0.0 &&
           report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)] > 0 &&
           report.message == "no legal collapse left") {
@@ -246,6 +244,8 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
         map_done = true;
         std::vector<VertId>().swap(mesh.merged_into);
       }
+      // Once, at the end: renumbering mid-run would have to remap every per-vertex array of the
+      // engines (proposals, quadrics, orders) for a locality gain the runs here did not need.
       compact(mesh);
       report.phase_seconds[3] = std::chrono::duration<double>(std::chrono::steady_clock::now() - compact_start).count();
     });

@@ -580,9 +580,8 @@ class Rounds {
     for (VertId v : dirty_list_) dirty_[v] = Dirty::kPropose;
   }
 
-
  public:
-  CostModel& cost() { return cost_; }  // for the optimisation after the run (optimize/smooth.h)
+  CostModel& cost() { return cost_; }  // for the driver's finish step after the run (engines.h)
 
  private:
   MeshModel& mesh_;

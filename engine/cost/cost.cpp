@@ -459,24 +459,23 @@ void CostModel::fields_at_point(const MeshModel& mesh, VertId v, const glm::dvec
   c.v = v;
   c.p = p;
   c.placement = kOptimum;
-  normalise(mesh, v, c.x);
-  const glm::dvec3 x = (p - origin_) * inv_diag_;
-  c.x[0] = x.x;
-  c.x[1] = x.y;
-  c.x[2] = x.z;
-  quadric_minimize_fields(quadric(v), n_, c.x);
+  best_at_point(mesh, v, p, c.x);
   fields_at(mesh, c, out);
 }
 
 double CostModel::point_cost(const MeshModel& mesh, VertId v, const glm::dvec3& p) const {
   double x[kMaxQuadricDim];
-  normalise(mesh, v, x);
+  best_at_point(mesh, v, p, x);
+  return quadric_eval(quadric(v), n_, x);
+}
+
+void CostModel::best_at_point(const MeshModel& mesh, VertId v, const glm::dvec3& p, double* x) const {
+  normalise(mesh, v, x);  // v's own field values, kept where the quadric's field block is untrustworthy
   const glm::dvec3 y = (p - origin_) * inv_diag_;
   x[0] = y.x;
   x[1] = y.y;
   x[2] = y.z;
   quadric_minimize_fields(quadric(v), n_, x);
-  return quadric_eval(quadric(v), n_, x);
 }
 
 void CostModel::prefetch(VertId v) const {

@@ -184,6 +184,8 @@ class CostModel {
   template <int kN>
   double edge_cost_n(const MeshModel& mesh, VertId a, VertId b, LinkScratch& scratch);
   void normalise(const MeshModel& mesh, VertId v, double* x) const;
+  // x = p normalised, with the field values v's quadric likes best there (fields_at_point, point_cost).
+  void best_at_point(const MeshModel& mesh, VertId v, const glm::dvec3& p, double* x) const;
 
   int n_ = 3;             // quadric dimension
   int stride_ = 0;        // mesh field stride

@@ -19,11 +19,9 @@ void optimize_after_collapses(MeshModel& mesh, const SimplifyOptions& options, C
   // to the end; a second round removed a few more slivers (cube-sphere 56 -> 41 tets under 10
   // degrees) for +30% of the time. Target 0.4, not 0.3: a tet can have a dihedral under 10 degrees
   // and a mean ratio above 0.3.
-  SmoothOptions smooth;
+  SmoothOptions smooth;  // light: their defaults
   SwapOptions swap;
-  smooth.target_quality = swap.target_quality = 0.4;
-  smooth.max_passes = full ? 2 : 1;
-  swap.max_passes = 8;
+  if (full) smooth.max_passes = 2;
   // Smoothing and flips alternate: a flip changes the stars a smoothing could not improve, a move
   // makes flips possible that were not.
   const int rounds = full ? 6 : 1;
