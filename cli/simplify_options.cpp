@@ -87,8 +87,8 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
                        "Also write the detected feature curves as edges (MEDIT ridges) with this ref, their corners "
                        "as corners (to inspect them)"));
   keep(cmd->add_option("--optimize", args.optimize,
-                       "After the collapses, move the interior vertices of badly shaped tets to better places: "
-                       "none, light (tets below mean ratio 0.4: one smoothing pass, then face and edge flips) or full "
+                       "After the collapses, move the interior vertices of badly shaped tets (and those inside flat sheets, in their plane) to better places: "
+                       "none, light (tets below mean ratio 0.4: 4 smoothing passes, then face and edge flips) or full "
                        "(6 rounds of 2 smoothing passes and the flips; more field error)")
            ->check(CLI::IsMember({"none", "light", "full"}))
            ->capture_default_str());

@@ -328,7 +328,7 @@ void print_features(const SimplifyJob& job, const SimplifyRun& run) {
 void print_optimize(const SimplifyJob& job, const Report& r) {
   row("optimize", std::string(to_string(job.options.optimize)) + ": " + format_count(r.optimize_moves) +
                       " vertex moves in " + std::to_string(r.optimize_passes) + " passes, from " +
-                      format_count(r.optimize_candidates) + " free vertices of badly shaped tets; " +
+                      format_count(r.optimize_candidates) + " movable vertices of badly shaped tets; " +
                       format_count(r.optimize_flips) + " face and edge flips (" +
                       format_seconds(r.optimize_seconds) + ")");
 }

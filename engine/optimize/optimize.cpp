@@ -14,14 +14,14 @@ void optimize_after_collapses(MeshModel& mesh, const SimplifyOptions& options, C
   const auto start = std::chrono::steady_clock::now();
   const bool full = options.optimize == Optimize::kFull;
   // Measured on the families at 100k tets, 10% (docs/performance.md, "Quality after the
-  // collapses"): the flips remove most slivers, and each smoothing pass costs field error (the
-  // moved vertex leaves the place its quadric chose), so light is one smoothing pass and the flips
-  // to the end; a second round removed a few more slivers (cube-sphere 56 -> 41 tets under 10
-  // degrees) for +30% of the time. Target 0.4, not 0.3: a tet can have a dihedral under 10 degrees
-  // and a mean ratio above 0.3.
+  // collapses"): the flips remove most slivers, and each smoothing move costs field error (the
+  // moved vertex leaves the place its quadric chose), so light is one smoothing call (its passes
+  // give every proposal its turn: smooth.h) and the flips to the end; full alternates them 6 times,
+  // for 5-7% more field RMS than light. Target 0.4, not 0.3: a tet can have a dihedral under 10 degrees and
+  // a mean ratio above 0.3.
   SmoothOptions smooth;  // light: their defaults
   SwapOptions swap;
-  if (full) smooth.max_passes = 2;
+  if (full) smooth.max_passes = 2;  // per round
   // Smoothing and flips alternate: a flip changes the stars a smoothing could not improve, a move
   // makes flips possible that were not.
   const int rounds = full ? 6 : 1;

@@ -24,12 +24,28 @@ int corner_of(const std::array<VertId, 4>& tv, VertId v) {
   return -1;
 }
 
+// Whether and how a vertex may move (smooth.h): kFixed, kFree, or in the axis plane `axis`.
+struct Mobility {
+  enum Kind : std::uint8_t { kFixed, kFree, kInPlane } kind = kFixed;
+  int axis = -1;  // kInPlane: the coordinate the vertex and its sheet's fan share exactly
+};
+
+// Label of a sheet face through v: its ref when flagged, kUnflaggedBoundary for a boundary face
+// that lists no ref (an unflagged face shared by two tets is not on a sheet).
+constexpr std::int32_t kUnflaggedBoundary = INT32_MIN + 1;
+
+struct FaceThrough {
+  std::uint64_t key;  // the face's two other vertices (x < y) packed
+  std::int32_t label;
+  bool flagged;
+};
+
 struct Scratch {
   std::vector<TetId> star;
   std::vector<std::uint8_t> corner;  // [star tet] local corner of the vertex
   std::vector<MovedCorner> moved;    // [star tet]
   std::vector<VertId> link;
-  std::vector<std::uint64_t> faces;
+  std::vector<FaceThrough> through;
   FieldBoundsScratch bounds;
   std::vector<double> values;
 };
@@ -43,23 +59,74 @@ void gather_star(const MeshModel& mesh, VertId v, Scratch& s) {
   });
 }
 
-bool free_star(const MeshModel& mesh, VertId v, Scratch& s) {
-  if (mesh.is_dead_vertex(v) || mesh.is_pinned(v) || mesh.is_frozen(v)) return false;
+// The one coordinate (0..2) in which v and every vertex of its sheet's fan agree exactly, if
+// the sheet faces through v form one loop around it (a disk of one label); -1 otherwise.
+int flat_axis_of_sheet(const MeshModel& mesh, VertId v, std::vector<FaceThrough>& faces, std::vector<VertId>& ends) {
+  // Sheet faces: on the boundary (listed once) or flagged; the rest appear twice, unflagged.
+  ends.clear();
+  std::int32_t label = 0;
+  bool first = true;
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (j - i > 2) return -1;  // not a manifold star
+    const bool boundary = j - i == 1;
+    const bool flagged = faces[i].flagged || (!boundary && faces[i + 1].flagged);
+    if (boundary || flagged) {
+      const std::int32_t l = faces[i].flagged ? faces[i].label : (boundary ? kUnflaggedBoundary : faces[i + 1].label);
+      if (!first && l != label) return -1;  // two labels meet at v: moving it would shift their seam
+      label = l;
+      first = false;
+      ends.push_back(static_cast<VertId>(faces[i].key >> 32));
+      ends.push_back(static_cast<VertId>(faces[i].key & 0xffffffffu));
+    }
+    i = j;
+  }
+  if (ends.size() < 6) return -1;  // fewer than 3 sheet faces: no disk around v
+  // One loop: the sheet's link edges (x, y) give every link vertex degree 2 and connect them.
+  std::vector<VertId> sorted_ends = ends;
+  std::sort(sorted_ends.begin(), sorted_ends.end());
+  for (std::size_t i = 0; i < sorted_ends.size(); i += 2)
+    if (sorted_ends[i] != sorted_ends[i + 1] || (i + 2 < sorted_ends.size() && sorted_ends[i + 2] == sorted_ends[i]))
+      return -1;
+  const std::size_t edges = ends.size() / 2;
+  VertId start = ends[0], at = ends[1];
+  std::size_t walked = 1, prev = 0;
+  while (at != start && walked <= edges) {
+    std::size_t next = edges;
+    for (std::size_t e = 0; e < edges; ++e)
+      if (e != prev && (ends[2 * e] == at || ends[2 * e + 1] == at)) next = e;
+    if (next == edges) return -1;
+    at = ends[2 * next] == at ? ends[2 * next + 1] : ends[2 * next];
+    prev = next;
+    ++walked;
+  }
+  if (at != start || walked != edges) return -1;  // several loops: v pinches two disks together
+  // Flat in an axis plane, exactly: then the vertex can move in it and stay in it to the last bit.
+  const glm::dvec3& x = mesh.positions[v];
+  for (int axis = 0; axis < 3; ++axis) {
+    bool same = true;
+    for (VertId w : ends) same = same && mesh.positions[w][axis] == x[axis];
+    if (same) return axis;
+  }
+  return -1;
+}
+
+Mobility mobility_of(const MeshModel& mesh, VertId v, Scratch& s) {
+  if (mesh.is_dead_vertex(v) || mesh.is_pinned(v) || mesh.is_frozen(v)) return {};
   gather_star(mesh, v, s);
-  if (s.star.empty()) return false;
+  if (s.star.empty()) return {};
   const std::int32_t material = mesh.material[s.star[0]];
-  s.faces.clear();
+  bool one_material = true, flagged_face = false;
+  s.through.clear();
   for (std::size_t i = 0; i < s.star.size(); ++i) {
     const TetId t = s.star[i];
     const int k = s.corner[i];
-    if (mesh.material[t] != material) return false;
+    one_material = one_material && mesh.material[t] == material;
     const TetFlags fl = mesh.flags[t];
-    for (int f = 0; f < 4; ++f)
-      if (f != k && is_surface_face(fl, f)) return false;
     for (int e = 0; e < 6; ++e)
-      if ((kTetEdges[e][0] == k || kTetEdges[e][1] == k) && is_polyline_edge(fl, e)) return false;
-    // The faces through v, by their two other vertices: each must be shared by two tets of the
-    // star, else it is a boundary face.
+      if ((kTetEdges[e][0] == k || kTetEdges[e][1] == k) && is_polyline_edge(fl, e)) return {};
+    // The faces through v, by their two other vertices.
     const auto& tv = mesh.tets[t];
     for (int f = 0; f < 4; ++f) {
       if (f == k) continue;
@@ -68,14 +135,21 @@ bool free_star(const MeshModel& mesh, VertId v, Scratch& s) {
         if (j == f || j == k) continue;
         (x == kInvalid ? x : y) = tv[j];
       }
-      s.faces.push_back(x < y ? (std::uint64_t{x} << 32) | y : (std::uint64_t{y} << 32) | x);
+      const bool flagged = is_surface_face(fl, f);
+      flagged_face = flagged_face || flagged;
+      const std::int32_t label = flagged ? mesh.refs_table[mesh.tet_refs_slot[t]].face[f] : 0;
+      s.through.push_back({x < y ? (std::uint64_t{x} << 32) | y : (std::uint64_t{y} << 32) | x, label, flagged});
     }
   }
-  std::sort(s.faces.begin(), s.faces.end());
-  for (std::size_t i = 0; i < s.faces.size(); i += 2)
-    if (i + 1 >= s.faces.size() || s.faces[i] != s.faces[i + 1] || (i + 2 < s.faces.size() && s.faces[i + 2] == s.faces[i]))
-      return false;
-  return true;
+  std::sort(s.through.begin(), s.through.end(), [](const FaceThrough& a, const FaceThrough& b) { return a.key < b.key; });
+  bool interior = !flagged_face && one_material;
+  for (std::size_t i = 0; interior && i < s.through.size(); i += 2)
+    interior = i + 1 < s.through.size() && s.through[i].key == s.through[i + 1].key &&
+               (i + 2 >= s.through.size() || s.through[i + 2].key != s.through[i].key);
+  if (interior) return {Mobility::kFree, -1};
+  const int axis = flat_axis_of_sheet(mesh, v, s.through, s.link);
+  if (axis < 0) return {};
+  return {Mobility::kInPlane, axis};
 }
 
 // The star's worst (mean ratio)^3 with the vertex at x, and which tet; -1 if a tet would invert.
@@ -106,6 +180,10 @@ glm::dvec3 log_quality_gradient(const MovedCorner& m, const glm::dvec3& x) {
 // ratio by 3%): smaller gains kept every vertex of a bad region proposing in every pass.
 constexpr double kMinGain = 1.1;
 constexpr double kCostBudget = 1.2;
+// Quadric errors below this are rounding (the costs are in units of the bounding box's diagonal:
+// a distance of 1e-8 of it, squared): a vertex whose quadric is zero at its place (a flat sheet
+// without fields) may move where the quadric is zero up to rounding.
+constexpr double kRoundingCost = 1e-16;
 
 struct Proposal {
   VertId v = kInvalid;
@@ -113,14 +191,27 @@ struct Proposal {
   double key = 0.0;  // the star's worst quality before the move
 };
 
-// The best point found for free vertex v, if it lifts the star's worst tet by kMinGain at least.
-// `known_free[v]`: 0 = not yet known, 1 = free, 2 = not free (a move keeps the star's combinatorics,
-// so the answer holds for the whole call); written only by the thread evaluating v.
+// The mobility a vertex's `known` byte records: 0 = not yet known, 1 = free, 2 = fixed, 3 + axis
+// = in the axis plane. A move keeps the star's combinatorics and a vertex in its plane, so the
+// answer holds for the whole call; written only by the thread evaluating v.
+constexpr std::uint8_t kUnknown = 0, kKnownFree = 1, kKnownFixed = 2, kKnownInPlane = 3;
+std::uint8_t encode(const Mobility& m) {
+  return m.kind == Mobility::kFree ? kKnownFree
+                                   : (m.kind == Mobility::kFixed ? kKnownFixed : static_cast<std::uint8_t>(kKnownInPlane + m.axis));
+}
+
+// The best point found for movable vertex v, if it lifts the star's worst tet by kMinGain at least.
+// A vertex of a flat sheet moves in its axis plane only: every candidate point keeps that
+// coordinate exactly.
 bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double target3, Scratch& s,
-             std::uint8_t& known_free, Proposal& out) {
-  if (known_free == 2) return false;
-  if (known_free == 0) known_free = free_star(mesh, v, s) ? 1 : 2;
-  if (known_free == 2) return false;
+             std::uint8_t& known, Proposal& out) {
+  if (known == kUnknown) known = encode(mobility_of(mesh, v, s));
+  if (known == kKnownFixed) return false;
+  const int axis = known >= kKnownInPlane ? known - kKnownInPlane : -1;
+  const auto in_plane = [&](glm::dvec3 y, const glm::dvec3& x) {
+    if (axis >= 0) y[axis] = x[axis];
+    return y;
+  };
   gather_star(mesh, v, s);
   const auto& P = mesh.positions;
   s.moved.resize(s.star.size());
@@ -142,7 +233,7 @@ bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double targ
     centroid += P[w];
     scale += glm::length(P[w] - x0);
   }
-  centroid /= static_cast<double>(s.link.size());
+  centroid = in_plane(centroid / static_cast<double>(s.link.size()), x0);
   scale /= static_cast<double>(s.link.size());
   glm::dvec3 x = x0;
   double q = q0;
@@ -162,12 +253,13 @@ bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double targ
       const double n = glm::length(g);
       if (n > 0.0 && std::isfinite(n)) direction += g / n;
     }
+    direction = in_plane(direction, glm::dvec3(0.0));
     const double n = glm::length(direction);
     if (!(n > 0.0) || !std::isfinite(n)) break;
     direction /= n;
     bool improved = false;
     for (int h = 0; h < kHalvings; ++h, step *= 0.5) {
-      const glm::dvec3 y = x + step * direction;
+      const glm::dvec3 y = in_plane(x + step * direction, x0);
       const double qy = star_quality(s.moved, y);
       if (qy > q) {
         x = y;
@@ -182,11 +274,11 @@ bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double targ
   if (!(q > q0 * kMinGain)) return false;
   // The field (smooth.h): the quadric's error at the new point may exceed the one at the old
   // point by kCostBudget at most; pulled back toward the old point until it does.
-  const double limit = cost.point_cost(mesh, v, x0) * kCostBudget + 1e-300;
+  const double limit = std::max(cost.point_cost(mesh, v, x0) * kCostBudget, kRoundingCost);
   double qx = q;
   int tries = 0;
   for (; tries < 8 && cost.point_cost(mesh, v, x) > limit; ++tries) {
-    x = 0.5 * (x0 + x);
+    x = in_plane(0.5 * (x0 + x), x0);
     qx = star_quality(s.moved, x);
   }
   if (tries == 8 || !(qx > q0 * kMinGain)) return false;
@@ -218,7 +310,13 @@ bool apply_move(MeshModel& mesh, const Proposal& pr, CostModel& cost, FieldBound
 
 bool is_free_vertex(const MeshModel& mesh, VertId v) {
   Scratch s;
-  return free_star(mesh, v, s);
+  return mobility_of(mesh, v, s).kind == Mobility::kFree;
+}
+
+int flat_sheet_axis(const MeshModel& mesh, VertId v) {
+  Scratch s;
+  const Mobility m = mobility_of(mesh, v, s);
+  return m.kind == Mobility::kInPlane ? m.axis : -1;
 }
 
 SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostModel& cost, FieldBounds* bounds) {
@@ -239,14 +337,13 @@ SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostM
   std::vector<VertId> candidates;
   parallel::filter_map_sparse(
       nv, candidates, [&](std::size_t b, std::size_t e) { return std::find(bad.begin() + b, bad.begin() + e, 1) != bad.begin() + e; },
-      [&](std::size_t v) { return bad[v] && free_star(mesh, static_cast<VertId>(v), scratch.local()); },
+      [&](std::size_t v) { return bad[v] && mobility_of(mesh, static_cast<VertId>(v), scratch.local()).kind != Mobility::kFixed; },
       [](std::size_t v) { return static_cast<VertId>(v); });
   std::vector<std::uint8_t>().swap(bad);
   stats.candidates = candidates.size();
   // Per vertex: the key of its proposal while undecided (+inf otherwise), and whether it joined.
   std::vector<double> key(nv, std::numeric_limits<double>::infinity());
-  std::vector<std::uint8_t> known_free(nv, 0);
-  for (VertId v : candidates) known_free[v] = 1;
+  std::vector<std::uint8_t> known(nv, kUnknown);
   std::vector<std::uint8_t> joined(nv, 0);
   enum : std::uint8_t { kUndecided, kJoined, kOut };
   std::vector<std::uint8_t> state, decision;
@@ -259,7 +356,7 @@ SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostM
     std::vector<std::uint8_t> has(candidates.size(), 0);
     parallel::for_range<std::size_t>(0, candidates.size(), 64, "smooth_evaluate", [&](std::size_t b, std::size_t e) {
       Scratch& s = scratch.local();
-      for (std::size_t i = b; i < e; ++i) has[i] = propose(mesh, cost, candidates[i], target3, s, known_free[candidates[i]], all[i]) ? 1 : 0;
+      for (std::size_t i = b; i < e; ++i) has[i] = propose(mesh, cost, candidates[i], target3, s, known[candidates[i]], all[i]) ? 1 : 0;
     });
     proposals.clear();
     for (std::size_t i = 0; i < all.size(); ++i)

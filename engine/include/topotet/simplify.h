@@ -42,9 +42,10 @@ enum class Engine : std::uint8_t {
 };
 
 // Mesh improvement after the collapses (issue #26): the interior vertices of stars with a tet below
-// a mean ratio move to better places (engine/optimize/smooth.h), and 2-3 flips and edge removals
-// replace such tets inside one material (engine/optimize/swap.h); both say why every guarantee
-// holds. none; light = tets below mean ratio 0.4, one smoothing pass, then flips until none helps;
+// a mean ratio, and those inside flat sheets in an axis plane (in the plane), move to better places
+// (engine/optimize/smooth.h), and 2-3 flips and edge removals replace such tets inside one material
+// (engine/optimize/swap.h); both say why every guarantee holds. none; light = tets below mean
+// ratio 0.4, 4 smoothing passes, then flips until none helps;
 // full = 6 rounds of 2 smoothing passes and the flips (engine/optimize/optimize.cpp).
 enum class Optimize : std::uint8_t { kNone, kLight, kFull };
 const char* to_string(Optimize optimize);  // "none", "light", "full"
@@ -130,7 +131,7 @@ struct SimplifyOptions {
   double max_field_error_rel = 0.0;
   bool track_field_bounds = false;
   Engine engine = Engine::kParallel;
-  // Smoothing of the interior vertices of badly shaped stars after the collapses (Optimize above).
+  // Smoothing and flips of badly shaped stars after the collapses (Optimize above).
   // Not run when the collapses are recorded for a hierarchy (simplify_with_hierarchy): its levels
   // are collapse sequences, and a moved vertex would make the finest level differ from the output.
   Optimize optimize = Optimize::kLight;
@@ -230,7 +231,7 @@ struct Report {
   std::uint64_t field_bounds_bytes = 0;  // memory the bounds took (field_bounds.h)
   double field_bounds_setup_seconds = 0.0;
   // The optimisation after the collapses (SimplifyOptions::optimize): vertices moved, passes run,
-  // free vertices of bad stars it started from, face and edge flips made, and its time (included
+  // movable vertices of bad stars it started from, face and edge flips made, and its time (included
   // in `seconds`).
   std::uint64_t optimize_moves = 0, optimize_candidates = 0, optimize_flips = 0;
   int optimize_passes = 0;
