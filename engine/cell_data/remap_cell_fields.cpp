@@ -62,19 +62,17 @@ void find_overlaps(const MeshData& original, const TetGrid& grid, const MeshData
                    Scratch& s) {
   s.candidates.clear();
   s.overlaps.clear();
-  const Box box = cell_data::tet_box(simplified, j);
-  grid.gather(box, s.candidates);
-  std::sort(s.candidates.begin(), s.candidates.end());
-  s.candidates.erase(std::unique(s.candidates.begin(), s.candidates.end()), s.candidates.end());
-  const std::int32_t material = material_of(simplified, j);
+  grid.gather(cell_data::tet_box(simplified, j), material_of(simplified, j), s.candidates);
   cell_data::Tet b, a;
   load_tet(simplified, j, b);
+  const cell_data::TetClipper clipper(b);
   for (TetId i : s.candidates) {
-    if (material_of(original, i) != material || !cell_data::tet_box(original, i).meets(box)) continue;
     load_tet(original, i, a);
-    const double v = cell_data::tet_overlap_volume(a, b);
+    const double v = clipper.overlap_volume(a);
     if (v > 0) s.overlaps.push_back({i, v});
   }
+  // The sums run in the order of the original ids, whatever order the grid gave.
+  std::sort(s.overlaps.begin(), s.overlaps.end(), [](const Overlap& x, const Overlap& y) { return x.original < y.original; });
 }
 
 // Intensive and categorical values of new tet j from its overlaps.

@@ -61,13 +61,19 @@ TetGrid::TetGrid(const MeshData& mesh) : mesh_(mesh) {
     const std::array<int, 3> c0 = cell_of(b.lo), c1 = cell_of(b.hi);
     for (int z = c0[2]; z <= c1[2]; ++z)
       for (int y = c0[1]; y <= c1[1]; ++y)
-        for (int x = c0[0]; x <= c1[0]; ++x) f(index(x, y, z));
+        for (int x = c0[0]; x <= c1[0]; ++x)
+          f(index(x, y, z), static_cast<std::uint8_t>((x == c0[0] ? 1 : 0) | (y == c0[1] ? 2 : 0) | (z == c0[2] ? 4 : 0)));
   };
-  for (std::size_t t = 0; t < n; ++t) for_cells(t, [&](std::size_t c) { ++offsets_[c + 1]; });
+  for (std::size_t t = 0; t < n; ++t) for_cells(t, [&](std::size_t c, std::uint8_t) { ++offsets_[c + 1]; });
   for (std::size_t c = 1; c < offsets_.size(); ++c) offsets_[c] += offsets_[c - 1];
   ids_.resize(offsets_.back());
+  firsts_.resize(offsets_.back());
   std::vector<std::size_t> fill(offsets_.begin(), offsets_.end() - 1);
-  for (std::size_t t = 0; t < n; ++t) for_cells(t, [&](std::size_t c) { ids_[fill[c]++] = static_cast<TetId>(t); });
+  for (std::size_t t = 0; t < n; ++t)
+    for_cells(t, [&](std::size_t c, std::uint8_t firsts) {
+      firsts_[fill[c]] = firsts;
+      ids_[fill[c]++] = static_cast<TetId>(t);
+    });
 }
 
 std::array<int, 3> TetGrid::cell_of(const glm::dvec3& p) const {
@@ -79,15 +85,21 @@ std::array<int, 3> TetGrid::cell_of(const glm::dvec3& p) const {
   return c;
 }
 
-void TetGrid::gather(const Box& box, std::vector<TetId>& out) const {
+void TetGrid::gather(const Box& box, std::int32_t material, std::vector<TetId>& out) const {
   if (ids_.empty()) return;
   const std::array<int, 3> c0 = cell_of(box.lo), c1 = cell_of(box.hi);
   for (int z = c0[2]; z <= c1[2]; ++z)
     for (int y = c0[1]; y <= c1[1]; ++y)
       for (int x = c0[0]; x <= c1[0]; ++x) {
+        // An entry counts here if, along each axis, its cell is the tet's first or the query's.
+        const std::uint8_t needed = static_cast<std::uint8_t>((x == c0[0] ? 0 : 1) | (y == c0[1] ? 0 : 2) | (z == c0[2] ? 0 : 4));
         const std::size_t c = index(x, y, z);
-        out.insert(out.end(), ids_.begin() + static_cast<std::ptrdiff_t>(offsets_[c]),
-                   ids_.begin() + static_cast<std::ptrdiff_t>(offsets_[c + 1]));
+        for (std::size_t k = offsets_[c]; k < offsets_[c + 1]; ++k) {
+          if ((firsts_[k] & needed) != needed) continue;
+          const TetId t = ids_[k];
+          if ((mesh_.tet_material.empty() ? 0 : mesh_.tet_material[t]) != material) continue;
+          if (tet_box(mesh_, t).meets(box)) out.push_back(t);
+        }
       }
 }
 

@@ -31,8 +31,12 @@ class TetGrid {
  public:
   explicit TetGrid(const MeshData& mesh);
 
-  // Appends to `out` the tets listed in the cells `box` meets (with repeats: sort and unique them).
-  void gather(const Box& box, std::vector<TetId>& out) const;
+  // Appends to `out` the tets of `material` whose boxes meet `box`, each once, in no useful order.
+  // A tet listed in several of the cells `box` meets is taken in the first of them only (the cell
+  // of its box's low corner, moved into the query's range: firsts_ says, per entry and axis,
+  // whether the entry's cell is the tet's first along that axis), so repeats cost no sort and no
+  // position load.
+  void gather(const Box& box, std::int32_t material, std::vector<TetId>& out) const;
 
   // The tet of `material` (of any material when `any_material`) whose centroid is nearest `point`
   // (ties: the smaller id); kInvalid when the mesh has no such tet.
@@ -51,6 +55,7 @@ class TetGrid {
   std::array<int, 3> dims_{1, 1, 1};
   std::vector<std::size_t> offsets_;  // [cell] into ids_, one past the end at the back
   std::vector<TetId> ids_;
+  std::vector<std::uint8_t> firsts_;  // [entry] bit a: the entry's cell is the tet's first along axis a
 };
 
 }  // namespace topotet::cell_data

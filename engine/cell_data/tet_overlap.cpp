@@ -8,31 +8,7 @@
 namespace topotet::cell_data {
 namespace {
 
-// A face plane of B with the normal pointing out of B: a point x is inside when
-// dot(normal, x) <= offset.
-struct Plane {
-  glm::dvec3 normal;
-  double offset;
-  double distance(const glm::dvec3& x) const { return glm::dot(normal, x) - offset; }
-};
-
-// The four face planes of tet b, oriented by the vertex opposite each face (so that the sign
-// convention does not depend on b's orientation). False for a flat tet.
-bool face_planes(const Tet& b, std::array<Plane, 4>& planes) {
-  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-  for (int f = 0; f < 4; ++f) {
-    const glm::dvec3& p0 = b[kFace[f][0]];
-    glm::dvec3 n = glm::cross(b[kFace[f][1]] - p0, b[kFace[f][2]] - p0);
-    double offset = glm::dot(n, p0);
-    if (glm::dot(n, b[f]) - offset > 0) {
-      n = -n;
-      offset = -offset;
-    }
-    if (!(glm::dot(n, b[f]) - offset < 0)) return false;  // b[f] on the face's plane: flat
-    planes[static_cast<std::size_t>(f)] = {n, offset};
-  }
-  return true;
-}
+using Plane = TetClipper::Plane;
 
 struct Piece {
   glm::dvec3 v[4];
@@ -106,24 +82,47 @@ double tet_volume(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
   return std::abs(glm::dot(b - a, glm::cross(c - a, d - a))) / 6.0;
 }
 
-double tet_overlap_volume(const Tet& a, const Tet& b) {
-  std::array<Plane, 4> planes;
-  if (!face_planes(b, planes)) return 0.0;
-  bool all_inside = true;
-  for (const Plane& p : planes) {
+// The planes are oriented by the vertex opposite each face, so that B's orientation does not
+// matter; a vertex on its face's plane means B is flat.
+TetClipper::TetClipper(const Tet& b) {
+  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  for (int f = 0; f < 4; ++f) {
+    const glm::dvec3& p0 = b[kFace[f][0]];
+    glm::dvec3 n = glm::cross(b[kFace[f][1]] - p0, b[kFace[f][2]] - p0);
+    double offset = glm::dot(n, p0);
+    if (glm::dot(n, b[f]) - offset > 0) {
+      n = -n;
+      offset = -offset;
+    }
+    if (!(glm::dot(n, b[f]) - offset < 0)) flat_ = true;
+    planes_[f] = {n, offset};
+  }
+}
+
+double TetClipper::overlap_volume(const Tet& a) const {
+  if (flat_) return 0.0;
+  const Plane* planes = planes_;
+  // Only the planes that cut A need clipping: A is on the inner side of the others, and so is
+  // every piece of A (usually A straddles one or two of B's faces).
+  bool cuts[4];
+  bool any_cut = false;
+  for (int f = 0; f < 4; ++f) {
     int out = 0;
     for (int k = 0; k < 4; ++k) {
-      if (p.distance(a[k]) > 0) ++out;
+      if (planes[f].distance(a[k]) > 0) ++out;
     }
     if (out == 4) return 0.0;  // a separating plane
-    all_inside = all_inside && out == 0;
+    cuts[f] = out > 0;
+    any_cut = any_cut || cuts[f];
   }
-  if (all_inside) return tet_volume(a[0], a[1], a[2], a[3]);
+  if (!any_cut) return tet_volume(a[0], a[1], a[2], a[3]);
 
   Pieces buffers[2];
   buffers[0].push(a[0], a[1], a[2], a[3]);
   int from = 0;
-  for (const Plane& p : planes) {
+  for (int f = 0; f < 4; ++f) {
+    if (!cuts[f]) continue;
+    const Plane& p = planes[f];
     Pieces& next = buffers[1 - from];
     next.clear();
     for (int i = 0; i < buffers[from].size(); ++i) clip(buffers[from][i], p, next);
