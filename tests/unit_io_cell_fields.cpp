@@ -117,6 +117,20 @@ TEST(CellFieldsIo, gmsh_element_data_on_a_triangle_is_an_error) {
   expect_error(dir.file("a.msh"), dir.file("a.msh") + ":33:", "element tag 5 is not a tetrahedron", tets_only);
 }
 
+TEST(CellFieldsIo, a_cell_array_of_the_wrong_size_is_not_written) {
+  CellTempDir dir;
+  MeshData m = mesh_with_cell_fields();
+  m.cell_fields[1].values.pop_back();
+  for (const char* name : {"a.mesh", "a.msh", "a.vtu"}) {
+    try {
+      write_mesh(dir.file(name), m);
+      ADD_FAILURE() << name << ": written";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("cell array 'region': 2 values for 3 tets"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(CellFieldsIo, vtu_writes_cell_data) {
   CellTempDir dir;
   write_mesh(dir.file("a.vtu"), mesh_with_cell_fields());
