@@ -242,6 +242,26 @@ TEST(RemapCellFields, the_same_mesh_gives_the_same_values) {
       ASSERT_NEAR(same.cell_fields[f].values[t], input.cell_fields[f].values[t], 1e-9 * (1 + std::abs(input.cell_fields[f].values[t])));
 }
 
+TEST(RemapCellFields, tets_without_overlap_take_the_nearest_ones) {
+  // Input: tet T0 at the origin (value 1, mass 10) and T1 at x = 10 (value 2, mass 5). Output: T0
+  // again, a tet at x = 7 that overlaps nothing, and one of a material the input lacks.
+  MeshData input;
+  input.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {10, 0, 0}, {11, 0, 0}, {10, 1, 0}, {10, 0, 1}};
+  input.tets = {{0, 1, 2, 3}, {4, 5, 6, 7}};
+  input.tet_material = {1, 1};
+  input.cell_fields = {{"value", 1, CellFieldKind::kIntensive, {1, 2}}, {"mass", 1, CellFieldKind::kExtensive, {10, 5}}};
+  MeshData output;
+  output.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {7, 0, 0}, {8, 0, 0}, {7, 1, 0}, {7, 0, 1},
+                      {-3, 0, 0}, {-2, 0, 0}, {-3, 1, 0}, {-3, 0, 1}};
+  output.tets = {{0, 1, 2, 3}, {4, 5, 6, 7}, {8, 9, 10, 11}};
+  output.tet_material = {1, 1, 9};
+  const CellRemapReport report = remap_cell_fields(input, output);
+  EXPECT_EQ(report.nearest_new_tets, 2u);
+  EXPECT_EQ(report.nearest_original_tets, 1u);
+  EXPECT_EQ(output.cell_fields[0].values, (std::vector<double>{1, 2, 1}));  // T0 itself; T1 nearest; any material: T0
+  EXPECT_EQ(output.cell_fields[1].values, (std::vector<double>{10, 5, 0}));  // T1's mass to its nearest output tet
+}
+
 TEST(RemapCellFields, bad_arrays_and_unknown_names_are_errors) {
   Simplified s = simplified_cube_sphere();
   CellRemapOptions unknown;

@@ -62,6 +62,21 @@ struct Scratch {
 
 std::int32_t material_of(const MeshData& m, std::size_t t) { return m.tet_material.empty() ? 0 : m.tet_material[t]; }
 
+// The materials of `m`, sorted: a nearest search for a material that is nowhere would scan the
+// whole grid, so such a search goes straight to the nearest tet of any material.
+std::vector<std::int32_t> materials_of(const MeshData& m) {
+  std::vector<std::int32_t> list = m.tet_material.empty() ? std::vector<std::int32_t>{0} : m.tet_material;
+  std::sort(list.begin(), list.end());
+  list.erase(std::unique(list.begin(), list.end()), list.end());
+  return list;
+}
+
+TetId nearest_tet(const TetGrid& grid, const std::vector<std::int32_t>& materials, const glm::dvec3& point,
+                  std::int32_t material) {
+  const bool present = std::binary_search(materials.begin(), materials.end(), material);
+  return grid.nearest(point, material, /*any_material=*/!present);
+}
+
 void load_tet(const MeshData& m, std::size_t t, cell_data::Tet& out) {
   for (int k = 0; k < 4; ++k) out[k] = to_glm(m.positions[m.tets[t][static_cast<std::size_t>(k)]]);
 }
@@ -206,11 +221,11 @@ CellRemapReport remap_cell_fields(const MeshData& original, MeshData& simplified
   std::vector<TetId> lonely;
   for (const auto& list : uncovered) lonely.insert(lonely.end(), list.begin(), list.end());
   report.nearest_new_tets = lonely.size();
+  const std::vector<std::int32_t> original_materials = lonely.empty() ? std::vector<std::int32_t>{} : materials_of(original);
   parallel::for_range<std::size_t>(0, lonely.size(), 16, "remap_cell_fields_nearest", [&](std::size_t a, std::size_t b) {
     for (std::size_t k = a; k < b; ++k) {
       const TetId j = lonely[k];
-      TetId i = grid.nearest(cell_data::tet_centroid(simplified, j), material_of(simplified, j));
-      if (i == kInvalid) i = grid.nearest(cell_data::tet_centroid(simplified, j), 0, true);  // a material the original lacks
+      const TetId i = nearest_tet(grid, original_materials, cell_data::tet_centroid(simplified, j), material_of(simplified, j));
       if (i == kInvalid) continue;
       for (std::size_t f = 0; f < in.size(); ++f) {
         if (out[f].kind == CellFieldKind::kExtensive) continue;
@@ -256,13 +271,15 @@ CellRemapReport remap_cell_fields(const MeshData& original, MeshData& simplified
     kept = {};
     // Original tets that no new tet of their material covers: their amount to the nearest one.
     std::optional<TetGrid> new_grid;
+    std::vector<std::int32_t> new_materials;
     for (std::size_t i = 0; i < original.tets.size(); ++i) {
       if (covered[i] > 0) continue;
-      if (!new_grid) new_grid.emplace(simplified);
+      if (!new_grid) {
+        new_grid.emplace(simplified);
+        new_materials = materials_of(simplified);
+      }
       ++report.nearest_original_tets;
-      const glm::dvec3 centroid = cell_data::tet_centroid(original, i);
-      TetId j = new_grid->nearest(centroid, material_of(original, i));
-      if (j == kInvalid) j = new_grid->nearest(centroid, 0, true);  // a material the output lacks
+      const TetId j = nearest_tet(*new_grid, new_materials, cell_data::tet_centroid(original, i), material_of(original, i));
       if (j == kInvalid) continue;
       for (std::size_t f = 0; f < in.size(); ++f) {
         if (out[f].kind != CellFieldKind::kExtensive) continue;

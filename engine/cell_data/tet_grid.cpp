@@ -114,25 +114,31 @@ TetId TetGrid::nearest(const glm::dvec3& point, std::int32_t material, bool any_
   const int max_ring = std::max({dims_[0], dims_[1], dims_[2]});
   TetId best = kInvalid;
   double best_d2 = std::numeric_limits<double>::infinity();
+  const auto visit = [&](int x, int y, int z) {
+    const std::size_t cell = index(x, y, z);
+    for (std::size_t k = offsets_[cell]; k < offsets_[cell + 1]; ++k) {
+      const TetId t = ids_[k];
+      if (!any_material && (mesh_.tet_material.empty() ? 0 : mesh_.tet_material[t]) != material) continue;
+      const glm::dvec3 d = tet_centroid(mesh_, t) - point;
+      const double d2 = glm::dot(d, d);
+      if (d2 < best_d2 || (d2 == best_d2 && t < best)) {
+        best_d2 = d2;
+        best = t;
+      }
+    }
+  };
   for (int r = 0; r <= max_ring; ++r) {
-    for (int z = c[2] - r; z <= c[2] + r; ++z) {
-      if (z < 0 || z >= dims_[2]) continue;
-      for (int y = c[1] - r; y <= c[1] + r; ++y) {
-        if (y < 0 || y >= dims_[1]) continue;
-        for (int x = c[0] - r; x <= c[0] + r; ++x) {
-          if (x < 0 || x >= dims_[0]) continue;
-          if (std::max({std::abs(x - c[0]), std::abs(y - c[1]), std::abs(z - c[2])}) != r) continue;  // the shell only
-          const std::size_t cell = index(x, y, z);
-          for (std::size_t k = offsets_[cell]; k < offsets_[cell + 1]; ++k) {
-            const TetId t = ids_[k];
-            if (!any_material && (mesh_.tet_material.empty() ? 0 : mesh_.tet_material[t]) != material) continue;
-            const glm::dvec3 d = tet_centroid(mesh_, t) - point;
-            const double d2 = glm::dot(d, d);
-            if (d2 < best_d2 || (d2 == best_d2 && t < best)) {
-              best_d2 = d2;
-              best = t;
-            }
-          }
+    // The shell of ring r only (every cell of it once): whole rows where y or z is on the shell,
+    // else the two ends of the row. Each ring costs its own cells, so a search over the whole
+    // grid (a material that is nowhere) costs one pass over the cells.
+    for (int z = std::max(0, c[2] - r); z <= std::min(dims_[2] - 1, c[2] + r); ++z) {
+      for (int y = std::max(0, c[1] - r); y <= std::min(dims_[1] - 1, c[1] + r); ++y) {
+        const bool whole_row = std::abs(z - c[2]) == r || std::abs(y - c[1]) == r;
+        if (whole_row) {
+          for (int x = std::max(0, c[0] - r); x <= std::min(dims_[0] - 1, c[0] + r); ++x) visit(x, y, z);
+        } else {
+          if (c[0] - r >= 0) visit(c[0] - r, y, z);
+          if (r > 0 && c[0] + r < dims_[0]) visit(c[0] + r, y, z);
         }
       }
     }
