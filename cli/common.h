@@ -25,6 +25,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "topotet/cell_fields.h"
 #include "topotet/hierarchy.h"
 #include "topotet/io.h"
 #include "topotet/mesh_data.h"
@@ -73,6 +74,11 @@ struct SimplifyJob {
   bool quiet = false;
   std::string progress = "auto";     // ProgressMode, parsed before any reading
   double progress_interval = 10.0;  // seconds between lines (--progress lines)
+  // Cell data (topotet/cell_fields.h): the kinds --extensive / --categorical give, and the part of
+  // the input the remap needs (positions, tets, materials, cell fields) when `reload` releases the
+  // input: about a third of it; empty when the input has no cell arrays or stays in memory.
+  CellRemapOptions cell_remap;
+  MeshData cell_source;
 };
 // Builds, simplifies, writes, measures and verifies; prints the report. Returns the exit code.
 int run_simplify_job(SimplifyJob& job);

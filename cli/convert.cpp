@@ -51,7 +51,10 @@ int run_convert(const ConvertArgs& args) {
     MeshExportOptions export_options;
     export_options.feature_edges = true;
     export_options.feature_ref = *args.feature_ref;
+    std::vector<CellField> cells = std::move(mesh.cell_fields);
+    const std::size_t tets = mesh.tet_count();
     mesh = model.to_mesh_data(export_options);
+    if (mesh.tet_count() == tets) mesh.cell_fields = std::move(cells);  // the model keeps the tets and their order
     features_text = ", features: " + format_count(found.edges) + " sharp edges (ref " +
                     std::to_string(*args.feature_ref) + "), " + format_count(found.corners) + " corners";
   } else if (args.validate) {
@@ -64,10 +67,11 @@ int run_convert(const ConvertArgs& args) {
   options.format = output_format;
   write_mesh_file(args.output, mesh, options);
   const double write_seconds = write_clock.seconds();
-  std::fprintf(report_stream(), "%s -> %s: %s vertices, %s tets, %s triangles, %s edges, %zu field%s\n", args.input.c_str(),
-              args.output.c_str(), format_count(mesh.vertex_count()).c_str(), format_count(mesh.tet_count()).c_str(),
-              format_count(mesh.triangles.size()).c_str(), format_count(mesh.segments.size()).c_str(),
-              mesh.fields.size(), mesh.fields.size() == 1 ? "" : "s");
+  std::fprintf(report_stream(), "%s -> %s: %s vertices, %s tets, %s triangles, %s edges, %zu field%s, %zu cell array%s\n",
+              args.input.c_str(), args.output.c_str(), format_count(mesh.vertex_count()).c_str(),
+              format_count(mesh.tet_count()).c_str(), format_count(mesh.triangles.size()).c_str(),
+              format_count(mesh.segments.size()).c_str(), mesh.fields.size(), mesh.fields.size() == 1 ? "" : "s",
+              mesh.cell_fields.size(), mesh.cell_fields.size() == 1 ? "" : "s");
   std::fprintf(report_stream(), "read %s, %swrite %s%s\n", format_seconds(read_seconds).c_str(),
                args.validate || args.feature_ref ? ("validated " + format_seconds(build_seconds) + ", ").c_str() : "",
                format_seconds(write_seconds).c_str(), features_text.c_str());

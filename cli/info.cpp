@@ -140,6 +140,17 @@ int run_info(const InfoArgs& args) {
     field_text += ")";
   }
   row("fields", field_text);
+  std::string cell_text = std::to_string(data.cell_fields.size());
+  if (!data.cell_fields.empty()) {
+    cell_text += " (";
+    for (std::size_t i = 0; i < data.cell_fields.size(); ++i) {
+      const CellField& f = data.cell_fields[i];
+      cell_text += (i ? ", " : "") + f.name + ": " + cell_kind_name(f.kind) +
+                   (f.components == 1 ? "" : ", " + std::to_string(f.components) + " components");
+    }
+    cell_text += ")";
+  }
+  row("cell arrays", cell_text);
   if (!data.positions.empty())
     row("bounding box", "[" + format_number(lo[0], 6) + ", " + format_number(hi[0], 6) + "] x [" +
                             format_number(lo[1], 6) + ", " + format_number(hi[1], 6) + "] x [" +
@@ -186,6 +197,9 @@ int run_info(const InfoArgs& args) {
     in["pinned_vertices"] = pinned.size();
     in["fields"] = Json::array();
     for (const VertexField& f : data.fields) in["fields"].push_back({{"name", f.name}, {"components", f.components}});
+    in["cell_arrays"] = Json::array();
+    for (const CellField& f : data.cell_fields)
+      in["cell_arrays"].push_back({{"name", f.name}, {"components", f.components}, {"kind", cell_kind_name(f.kind)}});
     if (!data.positions.empty()) {
       in["bounding_box"] = {{"min", lo}, {"max", hi}};
     } else {

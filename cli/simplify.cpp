@@ -18,6 +18,7 @@
 #include "common.h"
 #include "simplify_options.h"
 #include "simplify_report.h"
+#include "topotet/cell_fields.h"
 #include "topotet/error.h"
 #include "topotet/hierarchy.h"
 #include "topotet/io.h"
@@ -80,7 +81,16 @@ TetMesh build_model(SimplifyJob& job, SimplifyRun& run, BuildNotes& notes) {
   run.model_bytes = mesh.memory_bytes();
   run.vertices_in = job.input.vertex_count();
   run.tets_in = job.input.tet_count();
-  if (job.reload) job.input = MeshData{};  // see SimplifyJob::reload
+  if (job.reload) {
+    // The remap of the cell arrays needs only the input's tets and their arrays: those stay.
+    if (!job.input.cell_fields.empty()) {
+      job.cell_source.positions = std::move(job.input.positions);
+      job.cell_source.tets = std::move(job.input.tets);
+      job.cell_source.tet_material = std::move(job.input.tet_material);
+      job.cell_source.cell_fields = std::move(job.input.cell_fields);
+    }
+    job.input = MeshData{};  // see SimplifyJob::reload
+  }
   return mesh;
 }
 
@@ -127,6 +137,17 @@ void simplify_level(const SimplifyJob& job, double level, TetMesh& mesh, Simplif
   result.cumulative_seconds = run.cumulative_seconds;
 }
 
+// The input's cell arrays onto the level's tets (topotet/cell_fields.h), from the input or, when it
+// was released, from the part of it build_model kept.
+void remap_cells(const SimplifyJob& job, LevelResult& result) {
+  const MeshData& source = job.cell_source.tets.empty() ? job.input : job.cell_source;
+  if (source.cell_fields.empty()) return;
+  log_stage("cell data: remap " + std::to_string(source.cell_fields.size()) + " arrays");
+  result.cell_remap = remap_cell_fields(source, result.output, job.cell_remap);
+  log_stage("cell data: " + format_count(result.cell_remap->overlap_pairs) + " overlaps in " +
+            format_seconds(result.cell_remap->seconds));
+}
+
 // Writes the level's mesh (OUT, or OUT with the ratio before the extension), with the detected
 // features when --feature-ref asks for them.
 void write_level(const SimplifyJob& job, double level, const TetMesh& mesh, LevelResult& result) {
@@ -141,7 +162,9 @@ void write_level(const SimplifyJob& job, double level, const TetMesh& mesh, Leve
     MeshExportOptions export_options;
     export_options.feature_edges = true;
     export_options.feature_ref = *job.feature_ref;
-    write_mesh_file(result.output_path, mesh.to_mesh_data(export_options), write_options);
+    MeshData with_features = mesh.to_mesh_data(export_options);
+    with_features.cell_fields = result.output.cell_fields;  // the same tets, in the same order
+    write_mesh_file(result.output_path, with_features, write_options);
   } else {
     write_mesh_file(result.output_path, result.output, write_options);
   }
@@ -159,6 +182,7 @@ void simplify_levels(const SimplifyJob& job, TetMesh& mesh, SimplifyRun& run) {
     result.target_ratio = level > 0 ? level : (job.options.target_vertices ? 0.0 : job.options.target_vertex_ratio);
     simplify_level(job, level, mesh, run, result);
     result.output = mesh.to_mesh_data();
+    remap_cells(job, result);
     if (!job.output_path.empty()) write_level(job, level, mesh, result);
     if (!job.hierarchy_path.empty()) {
       const Stopwatch write_clock;
@@ -264,6 +288,8 @@ SimplifyJob job_from_args(const SimplifyArgs& args) {
   job.quiet = verbosity() == Verbosity::kQuiet;
   job.progress = args.progress;
   job.progress_interval = args.progress_interval;
+  job.cell_remap.extensive = args.extensive;
+  job.cell_remap.categorical = args.categorical;
   return job;
 }
 
@@ -336,6 +362,9 @@ int run_simplify(const SimplifyArgs& args) {
 int run_simplify_job(SimplifyJob& job) {
   check_outputs(job);
   SimplifyRun run;
+  // The kinds of the cell arrays (an --extensive NAME the input lacks fails here, before the work).
+  for (const CellField& f : job.input.cell_fields) run.cell_arrays.push_back({f.name, f.components, f.kind, {}});
+  apply_cell_kinds(run.cell_arrays, job.cell_remap);
   run.threads = cap_threads(job.options);
   run.is_parallel = job.options.engine == Engine::kParallel;
   run.verify = job.verify && job.metrics;
@@ -345,6 +374,7 @@ int run_simplify_job(SimplifyJob& job) {
     BuildNotes notes;
     TetMesh mesh = build_model(job, run, notes);
     simplify_levels(job, mesh, run);
+    job.cell_source = MeshData{};  // the remap is done: the measurements read the input again
     reload_input(job, notes, run);
     measure_outputs(job, run);
     print_report(job, run);

@@ -107,6 +107,18 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
            ->expected(1)
            ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
            ->check([](const std::string& value) { return field_weight_syntax(value); }));
+  keep(cmd->add_option("--extensive", args.extensive,
+                       "Cell array NAME holds amounts per tet (mass, heat): the output's tets share them out so that "
+                       "the sum is conserved (repeatable; other real arrays are averaged by volume)")
+           ->type_name("NAME")
+           ->expected(1)
+           ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll));
+  keep(cmd->add_option("--categorical", args.categorical,
+                       "Cell array NAME holds labels although the file stores reals (.sol, .msh, Exodus): each output "
+                       "tet takes the value of the largest part of its volume (repeatable; integer arrays already are)")
+           ->type_name("NAME")
+           ->expected(1)
+           ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll));
   keep(cmd->add_option("--json,--report", args.report, "Write the report as JSON to this file (- = stdout)"));
   keep(cmd->add_flag("--no-verify", args.no_verify,
                      "Skip the topology checker (quality, field error and distance are still measured)"));

@@ -54,6 +54,8 @@ struct SimplifyArgs {
   bool tets_only = false;
   bool msh22 = false;
   std::string material_array;  // --material-array (VTK formats)
+  std::vector<std::string> extensive;    // --extensive NAME: cell arrays conserved as sums
+  std::vector<std::string> categorical;  // --categorical NAME: cell arrays remapped as labels
 };
 
 // The registered options, for a tool that adds its own rules to some of them.

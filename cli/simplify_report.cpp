@@ -124,6 +124,15 @@ Json level_json(const LevelResult& l) {
   j["stopped"] = stop_report_json(r);
   j["surface_distance"] = l.measured ? surface_distance_json(l.distance) : Json(nullptr);
   j["surface_distance_seconds"] = l.distance_seconds;
+  if (l.cell_remap) {
+    j["cell_remap"] = {{"seconds", l.cell_remap->seconds},
+                       {"overlap_pairs", l.cell_remap->overlap_pairs},
+                       {"nearest_new_tets", l.cell_remap->nearest_new_tets},
+                       {"nearest_original_tets", l.cell_remap->nearest_original_tets},
+                       {"covered_volume_fraction", l.cell_remap->covered_volume_fraction}};
+  } else {
+    j["cell_remap"] = nullptr;
+  }
   j["topology_seconds"] = l.topology_seconds;
   if (l.verified) {
     j["topology"] = l.topology_ok ? "pass" : "fail";
@@ -285,6 +294,28 @@ void print_hierarchy(const SimplifyJob& job, const SimplifyRun& run) {
                        " parents/collapse; write " + format_seconds(run.hierarchy_write_seconds) + ")");
 }
 
+// "cell data: 3 arrays (density: intensive, region: categorical, mass: extensive), remapped in ..."
+void print_cell_data(const SimplifyRun& run) {
+  std::string arrays;
+  for (const CellField& f : run.cell_arrays)
+    arrays += (arrays.empty() ? "" : ", ") + f.name + ": " + cell_kind_name(f.kind) +
+              (f.components == 1 ? "" : " x" + std::to_string(f.components));
+  double seconds = 0;
+  std::uint64_t nearest_new = 0, nearest_original = 0;
+  for (const LevelResult& l : run.levels) {
+    if (!l.cell_remap) continue;
+    seconds += l.cell_remap->seconds;
+    nearest_new += l.cell_remap->nearest_new_tets;
+    nearest_original += l.cell_remap->nearest_original_tets;
+  }
+  row("cell data", std::to_string(run.cell_arrays.size()) + (run.cell_arrays.size() == 1 ? " array (" : " arrays (") +
+                       arrays + "), remapped by overlap volume in " + format_seconds(seconds) + " (" +
+                       format_number(100.0 * per(seconds, run.cumulative_seconds)) + "% of simplify)");
+  if (nearest_new + nearest_original > 0)
+    row("", format_count(nearest_new) + " output tets overlap no input tet of their material and took the nearest one's "
+            "values; " + format_count(nearest_original) + " input tets are covered by none (extensive amounts moved to the nearest)");
+}
+
 void print_memory(const SimplifyRun& run) {
   row("memory", "peak " + format_bytes(run.peak_bytes) + " (" +
                     format_count(run.tets_in ? run.peak_bytes / run.tets_in : 0) + " bytes/input tet); model " +
@@ -437,6 +468,7 @@ void print_report(const SimplifyJob& job, const SimplifyRun& run) {
     else print_level_table(job, run);
     if (!job.hierarchy_path.empty()) print_hierarchy(job, run);
     print_memory(run);
+    if (!run.cell_arrays.empty()) print_cell_data(run);
     if (job.levels.empty() && job.metrics) print_quality(run);
     if (job.options.feature_angle < 180.0) print_features(job, run);
     if (job.levels.empty() && job.options.optimize != Optimize::kNone && job.hierarchy_path.empty()) print_optimize(job, r);
@@ -464,6 +496,10 @@ void write_json_report(const SimplifyJob& job, const SimplifyRun& run) {
   j["metrics_share_of_simplify"] = per(times.total(), run.cumulative_seconds);
   j["topology_mode"] = !run.verify ? "skipped" : (run.fast_topology ? "fast" : "full");
   j["topology"] = !run.verify ? (run.all_ok ? "skipped" : "fail") : (run.all_ok ? "pass" : "fail");
+  Json cells = Json::array();
+  for (const CellField& f : run.cell_arrays)
+    cells.push_back({{"name", f.name}, {"components", f.components}, {"kind", cell_kind_name(f.kind)}});
+  j["cell_arrays"] = cells;
   j["levels"] = Json::array();
   for (const LevelResult& l : run.levels) j["levels"].push_back(level_json(l));
   write_json_atomically(job.report_path, j);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common.h"
+#include "topotet/cell_fields.h"
 #include "topotet/hierarchy.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
@@ -41,6 +42,7 @@ struct LevelResult {
   std::string differences;
   topotet::TopologyReport topology;
   std::vector<RoundStats> rounds;  // filled at -vv only (SimplifyOptions::round_log)
+  std::optional<CellRemapReport> cell_remap;  // the input's cell arrays remapped onto this level
 };
 
 // Times of the measurements of every level together, for the report's "measure" line.
@@ -66,6 +68,8 @@ struct SimplifyRun {
   Hierarchy hierarchy;              // --hierarchy
   double hierarchy_write_seconds = 0.0;
   std::uint64_t peak_bytes = 0;  // after simplifying, before measuring
+  // cell data: the input's cell arrays with the kinds they are remapped with (empty: none)
+  std::vector<CellField> cell_arrays;  // names, components and kinds only (no values)
   // measure
   MeasureTimes times;
   QualityStats input_quality;

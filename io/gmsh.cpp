@@ -4,7 +4,9 @@
 // tag (2.x), else the entity (elementary) tag; triangles and lines get their ref the same way;
 // point elements (type 15) become corners. Nodes are renumbered 0..n-1 in file order (tags may
 // be sparse). $NodeData with 1..9 components become VertexFields (last time step wins when a
-// view repeats). Higher-order elements are refused; hexahedra, prisms and pyramids are refused
+// view repeats); $ElementData on the tets become CellFields (reals: kind intensive), written back
+// with the tags the tets get in the file (a tag of another element is an error; with tets_only,
+// the values of the left-out volume elements go with them). Higher-order elements are refused; hexahedra, prisms and pyramids are refused
 // unless ReadOptions::tets_only (then left out and counted); quads are left out and counted;
 // unknown sections are skipped.
 //
@@ -212,6 +214,9 @@ class GmshReader {
       } else if (name == "NodeData") {
         if (!seen_nodes_) r_.fail("$NodeData before $Nodes");
         read_node_data();
+      } else if (name == "ElementData") {
+        if (!seen_elements_) r_.fail("$ElementData before $Elements");
+        read_element_data();
       } else if (name == "MeshFormat") {
         r_.fail("duplicate $MeshFormat section");
       } else {
@@ -524,9 +529,10 @@ class GmshReader {
       const Piece* piece = piece_of(entity_dim, entity);
       const bool partition_boundary = piece != nullptr && piece->parent_dim != entity_dim;
       for (std::uint64_t i = 0; i < n; ++i) {
-        size("$Elements element tag");
+        const std::uint64_t element_tag = size("$Elements element tag");
         for (int k = 0; k < et.nodes; ++k) tags[static_cast<std::size_t>(k)] = node_tag("$Elements node tag");
-        if (!partition_boundary) add_element(type, tags.data());
+        if (!partition_boundary && add_element(type, tags.data())) note_element_tag(type, element_tag);
+        if (is_dropped_volume(type)) dropped_tags_.push_back(element_tag);
       }
       if (options_.keep_partitions && dim == 3)
         notes_.tet_partition.resize(m_.tets.size(), piece != nullptr ? piece->partition : 0);
@@ -579,7 +585,11 @@ class GmshReader {
         for (int k = 0; k < et.nodes; ++k) tags[static_cast<std::size_t>(k)] = node_tag("$Elements node tag");
         const int dim = element_dim(type);
         const std::size_t begin = count_of_dim(dim);
-        if (add_element(type, tags.data())) add_to_run(dim, elementary, physical, begin);
+        if (add_element(type, tags.data())) {
+          add_to_run(dim, elementary, physical, begin);
+          note_element_tag(type, static_cast<std::uint64_t>(element_tag));
+        }
+        if (is_dropped_volume(type)) dropped_tags_.push_back(static_cast<std::uint64_t>(element_tag));
       }
       done += count;
     }
@@ -623,6 +633,68 @@ class GmshReader {
       *same = std::move(f);
     } else {
       m_.fields.push_back(std::move(f));
+    }
+  }
+
+  // Element tags, for $ElementData: [tet] its tag (before the MSH 2 copies are merged), and the tags
+  // of the volume elements --tets-only left out (their values go with them).
+  void note_element_tag(std::int64_t type, std::uint64_t tag) {
+    if (type == kTet) tet_tags_.push_back(tag);
+  }
+  bool is_dropped_volume(std::int64_t type) const { return options_.tets_only && type >= 5 && type <= 7; }
+
+  // $ElementData: a view on the tets (tags of other elements are an error, those of left-out
+  // volume elements are skipped); tets without a value get 0; last time step wins, as $NodeData.
+  void read_element_data() {
+    const auto nstrings = r_.read_int("$ElementData number of string tags", 0, 1000);
+    std::string name = "cellfield" + std::to_string(m_.cell_fields.size());
+    for (std::int64_t i = 0; i < nstrings; ++i) {
+      const std::string s = unquote(r_.next_line_text("$ElementData string tag"));
+      if (i == 0) name = s;
+    }
+    const auto nreals = r_.read_int("$ElementData number of real tags", 0, 1000);
+    for (std::int64_t i = 0; i < nreals; ++i) r_.read_double_any("$ElementData real tag");
+    const auto nints = r_.read_int("$ElementData number of integer tags", 0, 1000);
+    std::vector<std::int64_t> ints;
+    for (std::int64_t i = 0; i < nints; ++i) ints.push_back(r_.read_int("$ElementData integer tag"));
+    if (ints.size() < 3) r_.fail("$ElementData: expected at least 3 integer tags (time step, components, count)");
+    const std::int64_t comps = ints[1], n = ints[2];
+    if (comps < 1 || comps > 9) r_.fail("$ElementData: " + std::to_string(comps) + " components not supported (1 to 9)");
+    if (n < 0 || static_cast<std::uint64_t>(n) > tet_tags_.size() + dropped_tags_.size())
+      r_.fail("$ElementData: " + std::to_string(n) + " values for " + std::to_string(tet_tags_.size()) + " tetrahedra");
+    if (tag_index_.size() != tet_tags_.size()) {
+      tag_index_.clear();
+      for (std::size_t t = 0; t < tet_tags_.size(); ++t) tag_index_.emplace_back(tet_tags_[t], t);
+      std::sort(tag_index_.begin(), tag_index_.end());
+      std::sort(dropped_tags_.begin(), dropped_tags_.end());
+    }
+    begin_binary();
+    CellField f;
+    f.name = name;
+    f.components = static_cast<int>(comps);
+    f.values.assign(tet_tags_.size() * static_cast<std::size_t>(comps), 0.0);
+    for (std::int64_t i = 0; i < n; ++i) {
+      const std::uint64_t tag = binary_ ? static_cast<std::uint64_t>(static_cast<std::uint32_t>(r_.read_i32("$ElementData element tag")))
+                                        : static_cast<std::uint64_t>(r_.read_int("$ElementData element tag", 1, std::numeric_limits<std::int64_t>::max()));
+      const auto at = std::lower_bound(tag_index_.begin(), tag_index_.end(), std::pair<std::uint64_t, std::size_t>(tag, 0));
+      std::size_t tet = kNoRun;
+      if (at != tag_index_.end() && at->first == tag) {
+        tet = at->second;
+      } else if (!std::binary_search(dropped_tags_.begin(), dropped_tags_.end(), tag)) {
+        r_.fail("$ElementData '" + name + "': element tag " + std::to_string(tag) +
+                " is not a tetrahedron of the mesh (topotet reads the cell data of tetrahedra)");
+      }
+      for (std::int64_t c = 0; c < comps; ++c) {
+        const double x = real("$ElementData value");
+        if (tet != kNoRun) f.values[tet * static_cast<std::size_t>(comps) + static_cast<std::size_t>(c)] = x;
+      }
+    }
+    expect_end("ElementData");
+    const auto same = std::find_if(m_.cell_fields.begin(), m_.cell_fields.end(), [&](const CellField& g) { return g.name == f.name; });
+    if (same != m_.cell_fields.end()) {
+      *same = std::move(f);
+    } else {
+      m_.cell_fields.push_back(std::move(f));
     }
   }
 
@@ -815,6 +887,16 @@ class GmshReader {
     compact(tri_ref, keep[2]);
     compact(m_.tets, keep[3]);
     compact(m_.tet_material, keep[3]);
+    if (!keep[3].empty()) {
+      for (CellField& f : m_.cell_fields) {
+        const auto c = static_cast<std::size_t>(f.components);
+        std::size_t j = 0;
+        for (std::size_t i = 0; i < keep[3].size(); ++i)
+          if (keep[3][i])
+            for (std::size_t k = 0; k < c; ++k) f.values[j++] = f.values[i * c + k];
+        f.values.resize(j);
+      }
+    }
   }
 
   void finish_fields() {
@@ -825,6 +907,8 @@ class GmshReader {
       kept.push_back(std::move(f));
     }
     m_.fields = std::move(kept);
+    for (CellField& f : m_.cell_fields)
+      if (f.components == 9) to_symmetric_if_exact(f);
   }
 
   bool as_vertex_refs(const VertexField& f) {
@@ -841,7 +925,8 @@ class GmshReader {
   }
 
   // Row-major 3x3 -> MEDIT symmetric order (xx, xy, yy, xz, yz, zz), only if exactly symmetric.
-  static void to_symmetric_if_exact(VertexField& f) {
+  template <class Field>
+  static void to_symmetric_if_exact(Field& f) {
     const std::size_t n = f.values.size() / 9;
     for (std::size_t i = 0; i < n; ++i) {
       const double* a = &f.values[9 * i];
@@ -868,6 +953,9 @@ class GmshReader {
   std::array<std::unordered_map<int, std::vector<int>>, 4> entity_phys_;  // [dim] entity -> physicals
   std::array<std::unordered_map<int, Piece>, 4> pieces_;                // [dim] partitioned entity -> piece
   std::vector<VertId> points_;                                      // point elements, in order
+  std::vector<std::uint64_t> tet_tags_;                             // [tet] element tag (note_element_tag)
+  std::vector<std::uint64_t> dropped_tags_;                         // left-out volume elements (tets_only)
+  std::vector<std::pair<std::uint64_t, std::size_t>> tag_index_;    // (tag, tet), sorted: built by $ElementData
   std::vector<Run> runs_;
   static constexpr std::size_t kNoRun = ~std::size_t{0};
   std::array<std::size_t, 4> last_run_{kNoRun, kNoRun, kNoRun, kNoRun};  // per dim, to extend runs
@@ -975,9 +1063,12 @@ void add_blocks(std::vector<Block>& blocks, int dim, int type, const std::vector
   }
 }
 
-void write_node_data(AtomicFile& f, MshOut& out, const std::string& name, int components, std::size_t n,
-                     const auto& value) {
-  f.put("$NodeData\n1\n");
+// One view: $NodeData (entity i has tag i + 1) or $ElementData (entity i has tag tags[i]).
+void write_data(AtomicFile& f, MshOut& out, std::string_view section, const std::string& name, int components,
+                std::size_t n, const std::vector<std::uint64_t>* tags, const auto& value) {
+  f.put("$");
+  f.put(section);
+  f.put("\n1\n");
   f.put(quoted(name));
   f.put("\n1\n0\n3\n0\n");
   f.put_int(components);
@@ -985,10 +1076,15 @@ void write_node_data(AtomicFile& f, MshOut& out, const std::string& name, int co
   f.put_int(n);
   f.put('\n');
   for (std::size_t i = 0; i < n; ++i) {
-    out.i32(static_cast<std::int32_t>(i + 1));
+    out.i32(static_cast<std::int32_t>(tags ? (*tags)[i] : i + 1));
     for (int c = 0; c < components; ++c) out.f64(value(i, c), c + 1 == components ? '\n' : ' ');
   }
-  out.end_section("$EndNodeData");
+  out.end_section("$End" + std::string(section));
+}
+
+void write_node_data(AtomicFile& f, MshOut& out, const std::string& name, int components, std::size_t n,
+                     const auto& value) {
+  write_data(f, out, "NodeData", name, components, n, nullptr, value);
 }
 
 // What write_gmsh puts in the file, indexed by dimension (0 points ... 3 volumes): physical
@@ -1144,7 +1240,9 @@ void element_nodes(const Block& b, std::size_t i, const GmshPlan& plan, const Me
   for (int j = 0; j < k; ++j) f(std::uint64_t{v[j]} + 1, j + 1 == k);
 }
 
-void write_elements(AtomicFile& f, MshOut& out, const GmshPlan& plan, const MeshData& m) {
+// Both element writers return [tet] the tag it was written with (for $ElementData).
+std::vector<std::uint64_t> write_elements(AtomicFile& f, MshOut& out, const GmshPlan& plan, const MeshData& m) {
+  std::vector<std::uint64_t> tet_tags(m.tets.size());
   const std::vector<Block> blocks = element_blocks(plan);
   const std::size_t ne = plan.point_vertex.size() + m.segments.size() + m.triangles.size() + m.tets.size();
   f.put("$Elements\n");
@@ -1160,15 +1258,18 @@ void write_elements(AtomicFile& f, MshOut& out, const GmshPlan& plan, const Mesh
     out.size(b.elements.size(), '\n');
     for (std::size_t i : b.elements) {
       out.size(++tag);
+      if (b.type == kTet) tet_tags[i] = tag;
       element_nodes(b, i, plan, m, [&](std::uint64_t node, bool last) { out.size(node, last ? '\n' : ' '); });
     }
   }
   out.end_section("$EndElements");
+  return tet_tags;
 }
 
 // MSH 2.2 ASCII: "tag type 2 physical elementary nodes...", one line per physical group of the
 // element's entity (what Gmsh itself writes; our reader merges the copies back).
-void write_elements22(AtomicFile& f, const GmshPlan& plan, const MeshData& m) {
+std::vector<std::uint64_t> write_elements22(AtomicFile& f, const GmshPlan& plan, const MeshData& m) {
+  std::vector<std::uint64_t> tet_tags(m.tets.size());
   const std::vector<Block> blocks = element_blocks(plan);
   std::uint64_t count = 0;
   for (const Block& b : blocks)
@@ -1182,6 +1283,7 @@ void write_elements22(AtomicFile& f, const GmshPlan& plan, const MeshData& m) {
     for (int physical : e.physicals) {
       for (std::size_t i : b.elements) {
         f.put_int(++tag);
+        if (b.type == kTet && tet_tags[i] == 0) tet_tags[i] = tag;  // a volume's first group: the copy read back
         f.put(' ');
         f.put_int(b.type);
         f.put(" 2 ");
@@ -1197,6 +1299,7 @@ void write_elements22(AtomicFile& f, const GmshPlan& plan, const MeshData& m) {
     }
   }
   f.put("$EndElements\n");
+  return tet_tags;
 }
 
 void write_nodes22(AtomicFile& f, const MeshData& m) {
@@ -1214,6 +1317,23 @@ void write_nodes22(AtomicFile& f, const MeshData& m) {
   f.put("$EndNodes\n");
 }
 
+// 6-component symmetric tensors (MEDIT order xx, xy, yy, xz, yz, zz) go out as full row-major 3x3.
+constexpr int kFullFromSymmetric[9] = {0, 1, 3, 1, 2, 4, 3, 4, 5};
+
+void write_cell_fields(AtomicFile& f, MshOut& out, const MeshData& m, const std::vector<std::uint64_t>& tet_tags) {
+  for (const CellField& cf : m.cell_fields) {
+    const std::size_t c = static_cast<std::size_t>(cf.components);
+    if (cf.components == 6) {
+      write_data(f, out, "ElementData", cf.name, 9, m.tets.size(), &tet_tags, [&](std::size_t i, int k) {
+        return cf.values[i * 6 + static_cast<std::size_t>(kFullFromSymmetric[k])];
+      });
+    } else {
+      write_data(f, out, "ElementData", cf.name, cf.components, m.tets.size(), &tet_tags,
+                 [&](std::size_t i, int k) { return cf.values[i * c + static_cast<std::size_t>(k)]; });
+    }
+  }
+}
+
 void write_fields(AtomicFile& f, MshOut& out, const MeshData& m) {
   const std::size_t nv = m.positions.size();
   if (std::any_of(m.vertex_refs.begin(), m.vertex_refs.end(), [](std::int32_t r) { return r != 0; })) {
@@ -1223,10 +1343,8 @@ void write_fields(AtomicFile& f, MshOut& out, const MeshData& m) {
   for (const VertexField& fd : m.fields) {
     const std::size_t c = static_cast<std::size_t>(fd.components);
     if (fd.components == 6) {
-      // MEDIT symmetric order (xx, xy, yy, xz, yz, zz) -> row-major 3x3.
-      static constexpr int kFull[9] = {0, 1, 3, 1, 2, 4, 3, 4, 5};
       write_node_data(f, out, fd.name, 9, nv,
-                      [&](std::size_t i, int k) { return fd.values[i * 6 + static_cast<std::size_t>(kFull[k])]; });
+                      [&](std::size_t i, int k) { return fd.values[i * 6 + static_cast<std::size_t>(kFullFromSymmetric[k])]; });
     } else {
       write_node_data(f, out, fd.name, fd.components, nv,
                       [&](std::size_t i, int k) { return fd.values[i * c + static_cast<std::size_t>(k)]; });
@@ -1242,6 +1360,12 @@ MeshData read_gmsh(const std::string& path, const ReadOptions& options, ReadNote
 
 void write_gmsh(const std::string& path, const MeshData& m, bool binary, bool msh22) {
   if (msh22 && binary) throw InputError(path + ": Gmsh 2.2 output is ASCII only (drop --binary)");
+  for (const CellField& fd : m.cell_fields) {
+    if (fd.components > 9) {
+      throw InputError(path + ": cannot write cell field '" + fd.name + "' with " + std::to_string(fd.components) +
+                       " components (Gmsh views have 1 to 9)");
+    }
+  }
   for (const VertexField& fd : m.fields) {
     if (fd.components > 9) {
       throw InputError(path + ": cannot write field '" + fd.name + "' with " + std::to_string(fd.components) +
@@ -1255,8 +1379,9 @@ void write_gmsh(const std::string& path, const MeshData& m, bool binary, bool ms
     f.put("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
     write_physical_names(f, plan);
     write_nodes22(f, m);
-    write_elements22(f, plan, m);
+    const std::vector<std::uint64_t> tet_tags = write_elements22(f, plan, m);
     write_fields(f, out, m);
+    write_cell_fields(f, out, m, tet_tags);
     f.commit();
     return;
   }
@@ -1269,8 +1394,9 @@ void write_gmsh(const std::string& path, const MeshData& m, bool binary, bool ms
   write_physical_names(f, plan);
   write_entities(f, out, plan, m);
   write_nodes(f, out, plan, m);
-  write_elements(f, out, plan, m);
+  const std::vector<std::uint64_t> tet_tags = write_elements(f, out, plan, m);
   write_fields(f, out, m);
+  write_cell_fields(f, out, m, tet_tags);
   f.commit();
 }
 

@@ -82,6 +82,12 @@ void check_writable(const std::string& path, const MeshData& mesh) {
       bad("field '" + f.name + "': " + std::to_string(f.values.size()) + " values for " + std::to_string(nv) +
           " vertices x " + std::to_string(f.components) + " components");
   }
+  for (const CellField& f : mesh.cell_fields) {
+    if (f.components < 1) bad("cell array '" + f.name + "': components < 1");
+    if (f.values.size() != mesh.tets.size() * static_cast<std::size_t>(f.components))
+      bad("cell array '" + f.name + "': " + std::to_string(f.values.size()) + " values for " +
+          std::to_string(mesh.tets.size()) + " tets x " + std::to_string(f.components) + " components");
+  }
 }
 
 }  // namespace io

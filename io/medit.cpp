@@ -2,7 +2,7 @@
 //
 // A file is a sequence of sections "Keyword [count] entries...", in any order, keywords
 // case-insensitive, '#' starting a comment anywhere. We read Vertices, Tetrahedra, Triangles,
-// Edges, Ridges, Corners, RequiredVertices and SolAtVertices; every other section of the format
+// Edges, Ridges, Corners, RequiredVertices, SolAtVertices and SolAtTetrahedra; every other section of the format
 // is skipped by its known entry size (libMeshb's keyword table). A keyword whose size we do not
 // know cannot be skipped safely (entries are not line-delimited), so it is an error naming it.
 //
@@ -170,20 +170,23 @@ void read_version(LineReader& r) {
   if (v < 1 || v > 4) r.fail("MeshVersionFormatted " + std::to_string(v) + " is not supported (expected 1 to 4)");
 }
 
-// SolAtVertices (keyword already read): appends one field per solution, named "sol<k>".
-void read_sol_at_vertices(LineReader& r, std::optional<std::size_t> vertex_count, std::vector<VertexField>& fields) {
-  const std::uint32_t n = read_count(r, "SolAtVertices");
-  if (vertex_count && n != *vertex_count) {
-    r.fail("SolAtVertices: " + std::to_string(n) + " entries but the mesh has " + std::to_string(*vertex_count) +
-           " vertices");
+// SolAtVertices or SolAtTetrahedra (keyword already read): appends one field per solution, named
+// "<prefix><k>" ("sol0", ... for vertices, "cellsol0", ... for tets), k counting from the fields
+// already there. `count`, when known, is the number of entities the section must have.
+template <class Field>
+void read_sol_section(LineReader& r, const std::string& keyword, std::optional<std::size_t> count, const char* entities,
+                      const char* prefix, std::vector<Field>& fields) {
+  const std::uint32_t n = read_count(r, keyword);
+  if (count && n != *count) {
+    r.fail(keyword + ": " + std::to_string(n) + " entries but the mesh has " + std::to_string(*count) + " " + entities);
   }
-  const auto types = r.read_int("SolAtVertices: number of solutions", 1, 1000);
+  const auto types = r.read_int(keyword + ": number of solutions", 1, 1000);
   const std::size_t first = fields.size();
   int per_entry = 0;
   for (std::int64_t t = 0; t < types; ++t) {
-    const auto type = r.read_int("SolAtVertices: type (1 scalar, 2 vector, 3 symmetric tensor, 4 matrix)", 1, 4);
-    VertexField f;
-    f.name = "sol" + std::to_string(fields.size());
+    const auto type = r.read_int(keyword + ": type (1 scalar, 2 vector, 3 symmetric tensor, 4 matrix)", 1, 4);
+    Field f;
+    f.name = prefix + std::to_string(fields.size());
     f.components = kSolComponents[static_cast<std::size_t>(type)];
     per_entry += f.components;
     fields.push_back(std::move(f));
@@ -191,9 +194,18 @@ void read_sol_at_vertices(LineReader& r, std::optional<std::size_t> vertex_count
   const std::size_t hint = r.reserve_hint(n, 2 * static_cast<std::size_t>(per_entry));
   for (std::size_t k = first; k < fields.size(); ++k)
     fields[k].values.reserve(hint * static_cast<std::size_t>(fields[k].components));
+  const std::string value = keyword + " value";
   for (std::uint32_t i = 0; i < n; ++i)
     for (std::size_t k = first; k < fields.size(); ++k)
-      for (int c = 0; c < fields[k].components; ++c) fields[k].values.push_back(r.read_double("SolAtVertices value"));
+      for (int c = 0; c < fields[k].components; ++c) fields[k].values.push_back(r.read_double(value));
+}
+
+void read_sol_at_vertices(LineReader& r, std::optional<std::size_t> vertex_count, std::vector<VertexField>& fields) {
+  read_sol_section(r, "SolAtVertices", vertex_count, "vertices", "sol", fields);
+}
+
+void read_sol_at_tets(LineReader& r, std::optional<std::size_t> tet_count, std::vector<CellField>& fields) {
+  read_sol_section(r, "SolAtTetrahedra", tet_count, "tetrahedra", "cellsol", fields);
 }
 
 class MeditReader {
@@ -229,6 +241,9 @@ class MeditReader {
         read_ridges();
       } else if (iequals(kw, "SolAtVertices")) {
         read_sol_at_vertices(r_, have_vertices_ ? std::optional<std::size_t>(nv_) : std::nullopt, m_.fields);
+      } else if (iequals(kw, "SolAtTetrahedra")) {
+        if (!seen_tets_) r_.fail("SolAtTetrahedra before Tetrahedra (its values are in the order of the tetrahedra)");
+        read_sol_at_tets(r_, m_.tets.size(), m_.cell_fields);
       } else if (std::uint64_t* count = non_tet_count(kw)) {
         skip_non_tets(kw, *count);
       } else {
@@ -418,7 +433,8 @@ class MeditReader {
   std::vector<std::pair<std::string, std::size_t>> deferred_;  // section, line
 };
 
-void read_sol_file(const std::string& path, std::size_t vertex_count, std::vector<VertexField>& fields) {
+void read_sol_file(const std::string& path, const MeshData& mesh, std::vector<VertexField>& fields,
+                   std::vector<CellField>& cell_fields) {
   LineReader r(path);
   r.set_comment_char('#');
   for (;;) {
@@ -431,7 +447,9 @@ void read_sol_file(const std::string& path, std::size_t vertex_count, std::vecto
     } else if (iequals(kw, "Dimension")) {
       read_dimension(r);
     } else if (iequals(kw, "SolAtVertices")) {
-      read_sol_at_vertices(r, vertex_count, fields);
+      read_sol_at_vertices(r, mesh.vertex_count(), fields);
+    } else if (iequals(kw, "SolAtTetrahedra")) {
+      read_sol_at_tets(r, mesh.tet_count(), cell_fields);
     } else {
       skip_section(r, kw);
     }
@@ -440,10 +458,14 @@ void read_sol_file(const std::string& path, std::size_t vertex_count, std::vecto
 
 // "<stem>.sol.fields.txt" lists the solution names, comma- or line-separated, optionally after a
 // "description:" prefix, e.g. "columns of SolAtVertices in order: Pressure, VelocityMagnitude".
-std::vector<std::string> read_field_names(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+// The names of the SolAtTetrahedra columns follow on a line "columns of SolAtTetrahedra in order:
+// ..." (a line with "SolAtTetrahedra" before a colon); a label (categorical cell field: .sol
+// stores reals) carries " [categorical]" after its name.
+struct SolNames {
+  std::vector<std::string> vertex, cell;
+};
+
+std::vector<std::string> split_names(std::string text) {
   const auto first_nl = text.find('\n');
   const auto colon = text.find(':');
   if (colon != std::string::npos && colon < first_nl) text.erase(0, colon + 1);
@@ -466,6 +488,28 @@ std::vector<std::string> read_field_names(const std::string& path) {
   return names;
 }
 
+SolNames read_field_names(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  SolNames names;
+  std::size_t cells = std::string::npos;
+  for (std::size_t at = text.find("SolAtTetrahedra"); at != std::string::npos; at = text.find("SolAtTetrahedra", at + 1)) {
+    const std::size_t line = text.rfind('\n', at);
+    const std::size_t start = line == std::string::npos ? 0 : line + 1;
+    const std::size_t colon = text.find(':', at), end = text.find('\n', at);
+    if (colon != std::string::npos && colon < end && start > 0) {
+      cells = start;
+      break;
+    }
+  }
+  names.vertex = split_names(text.substr(0, cells));
+  if (cells != std::string::npos) names.cell = split_names(text.substr(cells));
+  return names;
+}
+
+constexpr std::string_view kCategoricalSuffix = " [categorical]";
+
 // "box.mesh" -> "box", "box.mesh.gz" -> "box"; gz tells whether the mesh was compressed.
 std::string mesh_stem(const std::string& path, bool& gz) {
   std::string stem = path;
@@ -475,22 +519,70 @@ std::string mesh_stem(const std::string& path, bool& gz) {
   return stem;
 }
 
-std::string fields_file_text(const std::vector<VertexField>& fields) {
+std::string clean_name(std::string name, const std::string& fallback) {
+  for (char& c : name)
+    if (c == ',' || c == '\n' || c == '\r') c = '_';  // the separators of this file
+  if (name.find_first_not_of(" \t\"") == std::string::npos) name = fallback;
+  return name;
+}
+
+// The vertex line is written even when there are no vertex fields: the cell line is found as the
+// second one.
+std::string fields_file_text(const MeshData& m) {
   std::string s = "columns of SolAtVertices in order: ";
-  for (std::size_t i = 0; i < fields.size(); ++i) {
-    std::string name = fields[i].name;
-    for (char& c : name)
-      if (c == ',' || c == '\n' || c == '\r') c = '_';  // the separators of this file
-    if (name.find_first_not_of(" \t\"") == std::string::npos) name = "sol" + std::to_string(i);
-    s += (i ? ", " : "") + name;
+  for (std::size_t i = 0; i < m.fields.size(); ++i) s += (i ? ", " : "") + clean_name(m.fields[i].name, "sol" + std::to_string(i));
+  s += "\n";
+  if (m.cell_fields.empty()) return s;
+  s += "columns of SolAtTetrahedra in order: ";
+  for (std::size_t i = 0; i < m.cell_fields.size(); ++i) {
+    const CellField& f = m.cell_fields[i];
+    s += (i ? ", " : "") + clean_name(f.name, "cellsol" + std::to_string(i));
+    if (f.kind == CellFieldKind::kCategorical) s += kCategoricalSuffix;
   }
   return s + "\n";
 }
 
-bool default_field_names(const std::vector<VertexField>& fields) {
-  for (std::size_t i = 0; i < fields.size(); ++i)
-    if (fields[i].name != "sol" + std::to_string(i)) return false;
+bool default_field_names(const MeshData& m) {
+  for (std::size_t i = 0; i < m.fields.size(); ++i)
+    if (m.fields[i].name != "sol" + std::to_string(i)) return false;
+  for (std::size_t i = 0; i < m.cell_fields.size(); ++i)
+    if (m.cell_fields[i].name != "cellsol" + std::to_string(i) || m.cell_fields[i].kind == CellFieldKind::kCategorical)
+      return false;
   return true;
+}
+
+// A SolAt... section of `fields` (count entries); `where` names the file in errors.
+template <class Field>
+void put_sol_section(AtomicFile& sol, const char* keyword, std::size_t count, const std::vector<Field>& fields) {
+  if (fields.empty()) return;
+  sol.put(keyword);
+  sol.put('\n');
+  sol.put_int(count);
+  sol.put('\n');
+  sol.put_int(fields.size());
+  for (const Field& f : fields) {
+    const auto type = std::find(kSolComponents.begin() + 1, kSolComponents.end(), f.components);
+    if (type == kSolComponents.end()) {
+      throw InputError(sol.path() + ": cannot write field '" + f.name + "' with " + std::to_string(f.components) +
+                       " components (.sol supports 1, 3, 6 or 9)");
+    }
+    sol.put(' ');
+    sol.put_int(type - kSolComponents.begin());
+  }
+  sol.put("\n\n");
+  for (std::size_t i = 0; i < count; ++i) {
+    bool first = true;
+    for (const Field& f : fields) {
+      const std::size_t c = static_cast<std::size_t>(f.components);
+      for (std::size_t k = 0; k < c; ++k) {
+        if (!first) sol.put(' ');
+        first = false;
+        sol.put_double(f.values[i * c + k]);
+      }
+    }
+    sol.put('\n');
+  }
+  sol.put("\n");
 }
 
 void put_vertex_ids(AtomicFile& out, const VertId* v, int n) {
@@ -512,16 +604,27 @@ MeshData read_medit(const std::string& path, const ReadOptions& options, ReadNot
   std::error_code ec;
   for (const std::string& sol : candidates) {
     if (!std::filesystem::is_regular_file(sol, ec)) continue;
-    const std::size_t first = mesh.fields.size();
-    read_sol_file(sol, mesh.vertex_count(), mesh.fields);
+    const std::size_t first = mesh.fields.size(), first_cell = mesh.cell_fields.size();
+    read_sol_file(sol, mesh, mesh.fields, mesh.cell_fields);
     const std::string names_path = stem + ".sol.fields.txt";
     if (std::filesystem::is_regular_file(names_path, ec)) {
-      const std::vector<std::string> names = read_field_names(names_path);
-      if (names.size() != mesh.fields.size() - first) {
-        throw InputError(names_path + ": " + std::to_string(names.size()) + " names for the " +
-                         std::to_string(mesh.fields.size() - first) + " solutions of " + sol);
+      SolNames names = read_field_names(names_path);
+      // A file of names that knows no SolAtTetrahedra line names the vertex columns only.
+      if (names.vertex.size() != mesh.fields.size() - first ||
+          (!names.cell.empty() && names.cell.size() != mesh.cell_fields.size() - first_cell)) {
+        throw InputError(names_path + ": " + std::to_string(names.vertex.size()) + " + " + std::to_string(names.cell.size()) +
+                         " names for the " + std::to_string(mesh.fields.size() - first) + " SolAtVertices + " +
+                         std::to_string(mesh.cell_fields.size() - first_cell) + " SolAtTetrahedra solutions of " + sol);
       }
-      for (std::size_t i = 0; i < names.size(); ++i) mesh.fields[first + i].name = names[i];
+      for (std::size_t i = 0; i < names.vertex.size(); ++i) mesh.fields[first + i].name = names.vertex[i];
+      for (std::size_t i = 0; i < names.cell.size(); ++i) {
+        CellField& f = mesh.cell_fields[first_cell + i];
+        f.name = names.cell[i];
+        if (f.name.size() > kCategoricalSuffix.size() && f.name.ends_with(kCategoricalSuffix)) {
+          f.name.resize(f.name.size() - kCategoricalSuffix.size());
+          f.kind = CellFieldKind::kCategorical;
+        }
+      }
     }
     break;
   }
@@ -531,7 +634,7 @@ MeshData read_medit(const std::string& path, const ReadOptions& options, ReadNot
 void write_medit(const std::string& path, const MeshData& m) {
   // A stream or device has no folder for the companion .sol: fields cannot go with it.
   const bool direct = is_direct_output(path);
-  if (direct && !m.fields.empty())
+  if (direct && (!m.fields.empty() || !m.cell_fields.empty()))
     throw InputError(path + ": cannot write the fields' .sol beside a stream or device (write .msh, which keeps "
                      "fields inline, or a regular file)");
   AtomicFile out(path);
@@ -605,47 +708,24 @@ void write_medit(const std::string& path, const MeshData& m) {
     std::error_code ec;
     for (const std::string& p : paths) std::filesystem::remove(p, ec);
   };
-  if (m.fields.empty()) {
+  if (m.fields.empty() && m.cell_fields.empty()) {
     out.commit();
     if (!direct) remove_stale({sol_path, stem + ".sol.gz", names_path});
     return;
   }
   AtomicFile sol(sol_path);
-  sol.put("MeshVersionFormatted 2\n\nDimension 3\n\nSolAtVertices\n");
-  sol.put_int(m.positions.size());
-  sol.put('\n');
-  sol.put_int(m.fields.size());
-  for (const VertexField& f : m.fields) {
-    const auto type = std::find(kSolComponents.begin() + 1, kSolComponents.end(), f.components);
-    if (type == kSolComponents.end()) {
-      throw InputError(sol.path() + ": cannot write field '" + f.name + "' with " + std::to_string(f.components) +
-                       " components (.sol supports 1, 3, 6 or 9)");
-    }
-    sol.put(' ');
-    sol.put_int(type - kSolComponents.begin());
-  }
-  sol.put("\n\n");
-  for (std::size_t i = 0; i < m.positions.size(); ++i) {
-    bool first = true;
-    for (const VertexField& f : m.fields) {
-      const std::size_t c = static_cast<std::size_t>(f.components);
-      for (std::size_t k = 0; k < c; ++k) {
-        if (!first) sol.put(' ');
-        first = false;
-        sol.put_double(f.values[i * c + k]);
-      }
-    }
-    sol.put('\n');
-  }
-  sol.put("\nEnd\n");
+  sol.put("MeshVersionFormatted 2\n\nDimension 3\n\n");
+  put_sol_section(sol, "SolAtVertices", m.positions.size(), m.fields);
+  put_sol_section(sol, "SolAtTetrahedra", m.tets.size(), m.cell_fields);
+  sol.put("End\n");
   // Names go to <stem>.sol.fields.txt, unless they are the defaults a reader would give anyway.
-  if (default_field_names(m.fields)) {
+  if (default_field_names(m)) {
     commit_all({&sol, &out});
     remove_stale({stem + ".sol.gz", names_path});
     return;
   }
   AtomicFile names(names_path);
-  names.put(fields_file_text(m.fields));
+  names.put(fields_file_text(m));
   commit_all({&sol, &names, &out});
   remove_stale({stem + ".sol.gz"});
 }

@@ -1,13 +1,16 @@
-// VTK XML output for ParaView: <path>.vtu (tets, "material" cell data, one point array per
-// field) and, when the mesh lists substructures, <stem>_substructures.vtp (Lines = segments,
+// VTK XML output for ParaView: <path>.vtu (tets, "material" and the cell fields as cell data, one
+// point array per field) and, when the mesh lists substructures, <stem>_substructures.vtp (Lines = segments,
 // Polys = triangles, "ref" cell data; only the vertices they use); without substructures, a
 // companion left from an earlier write is removed. The VTK component (io/vtk/) reads both back.
 //
 // Binary data either inline as base64 (default: a self-contained, valid XML file) or, with
 // WriteOptions::binary, appended raw after the XML (smaller and faster). Both use UInt64 block
 // headers; for base64 the header is encoded together with the data, as VTK's own writer does.
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <functional>
 #include <string>
 #include <unordered_map>
@@ -214,6 +217,24 @@ void write_vtu(const std::string& path, const MeshData& m, bool binary) {
     fields.push_back({"Float64", io::xml_escape(fd.name), fd.components, 8 * fd.values.size(),
                       [&fd](ByteSink& s) { s.put(fd.values.data(), 8 * fd.values.size()); }});
   }
+  // Cell fields: labels as Int32 (VTK readers make integer arrays categorical again), the others as
+  // Float64; a label with a value that is not an int32 stays Float64.
+  std::vector<DataArray> cell_arrays;
+  for (const CellField& cf : m.cell_fields) {
+    const bool as_int = cf.kind == CellFieldKind::kCategorical &&
+                        std::all_of(cf.values.begin(), cf.values.end(), [](double x) {
+                          return x == std::trunc(x) && x >= std::numeric_limits<std::int32_t>::min() &&
+                                 x <= std::numeric_limits<std::int32_t>::max();
+                        });
+    if (as_int) {
+      cell_arrays.push_back({"Int32", io::xml_escape(cf.name), cf.components, 4 * cf.values.size(), [&cf](ByteSink& s) {
+                               for (double x : cf.values) s.put_value(static_cast<std::int32_t>(x));
+                             }});
+    } else {
+      cell_arrays.push_back({"Float64", io::xml_escape(cf.name), cf.components, 8 * cf.values.size(),
+                             [&cf](ByteSink& s) { s.put(cf.values.data(), 8 * cf.values.size()); }});
+    }
+  }
   const DataArray material{"Int32", "material", 1, 4 * nt, [&](ByteSink& s) {
                              if (m.tet_material.empty()) {
                                for (std::size_t i = 0; i < nt; ++i) s.put_value(std::int32_t{0});
@@ -245,6 +266,7 @@ void write_vtu(const std::string& path, const MeshData& m, bool binary) {
   }
   f.put("      <CellData Scalars=\"material\">\n");
   w.array(material);
+  for (const DataArray& a : cell_arrays) w.array(a);
   f.put("      </CellData>\n      <Points>\n");
   w.array(points);
   f.put("      </Points>\n      <Cells>\n");

@@ -27,6 +27,8 @@ constexpr Unavailable kUnavailable[] = {
     {"--no-field-bounds", "it belongs to --hierarchy"},
     {"--levels-error", "it belongs to --hierarchy"},
     {"--progress", "the ranks draw no progress; the report lists every pass at the end"},
+    {"--extensive", "cell data are not carried by topotet-mpi yet; use topotet simplify"},
+    {"--categorical", "cell data are not carried by topotet-mpi yet; use topotet simplify"},
     {"--progress-interval", "the ranks draw no progress; the report lists every pass at the end"},
 };
 

@@ -54,6 +54,9 @@ MeshData read_checked(const std::string& path, ReadOptions options, ReadNotes* n
   options.keep_partitions = true;
   MeshData data = read_mesh_file(path, options, notes);  // with the VTK formats when built
   warn_about_left_out_cells(path, *notes);
+  if (!data.cell_fields.empty())  // the ranks' parts would each need the remap (topotet/cell_fields.h)
+    std::fprintf(stderr, "topotet-mpi: warning: %s: %zu cell array%s not carried (topotet-mpi does not remap cell data "
+                 "yet; topotet simplify does)\n", path.c_str(), data.cell_fields.size(), data.cell_fields.size() == 1 ? " is" : "s are");
   BuildOptions build;
   build.skip_detached_substructures = true;
   BuildNotes built;

@@ -4,6 +4,8 @@
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkSmartPointer.h>
 #include <vtkDoubleArray.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
@@ -14,6 +16,7 @@
 #include <vtkUnstructuredGrid.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace topotet::io::vtk {
 
@@ -59,6 +62,28 @@ vtkSmartPointer<vtkUnstructuredGrid> grid_from_mesh(const MeshData& m, const std
   grid->SetCells(types, cells);
   grid->GetCellData()->AddArray(material);
   grid->GetCellData()->SetActiveScalars(material->GetName());
+  // Cell fields on the tets (the first cells); the substructure cells get 0. Labels that are all
+  // int32 values become an int array, as the readers expect of labels.
+  for (const CellField& f : m.cell_fields) {
+    const bool as_int = f.kind == CellFieldKind::kCategorical &&
+                        std::all_of(f.values.begin(), f.values.end(), [](double x) {
+                          return x == std::trunc(x) && std::abs(x) < 2147483647.0;
+                        });
+    vtkSmartPointer<vtkDataArray> a;
+    if (as_int) {
+      a = vtkSmartPointer<vtkIntArray>::New();
+    } else {
+      a = vtkSmartPointer<vtkDoubleArray>::New();
+    }
+    a->SetName(f.name.c_str());
+    a->SetNumberOfComponents(f.components);
+    a->SetNumberOfTuples(static_cast<vtkIdType>(cell_count));
+    a->Fill(0.0);
+    const auto c = static_cast<std::size_t>(f.components);
+    for (std::size_t t = 0; t < m.tets.size(); ++t)
+      for (std::size_t k = 0; k < c; ++k) a->SetComponent(static_cast<vtkIdType>(t), static_cast<int>(k), f.values[t * c + k]);
+    grid->GetCellData()->AddArray(a);
+  }
   for (const VertexField& f : m.fields) {
     vtkNew<vtkDoubleArray> a;
     a->SetName(f.name.c_str());

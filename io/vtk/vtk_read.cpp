@@ -493,7 +493,10 @@ class Converter {
       : path_(std::move(path)), options_(options), notes_(notes) {}
 
   MeshData convert(const Source& source) {
-    for (const Piece& p : source.pieces) add_piece(p);
+    for (const Piece& p : source.pieces) {
+      add_piece(p);
+      check_cell_arrays();
+    }
     finish(source);
     return std::move(m_);
   }
@@ -625,11 +628,21 @@ class Converter {
     if (p.role == Role::kVolume && !used.empty()) notes_.material_array = used;
     const std::int32_t fallback = p.ref.value_or(0);
     const auto ref_of = [&](vtkIdType c) { return refs.empty() ? fallback : refs[static_cast<std::size_t>(c)]; };
+    // The numeric cell arrays of a volume piece are carried for its tets (cell_arrays_), the
+    // others are noted as not read.
+    std::vector<std::pair<std::size_t, vtkDataArray*>> carried;  // (index in cell_arrays_, array)
+    const std::size_t tets_before = m_.tets.size();
     for (int i = 0; i < cd->GetNumberOfArrays(); ++i) {
       vtkAbstractArray* a = cd->GetAbstractArray(i);
       const std::string name = a && a->GetName() ? a->GetName() : "";
       if (name.empty() || name == used || is_bookkeeping(name) || (is_companion(p) && name == "ref")) continue;
-      unread_.insert("cell array '" + name + "'");
+      if (name == vtkDataSetAttributes::GhostArrayName()) continue;
+      auto* numeric = vtkDataArray::SafeDownCast(a);
+      if (p.role != Role::kVolume || !numeric) {
+        unread_.insert("cell array '" + name + "'" + (numeric ? "" : std::string(" (not numeric: ") + a->GetClassName() + ")"));
+        continue;
+      }
+      carried.emplace_back(cell_array(name, numeric, tets_before), numeric);
     }
 
     // Duplicated cells of a parallel file (ghost cells) belong to another piece.
@@ -669,6 +682,7 @@ class Converter {
           if (m_.tets.size() + 1 >= kInvalid) fail(file_of(p), "too many tetrahedra");
           m_.tets.push_back({v(0), v(1), v(2), v(3)});
           m_.tet_material.push_back(ref_of(c));
+          for (const auto& [index, array] : carried) append_cell_values(p, c, index, array);
           break;
         case VTK_TRIANGLE:
           need(3);
@@ -719,6 +733,42 @@ class Converter {
                                ") is not supported: topotet reads linear tetrahedra, triangles, lines and vertices");
       }
     }
+  }
+
+  // The cell array `name` of the pieces read so far (created with this piece when new): one that
+  // the pieces before it, which gave tets, did not have is not carried (it is on some blocks only).
+  std::size_t cell_array(const std::string& name, vtkDataArray* a, std::size_t tets_before) {
+    for (std::size_t k = 0; k < cell_arrays_.size(); ++k)
+      if (cell_arrays_[k].field.name == name) {
+        if (cell_arrays_[k].field.components != a->GetNumberOfComponents()) cell_arrays_[k].partial = true;
+        return k;
+      }
+    CellArray added;
+    added.field.name = name;
+    added.field.components = a->GetNumberOfComponents();
+    // VTK's integer types are labels; float and double are intensive values (mesh_data.h).
+    const int type = a->GetDataType();
+    added.field.kind = type == VTK_FLOAT || type == VTK_DOUBLE ? CellFieldKind::kIntensive : CellFieldKind::kCategorical;
+    added.partial = tets_before != 0;
+    cell_arrays_.push_back(std::move(added));
+    return cell_arrays_.size() - 1;
+  }
+
+  void append_cell_values(const Piece& p, vtkIdType c, std::size_t index, vtkDataArray* a) {
+    CellArray& target = cell_arrays_[index];
+    if (target.partial) return;
+    for (int k = 0; k < target.field.components; ++k) {
+      const double x = a->GetComponent(c, k);
+      if (!std::isfinite(x))
+        fail(file_of(p), where(p, "cell", c) + ": cell array '" + target.field.name + "': value is not finite (nan or inf)");
+      target.field.values.push_back(x);
+    }
+  }
+
+  // After a piece: an array it did not have, while it gave tets, is on some blocks only.
+  void check_cell_arrays() {
+    for (CellArray& a : cell_arrays_)
+      if (!a.partial && a.field.values.size() != m_.tets.size() * static_cast<std::size_t>(a.field.components)) a.partial = true;
   }
 
   void volume_cell(const Piece& p, vtkIdType c, const std::string& what, std::uint64_t& count) {
@@ -779,7 +829,17 @@ class Converter {
         m_.fields.push_back(std::move(f));
       }
     }
-    if (source.join_components) join_components();
+    for (CellArray& a : cell_arrays_) {
+      if (a.partial) {
+        unread_.insert("cell array '" + a.field.name + "' (not on every block)");
+      } else {
+        m_.cell_fields.push_back(std::move(a.field));
+      }
+    }
+    if (source.join_components) {
+      join_components(m_.fields, m_.positions.size());
+      join_components(m_.cell_fields, m_.tets.size());
+    }
     // Block, set, zone and patch names name the refs only when the refs are those ids.
     if (source.named_refs && own_ids_) {
       std::vector<GroupName> names = source.names;
@@ -793,31 +853,40 @@ class Converter {
 
   // Scalars "NAME[0]" .. "NAME[n-1]" (write_exodus's fields of other than 1 or 3 components),
   // consecutive, become one field NAME of n components where the first one was.
-  void join_components() {
-    std::vector<VertexField> out;
-    const std::size_t nv = m_.positions.size();
-    for (std::size_t i = 0; i < m_.fields.size();) {
-      const std::string& name = m_.fields[i].name;
+  template <class Field>
+  static void join_components(std::vector<Field>& fields, std::size_t count) {
+    std::vector<Field> out;
+    for (std::size_t i = 0; i < fields.size();) {
+      const std::string& name = fields[i].name;
       std::size_t n = 0;
       if (name.size() > 3 && name.ends_with("[0]")) {
         const std::string base = name.substr(0, name.size() - 3);
-        while (i + n < m_.fields.size() && m_.fields[i + n].components == 1 &&
-               m_.fields[i + n].name == base + "[" + std::to_string(n) + "]")
+        while (i + n < fields.size() && fields[i + n].components == 1 &&
+               fields[i + n].name == base + "[" + std::to_string(n) + "]")
           ++n;
         if (n >= 2) {
-          VertexField f{base, static_cast<int>(n), std::vector<double>(nv * n)};
+          Field f = fields[i];
+          f.name = base;
+          f.components = static_cast<int>(n);
+          f.values.assign(count * n, 0.0);
           for (std::size_t k = 0; k < n; ++k)
-            for (std::size_t v = 0; v < nv; ++v) f.values[v * n + k] = m_.fields[i + k].values[v];
+            for (std::size_t v = 0; v < count; ++v) f.values[v * n + k] = fields[i + k].values[v];
           out.push_back(std::move(f));
           i += n;
           continue;
         }
       }
-      out.push_back(std::move(m_.fields[i]));
+      out.push_back(std::move(fields[i]));
       ++i;
     }
-    m_.fields = std::move(out);
+    fields = std::move(out);
   }
+
+  // A cell array as read so far; `partial` when some piece with tets lacked it (then it is dropped).
+  struct CellArray {
+    CellField field;
+    bool partial = false;
+  };
 
   std::string path_;
   const ReadOptions& options_;
@@ -827,6 +896,7 @@ class Converter {
   std::unordered_map<std::array<double, 3>, VertId, PositionHash> by_position_;
   std::vector<std::pair<const Piece*, std::vector<VertId>>> volume_pieces_;
   std::set<std::string> unread_;
+  std::vector<CellArray> cell_arrays_;
   bool own_ids_ = true;  // every material is a piece's own id (block, zone), not an array's value
 };
 

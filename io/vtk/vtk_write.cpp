@@ -10,7 +10,8 @@
 //    SourceElementSide (the tet and its Exodus side);
 //  - "Node Sets": "topotet:corners" and "topotet:required_vertices" when there are any;
 //  - the fields as nodal variables: scalars and 3-vectors as they are, other component counts as
-//    scalars "NAME[0]", "NAME[1]", ... (VTK's reader would regroup them wrongly otherwise).
+//    scalars "NAME[0]", "NAME[1]", ... (VTK's reader would regroup them wrongly otherwise);
+//  - the cell fields as element variables, the same way.
 // The cells are handed over in file order (tets sorted by material, stable; then the edges by
 // ref), with global element ids 1..n, which is how the writer finds the side sets' elements.
 // Block and set names (MeshData::group_names) are put in afterwards with the Exodus library (the
@@ -147,6 +148,29 @@ void write_exodus(const std::string& path, const MeshData& m) {
         for (std::size_t v = 0; v < nv; ++v) a->SetValue(static_cast<vtkIdType>(v), f.values[v * f.components + k]);
       }
       grid->GetPointData()->AddArray(a);
+    }
+  }
+
+  // Cell fields as element variables, the same way (scalars, 3-vectors, else "NAME[k]"); the listed
+  // edges' line cells get 0. Exodus stores reals: labels come back as intensive arrays.
+  const auto cell_count = static_cast<vtkIdType>(grid->GetNumberOfCells());
+  for (const CellField& f : m.cell_fields) {
+    const bool whole = f.components == 1 || f.components == 3;
+    const auto c = static_cast<std::size_t>(f.components);
+    for (int k = 0; k < (whole ? 1 : f.components); ++k) {
+      vtkNew<vtkDoubleArray> a;
+      a->SetName((whole ? f.name : f.name + "[" + std::to_string(k) + "]").c_str());
+      a->SetNumberOfComponents(whole ? f.components : 1);
+      a->SetNumberOfTuples(cell_count);
+      a->Fill(0.0);
+      for (std::size_t i = 0; i < order.size(); ++i) {
+        if (whole) {
+          for (std::size_t x = 0; x < c; ++x) a->SetComponent(static_cast<vtkIdType>(i), static_cast<int>(x), f.values[order[i] * c + x]);
+        } else {
+          a->SetValue(static_cast<vtkIdType>(i), f.values[order[i] * c + static_cast<std::size_t>(k)]);
+        }
+      }
+      grid->GetCellData()->AddArray(a);
     }
   }
 

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "io/vtk/vtk_grid.h"
+#include "topotet/cell_fields.h"
 #include "topotet/io.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/simplify.h"
@@ -113,7 +114,10 @@ int vtkTopotetSimplify::RequestData(vtkInformation*, vtkInformationVector** inpu
       return 0;
     }
     this->UpdateProgress(0.8);
-    const topotet::MeshData after = mesh.to_mesh_data();
+    topotet::MeshData after = mesh.to_mesh_data();
+    // The input's numeric cell arrays onto the output's tets (integer arrays as labels, the others
+    // averaged by volume: topotet/cell_fields.h).
+    topotet::remap_cell_fields(before, after);
 
     std::string verdict = "not checked", differences;
     if (this->Verify) {

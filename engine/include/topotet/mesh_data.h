@@ -48,6 +48,27 @@ struct VertexField {
   friend bool operator==(const VertexField&, const VertexField&) = default;
 };
 
+// How a per-tet array is carried onto the tets of a simplified mesh (topotet/cell_fields.h).
+//  - kIntensive: a density-like real value (pressure, temperature, conductivity): the new tet gets
+//    the volume-weighted average of the original tets it covers.
+//  - kCategorical: a label (integer arrays: region ids, flags): the new tet gets the value that
+//    holds the largest part of its volume (ties: the smaller value).
+//  - kExtensive: an amount per tet (mass, heat, cell count): the new tets share it out by
+//    overlap volume so that the sum over all tets is conserved.
+// Readers give integer-typed arrays kCategorical and real ones kIntensive; kExtensive is never
+// read from a file: the user names those arrays (CellRemapOptions, `--extensive NAME`).
+enum class CellFieldKind : std::uint8_t { kIntensive, kCategorical, kExtensive };
+
+// A per-tet field: values[tet * components + c], as VertexField per vertex. Kept aligned with
+// MeshData::tets by every reader (cells that are left out take their values with them).
+struct CellField {
+  std::string name;
+  int components = 1;
+  CellFieldKind kind = CellFieldKind::kIntensive;
+  std::vector<double> values;
+  friend bool operator==(const CellField&, const CellField&) = default;
+};
+
 // The name of a group of refs (Gmsh $PhysicalNames): dim 1 segment refs, 2 triangle refs,
 // 3 materials. Kept so that names survive .msh in -> out; MEDIT has no names.
 struct GroupName {
@@ -70,6 +91,7 @@ struct MeshData {
   std::vector<VertId> required_vertices;       // MEDIT `RequiredVertices`: pinned
   std::vector<VertexField> fields;             // per-vertex fields (.sol SolAtVertices, $NodeData)
   std::vector<GroupName> group_names;          // sorted by (dim, ref); at most one per (dim, ref)
+  std::vector<CellField> cell_fields;          // per-tet fields (VTK CellData, $ElementData, SolAtTetrahedra)
 
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t tet_count() const { return tets.size(); }

@@ -10,8 +10,12 @@
 // values, indices out of range, negative or lying counts, truncation; it does not check geometry
 // (orientation, volumes): that is the mesh builder's job. A ".sol" (or ".sol.gz") beside a ".mesh"
 // with the same stem is read automatically (SolAtVertices of any type: scalars, vectors and
-// tensors keep their type); "<stem>.sol.fields.txt", if present, names its solutions (else
-// "sol0", "sol1", ...). vertex_refs comes back empty when every vertex ref is 0.
+// tensors keep their type) and SolAtTetrahedra (cell fields, in the order of the tets);
+// "<stem>.sol.fields.txt", if present, names its solutions (else "sol0", "sol1", ... and
+// "cellsol0", ...). vertex_refs comes back empty when every vertex ref is 0.
+//
+// Cell fields (MeshData::cell_fields): MEDIT SolAtTetrahedra in the .sol, Gmsh $ElementData of
+// the tets (4.1 and 2.2, read and written), VTU CellData (written; read by topotet/io_vtk.h).
 //
 // write_mesh writes to a temporary file in the same folder and renames it over `path`, so a failed
 // run never leaves a half-written file. A symlink is followed and its target replaced; "-"
@@ -79,7 +83,8 @@ struct ReadNotes {
   std::vector<std::uint64_t> node_tags;
   std::vector<std::int32_t> tet_partition;
   // VTK formats: the arrays that are not carried into MeshData, one line each ("cell array
-  // 'pressure'", "point array 'name' (not numeric)"); cell data are not carried yet.
+  // 'name' (not numeric: vtkStringArray)", "point array 'name' (not on every zone)"). Numeric
+  // cell arrays of the tets are carried (MeshData::cell_fields); those of surface pieces are not.
   std::vector<std::string> unread_arrays;
   // VTK formats: the cell array the materials were taken from (ReadOptions::material_array or the
   // first default present; "ObjectId" for Exodus block ids); empty when there was none (CGNS
