@@ -11,6 +11,7 @@
 
 #include "entry_points.h"
 #include "engines.h"
+#include "cost/field_pins.h"
 #include "guarantees/field_bounds.h"
 #include "parallel/for_range.h"
 #include "features/features.h"
@@ -85,6 +86,10 @@ std::string check_against_mesh(const SimplifyOptions& o, const MeshModel& mesh) 
     if (u->field_min.size() != stride || u->field_range.size() != stride)
       return "cost_units: field_min and field_range need one entry per field component (" +
              std::to_string(mesh.field_stride()) + ")";
+  }
+  if (!o.isosurfaces.empty()) {
+    std::vector<std::uint32_t> pins;
+    if (std::string why = compute_field_pins(mesh, o.isosurfaces, pins); !why.empty()) return why;
   }
   for (const auto& entry : o.field_weights) {
     const std::string& name = entry.first;
