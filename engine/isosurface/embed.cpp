@@ -114,7 +114,9 @@ class LevelEmbedding {
   // from its smaller id, so the set of snapped vertices depends on nothing but the input.
   void snap_vertices() {
     auto mark = std::make_unique<std::atomic<std::uint8_t>[]>(nv_);
-    for (std::size_t v = 0; v < nv_; ++v) mark[v].store(0, std::memory_order_relaxed);
+    parallel::for_range<std::size_t>(0, nv_, 1 << 16, "iso_snap_clear", [&](std::size_t b, std::size_t e) {
+      for (std::size_t v = b; v < e; ++v) mark[v].store(0, std::memory_order_relaxed);
+    });
     // Relaxed stores of the same value 1; the loop's join orders them before the reads below.
     for_blocks(d_.tets.size(), [&](std::size_t, std::size_t b, std::size_t e) {
       for (std::size_t t = b; t < e; ++t) {
@@ -128,16 +130,22 @@ class LevelEmbedding {
         }
       }
     });
-    for (std::size_t v = 0; v < nv_; ++v) {
-      if (!mark[v].load(std::memory_order_relaxed)) continue;
-      const double old = f(static_cast<VertId>(v));
-      // A vertex exactly on another level of this component stays there: that level's surface
-      // goes through it and its value is pinned (the two levels are then closer than the snap).
-      if (std::binary_search(level_.protected_values.begin(), level_.protected_values.end(), old)) continue;
-      field_.values[v * stride_ + c_] = value_;
-      side_[v] = 0;
-      ++stats_.vertices_snapped;
-    }
+    std::atomic<std::uint64_t> snapped{0};
+    parallel::for_range<std::size_t>(0, nv_, 1 << 16, "iso_snap", [&](std::size_t b, std::size_t e) {
+      std::uint64_t count = 0;
+      for (std::size_t v = b; v < e; ++v) {
+        if (!mark[v].load(std::memory_order_relaxed)) continue;
+        const double old = f(static_cast<VertId>(v));
+        // A vertex exactly on another level of this component stays there: that level's surface
+        // goes through it and its value is pinned (the two levels are then closer than the snap).
+        if (std::binary_search(level_.protected_values.begin(), level_.protected_values.end(), old)) continue;
+        field_.values[v * stride_ + c_] = value_;
+        side_[v] = 0;
+        ++count;
+      }
+      snapped.fetch_add(count, std::memory_order_relaxed);  // a sum: the same for any order
+    });
+    stats_.vertices_snapped = snapped.load();
   }
 
   void collect_crossed_edges() {
