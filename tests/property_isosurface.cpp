@@ -259,6 +259,24 @@ TEST(Isosurface, CrossesMaterialInterfaceListedSurfaceAndPolyline) {
                                  GroupName{2, report.levels[0].ref, "iso:d=2"}));
 }
 
+// A mesh with every tet negatively oriented (build_tet_mesh flips such input as a whole): the
+// pieces keep their parent's orientation, and the level set is the same.
+TEST(Isosurface, KeepsTheOrientationOfAMirroredMesh) {
+  Grid g = make_grid(4, 4, 4, [](int, int, int) { return 1; }, 0.12, 5);
+  add_random_field(g.data, "u", 5, 0);
+  MeshData mirrored = g.data;
+  for (auto& t : mirrored.tets) std::swap(t[0], t[1]);
+  const IsoEmbedReport straight = embed_isosurfaces(g.data, {{"u", 0, 0.5}});
+  const IsoEmbedReport mirror = embed_isosurfaces(mirrored, {{"u", 0, 0.5}});
+  ASSERT_EQ(mirrored.tets.size(), g.data.tets.size());
+  for (const auto& t : mirrored.tets) {
+    const auto p = [&](int i) { return to_glm(mirrored.positions[t[i]]); };
+    ASSERT_LT(orient3d_sign(p(0), p(1), p(2), p(3)), 0);
+  }
+  EXPECT_EQ(surface_topology(mirrored, mirror.levels[0].ref), surface_topology(g.data, straight.levels[0].ref));
+  EXPECT_NO_THROW(build_tet_mesh(mirrored));
+}
+
 TEST(Isosurface, NearVertexCrossingSnapsToTheVertex) {
   Grid g = make_grid(2, 2, 2, [](int, int, int) { return 1; }, 0.0);
   VertexField f{"u", 1, std::vector<double>(g.data.positions.size(), 1.0)};

@@ -224,12 +224,18 @@ class LevelEmbedding {
     std::atomic<std::size_t> first_bad{n};
     parallel::for_range<std::size_t>(0, n, 1024, "iso_split", [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) {
-        const auto& tv = d_.tets[crossed_tets_[i]];
+        // The pieces take the parent's orientation: a mesh whose tets are all negatively oriented
+        // (build_tet_mesh flips such input as a whole) is split as its mirror and flipped back.
+        std::array<VertId, 4> tv = d_.tets[crossed_tets_[i]];
+        const int parent = orient3d_sign(pos(tv[0]), pos(tv[1]), pos(tv[2]), pos(tv[3]));
+        if (parent < 0) std::swap(tv[0], tv[1]);
         const std::array<Side, 4> s = {side_[tv[0]], side_[tv[1]], side_[tv[2]], side_[tv[3]]};
         pieces[i] = iso::split_tet(tv, s, [&](VertId a, VertId z) { return crossing(a, z); });
+        if (parent < 0)
+          for (int k = 0; k < pieces[i].tet_count; ++k) std::swap(pieces[i].tets[k][0], pieces[i].tets[k][1]);
         for (int k = 0; k < pieces[i].tet_count; ++k) {
           const auto& p = pieces[i].tets[k];
-          if (orient3d_sign(pos(p[0]), pos(p[1]), pos(p[2]), pos(p[3])) <= 0) {
+          if (parent == 0 || orient3d_sign(pos(p[0]), pos(p[1]), pos(p[2]), pos(p[3])) != parent) {
             std::size_t cur = first_bad.load(std::memory_order_relaxed);
             while (i < cur && !first_bad.compare_exchange_weak(cur, i, std::memory_order_relaxed)) {
             }
@@ -244,8 +250,8 @@ class LevelEmbedding {
       throw InputError("isosurface " + isosurface_group_name(*level_.spec, stride_) + ": splitting tet " +
                        std::to_string(crossed_tets_[i] + 1) + " (vertices " + std::to_string(tv[0] + 1) + " " +
                        std::to_string(tv[1] + 1) + " " + std::to_string(tv[2] + 1) + " " + std::to_string(tv[3] + 1) +
-                       ") would make a flat or inverted tet (a crossing too close to a vertex: raise the snap, or "
-                       "the tet is not positively oriented)");
+                       ") would make a flat or inverted tet (a crossing too close to a vertex: raise the snap; or "
+                       "the tet itself is flat)");
     }
     std::vector<std::size_t> offset(n + 1, 0);
     for (std::size_t i = 0; i < n; ++i) offset[i + 1] = offset[i] + static_cast<std::size_t>(pieces[i].tet_count - 1);

@@ -72,10 +72,11 @@ struct IsoEmbedReport {
 // level are replaced by their pieces with the same ref; the level's triangles get a ref that no
 // listed triangle or triangle group name uses, and a GroupName (dim 2) "iso:FIELD=VALUE" (FIELD:C
 // for component C of a field with several). Parallel, and identical for every thread count.
-// Throws InputError on an unknown field or component, a non-finite level, a mesh whose tets are not
-// positively oriented, or a piece that would be flat or inverted (data then holds the levels
-// before the failing one). Tets must be positively oriented (as build_tet_mesh leaves them; the
-// MEDIT and Gmsh readers keep the file's order).
+// The pieces of a tet have its orientation (so a mesh with all tets negatively oriented, which
+// build_tet_mesh flips as a whole, stays consistent). Throws InputError on an unknown field or
+// component, a non-finite level, a level given twice, or a piece that would be flat or inverted
+// relative to its tet (a crossed tet that is itself flat, or a crossing too close to a vertex for
+// a certified orientation with snap 0); `data` then holds the levels before the failing one.
 IsoEmbedReport embed_isosurfaces(MeshData& data, const std::vector<IsoLevel>& levels, const IsoEmbedOptions& options = {});
 
 // Parses "FIELD=VALUE[,VALUE...]" (FIELD may be "name:component") into levels appended to `out`.
