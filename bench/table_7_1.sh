@@ -34,7 +34,7 @@ run() {  # run NAME INPUT ISOSURFACE PAPER_ROWS
 import json, sys
 report = json.load(open(sys.argv[1]))
 paper = {int(r.split()[0]): r.split() for r in sys.argv[2].strip().split(";")}
-iso_ref = max(int(k) for k in report["levels"][0]["topology_report"]["surfaces"])  # the level's ref: the largest
+iso_ref = report["options"]["isosurfaces"][0]["ref"]
 print(f"{'%':>4} | {'paper: #vert':>12} {'rms':>6} {'time':>5} {'dihed':>6} {'solid':>6} {'face':>6} |"
       f" {'ours: #vert':>11} {'rms':>7} {'time s':>7} {'dihed':>6} {'solid':>6} {'face':>6} | iso Betti  topology")
 first = report["levels"][0]

@@ -49,6 +49,11 @@ if not all(seen.values()):
 PY
 then pass "isosurface vertices have the level exactly"; else fail "isosurface vertices off the level"; fi
 
+if python3 -c 'import json, sys
+levels = json.load(open("iso.json"))["options"]["isosurfaces"]
+sys.exit(0 if [(l["field"], l["value"]) for l in levels] == [("f", 0.1), ("f", 0.3)] and all(l["ref"] > 10 for l in levels) else 1)'
+then pass "the JSON report lists the levels with their refs"; else fail "options.isosurfaces in the JSON report"; fi
+
 expect 2 bad_field -- "$topotet" simplify in.mesh -o never.mesh --isosurface nope=1
 expect 2 bad_spec -- "$topotet" simplify in.mesh -o never.mesh --isosurface f
 expect 2 bad_component -- "$topotet" simplify in.mesh -o never.mesh --isosurface f:1=0.5

@@ -180,6 +180,13 @@ TEST_P(IsosurfaceRandom, EmbedsExactlyAndSimplificationKeepsTopologyAndValues) {
     EXPECT_EQ(got.euler_characteristic, expected.euler_characteristic);
     EXPECT_GT(got.simplex_count[2], 0);
   }
+  // The pieces fit together (neighbours split shared faces alike): otherwise the mesh would have
+  // faces of one tet inside it, and its boundary would change.
+  const TopologyReport input_topology = compute_topology(input), embedded_topology = compute_topology(embedded);
+  EXPECT_EQ(embedded_topology.boundary.betti, input_topology.boundary.betti);
+  EXPECT_EQ(embedded_topology.mesh.betti, input_topology.mesh.betti);
+  EXPECT_EQ(embedded_topology.boundary.euler_characteristic, input_topology.boundary.euler_characteristic);
+  EXPECT_EQ(embedded_topology.nonmanifold_face_count, 0u);
   // Every tet of the input is covered: the volume is unchanged.
   const auto volume = [](const MeshData& d) {
     double s = 0.0;
@@ -257,6 +264,47 @@ TEST(Isosurface, CrossesMaterialInterfaceListedSurfaceAndPolyline) {
   expect_levels_exact(out, report.levels);
   EXPECT_TRUE(std::binary_search(out.group_names.begin(), out.group_names.end(),
                                  GroupName{2, report.levels[0].ref, "iso:d=2"}));
+}
+
+// Every way a level can cut one tet (sides -, 0, + at its four vertices, with both - and +): the
+// pieces are positively oriented, fill the tet, and their number and the cap's are those of the
+// case (1-3: tet + prism = 4 tets; 2-2: two prisms = 6; one vertex on the level: tet + pyramid = 3;
+// two on it: 2), and nothing crosses the level afterwards.
+TEST(Isosurface, EveryCutPatternOfOneTet) {
+  for (int pattern = 0; pattern < 81; ++pattern) {
+    int side[4], below = 0, above = 0;
+    for (int k = 0, p = pattern; k < 4; ++k, p /= 3) {
+      side[k] = p % 3 - 1;
+      below += side[k] < 0;
+      above += side[k] > 0;
+    }
+    if (below == 0 || above == 0) continue;
+    MeshData d;
+    d.positions = {{0, 0, 0}, {1, 0.1, 0}, {0.2, 1, 0}, {0.3, 0.2, 1}};
+    d.tets = {{0, 1, 2, 3}};
+    d.tet_material = {1};
+    VertexField f{"u", 1, {}};
+    for (int k = 0; k < 4; ++k) f.values.push_back(side[k] * (1.0 + 0.3 * k));
+    d.fields.push_back(f);
+    const MeshData input = d;
+    const IsoEmbedReport r = embed_isosurfaces(d, {{"u", 0, 0.0}});
+    const int zeros = 4 - below - above;
+    const std::size_t want_tets = zeros == 2 ? 2 : zeros == 1 ? 3 : below == 2 ? 6 : 4;
+    const std::uint64_t want_caps = below == 2 && above == 2 ? 2 : 1;
+    SCOPED_TRACE("pattern " + std::to_string(pattern));
+    EXPECT_EQ(d.tets.size(), want_tets);
+    EXPECT_EQ(r.stats[0].triangles, want_caps);
+    EXPECT_EQ(r.stats[0].vertices_added, static_cast<std::uint64_t>(below * above));
+    expect_no_bad_tets(d);
+    expect_no_tet_crosses(d, r.levels[0]);
+    double volume = 0.0;
+    for (const auto& t : d.tets)
+      volume += signed_volume6(to_glm(d.positions[t[0]]), to_glm(d.positions[t[1]]), to_glm(d.positions[t[2]]),
+                               to_glm(d.positions[t[3]]));
+    const auto& p = input.positions;
+    EXPECT_NEAR(volume, signed_volume6(to_glm(p[0]), to_glm(p[1]), to_glm(p[2]), to_glm(p[3])), 1e-12);
+    EXPECT_NO_THROW(build_tet_mesh(d));
+  }
 }
 
 // A mesh with every tet negatively oriented (build_tet_mesh flips such input as a whole): the
