@@ -172,8 +172,10 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
       const double special_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - special_start).count();
       const auto feature_start = std::chrono::steady_clock::now();
       report.feature_scale = feature_scale(mesh, options);
+      std::vector<std::int32_t> isosurface_refs;  // not searched for creases (features/features.h)
+      for (const IsoLevel& level : options.isosurfaces) isosurface_refs.push_back(level.ref);
       const FeatureStats features = detect_features(mesh, options.feature_angle, report.feature_scale,
-                                                    report.tolerance > 0.0 ? &special.on_face : nullptr);
+                                                    report.tolerance > 0.0 ? &special.on_face : nullptr, isosurface_refs);
       report.feature_candidates = features.candidates;
       report.feature_turns = features.turns;
       report.feature_edges = features.edges;

@@ -325,6 +325,29 @@ TEST(Isosurface, KeepsTheOrientationOfAMirroredMesh) {
   EXPECT_NO_THROW(build_tet_mesh(mirrored));
 }
 
+// The isosurfaces are not searched for sharp features (features/features.h): a faceted sphere of a
+// distance field adds no feature edge, while the same triangles listed as an ordinary surface do.
+TEST(Isosurface, IsNotSearchedForFeatures) {
+  Grid g = make_grid(6, 6, 6, [](int, int, int) { return 1; }, 0.0);
+  VertexField f{"d", 1, {}};
+  for (const auto& p : g.data.positions)
+    f.values.push_back(std::sqrt((p[0] - 3.1) * (p[0] - 3.1) + (p[1] - 2.9) * (p[1] - 2.9) + (p[2] - 3.05) * (p[2] - 3.05)));
+  g.data.fields.push_back(f);
+  const auto feature_edges = [](const MeshData& d, const std::vector<IsoLevel>& levels) {
+    TetMesh mesh = build_tet_mesh(d);
+    SimplifyOptions options;
+    options.target_vertex_ratio = 1.0;
+    options.feature_angle = 10.0;
+    options.tolerance_rel = 1e-5;  // creases count at any height
+    options.isosurfaces = levels;
+    return simplify(mesh, options).feature_edges;
+  };
+  const std::uint64_t box = feature_edges(g.data, {});
+  const IsoEmbedReport report = embed_isosurfaces(g.data, {{"d", 0, 2.2}});
+  EXPECT_GT(feature_edges(g.data, {}), box);  // the sphere's facets, as a plain listed surface
+  EXPECT_EQ(feature_edges(g.data, report.levels), box);
+}
+
 TEST(Isosurface, NearVertexCrossingSnapsToTheVertex) {
   Grid g = make_grid(2, 2, 2, [](int, int, int) { return 1; }, 0.0);
   VertexField f{"u", 1, std::vector<double>(g.data.positions.size(), 1.0)};
