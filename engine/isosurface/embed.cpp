@@ -20,9 +20,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <map>
+#include <limits>
 #include <memory>
-#include <numeric>
 #include <string>
 
 #include <glm/vec3.hpp>
@@ -442,6 +441,7 @@ IsoEmbedReport embed_isosurfaces(MeshData& data, const std::vector<IsoLevel>& le
     if (g.dim == 2) next_ref = std::max(next_ref, g.ref);
   for (std::size_t i = 0; i < resolved.size(); ++i) {
     IsoLevel& level = report.levels[i];
+    if (next_ref == std::numeric_limits<std::int32_t>::max()) throw InputError("isosurface: no triangle ref left above the input's");
     level.ref = ++next_ref;
     const auto level_start = std::chrono::steady_clock::now();
     IsoLevelStats stats;
