@@ -21,6 +21,7 @@
 #include "topotet/cell_fields.h"
 #include "topotet/error.h"
 #include "topotet/hierarchy.h"
+#include "topotet/isosurface.h"
 #include "topotet/io.h"
 #include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
@@ -328,6 +329,40 @@ int extract_error_levels(const SimplifyJob& job, const std::vector<double>& leve
   return print_error_levels(read_hierarchy(job.hierarchy_path), job.output_path, levels_error, write_options);
 }
 
+// --isosurface: the levels are embedded into the input before the model is built (the output is
+// then checked against the embedded input, where the level sets are listed surfaces), and the
+// engine is told their refs so that their vertices keep the level. A reload embeds them again
+// (deterministic: the same mesh).
+void embed_levels(SimplifyJob& job) {
+  const std::vector<IsoLevel> levels = job.options.isosurfaces;
+  log_stage("isosurfaces: embed " + std::to_string(levels.size()) + " level(s)");
+  IsoEmbedReport report;
+  try {
+    report = embed_isosurfaces(job.input, levels);
+  } catch (const InputError& e) {
+    throw_input_error(job.input_label, e.what());
+  }
+  job.options.isosurfaces = report.levels;
+  for (std::size_t i = 0; i < report.levels.size(); ++i) {
+    const IsoLevel& l = report.levels[i];
+    const IsoLevelStats& s = report.stats[i];
+    std::string name;
+    for (const GroupName& g : job.input.group_names)
+      if (g.dim == 2 && g.ref == l.ref) name = g.name;
+    std::fprintf(report_stream(), "isosurface %s: ref %d, %s triangles, %s tets split into %s more, %s vertices added%s in %s\n",
+                 name.c_str(), l.ref, format_count(s.triangles).c_str(), format_count(s.tets_split).c_str(),
+                 format_count(s.tets_added).c_str(), format_count(s.vertices_added).c_str(),
+                 s.vertices_snapped ? (", " + format_count(s.vertices_snapped) + " snapped to the level").c_str() : "",
+                 format_seconds(s.seconds).c_str());
+  }
+  if (job.reload)
+    job.reload = [reload = job.reload, levels] {
+      MeshData data = reload();
+      embed_isosurfaces(data, levels);
+      return data;
+    };
+}
+
 int run_simplify(const SimplifyArgs& args) {
   SimplifyJob job = job_from_args(args);
   job.input = read_input(args.input, &job.read_seconds, read_options_of(args));
@@ -346,6 +381,7 @@ int run_simplify(const SimplifyArgs& args) {
       };
     }
   }
+  if (!job.options.isosurfaces.empty()) embed_levels(job);
   // A hierarchy with fields records each collapse's field error bound (Hierarchy::error_bound), so
   // that `extract --max-error` and --levels-error select by a guaranteed error, not by a cost.
   if (!job.hierarchy_path.empty() && !job.input.fields.empty() && !args.no_field_bounds)

@@ -119,6 +119,17 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
            ->type_name("NAME")
            ->expected(1)
            ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll));
+  keep(cmd->add_option("--isosurface", args.isosurfaces,
+                       "Keep the topology of the level set FIELD=VALUE (repeatable; several values by commas; "
+                       "name:C for component C): the tets it crosses are split so that it becomes a listed surface "
+                       "(ref above the input's, named iso:FIELD=VALUE), and its vertices keep the value exactly")
+           ->type_name("FIELD=VALUE[,VALUE...]")
+           ->expected(1)
+           ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+           ->check([](const std::string& value) {
+             std::vector<IsoLevel> levels;
+             return parse_isosurface_spec(value, levels);
+           }));
   keep(cmd->add_option("--json,--report", args.report, "Write the report as JSON to this file (- = stdout)"));
   keep(cmd->add_flag("--no-verify", args.no_verify,
                      "Skip the topology checker (quality, field error and distance are still measured)"));
@@ -198,6 +209,7 @@ SimplifyOptions engine_options(const SimplifyArgs& args) {
     field_weight_syntax(entry, &name, &weight);  // checked when parsing
     o.field_weights[name] = weight;              // the last one given wins
   }
+  for (const std::string& spec : args.isosurfaces) parse_isosurface_spec(spec, o.isosurfaces);  // checked when parsing
   return o;
 }
 
@@ -221,6 +233,7 @@ std::string options_text(const SimplifyOptions& o, const std::vector<double>& le
   s += std::string(", optimize ") + to_string(o.optimize);
   s += ", boundary weight " + format_number(o.boundary_weight) + ", polyline weight " + format_number(o.polyline_weight);
   for (const auto& [name, weight] : o.field_weights) s += ", weight of " + name + " " + format_number(weight);
+  for (const IsoLevel& l : o.isosurfaces) s += ", isosurface " + l.field + (l.component ? ":" + std::to_string(l.component) : "") + "=" + format_number(l.value);
   return s;
 }
 

@@ -48,6 +48,7 @@ struct SimplifyArgs {
   bool no_metrics = false;
   std::vector<double> levels;
   std::vector<std::string> field_weights;  // NAME=W, checked by field_weight_syntax
+  std::vector<std::string> isosurfaces;    // FIELD=VALUE[,VALUE...], checked by parse_isosurface_spec
   std::string progress = "auto";
   double progress_interval = 10.0;
   bool binary = false;
@@ -72,7 +73,8 @@ struct SimplifyOptionSet {
 SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args);
 
 // The engine's settings the options give (targets, limits, tolerance, features, engine, threads,
-// field weights). The tolerance: --tolerance given (even 0) wins and turns the relative one off.
+// field weights, isosurface levels without their refs: run_simplify embeds them and sets the refs).
+// The tolerance: --tolerance given (even 0) wins and turns the relative one off.
 SimplifyOptions engine_options(const SimplifyArgs& args);
 
 // -v: what the run was asked for, after the defaults and the thread cap ("ratio 0.2, min quality

@@ -437,6 +437,15 @@ Json input_json(const SimplifyJob& job, const SimplifyRun& run) {
   return input;
 }
 
+// --isosurface: each level as embedded (its ref names its triangles in the outputs and in the
+// topology reports' "surfaces").
+Json isosurfaces_json(const SimplifyJob& job) {
+  Json out = Json::array();
+  for (const IsoLevel& l : job.options.isosurfaces)
+    out.push_back({{"field", l.field}, {"component", l.component}, {"value", l.value}, {"ref", l.ref}});
+  return out;
+}
+
 Json options_json(const SimplifyJob& job, const SimplifyRun& run) {
   return {{"engine", run.is_parallel ? "parallel" : "sequential"},
           {"threads", run.threads},
@@ -453,6 +462,7 @@ Json options_json(const SimplifyJob& job, const SimplifyRun& run) {
           {"feature_angle", job.options.feature_angle},
           {"optimize", to_string(job.options.optimize)},
           {"field_weights", job.options.field_weights},
+          {"isosurfaces", isosurfaces_json(job)},
           {"verify", run.verify},
           {"metrics", job.metrics}};
 }

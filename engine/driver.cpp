@@ -11,6 +11,7 @@
 
 #include "entry_points.h"
 #include "engines.h"
+#include "cost/field_pins.h"
 #include "guarantees/field_bounds.h"
 #include "parallel/for_range.h"
 #include "features/features.h"
@@ -85,6 +86,10 @@ std::string check_against_mesh(const SimplifyOptions& o, const MeshModel& mesh) 
     if (u->field_min.size() != stride || u->field_range.size() != stride)
       return "cost_units: field_min and field_range need one entry per field component (" +
              std::to_string(mesh.field_stride()) + ")";
+  }
+  if (!o.isosurfaces.empty()) {
+    std::vector<std::uint32_t> pins;
+    if (std::string why = compute_field_pins(mesh, o.isosurfaces, pins); !why.empty()) return why;
   }
   for (const auto& entry : o.field_weights) {
     const std::string& name = entry.first;
@@ -167,8 +172,10 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
       const double special_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - special_start).count();
       const auto feature_start = std::chrono::steady_clock::now();
       report.feature_scale = feature_scale(mesh, options);
+      std::vector<std::int32_t> isosurface_refs;  // not searched for creases (features/features.h)
+      for (const IsoLevel& level : options.isosurfaces) isosurface_refs.push_back(level.ref);
       const FeatureStats features = detect_features(mesh, options.feature_angle, report.feature_scale,
-                                                    report.tolerance > 0.0 ? &special.on_face : nullptr);
+                                                    report.tolerance > 0.0 ? &special.on_face : nullptr, isosurface_refs);
       report.feature_candidates = features.candidates;
       report.feature_turns = features.turns;
       report.feature_edges = features.edges;

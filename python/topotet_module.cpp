@@ -27,6 +27,7 @@
 #include "topotet/error.h"
 #include "topotet/hierarchy.h"
 #include "topotet/io.h"
+#include "topotet/isosurface.h"
 #include "topotet/simplify.h"
 #include "topotet/threads.h"
 #include "topotet/version.h"
@@ -285,6 +286,50 @@ py::dict report_dict(const topotet::Report& r) {
   return d;
 }
 
+// Levels as embed_isosurfaces returns them (dicts with field, component, value, ref), or as specs
+// "FIELD=VALUE[,VALUE...]" (refs 0: for embed_isosurfaces, which sets them).
+std::vector<topotet::IsoLevel> iso_levels(const py::object& obj) {
+  std::vector<topotet::IsoLevel> levels;
+  if (obj.is_none()) return levels;
+  for (const py::handle item : obj) {
+    if (py::isinstance<py::str>(item)) {
+      if (const std::string why = topotet::parse_isosurface_spec(item.cast<std::string>(), levels); !why.empty())
+        throw py::value_error("isosurfaces: " + why);
+      continue;
+    }
+    const py::dict d = item.cast<py::dict>();
+    topotet::IsoLevel l;
+    l.field = d["field"].cast<std::string>();
+    l.component = d.contains("component") ? d["component"].cast<int>() : 0;
+    l.value = d["value"].cast<double>();
+    l.ref = d.contains("ref") ? d["ref"].cast<std::int32_t>() : 0;
+    levels.push_back(l);
+  }
+  return levels;
+}
+
+py::list iso_level_list(const topotet::IsoEmbedReport& report, const topotet::MeshData& d) {
+  py::list out;
+  for (std::size_t i = 0; i < report.levels.size(); ++i) {
+    const topotet::IsoLevel& l = report.levels[i];
+    const topotet::IsoLevelStats& s = report.stats[i];
+    py::dict e;
+    e["field"] = l.field;
+    e["component"] = l.component;
+    e["value"] = l.value;
+    e["ref"] = l.ref;
+    for (const topotet::GroupName& g : d.group_names)
+      if (g.dim == 2 && g.ref == l.ref) e["name"] = g.name;
+    e["triangles"] = s.triangles;
+    e["tets_split"] = s.tets_split;
+    e["vertices_added"] = s.vertices_added;
+    e["vertices_snapped"] = s.vertices_snapped;
+    e["seconds"] = s.seconds;
+    out.append(e);
+  }
+  return out;
+}
+
 py::dict simplify(const py::object& points, const py::object& tets, const py::object& materials,
                   const py::object& fields, double ratio, std::uint64_t target_vertices, double tolerance_rel,
                   double tolerance, double min_quality, double max_cost, int threads, const std::string& engine,
@@ -292,7 +337,8 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
                   const py::object& segment_refs, const py::object& corners, double feature_angle,
                   const std::map<std::string, double>& field_weights, double max_field_error,
                   double max_field_error_rel, double boundary_weight, double polyline_weight, double round_fraction,
-                  const std::optional<std::string>& hierarchy, const std::string& optimize) {
+                  const std::optional<std::string>& hierarchy, const std::string& optimize,
+                  const py::object& isosurfaces) {
   std::vector<py::array> keep;
   keep.reserve(4 + (fields.is_none() ? 0 : py::len(fields)));  // the views point into these arrays
   const topotet::MeshView input =
@@ -312,6 +358,7 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   options.boundary_weight = boundary_weight;
   options.polyline_weight = polyline_weight;
   options.round_fraction = round_fraction;
+  options.isosurfaces = iso_levels(isosurfaces);
   if (optimize == "none")
     options.optimize = topotet::Optimize::kNone;
   else if (optimize == "light")
@@ -392,12 +439,13 @@ PYBIND11_MODULE(topotet, m) {
         py::arg("max_field_error") = defaults.max_field_error, py::arg("max_field_error_rel") = defaults.max_field_error_rel,
         py::arg("boundary_weight") = defaults.boundary_weight, py::arg("polyline_weight") = defaults.polyline_weight,
         py::arg("round_fraction") = defaults.round_fraction, py::arg("hierarchy") = py::none(),
-        py::arg("optimize") = topotet::to_string(defaults.optimize),
+        py::arg("optimize") = topotet::to_string(defaults.optimize), py::arg("isosurfaces") = py::none(),
         "Simplifies the mesh, keeping its topology and that of every substructure. The options and their "
         "defaults are topotet::SimplifyOptions': the geometric tolerance (tolerance_rel, 0.4% of the diagonal; "
         "0 turns it off), features at feature_angle degrees (180 turns them off), field_weights {name: weight}, "
         "field error limits (max_field_error in the field's units, max_field_error_rel relative to its range; "
-        "0 = none), optimize ('none', 'light' or 'full': smoothing and flips after the collapses). hierarchy='h.tth' also records every collapse into that file (topotet.extract reads levels "
+        "0 = none), optimize ('none', 'light' or 'full': smoothing and flips after the collapses), isosurfaces (the "
+        "list embed_isosurfaces returns: the vertices of those levels' triangles keep the level exactly). hierarchy='h.tth' also records every collapse into that file (topotet.extract reads levels "
         "from it; vertex_map is then None). Returns a dict: points, tets, materials, triangles, triangle_refs, segments, segment_refs, "
         "corners, fields, vertex_map (for every input point, the output point it merged into) and report.");
   m.def(
@@ -420,6 +468,32 @@ PYBIND11_MODULE(topotet, m) {
       "A level of detail from a hierarchy file (simplify(..., hierarchy=path) or `topotet simplify --hierarchy`): "
       "the mesh with `vertices` vertices (the first collapses), or every collapse whose error is <= max_error "
       "(and whose parents are applied), or, with neither, the simplified mesh itself. Returns a mesh dict.");
+  m.def(
+      "embed_isosurfaces",
+      [](const py::dict& mesh, const py::object& levels, double snap) {
+        auto get = [&](const char* key) { return mesh.contains(key) ? py::object(mesh[key]) : py::object(py::none()); };
+        if (!mesh.contains("points") || !mesh.contains("tets")) throw py::value_error("the mesh needs 'points' and 'tets'");
+        topotet::MeshData d = to_mesh_data(get("points"), get("tets"), get("materials"), get("triangles"),
+                                           get("triangle_refs"), get("segments"), get("segment_refs"), get("corners"),
+                                           get("fields"));
+        const std::vector<topotet::IsoLevel> wanted = iso_levels(levels);
+        topotet::IsoEmbedOptions options;
+        options.snap = snap;
+        topotet::IsoEmbedReport report;
+        {
+          py::gil_scoped_release release;
+          report = topotet::embed_isosurfaces(d, wanted, options);
+        }
+        py::dict out = to_dict(d);
+        out["isosurfaces"] = iso_level_list(report, d);
+        return out;
+      },
+      py::arg("mesh"), py::arg("levels"), py::kw_only(), py::arg("snap") = topotet::IsoEmbedOptions{}.snap,
+      "Splits the tets that the level sets cross so that each becomes a listed surface (topotet/isosurface.h). "
+      "levels: specs 'FIELD=VALUE[,VALUE...]' (FIELD may be 'name:component') or dicts {field, component, value}. "
+      "Returns the mesh dict with the levels' triangles under new refs, and 'isosurfaces': one dict per level "
+      "(field, component, value, ref, name, triangles, tets_split, vertices_added, vertices_snapped, seconds); "
+      "pass that list to simplify(isosurfaces=...) so that their vertices keep the level exactly.");
   m.def(
       "read",
       [](const std::string& path) {

@@ -14,7 +14,7 @@ FLOORS = [
     ["parallel"],
     ["engine/include"],  # the engine's public types: every floor above builds on them
     ["engine/mesh"],
-    ["engine/guarantees", "engine/hierarchy", "engine/cell_data"],
+    ["engine/guarantees", "engine/hierarchy", "engine/cell_data", "engine/isosurface"],
     ["engine/kernel"],
     ["engine/cost", "engine/features"],
     ["engine"],  # the drivers

@@ -164,5 +164,23 @@ try:
     check(False, "no error reading a missing file")
 except ValueError as e:
     check("x.mesh" in str(e), f"message {e!r}")
+# Isosurfaces: embed the level sets, simplify keeping them; their vertices keep the level exactly.
+radius = np.sqrt(((points - 3.0) ** 2).sum(axis=1))
+embedded = topotet.embed_isosurfaces({"points": points, "tets": tets, "materials": materials,
+                                      "fields": {"r": radius}}, ["r=1.7,2.4"])
+levels = embedded["isosurfaces"]
+check([l["name"] for l in levels] == ["iso:r=1.7", "iso:r=2.4"], f"isosurface names {levels}")
+check(all(l["triangles"] > 0 and l["tets_split"] > 0 for l in levels), "isosurfaces embedded")
+iso_out = topotet.simplify(embedded["points"], embedded["tets"], materials=embedded["materials"],
+                           fields=embedded["fields"], triangles=embedded["triangles"],
+                           triangle_refs=embedded["triangle_refs"], ratio=0.3, isosurfaces=levels)
+for l in levels:
+    on = iso_out["triangles"][iso_out["triangle_refs"] == l["ref"]].ravel()
+    check(len(on) > 0 and np.all(iso_out["fields"]["r"].ravel()[on] == l["value"]), f"level {l['name']} exact")
+try:
+    topotet.embed_isosurfaces({"points": points, "tets": tets}, ["nope=1"])
+    check(False, "no error for an unknown isosurface field")
+except ValueError as e:
+    check("nope" in str(e), f"message {e!r}")
 check(topotet.__version__.count(".") == 2, "version")
 print(f"python_test: {len(points)} -> {nv} vertices, {len(tets)} -> {len(out['tets'])} tets: pass")

@@ -22,6 +22,7 @@ constexpr Unavailable kUnavailable[] = {
     {"--max-field-error-rel", kNoBounds},
     {"--field-bounds", kNoBounds},
     {"--feature-ref", "the feature curves are found anew by each rank in each pass and are not gathered"},
+    {"--isosurface", "the level sets are embedded by topotet simplify only so far (embed_isosurfaces)"},
     {"--levels", "one target per run: run topotet-mpi once per ratio"},
     {"--hierarchy", "a hierarchy records the collapses of one engine mesh; the ranks' parts are rebuilt every pass"},
     {"--no-field-bounds", "it belongs to --hierarchy"},

@@ -1,6 +1,7 @@
 #include "cost/cost.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -9,6 +10,7 @@
 #include "parallel/for_range.h"
 #include "mesh/prefetch.h"
 #include "cost/quadric.h"
+#include "cost/field_pins.h"
 
 namespace topotet {
 namespace {
@@ -42,6 +44,7 @@ CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options, cons
   }
   const int k = static_cast<int>(component_.size());
   n_ = 3 + k;
+  compute_field_pins(mesh, options.isosurfaces, pins_);  // checked by simplify() (driver.cpp)
   const std::size_t nv = mesh.positions.size();
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
   field_min_.assign(k, std::numeric_limits<double>::max());
@@ -238,7 +241,20 @@ std::uint8_t CostModel::order(const MeshModel& mesh, VertId v, LinkScratch& scra
   return o;
 }
 
+bool CostModel::pins_conflict(const MeshModel& mesh, VertId a, VertId b) const {
+  if (pins_.empty()) return false;
+  std::uint32_t both = pins_[a] & pins_[b];
+  const double* fa = mesh.field_values.data() + static_cast<std::size_t>(a) * stride_;
+  const double* fb = mesh.field_values.data() + static_cast<std::size_t>(b) * stride_;
+  for (; both != 0; both &= both - 1) {
+    const int k = std::countr_zero(both);
+    if (fa[k] != fb[k]) return true;
+  }
+  return false;
+}
+
 int CostModel::candidates(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch) {
+  if (pins_conflict(mesh, a, b)) return 0;
   // The hot path of both engines: the quadric arithmetic is instantiated for the common
   // dimensions (positions plus up to 4 field components) so that its loops unroll.
   switch (n_) {
@@ -252,6 +268,7 @@ int CostModel::candidates(const MeshModel& mesh, VertId a, VertId b, CollapseCan
 }
 
 double CostModel::edge_cost(const MeshModel& mesh, VertId a, VertId b, LinkScratch& scratch) {
+  if (pins_conflict(mesh, a, b)) return std::numeric_limits<double>::infinity();
   switch (n_) {
     case 3: return edge_cost_n<3>(mesh, a, b, scratch);
     case 4: return edge_cost_n<4>(mesh, a, b, scratch);
@@ -396,6 +413,7 @@ void CostModel::fields_at(const MeshModel& mesh, const CollapseCandidate& c, dou
   const double* fu = mesh.field_values.data() + static_cast<std::size_t>(c.u) * stride_;
   if (c.placement == kAtU) {  // a vertex that stays where it is (pinned or not) keeps its own values
     std::copy_n(fu, stride_, out);
+    apply_pins(mesh, c.u, c.v, out);  // v's pins too (u may gain them)
     return;
   }
   // The mesh's current field at p: at an endpoint its values, at the midpoint the mean of the two;
@@ -448,6 +466,17 @@ void CostModel::fields_at(const MeshModel& mesh, const CollapseCandidate& c, dou
     const int k = component_[q];
     out[k] = (1.0 - kFieldBlend) * (c.x[3 + q] / field_scale_[q] + field_min_[q]) + kFieldBlend * out[k];
   }
+  apply_pins(mesh, c.u, c.v, out);
+}
+
+void CostModel::apply_pins(const MeshModel& mesh, VertId u, VertId v, double* out) const {
+  if (pins_.empty()) return;
+  // u's pins first: where both ends pin a component they agree (pins_conflict refused the rest).
+  for (const VertId w : {v, u})
+    for (std::uint32_t bits = pins_[w]; bits != 0; bits &= bits - 1) {
+      const int k = std::countr_zero(bits);
+      out[k] = mesh.field_values[static_cast<std::size_t>(w) * stride_ + k];
+    }
 }
 
 void CostModel::fields_at_point(const MeshModel& mesh, VertId v, const glm::dvec3& p, double* out) const {
@@ -486,6 +515,7 @@ void CostModel::prefetch(VertId v) const {
 
 void CostModel::on_collapse(const MeshModel& mesh, VertId u, VertId v) {
   quadric_add(quadric(u), quadric(v), n_);
+  if (!pins_.empty()) pins_[u] |= pins_[v];  // u is on every level triangle v was on (field_pins.h)
   curved_[u] = curved_[u] | curved_[v];  // u's region holds v's: curved if either part was
   normalise(mesh, u, coordinates(u));  // u moved and took new field values
   // Which orders can change? Only u's: its star changed wholesale (unless u was interior: then so

@@ -74,6 +74,8 @@
 //   pinned vertices never move; two order-3 ends never collapse (link condition (I)).
 // Where a placement fixes the position (an endpoint, the midpoint) the cost takes the field values
 // the quadric likes best at that position (its minimum over the field coordinates).
+// Field components pinned on an isosurface (SimplifyOptions::isosurfaces, field_pins.h) take the
+// pinned value whatever the placement, and two vertices pinned to different values never merge.
 // The values the new vertex gets (fields_at) are 3/4 of the quadric's and 1/4 of the mesh's field
 // interpolated at the new position (kFieldBlend). The quadric's value is the best fit over the
 // vertex's whole region, which is what the error at the original vertices wants, but at a peak or
@@ -215,6 +217,12 @@ class CostModel {
     return surfaces_ != nullptr ? !surfaces_->on_surface(v) && !mesh.is_pinned(v) : is_interior_vertex(mesh, v);
   }
   std::size_t vertex_count_ = 0;
+  // Per vertex, the field components pinned on an isosurface (field_pins.h); empty when none are.
+  std::vector<std::uint32_t> pins_;
+  // True when a and b are pinned in one component to different values: they must not merge.
+  bool pins_conflict(const MeshModel& mesh, VertId a, VertId b) const;
+  // Sets the pinned components of out (the survivor of u <- v) to the pinned values.
+  void apply_pins(const MeshModel& mesh, VertId u, VertId v, double* out) const;
 };
 
 // Points placements[i].fields at fields_at(cands[i]) (stored in `storage`), for the kernel's field

@@ -133,7 +133,8 @@ struct Candidate {
 // The candidates at a (edges (a, x) with a < x that are sharp inner edges of one surface), and,
 // when `faces` is given, the special faces (a, x, y) with a < x < y.
 void scan_vertex(const MeshModel& mesh, VertId a, double minus_cos_theta, LinkScratch& scratch,
-                 std::vector<Candidate>& out, std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>>* faces) {
+                 std::vector<Candidate>& out, std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>>* faces,
+                 const std::vector<std::int32_t>& skip_refs) {
   LinkScratch::VertexData& d = scratch.a;
   classify_vertex(mesh, a, d, scratch);
   if (faces != nullptr)
@@ -143,12 +144,15 @@ void scan_vertex(const MeshModel& mesh, VertId a, double minus_cos_theta, LinkSc
     if (nb.x < a || nb.polyline || nb.mixed_labels || nb.count[kKtilde] != 2) continue;
     VertId y[2];
     int n = 0;
+    bool skipped = false;
     for (const auto& s : d.special) {
       if (s.x == nb.x) y[n++] = s.y;
       else if (s.y == nb.x) y[n++] = s.x;
+      else continue;
+      skipped = skipped || std::find(skip_refs.begin(), skip_refs.end(), s.label.ref) != skip_refs.end();
       if (n == 2) break;
     }
-    if (n == 2 && is_sharp(mesh.positions[a], mesh.positions[nb.x], mesh.positions[y[0]], mesh.positions[y[1]],
+    if (n == 2 && !skipped && is_sharp(mesh.positions[a], mesh.positions[nb.x], mesh.positions[y[0]], mesh.positions[y[1]],
                            minus_cos_theta))
       out.push_back({a, nb.x});
   }
@@ -385,7 +389,7 @@ FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale
 }
 
 FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale,
-                             const std::vector<std::uint8_t>* on_special_face) {
+                             const std::vector<std::uint8_t>* on_special_face, const std::vector<std::int32_t>& skip_refs) {
   FeatureStats stats;
   if (!(angle_degrees < 180.0)) return stats;
   if (!(scale > 0.0) || !std::isfinite(scale)) scale = 0.0;
@@ -406,7 +410,7 @@ FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale
       if (mesh.is_dead_vertex(a)) continue;
       // Creases are edges between special faces: a vertex on none has no candidate.
       if (on_special_face != nullptr ? !(*on_special_face)[a] : is_interior_vertex(mesh, a)) continue;
-      scan_vertex(mesh, a, minus_cos_theta, scratch, local, want_faces ? &local_faces : nullptr);
+      scan_vertex(mesh, a, minus_cos_theta, scratch, local, want_faces ? &local_faces : nullptr, skip_refs);
     }
     const std::lock_guard<std::mutex> lock(merge);
     sharp.insert(sharp.end(), local.begin(), local.end());

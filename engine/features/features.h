@@ -14,9 +14,13 @@ namespace topotet {
 FeatureStats detect_features(MeshModel& mesh, double angle_degrees);
 FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale);
 // The same, told which vertices are on a special face (SpecialFaces::on_face): the others are
-// skipped without a look at their stars.
+// skipped without a look at their stars; and the surfaces with a ref in skip_refs are not searched
+// for creases (simplify() passes the isosurfaces': their creases are those of the piecewise-linear
+// interpolation of the field on the input mesh, not a shape to keep, and pinning their corners
+// held the simplification back; the tolerance keeps them within H like every surface).
 FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale,
-                             const std::vector<std::uint8_t>* on_special_face);
+                             const std::vector<std::uint8_t>* on_special_face,
+                             const std::vector<std::int32_t>& skip_refs = {});
 double feature_scale(const MeshModel& mesh, const SimplifyOptions& options);
 
 }  // namespace topotet

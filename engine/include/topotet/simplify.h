@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "topotet/isosurface.h"
 #include "topotet/tet_mesh.h"
 
 namespace topotet {
@@ -159,6 +160,14 @@ struct SimplifyOptions {
   // Non-null: normalise costs in these units instead of the mesh's own (CostUnits above); field
   // vectors must have field_stride() entries, else the call returns kInvalidInput.
   const CostUnits* cost_units = nullptr;
+  // Isosurfaces embedded by embed_isosurfaces (topotet/isosurface.h; pass its report's levels):
+  // every vertex of a triangle listed with a level's ref keeps that field component at exactly
+  // the level, through every collapse (engine/cost/field_pins.h). Their topology and position are
+  // kept like any listed surface's; they are not searched for sharp features (feature_angle): their
+  // creases are the interpolation's, not a shape to keep. The call returns kInvalidInput when a field or component is
+  // unknown, a pinned component is past the 32nd of the interleaved field values, or such a vertex
+  // does not have the level's value at the start.
+  std::vector<IsoLevel> isosurfaces;
 };
 
 // Why a run stopped before its target, and what to change (issue #23): Report::stop. Filled when
