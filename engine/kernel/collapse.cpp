@@ -482,6 +482,7 @@ float collapse(MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p, const d
   if (fields_at_p != nullptr && stride > 0)
     std::copy_n(fields_at_p, stride, mesh.field_values.begin() + static_cast<std::ptrdiff_t>(u) * stride);
   mesh.vertex_states[v] |= vertex_state::kDead;
+  mesh.vertex_states[u] |= vertex_state::kReshaped;  // every tet of u's new star is new or moved
   // v is in this collapse's stencil, so no other collapse of the round writes its entry.
   if (!mesh.merged_into.empty()) mesh.merged_into[v] = u;
   return star_bound;

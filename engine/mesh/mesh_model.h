@@ -100,6 +100,9 @@ inline constexpr std::uint8_t kFeatureCorner = 1u << 3;  // pinned by detect_fea
 // Distributed runs (mpi/) freeze the vertices a rank shares with others: a collapse is decided
 // locally only when the whole stars of both its ends are local, which a non-frozen end guarantees.
 inline constexpr std::uint8_t kFrozen = 1u << 4;
+// Reshaped: the vertex survived a collapse or was moved after them, so no tet through it is a tet
+// of the input as it was. The optimisation after the collapses (optimize/) works on such tets only.
+inline constexpr std::uint8_t kReshaped = 1u << 5;
 inline constexpr std::uint8_t kDead = 1u << 7;      // removed by a collapse
 }  // namespace vertex_state
 
@@ -142,6 +145,13 @@ struct MeshModel {
   bool is_dead_vertex(VertId v) const { return vertex_states[v] & vertex_state::kDead; }
   bool is_pinned(VertId v) const { return vertex_states[v] & vertex_state::kPinned; }
   bool is_frozen(VertId v) const { return vertex_states[v] & vertex_state::kFrozen; }
+  bool is_reshaped(VertId v) const { return vertex_states[v] & vertex_state::kReshaped; }
+  // A tet the collapses (or the optimisation) made or moved: one of its vertices is reshaped.
+  bool is_reshaped_tet(TetId t) const {
+    const auto& tv = tets[t];
+    return (vertex_states[tv[0]] | vertex_states[tv[1]] | vertex_states[tv[2]] | vertex_states[tv[3]]) &
+           vertex_state::kReshaped;
+  }
 
   // Calls f(tet) for every live tet incident to v, in chain order.
   template <class F>

@@ -21,7 +21,10 @@ void optimize_after_collapses(MeshModel& mesh, const SimplifyOptions& options, C
   // a mean ratio above 0.3.
   SmoothOptions smooth;  // light: their defaults
   SwapOptions swap;
-  if (full) smooth.max_passes = 2;  // per round
+  if (full) {
+    smooth.max_passes = 2;  // per round
+    swap.max_passes = 8;
+  }
   // Smoothing and flips alternate: a flip changes the stars a smoothing could not improve, a move
   // makes flips possible that were not.
   const int rounds = full ? 6 : 1;

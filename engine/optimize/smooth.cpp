@@ -301,6 +301,7 @@ bool apply_move(MeshModel& mesh, const Proposal& pr, CostModel& cost, FieldBound
     bounds->commit({}, s.bounds);
   }
   mesh.positions[pr.v] = pr.p;
+  mesh.vertex_states[pr.v] |= vertex_state::kReshaped;  // its own byte: winners' stars share no tet
   for (int c = 0; c < k; ++c) mesh.field_values[static_cast<std::size_t>(pr.v) * k + c] = s.values[static_cast<std::size_t>(c)];
   cost.on_move(mesh, pr.v);
   return true;
@@ -324,14 +325,15 @@ SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostM
   const double target3 = options.target_quality * options.target_quality * options.target_quality;
   const std::size_t nv = mesh.vertex_capacity();
   parallel::PerThread<Scratch> scratch;
-  // The start: the free vertices of the tets below the target (one pass over the tets, which the
-  // collapses left at a tenth of the input or so).
+  // The start: the movable vertices of the tets below the target that the collapses made or moved
+  // (smooth.h: input tets the collapses left alone are left as the input had them), in one pass
+  // over the tets, which the collapses left at a tenth of the input or so.
   std::vector<std::uint8_t> bad(nv, 0);
   const auto& P = mesh.positions;
   for (TetId t = 0; t < mesh.tets.size(); ++t) {
     if (mesh.is_dead_tet(t)) continue;
     const auto& tv = mesh.tets[t];
-    if (mean_ratio_cubed(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]) < target3)
+    if (mesh.is_reshaped_tet(t) && mean_ratio_cubed(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]) < target3)
       for (VertId x : tv) bad[x] = 1;
   }
   std::vector<VertId> candidates;

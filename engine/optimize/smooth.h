@@ -18,6 +18,10 @@
 // in floating point), as do vertices on curved surfaces and curves (constrained moves there would
 // have to re-prove the tolerance; not done).
 //
+// And only near the tets the collapses made or moved (a vertex of theirs is reshaped:
+// mesh_model.h): a bad tet of the input that the collapses left alone stays as the input had it,
+// with its field (swap.h says what flipping those cost on LOX). A moved vertex is reshaped.
+//
 // Where to. The move maximises the star's worst (mean ratio)^3 (mesh/moved_corner.h): first the
 // centroid of the link (Laplacian) if it is better, then steps along the gradient of the worst tets'
 // log quality (the tets within 1% of the worst: the direction that lifts them together), each

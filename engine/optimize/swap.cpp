@@ -130,7 +130,10 @@ void apply_flip(MeshModel& m, const Flip& f, RegionFlags& region, std::vector<st
   const std::int32_t material = m.material[f.old[0]];
   for (int i = 0; i < f.old_count; ++i) {
     region.add(m, f.old[static_cast<std::size_t>(i)]);
-    for (VertId x : m.tets[f.old[static_cast<std::size_t>(i)]]) touched[x] = 1;
+    for (VertId x : m.tets[f.old[static_cast<std::size_t>(i)]]) {
+      touched[x] = 1;
+      m.vertex_states[x] |= vertex_state::kReshaped;  // the region's new tets are not the input's
+    }
   }
   for (int i = 0; i < f.made_count; ++i) {
     const TetId slot = i < f.old_count ? f.old[static_cast<std::size_t>(i)] : static_cast<TetId>(m.tets.size());
@@ -311,8 +314,20 @@ class FlipFinder {
       for (int j = 0; j < i; ++j)
         if (r[static_cast<std::size_t>(j)] == x) return false;
     }
-    // Which diagonals are already edges of the mesh.
+    // The ring's direction: a on the positive side of the triangles taken in ring order.
+    const auto& P = m_.positions;
+    const int side = orient3d_sign(P[r[0]], P[r[1]], P[r[2]], P[a]);
+    if (side == 0) return false;
+    if (side < 0) std::reverse(r.begin(), r.begin() + n);
+    // A diagonal that is already an edge of the mesh cannot be used. Finding them scans stars, so
+    // the triangulations are first searched as if none were: most edges have no triangulation
+    // that beats the floor at all (then none with fewer diagonals has either), and only an edge
+    // that has one pays for the scan and the second search.
     std::array<std::array<std::uint8_t, kMaxRing>, kMaxRing> joined{};
+    std::array<std::array<double, kMaxRing>, kMaxRing> best{};
+    std::array<std::array<std::int8_t, kMaxRing>, kMaxRing> apex{};
+    if (!(triangulate(r, n, a, b, floor, joined, best, apex) > kNoTriangulation)) return false;
+    bool any_joined = false;
     for (int i = 0; i < n; ++i)
       for (int j = i + 2; j < n; ++j) {
         if (i == 0 && j == n - 1) continue;  // a side
@@ -320,27 +335,37 @@ class FlipFinder {
         bool e = false;
         for (TetId s : stars_[x]) e = e || contains(m_.tets[s], y);
         joined[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = e ? 1 : 0;
+        any_joined = any_joined || e;
       }
-    // The ring's direction: a on the positive side of the triangles taken in ring order.
-    const auto& P = m_.positions;
-    const int side = orient3d_sign(P[r[0]], P[r[1]], P[r[2]], P[a]);
-    if (side == 0) return false;
-    if (side < 0) std::reverse(r.begin(), r.begin() + n);
-    // best[i][j]: the best worst tet over the triangulations of the sub-polygon r_i .. r_j (j > i + 1),
-    // apex[i][j] the apex of its triangle on side ij.
-    constexpr double kNone = -1.0;
-    std::array<std::array<double, kMaxRing>, kMaxRing> best{};
-    std::array<std::array<std::int8_t, kMaxRing>, kMaxRing> apex{};
+    if (any_joined && !(triangulate(r, n, a, b, floor, joined, best, apex) > kNoTriangulation)) return false;
+    const double q = best[0][static_cast<std::size_t>(n - 1)];
+    f.old_count = n;
+    for (int i = 0; i < n; ++i) f.old[static_cast<std::size_t>(i)] = ring_[static_cast<std::size_t>(i)];
+    f.made_count = 0;
+    emit(r, apex, 0, n - 1, a, b, f);
+    f.quality = q;
+    return true;
+  }
+
+  static constexpr double kNoTriangulation = -1.0;
+
+  // best[i][j]: the best worst tet over the triangulations of the sub-polygon r_i .. r_j (j > i + 1)
+  // that use no joined diagonal, apex[i][j] the apex of its triangle on side ij; returns
+  // best[0][n - 1] (kNoTriangulation: none beats `floor`).
+  double triangulate(const std::array<VertId, kMaxRing>& r, int n, VertId a, VertId b, double floor,
+                     const std::array<std::array<std::uint8_t, kMaxRing>, kMaxRing>& joined,
+                     std::array<std::array<double, kMaxRing>, kMaxRing>& best,
+                     std::array<std::array<std::int8_t, kMaxRing>, kMaxRing>& apex) const {
     for (int len = 2; len < n; ++len)
       for (int i = 0; i + len < n; ++i) {
         const int j = i + len;
         double& bq = best[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
-        bq = kNone;
+        bq = kNoTriangulation;
         if (len < n - 1 && joined[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]) continue;
         for (int k = i + 1; k < j; ++k) {
           const double left = k == i + 1 ? 1.0 : best[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
           const double right = k == j - 1 ? 1.0 : best[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)];
-          if (!(left > kNone) || !(right > kNone)) continue;
+          if (!(left > kNoTriangulation) || !(right > kNoTriangulation)) continue;
           const std::array<VertId, 4> up{r[static_cast<std::size_t>(i)], r[static_cast<std::size_t>(k)],
                                          r[static_cast<std::size_t>(j)], a};
           const std::array<VertId, 4> down{r[static_cast<std::size_t>(k)], r[static_cast<std::size_t>(i)],
@@ -353,14 +378,7 @@ class FlipFinder {
           }
         }
       }
-    const double q = best[0][static_cast<std::size_t>(n - 1)];
-    if (!(q > kNone)) return false;
-    f.old_count = n;
-    for (int i = 0; i < n; ++i) f.old[static_cast<std::size_t>(i)] = ring_[static_cast<std::size_t>(i)];
-    f.made_count = 0;
-    emit(r, apex, 0, n - 1, a, b, f);
-    f.quality = q;
-    return true;
+    return best[0][static_cast<std::size_t>(n - 1)];
   }
 
   // The tets of the chosen triangulation of sub-polygon r_i .. r_j.
@@ -436,6 +454,7 @@ SwapStats swap_bad_tets(MeshModel& mesh, const SwapOptions& options) {
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
   std::vector<std::uint32_t> version(mesh.tets.size(), 0);
   auto push_if_bad = [&](TetId t) {
+    if (!mesh.is_reshaped_tet(t)) return;  // an input tet the collapses left alone (swap.h)
     const double q = quality(mesh, mesh.tets[t]);
     if (q < target3) heap.emplace(q, t, version[t]);
   };

@@ -46,7 +46,8 @@ enum class Engine : std::uint8_t {
 // a mean ratio, and those inside flat sheets in an axis plane (in the plane), move to better places
 // (engine/optimize/smooth.h), and 2-3 flips and edge removals replace such tets inside one material
 // (engine/optimize/swap.h); both say why every guarantee holds. none; light = tets below mean
-// ratio 0.4, 4 smoothing passes, then flips until none helps;
+// ratio 0.4 that the collapses made or moved (input tets they left alone stay), 4 smoothing passes,
+// then 3 passes of flips;
 // full = 6 rounds of 2 smoothing passes and the flips (engine/optimize/optimize.cpp).
 enum class Optimize : std::uint8_t { kNone, kLight, kFull };
 const char* to_string(Optimize optimize);  // "none", "light", "full"
