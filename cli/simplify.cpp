@@ -381,7 +381,11 @@ int run_simplify(const SimplifyArgs& args) {
       };
     }
   }
-  if (!job.options.isosurfaces.empty()) embed_levels(job);
+  if (!job.options.isosurfaces.empty()) {
+    // The split tets share an extensive array's amount by volume: its kind must be known first.
+    apply_cell_kinds(job.input.cell_fields, job.cell_remap);
+    embed_levels(job);
+  }
   // A hierarchy with fields records each collapse's field error bound (Hierarchy::error_bound), so
   // that `extract --max-error` and --levels-error select by a guaranteed error, not by a cost.
   if (!job.hierarchy_path.empty() && !job.input.fields.empty() && !args.no_field_bounds)

@@ -231,6 +231,55 @@ TEST(Isosurface, SequentialEngineKeepsTheLevelsToo) {
   expect_levels_exact(out, report.levels);
 }
 
+// Cell arrays stay aligned with the tets through the embedding: each piece of a split tet takes
+// its tet's value, and an extensive array's amount is shared out by volume (its sum is kept).
+TEST(Isosurface, CellArraysFollowTheSplitTets) {
+  Grid g = make_grid(5, 5, 5, [](int, int, int) { return 1; }, 0.12, 3);
+  add_random_field(g.data, "u", 3, 0);
+  const std::size_t nt = g.data.tets.size();
+  CellField id{"id", 1, CellFieldKind::kCategorical, {}}, mass{"mass", 2, CellFieldKind::kExtensive, {}};
+  for (std::size_t t = 0; t < nt; ++t) {
+    id.values.push_back(static_cast<double>(t));
+    mass.values.push_back(1.0 + static_cast<double>(t % 7));
+    mass.values.push_back(-2.0);
+  }
+  g.data.cell_fields = {id, mass};
+  const MeshData before = g.data;
+  const IsoEmbedReport report = embed_isosurfaces(g.data, {{"u", 0, 0.5}});
+  ASSERT_GT(report.stats[0].tets_added, 0u);
+  const std::size_t n = g.data.tets.size();
+  ASSERT_EQ(g.data.cell_fields[0].values.size(), n);
+  ASSERT_EQ(g.data.cell_fields[1].values.size(), 2 * n);
+  // Every piece lies inside the tet whose id it carries: its centroid has non-negative barycentric
+  // coordinates there (up to rounding).
+  const auto& P = g.data.positions;
+  const auto& Q = before.positions;
+  for (std::size_t t = 0; t < n; ++t) {
+    const auto parent = before.tets[static_cast<std::size_t>(g.data.cell_fields[0].values[t])];
+    std::array<double, 3> c{0, 0, 0};
+    for (VertId x : g.data.tets[t])
+      for (int k = 0; k < 3; ++k) c[k] += 0.25 * P[x][k];
+    const auto vol = [](const std::array<double, 3>& a, const std::array<double, 3>& b, const std::array<double, 3>& d,
+                        const std::array<double, 3>& e) {
+      const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]},
+                   w[3] = {e[0] - a[0], e[1] - a[1], e[2] - a[2]};
+      return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+    };
+    const double whole = vol(Q[parent[0]], Q[parent[1]], Q[parent[2]], Q[parent[3]]);
+    for (int k = 0; k < 4; ++k) {
+      auto corners = std::array<std::array<double, 3>, 4>{Q[parent[0]], Q[parent[1]], Q[parent[2]], Q[parent[3]]};
+      corners[static_cast<std::size_t>(k)] = c;
+      EXPECT_GE(vol(corners[0], corners[1], corners[2], corners[3]) / whole, -1e-9) << "tet " << t;
+    }
+  }
+  double sum_before[2] = {0, 0}, sum_after[2] = {0, 0};
+  for (std::size_t t = 0; t < nt; ++t)
+    for (int j = 0; j < 2; ++j) sum_before[j] += before.cell_fields[1].values[2 * t + j];
+  for (std::size_t t = 0; t < n; ++t)
+    for (int j = 0; j < 2; ++j) sum_after[j] += g.data.cell_fields[1].values[2 * t + j];
+  for (int j = 0; j < 2; ++j) EXPECT_NEAR(sum_after[j], sum_before[j], 1e-9 * std::fabs(sum_before[j]));
+}
+
 // A smooth field (distance to a point) whose level sphere crosses a material interface, a listed
 // surface (the plane z = 3) and a listed polyline (the line x = y = 3): all survive embedding and
 // simplification with their topology.

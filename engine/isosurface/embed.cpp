@@ -27,6 +27,7 @@
 #include <glm/vec3.hpp>
 
 #include "isosurface/split_tet.h"
+#include "mesh/glm_convert.h"
 #include "mesh/orient.h"
 #include "parallel/for_range.h"
 #include "topotet/error.h"
@@ -258,9 +259,30 @@ class LevelEmbedding {
     d_.tets.resize(nt + offset[n]);
     const bool materials = !d_.tet_material.empty();
     if (materials) d_.tet_material.resize(nt + offset[n]);
+    // Cell arrays stay aligned with the tets (mesh_data.h): each piece takes its tet's values, an
+    // extensive array's amount shared out by the pieces' volumes (their sum is the tet's).
+    for (CellField& f : d_.cell_fields)
+      if (f.values.size() == nt * static_cast<std::size_t>(f.components))
+        f.values.resize((nt + offset[n]) * static_cast<std::size_t>(f.components));
+    const auto volume = [&](const std::array<VertId, 4>& tv) {
+      const auto p = [&](int k) { return to_glm(d_.positions[tv[static_cast<std::size_t>(k)]]); };
+      return std::fabs(signed_volume6(p(0), p(1), p(2), p(3)));
+    };
     parallel::for_range<std::size_t>(0, n, 1024, "iso_write", [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) {
         const TetId t = crossed_tets_[i];
+        const double whole = d_.cell_fields.empty() ? 0.0 : volume(d_.tets[t]);
+        for (CellField& f : d_.cell_fields) {
+          const std::size_t c = static_cast<std::size_t>(f.components);
+          if (f.values.size() != (nt + offset[n]) * c) continue;  // misaligned already: build_tet_mesh says so
+          for (int k = pieces[i].tet_count - 1; k >= 0; --k) {  // the tet's own slot (piece 0) last
+            const std::size_t slot = k == 0 ? t : nt + offset[i] + static_cast<std::size_t>(k) - 1;
+            const double share = f.kind == CellFieldKind::kExtensive && whole > 0.0
+                                     ? volume(pieces[i].tets[static_cast<std::size_t>(k)]) / whole
+                                     : 1.0;
+            for (std::size_t j = 0; j < c; ++j) f.values[slot * c + j] = f.values[t * c + j] * share;
+          }
+        }
         d_.tets[t] = pieces[i].tets[0];
         for (int k = 1; k < pieces[i].tet_count; ++k) {
           d_.tets[nt + offset[i] + k - 1] = pieces[i].tets[k];

@@ -69,7 +69,8 @@ struct IsoEmbedReport {
 // earlier one). New vertices go after the input's, in the order of the crossed edges (sorted by
 // (smaller id, larger id)); their field values are linear along the edge, and exactly the level
 // for the level's component; their vertex ref (MeshData::vertex_refs, when given) is 0. Tets keep
-// their material; listed triangles and segments cut by a level are replaced by their pieces with
+// their material, and their cell arrays (MeshData::cell_fields) stay aligned: each piece takes its
+// tet's values, an extensive array's amount shared out by the pieces' volumes; listed triangles and segments cut by a level are replaced by their pieces with
 // the same ref; the level's triangles get a ref that no listed triangle or triangle group name uses, and a GroupName (dim 2) "iso:FIELD=VALUE" (FIELD:C
 // for component C of a field with several). Parallel, and identical for every thread count.
 // The pieces of a tet have its orientation (so a mesh with all tets negatively oriented, which
