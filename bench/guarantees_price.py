@@ -16,8 +16,7 @@ less work than the off run: compare collapses/s there, not times).
 """
 import argparse, json, os, re, statistics, subprocess, sys
 
-here = os.path.dirname(os.path.abspath(__file__))
-data = os.path.normpath(os.path.join(here, "..", "..", "shared", "data"))
+from inputs import SHARED as data, family
 
 INPUTS = [  # name, file (generated: family name), ratio
     ("cube-sphere 1M", "cube-sphere", 0.1),
@@ -61,11 +60,7 @@ def main():
     for name, source, ratio in INPUTS:
         if a.only and not re.search(a.only, name):
             continue
-        mesh = source
-        if "/" not in source:
-            mesh = os.path.join(a.work, f"{source}_1000000.mesh")
-            if not os.path.exists(mesh):
-                subprocess.run([a.topotet, "generate", source, "--tets", "1000000", "-o", mesh, "-q"], check=True)
+        mesh = source if "/" in source else family(a.topotet, a.work, source, 1000000)
         if not os.path.exists(mesh):
             print(f"skipping {name}: {mesh} not found", file=sys.stderr)
             continue

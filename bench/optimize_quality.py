@@ -16,24 +16,17 @@ import re
 import subprocess
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-SHARED = os.path.normpath(os.path.join(HERE, "..", "..", "shared", "data"))
+from inputs import FAMILIES, family, shared
 
 
 def inputs(topotet, work, tets):
-    out = []
-    for family in ("cube-sphere", "slab", "linked-tori", "polycrystal"):
-        path = os.path.join(work, f"{family}_{tets}.mesh")
-        if not os.path.exists(path):
-            subprocess.run([topotet, "generate", family, "--tets", str(tets), "-o", path], check=True,
-                           stdout=subprocess.DEVNULL)
-        out.append((f"{family} {tets // 1000}k", path, None))
+    out = [(f"{name} {tets // 1000}k", family(topotet, work, name, tets), None) for name in FAMILIES]
     for rel, ratio in (("mmg/tinyBoxt.mesh", None), ("mmg/torus.mesh", None), ("simnibs/sphere3.msh", None),
                        ("palace/circular_hole.msh", None), ("palace/parallel_plate.msh", None),
                        ("palace/sheet_w_two_holes.msh", None), ("large/liver_1.31M.mesh.gz", None),
                        ("volume/lox_post_tets.mesh.gz", 0.02)):
-        path = os.path.join(SHARED, rel)
-        if os.path.exists(path):
+        path = shared(rel)
+        if path:
             out.append((os.path.basename(rel).split(".")[0], path, ratio))
     return out
 

@@ -17,24 +17,18 @@ import re
 import subprocess
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-SHARED = os.path.normpath(os.path.join(HERE, "..", "..", "shared", "data"))
+from inputs import FAMILIES, family, shared
+
 SHARED_MESHES = ("mfem/nested_cubes.msh", "simnibs/sphere3.msh", "palace/circular_hole.msh",
                  "palace/sheet_w_two_holes.msh", "palace/parallel_plate.msh", "mmg/tinyBoxt.mesh",
                  "mmg/torus.mesh", "volume/lox_post_tets.mesh.gz", "large/liver_1.31M.mesh.gz")
 
 
 def inputs(topotet, work, tets, extra):
-    out = []
-    for family in ("cube-sphere", "slab", "linked-tori", "polycrystal"):
-        path = os.path.join(work, f"{family}_{tets}.mesh")
-        if not os.path.exists(path):
-            subprocess.run([topotet, "generate", family, "--tets", str(tets), "-o", path], check=True,
-                           stdout=subprocess.DEVNULL)
-        out.append((f"generate {family} {tets // 1000}k", path))
+    out = [(f"generate {name} {tets // 1000}k", family(topotet, work, name, tets)) for name in FAMILIES]
     for rel in SHARED_MESHES:
-        path = os.path.join(SHARED, rel)
-        if os.path.exists(path):
+        path = shared(rel)
+        if path:
             out.append((re.sub(r"\.(msh|mesh)(\.gz)?$", "", rel), path))
     out.extend((os.path.basename(p), p) for p in extra)
     return out

@@ -210,6 +210,11 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
         report.field_bounds_setup_seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
       }
+      // The input's vertices for the optimisation's field guard (optimize/input_samples.h), recorded
+      // before the first collapse overwrites a survivor's position and values.
+      std::unique_ptr<InputSamples> samples;
+      if (options.optimize != Optimize::kNone && log == nullptr && mesh.field_stride() > 0)
+        samples = std::make_unique<InputSamples>(mesh);
       // Once the collapses are done, with the engine's cost model: why the run stopped early (it
       // tries collapses on the mesh as the collapses left it, with the coverage, which knows that
       // mesh's tets), then the optimisation. Not with a collapse log: a hierarchy's levels are
@@ -218,7 +223,8 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
         if (report.status == Status::kStoppedEarly && report.message == "no legal collapse left" &&
             mesh.live_vertex_count() > target)
           detail::diagnose_stop(mesh, options, kernel, report);  // Report::stop: why, and what to change
-        if (log == nullptr) optimize_after_collapses(mesh, options, cost, bounds.get(), report);
+        if (log == nullptr) optimize_after_collapses(mesh, options, cost, bounds.get(), samples.get(), report);
+        samples.reset();
       };
       if (options.engine == Engine::kSequential)
         detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report, log, finish);

@@ -596,21 +596,37 @@ class GmshReader {
     expect_end("Elements");
   }
 
-  void read_node_data() {
-    const auto nstrings = r_.read_int("$NodeData number of string tags", 0, 1000);
-    std::string name = "field" + std::to_string(m_.fields.size());
+  // The header of a $NodeData or $ElementData view: its name (the first string tag, else
+  // `default_name`), components and value count (integer tags 2 and 3; real tags skipped).
+  struct ViewHeader {
+    std::string name;
+    std::int64_t components = 0, count = 0;
+  };
+  ViewHeader read_view_header(const std::string& section, std::string default_name) {
+    ViewHeader h;
+    h.name = std::move(default_name);
+    const auto nstrings = r_.read_int(section + " number of string tags", 0, 1000);
     for (std::int64_t i = 0; i < nstrings; ++i) {
-      const std::string s = unquote(r_.next_line_text("$NodeData string tag"));
-      if (i == 0) name = s;
+      const std::string s = unquote(r_.next_line_text(section + " string tag"));
+      if (i == 0) h.name = s;
     }
-    const auto nreals = r_.read_int("$NodeData number of real tags", 0, 1000);
-    for (std::int64_t i = 0; i < nreals; ++i) r_.read_double_any("$NodeData real tag");
-    const auto nints = r_.read_int("$NodeData number of integer tags", 0, 1000);
+    const auto nreals = r_.read_int(section + " number of real tags", 0, 1000);
+    for (std::int64_t i = 0; i < nreals; ++i) r_.read_double_any(section + " real tag");
+    const auto nints = r_.read_int(section + " number of integer tags", 0, 1000);
     std::vector<std::int64_t> ints;
-    for (std::int64_t i = 0; i < nints; ++i) ints.push_back(r_.read_int("$NodeData integer tag"));
-    if (ints.size() < 3) r_.fail("$NodeData: expected at least 3 integer tags (time step, components, count)");
-    const std::int64_t comps = ints[1], n = ints[2];
-    if (comps < 1 || comps > 9) r_.fail("$NodeData: " + std::to_string(comps) + " components not supported (1 to 9)");
+    for (std::int64_t i = 0; i < nints; ++i) ints.push_back(r_.read_int(section + " integer tag"));
+    if (ints.size() < 3) r_.fail(section + ": expected at least 3 integer tags (time step, components, count)");
+    h.components = ints[1];
+    h.count = ints[2];
+    if (h.components < 1 || h.components > 9)
+      r_.fail(section + ": " + std::to_string(h.components) + " components not supported (1 to 9)");
+    return h;
+  }
+
+  void read_node_data() {
+    const ViewHeader h = read_view_header("$NodeData", "field" + std::to_string(m_.fields.size()));
+    const std::string& name = h.name;
+    const std::int64_t comps = h.components, n = h.count;
     if (n < 0 || static_cast<std::uint64_t>(n) > m_.positions.size())
       r_.fail("$NodeData: " + std::to_string(n) + " values for " + std::to_string(m_.positions.size()) + " nodes");
     begin_binary();
@@ -646,20 +662,9 @@ class GmshReader {
   // $ElementData: a view on the tets (tags of other elements are an error, those of left-out
   // volume elements are skipped); tets without a value get 0; last time step wins, as $NodeData.
   void read_element_data() {
-    const auto nstrings = r_.read_int("$ElementData number of string tags", 0, 1000);
-    std::string name = "cellfield" + std::to_string(m_.cell_fields.size());
-    for (std::int64_t i = 0; i < nstrings; ++i) {
-      const std::string s = unquote(r_.next_line_text("$ElementData string tag"));
-      if (i == 0) name = s;
-    }
-    const auto nreals = r_.read_int("$ElementData number of real tags", 0, 1000);
-    for (std::int64_t i = 0; i < nreals; ++i) r_.read_double_any("$ElementData real tag");
-    const auto nints = r_.read_int("$ElementData number of integer tags", 0, 1000);
-    std::vector<std::int64_t> ints;
-    for (std::int64_t i = 0; i < nints; ++i) ints.push_back(r_.read_int("$ElementData integer tag"));
-    if (ints.size() < 3) r_.fail("$ElementData: expected at least 3 integer tags (time step, components, count)");
-    const std::int64_t comps = ints[1], n = ints[2];
-    if (comps < 1 || comps > 9) r_.fail("$ElementData: " + std::to_string(comps) + " components not supported (1 to 9)");
+    const ViewHeader h = read_view_header("$ElementData", "cellfield" + std::to_string(m_.cell_fields.size()));
+    const std::string& name = h.name;
+    const std::int64_t comps = h.components, n = h.count;
     if (n < 0 || static_cast<std::uint64_t>(n) > tet_tags_.size() + dropped_tags_.size())
       r_.fail("$ElementData: " + std::to_string(n) + " values for " + std::to_string(tet_tags_.size()) + " tetrahedra");
     if (tag_index_.size() != tet_tags_.size()) {

@@ -1,33 +1,14 @@
 // A small mesh with cell fields of every kind, for the round trips of the formats that carry them
-// (unit_io_cell_fields.cpp, unit_io_vtk_cell_fields.cpp), and a temporary folder.
+// (unit_io_cell_fields.cpp, unit_io_vtk_cell_fields.cpp).
 #pragma once
 
 #include <algorithm>
-#include <filesystem>
 #include <map>
-#include <random>
 #include <string>
 
 #include "topotet/mesh_data.h"
 
 namespace topotet::test {
-
-class CellTempDir {
- public:
-  CellTempDir() {
-    std::random_device rd;
-    path_ = std::filesystem::temp_directory_path() / ("topotet_cells_" + std::to_string(rd()) + std::to_string(rd()));
-    std::filesystem::create_directories(path_);
-  }
-  ~CellTempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
 
 // Three tets, materials 2, 1, 2 (writers that group tets by material reorder them), a vertex
 // field, and cell fields: a real scalar, a label, a 3-vector and a symmetric tensor.

@@ -10,7 +10,9 @@
 // each listed ref, each material interface: an in-plane move re-shapes a sheet's triangles but not
 // the sheet); and it gives the same mesh for 1 and 2 threads.
 // Unit: a planted sliver is improved, not kept; a 2-3 flip and a 3-2 edge removal happen where they lift the
-// worst tet, and not across a listed face or between two materials.
+// worst tet, and not across a listed face or between two materials; a flip that makes the field
+// worse at an input vertex the collapses removed is refused, and the guard's errors are the
+// squared errors at the recorded vertices inside the region.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,6 +24,7 @@
 
 #include "entry_points.h"
 #include "mesh/mesh_model.h"
+#include "optimize/input_samples.h"
 #include "optimize/smooth.h"
 #include "optimize/swap.h"
 #include "test_meshes.h"
@@ -329,6 +332,66 @@ TEST(OptimizeSwap, FlipsKeepTheFlagsOfTheFacesTheyKeep) {
   compact(model);
   const MeshData out = model.to_mesh_data();
   EXPECT_EQ(sorted(out.triangles), sorted(build_mesh_model(m).to_mesh_data().triangles));
+}
+
+// The flips' field guard at the input's vertices (optimize/input_samples.h). The bipyramid's 2-3
+// flip makes the axis 3-4, which crosses the shared face at its centroid; an input vertex the
+// collapses removed sits there. The field is 0 on the face's corners and 1 at the apexes, so the
+// old tets give 0 at the centroid and the new ones 1: the flip is refused where the input said 0
+// there, and made where it said 1 (it then removes the error). The pointwise bound is lifted so
+// that only the samples decide.
+TEST(OptimizeFieldGuard, AFlipMustNotMakeTheFieldWorseAtTheInputsVertices) {
+  const auto flips = [](double truth, bool with_samples) {
+    MeshData in = bipyramid(0.05, false);
+    const double s = std::sqrt(3.0) / 2.0;
+    in.positions.push_back({0.5, s / 3.0, 0.0});  // 5: the face's centroid, removed by a collapse
+    in.fields.push_back({"f", 1, {0.0, 0.0, 0.0, 1.0, 1.0, truth}});
+    MeshModel m = reshaped_model(in);
+    m.vertex_states[5] &= static_cast<std::uint8_t>(~vertex_state::kDead);  // as before the collapses (a tet's vertex)
+    const InputSamples samples(m);
+    m.vertex_states[5] |= vertex_state::kDead;
+    SwapOptions options;
+    options.max_field_change = 1e9;
+    return swap_bad_tets(m, options, with_samples ? &samples : nullptr).flips_23;
+  };
+  EXPECT_EQ(flips(0.0, true), 0u);
+  EXPECT_EQ(flips(1.0, true), 1u);
+  EXPECT_EQ(flips(0.0, false), 1u);  // without the samples only the geometry decides
+  // The growth allowed: the old tets err by 0.5 there (truth 0.5), the new ones by 0.5 too.
+  EXPECT_EQ(flips(0.5, true), 1u);
+}
+
+// inside / errors_after: squared errors in units of the range, at the recorded vertices inside the region
+// only, none at a live vertex still at its input place (both fields take its value there).
+TEST(OptimizeFieldGuard, RegionErrorsAreTheSquaredErrorsAtTheRecordedVerticesInside) {
+  MeshData in;
+  in.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.25, 0.25, 0.25}, {1, 1, 1}, {-1, -1, -1}};
+  in.tets = {{0, 1, 2, 3}, {1, 2, 3, 5}, {0, 2, 1, 6}};
+  in.tet_material.assign(3, 1);
+  // f = 2x on the corners (range 0..2 over the recorded vertices: -2 at vertex 6, 2 at 5: 4).
+  in.fields.push_back({"f", 1, {0.0, 2.0, 0.0, 0.0, 0.9, 2.0, -2.0}});
+  MeshModel m = build_mesh_model(in);
+  m.vertex_states[4] &= static_cast<std::uint8_t>(~vertex_state::kDead);  // as before the collapses
+  const InputSamples samples(m);
+  m.vertex_states[4] |= vertex_state::kDead;  // inside tet 0: its input value 0.9, the tet's 0.5
+  FieldTet before;
+  for (int j = 0; j < 4; ++j) {
+    before.p[static_cast<std::size_t>(j)] = m.positions[in.tets[0][static_cast<std::size_t>(j)]];
+    before.f[static_cast<std::size_t>(j)] = &m.field_values[in.tets[0][static_cast<std::size_t>(j)]];
+  }
+  FieldTet after = before;
+  const double three = 3.0;
+  after.f[1] = &three;  // corner (1, 0, 0) now 3: 0.75 at the sample
+  InputSamples::Inside inside;
+  samples.inside(m, std::span(&before, 1), kInvalid, inside);
+  EXPECT_EQ(inside.vertices, std::vector<VertId>{4});
+  EXPECT_NEAR(inside.error, (0.4 / 4.0) * (0.4 / 4.0), 1e-15);
+  EXPECT_NEAR(samples.errors_after(std::span(&after, 1), inside), (0.15 / 4.0) * (0.15 / 4.0), 1e-15);
+  // The corners are live and unmoved: skipped, though corner 1's value changed in `after`; once
+  // it is the moving vertex, it counts (1 away from 3 at its own place).
+  samples.inside(m, std::span(&before, 1), in.tets[0][1], inside);
+  EXPECT_EQ(inside.vertices.size(), 2u);
+  EXPECT_NEAR(samples.errors_after(std::span(&after, 1), inside), (0.15 / 4.0) * (0.15 / 4.0) + (1.0 / 4.0) * (1.0 / 4.0), 1e-15);
 }
 
 }  // namespace

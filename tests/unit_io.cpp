@@ -20,6 +20,7 @@
 
 #include "io/atomic_file.h"
 #include "io/line_reader.h"
+#include "io_test_files.h"
 #include "mesh/mesh_model.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
@@ -37,52 +38,14 @@ std::string test_data(const std::string& rel) { return std::string(TOPOTET_TEST_
     if (!fs::exists(path)) GTEST_SKIP() << "missing test input " << (path);    \
   } while (0)
 
-// A fresh directory per test, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    path_ = fs::temp_directory_path() / ("topotet_unit_io_" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  std::vector<std::string> entries() const {
-    std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(path_)) out.push_back(e.path().filename().string());
-    std::sort(out.begin(), out.end());
-    return out;
-  }
-
- private:
-  fs::path path_;
-};
-
-void write_text(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using test::read_text;
+using test::TempDir;
+using test::write_text;
 
 // Reads `path`, expecting an InputError whose message names the file, the line (":<line>:",
 // or "byte" for binary files) and contains `needle`.
 void expect_input_error(const std::string& path, const std::string& line_tag, const std::string& needle) {
-  try {
-    read_mesh(path);
-    ADD_FAILURE() << path << ": expected InputError containing '" << needle << "'";
-  } catch (const InputError& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find(path), std::string::npos) << msg;
-    EXPECT_NE(msg.find(line_tag), std::string::npos) << "expected '" << line_tag << "' in: " << msg;
-    EXPECT_NE(msg.find(needle), std::string::npos) << "expected '" << needle << "' in: " << msg;
-  }
+  test::expect_input_error([&] { read_mesh(path); }, {path, line_tag, needle});
 }
 
 template <class T>

@@ -3,9 +3,8 @@
 // errors of bad input, which name the file and the line.
 #include <gtest/gtest.h>
 
-#include <fstream>
-
 #include "cell_fields_test_mesh.h"
+#include "io_test_files.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
 
@@ -13,32 +12,18 @@ namespace topotet {
 namespace {
 
 using test::cell_values_by_tet;
-using test::CellTempDir;
+using test::TempDir;
 using test::mesh_with_cell_fields;
 
-void write_text(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using test::read_text;
+using test::write_text;
 
 void expect_error(const std::string& path, const std::string& where, const std::string& needle, const ReadOptions& options = {}) {
-  try {
-    read_mesh(path, options);
-    ADD_FAILURE() << path << ": expected an InputError with '" << needle << "'";
-  } catch (const InputError& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find(where), std::string::npos) << "expected '" << where << "' in: " << msg;
-    EXPECT_NE(msg.find(needle), std::string::npos) << "expected '" << needle << "' in: " << msg;
-  }
+  test::expect_input_error([&] { read_mesh(path, options); }, {where, needle});
 }
 
 TEST(CellFieldsIo, medit_sol_keeps_names_kinds_and_values) {
-  CellTempDir dir;
+  TempDir dir;
   const MeshData m = mesh_with_cell_fields();
   write_mesh(dir.file("a.mesh"), m);
   EXPECT_NE(read_text(dir.file("a.sol")).find("SolAtTetrahedra\n3\n4 1 1 2 3"), std::string::npos) << read_text(dir.file("a.sol"));
@@ -47,7 +32,7 @@ TEST(CellFieldsIo, medit_sol_keeps_names_kinds_and_values) {
 }
 
 TEST(CellFieldsIo, medit_default_names_need_no_names_file) {
-  CellTempDir dir;
+  TempDir dir;
   MeshData m = mesh_with_cell_fields();
   m.fields.clear();
   m.cell_fields.resize(1);
@@ -58,7 +43,7 @@ TEST(CellFieldsIo, medit_default_names_need_no_names_file) {
 }
 
 TEST(CellFieldsIo, medit_sol_count_must_match_the_tets) {
-  CellTempDir dir;
+  TempDir dir;
   MeshData m = mesh_with_cell_fields();
   m.cell_fields.resize(1);
   m.fields.clear();
@@ -69,7 +54,7 @@ TEST(CellFieldsIo, medit_sol_count_must_match_the_tets) {
 
 void expect_gmsh_round_trip(const WriteOptions& options, const std::string& name) {
   SCOPED_TRACE(name);
-  CellTempDir dir;
+  TempDir dir;
   const MeshData m = mesh_with_cell_fields();
   write_mesh(dir.file(name), m, options);
   const MeshData back = read_mesh(dir.file(name));
@@ -97,7 +82,7 @@ constexpr const char* kMsh22Head =
     "11 4 2 1 1 2 3 4 5\n20 5 2 1 1 6 7 8 9 6 7 8 9\n$EndElements\n";
 
 TEST(CellFieldsIo, gmsh_element_data_maps_tags_and_drops_left_out_cells) {
-  CellTempDir dir;
+  TempDir dir;
   write_text(dir.file("a.msh"), std::string(kMsh22Head) +
                                     "$ElementData\n1\n\"q\"\n1\n0\n3\n0\n1\n3\n11 2.5\n20 9\n10 1.5\n$EndElementData\n");
   ReadOptions tets_only;
@@ -109,7 +94,7 @@ TEST(CellFieldsIo, gmsh_element_data_maps_tags_and_drops_left_out_cells) {
 }
 
 TEST(CellFieldsIo, gmsh_element_data_on_a_triangle_is_an_error) {
-  CellTempDir dir;
+  TempDir dir;
   write_text(dir.file("a.msh"), std::string(kMsh22Head) +
                                     "$ElementData\n1\n\"q\"\n1\n0\n3\n0\n1\n2\n10 1\n5 2\n$EndElementData\n");
   ReadOptions tets_only;
@@ -118,7 +103,7 @@ TEST(CellFieldsIo, gmsh_element_data_on_a_triangle_is_an_error) {
 }
 
 TEST(CellFieldsIo, a_cell_array_of_the_wrong_size_is_not_written) {
-  CellTempDir dir;
+  TempDir dir;
   MeshData m = mesh_with_cell_fields();
   m.cell_fields[1].values.pop_back();
   for (const char* name : {"a.mesh", "a.msh", "a.vtu"}) {
@@ -132,7 +117,7 @@ TEST(CellFieldsIo, a_cell_array_of_the_wrong_size_is_not_written) {
 }
 
 TEST(CellFieldsIo, vtu_writes_cell_data) {
-  CellTempDir dir;
+  TempDir dir;
   write_mesh(dir.file("a.vtu"), mesh_with_cell_fields());
   const std::string text = read_text(dir.file("a.vtu"));
   EXPECT_NE(text.find("<DataArray type=\"Float64\" Name=\"density\""), std::string::npos);

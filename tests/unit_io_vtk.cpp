@@ -37,6 +37,7 @@
 #include "io/vtk/vtk_grid.h"
 #include "test_meshes.h"
 #include "topotet/error.h"
+#include "io_test_files.h"
 #include "topotet/io.h"
 #include "topotet/io_vtk.h"
 
@@ -47,31 +48,9 @@ namespace fs = std::filesystem;
 
 std::string test_data(const std::string& rel) { return std::string(TOPOTET_TEST_DATA_DIR) + "/" + rel; }
 
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    path_ = fs::temp_directory_path() / ("topotet_unit_io_vtk_" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
-
-void write_text(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+using test::read_text;
+using test::TempDir;
+using test::write_text;
 
 // A 3x3x2 grid, two materials, a listed surface patch, a polyline, a scalar and a vector field;
 // its tets sorted by material (the order an Exodus file keeps).

@@ -10,6 +10,7 @@
 #include <vtkUnstructuredGrid.h>
 
 #include "cell_fields_test_mesh.h"
+#include "io_test_files.h"
 #include "io/vtk/vtk_grid.h"
 #include "topotet/io.h"
 #include "topotet/io_vtk.h"
@@ -18,11 +19,11 @@ namespace topotet {
 namespace {
 
 using test::cell_values_by_tet;
-using test::CellTempDir;
+using test::TempDir;
 using test::mesh_with_cell_fields;
 
 TEST(CellFieldsVtk, vtu_round_trip_keeps_values_and_kinds) {
-  CellTempDir dir;
+  TempDir dir;
   const MeshData m = mesh_with_cell_fields();
   for (const bool binary : {false, true}) {
     write_mesh(dir.file("a.vtu"), m, WriteOptions{.binary = binary});
@@ -34,7 +35,7 @@ TEST(CellFieldsVtk, vtu_round_trip_keeps_values_and_kinds) {
 }
 
 TEST(CellFieldsVtk, exodus_element_variables_round_trip) {
-  CellTempDir dir;
+  TempDir dir;
   const MeshData m = mesh_with_cell_fields();
   write_exodus(dir.file("a.exo"), m);
   const MeshData back = read_vtk_mesh(dir.file("a.exo"));

@@ -9,7 +9,7 @@
 namespace topotet {
 
 void optimize_after_collapses(MeshModel& mesh, const SimplifyOptions& options, CostModel& cost, FieldBounds* bounds,
-                              Report& report) {
+                              const InputSamples* samples, Report& report) {
   if (options.optimize == Optimize::kNone) return;
   const auto start = std::chrono::steady_clock::now();
   const bool full = options.optimize == Optimize::kFull;
@@ -29,13 +29,13 @@ void optimize_after_collapses(MeshModel& mesh, const SimplifyOptions& options, C
   // makes flips possible that were not.
   const int rounds = full ? 6 : 1;
   for (int round = 0; round < rounds; ++round) {
-    const SmoothStats moved = smooth_vertices(mesh, smooth, cost, bounds);
+    const SmoothStats moved = smooth_vertices(mesh, smooth, cost, bounds, samples);
     if (round == 0) report.optimize_candidates = moved.candidates;
     report.optimize_moves += moved.moves;
     report.optimize_passes += moved.passes;
     std::uint64_t flips = 0;
     if (bounds == nullptr) {
-      const SwapStats swapped = swap_bad_tets(mesh, swap);
+      const SwapStats swapped = swap_bad_tets(mesh, swap, samples);
       flips = swapped.flips_23 + swapped.edge_removals;
       report.optimize_flips += flips;
     }

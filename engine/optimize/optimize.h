@@ -5,6 +5,7 @@
 #include "cost/cost.h"
 #include "guarantees/field_bounds.h"
 #include "mesh/mesh_model.h"
+#include "optimize/input_samples.h"
 #include "topotet/simplify.h"
 
 namespace topotet {
@@ -13,7 +14,9 @@ namespace topotet {
 // moved vertex its field values from it). Fills the report's optimize_* fields. The flips leave
 // dead tets and new ones: the caller compacts, as after the collapses. No flips with field
 // bounds (kept per tet).
+// `samples`: the input's vertices recorded before the collapses (may be null: then the field is
+// guarded by the quadric and the pointwise bound only).
 void optimize_after_collapses(MeshModel& mesh, const SimplifyOptions& options, CostModel& cost, FieldBounds* bounds,
-                              Report& report);
+                              const InputSamples* samples, Report& report);
 
 }  // namespace topotet

@@ -10,6 +10,7 @@
 
 #include "cost/cost.h"
 #include "mesh/moved_corner.h"
+#include "optimize/input_samples.h"
 #include "parallel/filter.h"
 #include "parallel/for_range.h"
 #include "parallel/scratch.h"
@@ -48,6 +49,8 @@ struct Scratch {
   std::vector<FaceThrough> through;
   FieldBoundsScratch bounds;
   std::vector<double> values;
+  std::vector<FieldTet> before, after;  // the star with v at its place and at a proposed one
+  InputSamples::Inside inside;          // the input's vertices inside the star
 };
 
 void gather_star(const MeshModel& mesh, VertId v, Scratch& s) {
@@ -184,6 +187,8 @@ constexpr double kCostBudget = 1.2;
 // a distance of 1e-8 of it, squared): a vertex whose quadric is zero at its place (a flat sheet
 // without fields) may move where the quadric is zero up to rounding.
 constexpr double kRoundingCost = 1e-16;
+// Squared field errors in units of the range below this are rounding, not a change (input_samples.h).
+constexpr double kRoundingError = 1e-24;
 
 struct Proposal {
   VertId v = kInvalid;
@@ -200,18 +205,9 @@ std::uint8_t encode(const Mobility& m) {
                                    : (m.kind == Mobility::kFixed ? kKnownFixed : static_cast<std::uint8_t>(kKnownInPlane + m.axis));
 }
 
-// The best point found for movable vertex v, if it lifts the star's worst tet by kMinGain at least.
-// A vertex of a flat sheet moves in its axis plane only: every candidate point keeps that
-// coordinate exactly.
-bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double target3, Scratch& s,
-             std::uint8_t& known, Proposal& out) {
-  if (known == kUnknown) known = encode(mobility_of(mesh, v, s));
-  if (known == kKnownFixed) return false;
-  const int axis = known >= kKnownInPlane ? known - kKnownInPlane : -1;
-  const auto in_plane = [&](glm::dvec3 y, const glm::dvec3& x) {
-    if (axis >= 0) y[axis] = x[axis];
-    return y;
-  };
+// The star of v, with each tet's quality as a function of v's place (s.moved) and the link's
+// vertices (s.link, with repeats).
+void prepare_star(const MeshModel& mesh, VertId v, Scratch& s) {
   gather_star(mesh, v, s);
   const auto& P = mesh.positions;
   s.moved.resize(s.star.size());
@@ -222,6 +218,53 @@ bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double targ
     s.moved[i] = prepare_moved_corner(P[tv[face[0]]], P[tv[face[1]]], P[tv[face[2]]]);
     for (int j = 0; j < 3; ++j) s.link.push_back(tv[face[j]]);
   }
+}
+
+// Does moving v to x (with the values its quadric gives there) keep the squared field errors at
+// the input's vertices inside its star within the growth allowed (optimize/input_samples.h)? The
+// star is the same point set before and after (v is free, or moves in its flat sheet's plane), so
+// the vertices inside it are found once per proposal (s.inside, for s.star as gathered).
+bool samples_kept(const MeshModel& mesh, const CostModel& cost, const InputSamples* samples, double growth, VertId v,
+                  const glm::dvec3& x, Scratch& s, bool& gathered) {
+  const int k = mesh.field_stride();
+  if (k == 0 || samples == nullptr || samples->empty()) return true;
+  s.values.resize(static_cast<std::size_t>(k));
+  cost.fields_at_point(mesh, v, x, s.values.data());
+  s.before.clear();
+  s.after.clear();
+  for (std::size_t i = 0; i < s.star.size(); ++i) {
+    const auto& tv = mesh.tets[s.star[i]];
+    FieldTet t;
+    for (int j = 0; j < 4; ++j) {
+      t.p[static_cast<std::size_t>(j)] = mesh.positions[tv[j]];
+      t.f[static_cast<std::size_t>(j)] = mesh.field_values.data() + static_cast<std::size_t>(tv[j]) * static_cast<std::size_t>(k);
+    }
+    s.before.push_back(t);
+    t.p[s.corner[i]] = x;
+    t.f[s.corner[i]] = s.values.data();
+    s.after.push_back(t);
+  }
+  if (!gathered) {
+    samples->inside(mesh, s.before, v, s.inside);
+    gathered = true;
+  }
+  return samples->errors_after(s.after, s.inside) <= s.inside.error * (1.0 + growth) + kRoundingError;
+}
+
+// The best point found for movable vertex v, if it lifts the star's worst tet by kMinGain at least.
+// A vertex of a flat sheet moves in its axis plane only: every candidate point keeps that
+// coordinate exactly.
+bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double target3, Scratch& s, std::uint8_t& known,
+             Proposal& out) {
+  if (known == kUnknown) known = encode(mobility_of(mesh, v, s));
+  if (known == kKnownFixed) return false;
+  const int axis = known >= kKnownInPlane ? known - kKnownInPlane : -1;
+  const auto in_plane = [&](glm::dvec3 y, const glm::dvec3& x) {
+    if (axis >= 0) y[axis] = x[axis];
+    return y;
+  };
+  prepare_star(mesh, v, s);
+  const auto& P = mesh.positions;
   const glm::dvec3 x0 = P[v];
   const double q0 = star_quality(s.moved, x0);
   if (!(q0 > 0.0) || q0 >= target3) return false;
@@ -286,6 +329,31 @@ bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double targ
   return true;
 }
 
+// The field at the input's vertices, for a proposal that won its pass (checked after the selection,
+// as the collapses' winners prove the tolerance: a sixth of the proposals win, and finding the
+// input's vertices in a star costs more than the rest of a proposal). Pulled back toward the old
+// point until the squared errors there grow by `growth` at most (the quadric's error only falls
+// on the way: it is convex, and the old point is within its budget), while the star's worst tet
+// still gains kMinGain; false when it does not. Reads the mesh only: the winners' stars share no
+// tet, and none of them is a vertex of another's star.
+bool keep_samples(const MeshModel& mesh, const CostModel& cost, const InputSamples* samples, double growth, Proposal& pr,
+                  Scratch& s) {
+  if (samples == nullptr || samples->empty() || mesh.field_stride() == 0) return true;
+  prepare_star(mesh, pr.v, s);
+  const glm::dvec3 x0 = mesh.positions[pr.v];
+  bool gathered = false;
+  glm::dvec3 x = pr.p;
+  for (int tries = 0; tries < 8; ++tries) {
+    if (samples_kept(mesh, cost, samples, growth, pr.v, x, s, gathered)) {
+      pr.p = x;
+      return true;
+    }
+    x = 0.5 * (x0 + x);  // keeps a flat sheet's coordinate: both points have it
+    if (!(star_quality(s.moved, x) > pr.key * kMinGain)) return false;
+  }
+  return false;
+}
+
 // Moves v to p with its new field values (and the star's field bounds). False (nothing written)
 // when the field bounds' limit refuses the move.
 bool apply_move(MeshModel& mesh, const Proposal& pr, CostModel& cost, FieldBounds* bounds, Scratch& s) {
@@ -320,7 +388,8 @@ int flat_sheet_axis(const MeshModel& mesh, VertId v) {
   return m.kind == Mobility::kInPlane ? m.axis : -1;
 }
 
-SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostModel& cost, FieldBounds* bounds) {
+SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostModel& cost, FieldBounds* bounds,
+                            const InputSamples* samples) {
   SmoothStats stats;
   const double target3 = options.target_quality * options.target_quality * options.target_quality;
   const std::size_t nv = mesh.vertex_capacity();
@@ -409,7 +478,12 @@ SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostM
     for (const Proposal& pr : proposals) joined[pr.v] = 0;
     won.assign(proposals.size(), 0);
     for (std::size_t i = 0; i < proposals.size(); ++i) won[i] = state[i] == kJoined ? 1 : 0;
-    // 3. Apply the winners: their stars share no tet.
+    // 3. The winners' field at the input's vertices (read-only), then apply them: their stars share no tet.
+    parallel::for_range<std::size_t>(0, proposals.size(), 16, "smooth_samples", [&](std::size_t b, std::size_t e) {
+      Scratch& s = scratch.local();
+      for (std::size_t i = b; i < e; ++i)
+        if (won[i] && !keep_samples(mesh, cost, samples, options.max_sample_error_growth, proposals[i], s)) won[i] = 0;
+    });
     std::vector<std::uint8_t> moved(proposals.size(), 0);
     parallel::for_range<std::size_t>(0, proposals.size(), 16, "smooth_apply", [&](std::size_t b, std::size_t e) {
       Scratch& s = scratch.local();

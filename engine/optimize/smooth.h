@@ -32,8 +32,10 @@
 // at the new point, blended with the mesh's field there as a collapse's placement is
 // (CostModel::fields_at_point). The quadric placed the vertex where it fits the field, so a move
 // is pulled back toward the old point until the quadric's error at the new one is at most 1.2x
-// the old (kCostBudget): unguarded, the moves cost 9-20% of field RMS on the families at 10%,
-// guarded 1-4%. Moves that lift the worst tet by less than kMinGain are not proposed.
+// the old (kCostBudget), and until the squared errors at the input's vertices inside the star grow
+// by SmoothOptions::max_sample_error_growth at most (the quadric alone let LOX's field RMS grow by
+// a third at 30% of the vertices). Unguarded, the moves cost 9-20% of field RMS on the families at
+// 10%, guarded 1-4%. Moves that lift the worst tet by less than kMinGain are not proposed.
 // With field error bounds (guarantees/field_bounds.h) the move re-locates the samples of the star
 // like a collapse without removed tets; under a limit a move that would exceed it is not made.
 //
@@ -50,6 +52,7 @@
 #include "cost/cost.h"
 #include "guarantees/field_bounds.h"
 #include "mesh/mesh_model.h"
+#include "optimize/input_samples.h"
 
 namespace topotet {
 
@@ -61,6 +64,10 @@ struct SmoothOptions {
   // 10 degrees 1 -> 4 passes: slab 284 -> 251, cube-sphere 137 -> 108, linked tori 227 -> 196,
   // Palace circular_hole 11 -> 7, for +1-2% field RMS; 8 passes gained 0-4% more.
   int max_passes = 4;
+  // At the input's vertices inside the star (optimize/input_samples.h), the sum of squared field
+  // errors may grow by this fraction at most (1: double), as for the flips (swap.h, where the
+  // measurements are); a move is pulled back toward the old point until it holds.
+  double max_sample_error_growth = 1.0;
 };
 
 struct SmoothStats {
@@ -71,7 +78,10 @@ struct SmoothStats {
 
 // Nothing else may touch the mesh during the call; runs in the caller's task arena. `cost` (the
 // engine's, built on this mesh) gives a moved vertex its field values and follows it (on_move).
-SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostModel& cost, FieldBounds* bounds);
+// `samples` (recorded before the collapses; may be null): a move must not make the field worse at
+// the input's vertices inside the star.
+SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostModel& cost, FieldBounds* bounds,
+                            const InputSamples* samples = nullptr);
 
 
 // The vertex lies on no substructure and not on the boundary, and may move (see above).

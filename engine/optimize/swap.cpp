@@ -10,8 +10,11 @@
 #include <tuple>
 #include <vector>
 
+#include <glm/common.hpp>
+
 #include "mesh/moved_corner.h"
 #include "mesh/orient.h"
+#include "optimize/input_samples.h"
 
 namespace topotet {
 
@@ -150,32 +153,11 @@ void apply_flip(MeshModel& m, const Flip& f, RegionFlags& region, std::vector<st
 // a star that grows), so that one pass can flip next to an earlier flip.
 using Stars = std::vector<std::vector<TetId>>;
 
-// The piecewise-linear field of `tets` at x (the tet holding x: the largest smallest barycentric
-// coordinate; x lies in their union), component c of stride k.
-double interpolate(const MeshModel& m, const std::array<VertId, 4>* tets, int count, const glm::dvec3& x, int k, int c) {
-  const auto& P = m.positions;
-  double best = -std::numeric_limits<double>::infinity(), value = 0.0;
-  for (int i = 0; i < count; ++i) {
-    const auto& tv = tets[i];
-    const double total = signed_volume6(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]);
-    if (!(total > 0.0)) continue;
-    std::array<double, 4> l{signed_volume6(x, P[tv[1]], P[tv[2]], P[tv[3]]) / total,
-                            signed_volume6(P[tv[0]], x, P[tv[2]], P[tv[3]]) / total,
-                            signed_volume6(P[tv[0]], P[tv[1]], x, P[tv[3]]) / total, 0.0};
-    l[3] = 1.0 - l[0] - l[1] - l[2];
-    const double lo = std::min(std::min(l[0], l[1]), std::min(l[2], l[3]));
-    if (lo <= best) continue;
-    best = lo;
-    value = 0.0;
-    for (int j = 0; j < 4; ++j) value += l[static_cast<std::size_t>(j)] * m.field_values[static_cast<std::size_t>(tv[j]) * k + c];
-  }
-  return value;
-}
-
 // Finds the best flip that removes a tet. Reads the mesh and the stars only.
 class FlipFinder {
  public:
-  FlipFinder(const MeshModel& m, const Stars& stars, const SwapOptions& options) : m_(m), stars_(stars) {
+  FlipFinder(const MeshModel& m, const Stars& stars, const InputSamples* samples, const SwapOptions& options)
+      : m_(m), stars_(stars), samples_(samples), growth_(options.max_sample_error_growth) {
     // Each field component's range over the live vertices: the unit of max_field_change.
     const int k = m.field_stride();
     std::vector<double> lo(static_cast<std::size_t>(k), std::numeric_limits<double>::infinity());
@@ -196,56 +178,97 @@ class FlipFinder {
 
   // The best flip that removes tet t (worst quality q), if one beats q.
   bool best_flip(TetId t, double q, Flip& best) {
-    best.quality = q;
-    bool found = false;
     const auto& tv = m_.tets[t];
     for (VertId x : tv)
       if (m_.is_frozen(x)) return false;
-    Flip f;
+    // Every flip that lifts the worst tet, then the field's test from the best down: the test
+    // costs more than the search, and the best usually passes.
+    int count = 0;
     for (int e = 0; e < 6; ++e)
-      if (edge_flip(t, tv[kTetEdges[e][0]], tv[kTetEdges[e][1]], best.quality, f) && field_kept(f)) {
-        best = f;
-        found = true;
-      }
+      if (edge_flip(t, tv[kTetEdges[e][0]], tv[kTetEdges[e][1]], q, candidates_[static_cast<std::size_t>(count)])) ++count;
     for (int k = 0; k < 4; ++k)
-      if (face_flip(t, k, best.quality, f) && field_kept(f)) {
+      if (face_flip(t, k, q, candidates_[static_cast<std::size_t>(count)])) ++count;
+    std::array<int, 10> order{};
+    for (int i = 0; i < count; ++i) order[static_cast<std::size_t>(i)] = i;
+    // Stable: equal qualities keep the search's order (edges, then faces), as before.
+    std::stable_sort(order.begin(), order.begin() + count, [&](int a, int b) {
+      return candidates_[static_cast<std::size_t>(a)].quality > candidates_[static_cast<std::size_t>(b)].quality;
+    });
+    for (int i = 0; i < count; ++i) {
+      const Flip& f = candidates_[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
+      if (field_kept(f)) {
         best = f;
-        found = true;
+        return true;
       }
-    return found;
+    }
+    return false;
   }
 
  private:
-  // Does the flip change the field by at most the allowed amount? The difference of the old and
-  // new interpolants is piecewise linear over their common refinement, largest where their edges
-  // cross the other's faces; it is measured at the centroids and edge midpoints of the old and the
-  // new tets (each located in the other triangulation), which include the midpoint of the edge a
-  // flip removes or makes and the centroid of the face it removes or makes.
+  // Is the flip's change of the interpolated field acceptable? Two tests, component by component:
+  // - at the input's vertices inside the region (InputSamples: where the output's field error is
+  //   measured), the sum of the squared errors (in units of each component's range) must not grow
+  //   by more than SwapOptions::max_sample_error_growth;
+  // - everywhere, the change is at most SwapOptions::max_field_change of the range. The difference
+  //   of the old and new interpolants is piecewise linear over their common refinement, largest
+  //   where their edges cross the other's faces; it is measured at the centroids and edge midpoints
+  //   of the old and the new tets (each located in the other triangulation), which include the
+  //   midpoint of the edge a flip removes or makes and the centroid of the face it removes or makes.
+  //   This bounds the change where no input vertex is left to say (a region the collapses did not
+  //   thin out, or one between the samples).
   bool field_kept(const Flip& f) {
     const int k = m_.field_stride();
     if (k == 0) return true;
-    old_.clear();
-    for (int i = 0; i < f.old_count; ++i) old_.push_back(m_.tets[f.old[static_cast<std::size_t>(i)]]);
-    const auto& P = m_.positions;
-    const auto check = [&](const std::array<VertId, 4>* from, int from_count, const std::array<VertId, 4>* to, int to_count) {
-      for (int i = 0; i < from_count; ++i) {
-        const auto& tv = from[i];
-        points_.clear();
-        points_.push_back(0.25 * (P[tv[0]] + P[tv[1]] + P[tv[2]] + P[tv[3]]));
-        for (const auto& e : kTetEdges) points_.push_back(0.5 * (P[tv[e[0]]] + P[tv[e[1]]]));
-        for (int f3 = 0; f3 < 4; ++f3)
-          points_.push_back((P[tv[kTetFaces[f3][0]]] + P[tv[kTetFaces[f3][1]]] + P[tv[kTetFaces[f3][2]]]) / 3.0);
-        for (const glm::dvec3& x : points_)
-          for (int c = 0; c < k; ++c) {
-            const double a = interpolate(m_, from, from_count, x, k, c), b = interpolate(m_, to, to_count, x, k, c);
-            if (std::fabs(a - b) > allowed_[static_cast<std::size_t>(c)]) return false;
-          }
+    before_.clear();
+    after_.clear();
+    const auto field_tet = [&](const std::array<VertId, 4>& tv) {
+      FieldTet t;
+      for (int j = 0; j < 4; ++j) {
+        t.p[static_cast<std::size_t>(j)] = m_.positions[tv[j]];
+        t.f[static_cast<std::size_t>(j)] = m_.field_values.data() + static_cast<std::size_t>(tv[j]) * static_cast<std::size_t>(k);
       }
-      return true;
+      return t;
     };
-    return check(old_.data(), f.old_count, f.made.data(), f.made_count) &&
-           check(f.made.data(), f.made_count, old_.data(), f.old_count);
+    for (int i = 0; i < f.old_count; ++i) before_.push_back(field_tet(m_.tets[f.old[static_cast<std::size_t>(i)]]));
+    for (int i = 0; i < f.made_count; ++i) after_.push_back(field_tet(f.made[static_cast<std::size_t>(i)]));
+    if (!change_bounded(before_, after_, k) || !change_bounded(after_, before_, k)) return false;
+    if (samples_ == nullptr) return true;
+    samples_->inside(m_, before_, kInvalid, inside_);
+    return samples_->errors_after(after_, inside_) <= inside_.error * (1.0 + growth_) + kRoundingError;
   }
+
+  // The change at the centroid, the edge midpoints and the face centroids of each tet of `from`
+  // (whose barycentric coordinates there are known), located in `to`.
+  bool change_bounded(std::span<const FieldTet> from, std::span<const FieldTet> to, int k) {
+    static const std::vector<std::array<double, 4>> kPoints = [] {
+      std::vector<std::array<double, 4>> points{{0.25, 0.25, 0.25, 0.25}};
+      for (const auto& e : kTetEdges) {
+        std::array<double, 4> l{};
+        l[static_cast<std::size_t>(e[0])] = l[static_cast<std::size_t>(e[1])] = 0.5;
+        points.push_back(l);
+      }
+      for (const auto& face : kTetFaces) {
+        std::array<double, 4> l{};
+        for (int j : face) l[static_cast<std::size_t>(j)] = 1.0 / 3.0;
+        points.push_back(l);
+      }
+      return points;
+    }();
+    in_to_.reset(to);
+    for (const FieldTet& t : from)
+      for (const auto& la : kPoints) {
+        const glm::dvec3 x = la[0] * t.p[0] + la[1] * t.p[1] + la[2] * t.p[2] + la[3] * t.p[3];
+        std::size_t b = 0;
+        std::array<double, 4> lb{};
+        in_to_.locate(x, b, lb);
+        for (int c = 0; c < k; ++c)
+          if (std::fabs(interpolate(t, la, c) - interpolate(to[b], lb, c)) > allowed_[static_cast<std::size_t>(c)]) return false;
+      }
+    return true;
+  }
+
+  // Squared errors in units of the range: rounding of the interpolation, never a real change.
+  static constexpr double kRoundingError = 1e-24;
 
   // Edge removal around edge ab of tet t (3 -> 2 is its smallest case): ab has n <= kMaxRing tets,
   // one material, a closed ring r_0 .. r_{n-1} of vertices, and neither ab nor a face through it is
@@ -433,15 +456,19 @@ class FlipFinder {
 
   const MeshModel& m_;
   const Stars& stars_;
-  std::vector<double> allowed_;  // [field component] the largest change a flip may make
+  std::vector<double> allowed_;    // [field component] the largest change a flip may make
+  const InputSamples* samples_;
+  double growth_;
   std::vector<TetId> ring_;
-  std::vector<std::array<VertId, 4>> old_;
-  std::vector<glm::dvec3> points_;
+  std::vector<FieldTet> before_, after_;
+  std::array<Flip, 10> candidates_{};  // 6 edges, 4 faces
+  RegionLocator in_to_;
+  InputSamples::Inside inside_;
 };
 
 }  // namespace
 
-SwapStats swap_bad_tets(MeshModel& mesh, const SwapOptions& options) {
+SwapStats swap_bad_tets(MeshModel& mesh, const SwapOptions& options, const InputSamples* samples) {
   SwapStats stats;
   const double target3 = options.target_quality * options.target_quality * options.target_quality;
   compact_tets(mesh);  // dense tets: the collapses left ~90% of them dead
@@ -462,7 +489,7 @@ SwapStats swap_bad_tets(MeshModel& mesh, const SwapOptions& options) {
   // A tet that found no flip is looked at again only after a flip next to it (its options changed);
   // every flip lifts the worst tet of its region, so this ends, and the cap bounds the work.
   std::uint64_t budget = 16 * heap.size() + 1024;
-  FlipFinder finder(mesh, stars, options);
+  FlipFinder finder(mesh, stars, samples, options);
   RegionFlags region;
   std::vector<std::uint8_t> touched(mesh.vertex_capacity(), 0);
   std::vector<TetId> nearby;

@@ -12,7 +12,9 @@
 // So the mesh, its boundary, every material region and every substructure are the same complexes
 // up to subdivision of the unflagged interior: their topology and their geometry (the tolerance)
 // are unchanged, and no vertex moves, so the fields are untouched at the vertices; between them the
-// interpolated field changes, by at most SwapOptions::max_field_change of its range. A flip is made
+// interpolated field changes, by at most SwapOptions::max_field_change of its range, and at the
+// input's vertices inside the region its squared error grows by max_sample_error_growth at most
+// (optimize/input_samples.h). A flip is made
 // only when its new tets are certainly positive (orient3d_sign, robust) and their worst mean ratio
 // beats the old tets' worst: the worst tet of the mesh never gets worse.
 //
@@ -39,6 +41,7 @@
 #include <cstdint>
 
 #include "mesh/mesh_model.h"
+#include "optimize/input_samples.h"
 
 namespace topotet {
 
@@ -47,13 +50,20 @@ struct SwapOptions {
   // Later passes find few flips: LOX at 50%, 44k, 12k, 5k, 2.3k, 1.2k... in 210k, 157k, 129k,
   // 98k, 62k evaluations; the families at 10% lose 0-1 tets under 10 degrees with 3 against 8.
   int max_passes = 3;
-  // A flip changes the piecewise-linear field inside its region (the vertices keep their values):
-  // it is refused when the change at the points where the old and new tets differ most (see
-  // swap.cpp, field_kept) exceeds this fraction of a component's range. Thin tets aligned with a
-  // steep field are what represents it: unguarded, the flips tripled LOX's field error at 2%
-  // (RMS 0.0177 -> 0.0562). Measured (LOX 2%; cube-sphere, slab, linked tori 100k at 10%): 0.002
-  // keeps every RMS but leaves 600 / 793 / 769 tets under 10 degrees; 0.03: LOX +2%, the families
-  // +0 / +6 / +1%, 140 / 290 / 235; 0.1: LOX +34%.
+  // A flip changes the piecewise-linear field inside its region (the vertices keep their values).
+  // Two guards (swap.cpp, field_kept). At the input's vertices inside the region (recorded before
+  // the collapses: optimize/input_samples.h; where the output's field error is measured), the sum
+  // of squared errors may grow by this fraction at most: 1 = it may double. Measured at 10% of the
+  // vertices (cube-sphere, slab 100k: field RMS and tets under 10 degrees; LOX at 30%: RMS): 0 keeps
+  // every RMS at or below the collapses' (0.0124, 0.0096; LOX 0.00085 for 0.00089) but leaves 329 /
+  // 447 slivers; 1: 0.0134 / 0.0104, 142 / 303 (with the smoothing's at 1 too), LOX 0.00091;
+  // 4: 120 / 262 slivers, LOX 0.00122. Regions overlap and a flip's tets can flip again, so this
+  // bounds each step, not the run: measured, +1-3% RMS over the collapses alone.
+  double max_sample_error_growth = 1.0;
+  // And everywhere in the region the change is at most this fraction of the component's range
+  // (at the points where the old and new tets differ most), which bounds it where no input vertex
+  // is left to tell. Thin tets aligned with a steep field are what represents it: with this bound
+  // alone (0.03; 0.1 was +34% on LOX at 2%), the flips tripled LOX's field RMS at 30%.
   double max_field_change = 0.03;
 };
 
@@ -63,6 +73,8 @@ struct SwapStats {
 };
 
 // Drops the dead tets first and at the end (compact_tets: tet ids change, vertex ids do not).
-SwapStats swap_bad_tets(MeshModel& mesh, const SwapOptions& options);
+// `samples` (recorded before the collapses; may be null): a flip must not make the field worse
+// at the input's vertices inside its region (max_sample_error_growth).
+SwapStats swap_bad_tets(MeshModel& mesh, const SwapOptions& options, const InputSamples* samples = nullptr);
 
 }  // namespace topotet
