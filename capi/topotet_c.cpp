@@ -15,6 +15,7 @@
 
 #include "mesh/mesh_view.h"
 #include "topotet/error.h"
+#include "topotet/isosurface.h"
 #include "topotet/nothrow.h"
 #include "topotet/simplify.h"
 #include "topotet/tet_mesh.h"
@@ -23,6 +24,7 @@
 struct topotet_mesh {
   topotet::TetMesh mesh;
   std::vector<topotet::VertId> vertex_map;  // of the last simplify
+  std::vector<topotet::IsoLevel> isosurfaces;  // embedded so far: every simplify keeps them
   // The listed triangles and segments, recovered from the tet flags on first use after a change.
   mutable std::vector<topotet::Triangle> triangles;
   mutable std::vector<topotet::Segment> segments;
@@ -334,6 +336,31 @@ topotet_status topotet_mesh_write(const topotet_mesh* mesh, const char* path) {
 
 void topotet_mesh_free(topotet_mesh* mesh) { delete mesh; }
 
+topotet_status topotet_mesh_embed_isosurfaces(topotet_mesh* mesh, const char* field, int component, const double* values,
+                                              int count, double snap, int32_t* refs_out) {
+  return guarded([&] {
+    if (mesh == nullptr || field == nullptr || (count > 0 && values == nullptr))
+      return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_embed_isosurfaces: NULL argument");
+    if (count < 0) return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_embed_isosurfaces: count must be >= 0");
+    std::vector<topotet::IsoLevel> levels;
+    for (int i = 0; i < count; ++i) levels.push_back({field, component, values[i], 0});
+    topotet::IsoEmbedOptions embed;
+    if (snap >= 0.0) embed.snap = snap;
+    // On a copy: a refused level (unknown field, ...) leaves the mesh as it was.
+    topotet::MeshData data = mesh->mesh.to_mesh_data();
+    const topotet::IsoEmbedReport embedded = topotet::embed_isosurfaces(data, levels, embed);
+    topotet::TetMesh rebuilt = topotet::build_tet_mesh(data);
+    mesh->mesh = std::move(rebuilt);
+    mesh->vertex_map.clear();
+    mesh->has_substructures = false;
+    for (std::size_t i = 0; i < embedded.levels.size(); ++i) {
+      mesh->isosurfaces.push_back(embedded.levels[i]);
+      if (refs_out != nullptr) refs_out[i] = embedded.levels[i].ref;
+    }
+    return TOPOTET_OK;
+  });
+}
+
 topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* options, topotet_report* report) {
   return guarded([&] {
     if (mesh == nullptr) return fail(TOPOTET_INVALID_INPUT, "topotet_simplify: mesh is NULL");
@@ -366,6 +393,7 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
       if (c.field_weight_names[i] == nullptr) return fail(TOPOTET_INVALID_INPUT, "field_weight_names has a NULL entry");
       o.field_weights[c.field_weight_names[i]] = c.field_weights[i];  // the library checks names and values
     }
+    o.isosurfaces = mesh->isosurfaces;
     mesh->has_substructures = false;
     const topotet::Report r = topotet::simplify(mesh->mesh, o, mesh->vertex_map);
     if (report != nullptr) {

@@ -92,7 +92,7 @@ module topotet
             topotet_mesh_copy_positions, topotet_mesh_copy_tets, topotet_mesh_copy_materials, &
             topotet_mesh_copy_field, topotet_mesh_copy_vertex_map, topotet_error_message, topotet_status_name, &
             topotet_mesh_triangle_count, topotet_mesh_segment_count, topotet_mesh_copy_triangles, &
-            topotet_mesh_copy_segments, &
+            topotet_mesh_copy_segments, topotet_mesh_embed_isosurfaces, &
             topotet_c_string
 
   interface
@@ -124,6 +124,17 @@ module topotet
       import :: c_int, c_ptr, c_char
       type(c_ptr), value :: mesh
       character(kind=c_char), intent(in) :: path(*)
+    end function
+
+    integer(c_int) function c_mesh_embed_isosurfaces(mesh, field, component, values, count, snap, refs) &
+        bind(c, name="topotet_mesh_embed_isosurfaces")
+      import :: c_int, c_ptr, c_char, c_double, c_int32_t
+      type(c_ptr), value :: mesh
+      character(kind=c_char), intent(in) :: field(*)
+      integer(c_int), value :: component, count
+      real(c_double), intent(in) :: values(*)
+      real(c_double), value :: snap
+      integer(c_int32_t), intent(out) :: refs(*)
     end function
 
     subroutine topotet_mesh_free(mesh) bind(c, name="topotet_mesh_free")
@@ -271,6 +282,24 @@ contains
     type(c_ptr), intent(in) :: mesh
     character(*), intent(in) :: path
     topotet_mesh_write = c_mesh_write(mesh, topotet_c_string(path))
+  end function
+
+  ! Embeds the level sets field(component) = values(:) as listed surfaces (component counted from
+  ! 1, as Fortran counts); refs(i) receives level i's ref (size(refs) >= size(values)). Every later
+  ! topotet_simplify keeps them. snap < 0: the default (1e-6).
+  integer(c_int) function topotet_mesh_embed_isosurfaces(mesh, field, component, values, snap, refs)
+    type(c_ptr), intent(in) :: mesh
+    character(*), intent(in) :: field
+    integer(c_int), intent(in) :: component
+    real(c_double), intent(in) :: values(:)
+    real(c_double), intent(in) :: snap
+    integer(c_int32_t), intent(out) :: refs(:)
+    if (size(refs) < size(values)) then
+      topotet_mesh_embed_isosurfaces = TOPOTET_INVALID_INPUT
+      return
+    end if
+    topotet_mesh_embed_isosurfaces = c_mesh_embed_isosurfaces(mesh, topotet_c_string(field), component - 1_c_int, &
+        values, int(size(values), c_int), snap, refs)
   end function
 
   ! The message of the last failed call on this thread.

@@ -2,12 +2,15 @@
 //
 //   out = topotet.simplify(points, tets, materials=None, fields=None, ratio=0.25, tolerance_rel=0.004,
 //                          feature_angle=45, threads=0, ...)   (every default is SimplifyOptions')
-//   out["points"], out["tets"], out["materials"], out["fields"], out["vertex_map"], out["report"]
+//   out["points"], out["tets"], out["materials"], out["fields"], out["cell_fields"], out["vertex_map"],
+//   out["report"]
 //   mesh = topotet.read("in.mesh");  topotet.write("out.msh", mesh)
 //
 // A mesh is a dict of arrays: points (n, 3) float64, tets (m, 4) int64 (0-based), materials (m,)
 // int32, triangles (k, 3) / triangle_refs (k,), segments (s, 2) / segment_refs (s,), corners (c,),
-// fields {name: (n,) or (n, components) float64}. Inputs may be any numeric dtype and any strides;
+// fields {name: (n,) or (n, components) float64}, cell_fields {name: (m,) or (m, components) float64}
+// with cell_kinds {name: "intensive" | "categorical" | "extensive"} (topotet/cell_fields.h: how each
+// is carried onto the simplified tets). Inputs may be any numeric dtype and any strides;
 // simplify() builds the model straight from points, tets, materials and fields when they are
 // float64/float32 and int32/int64 (engine/mesh/mesh_view.h: no copy besides the model), and converts
 // other dtypes once. Bad input raises ValueError with the library's one-line message; the GIL is
@@ -16,6 +19,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -24,6 +28,7 @@
 #include <vector>
 
 #include "mesh/mesh_view.h"
+#include "topotet/cell_fields.h"
 #include "topotet/error.h"
 #include "topotet/hierarchy.h"
 #include "topotet/io.h"
@@ -96,10 +101,47 @@ void add_substructures(Mesh& d, const py::object& triangles, const py::object& t
   }
 }
 
+topotet::CellFieldKind cell_kind(const std::string& name, const std::string& kind) {
+  for (const auto k : {topotet::CellFieldKind::kIntensive, topotet::CellFieldKind::kCategorical, topotet::CellFieldKind::kExtensive})
+    if (kind == topotet::cell_kind_name(k)) return k;
+  throw py::value_error("cell field " + name + ": kind must be 'intensive', 'categorical' or 'extensive', got '" + kind + "'");
+}
+
+// cell_fields {name: (m,) or (m, components)} for m tets, with their kinds {name: kind} (default
+// intensive; a kind for an array that is not there is an error).
+std::vector<topotet::CellField> to_cell_fields(const py::object& cell_fields, const py::object& cell_kinds, std::size_t tets) {
+  std::vector<topotet::CellField> out;
+  if (!cell_fields.is_none()) {
+    for (const auto& [key, value] : cell_fields.cast<py::dict>()) {
+      const std::string name = py::str(key);
+      Reals a = value.cast<Reals>();
+      if (a.ndim() == 1) a = a.reshape({a.shape(0), py::ssize_t{1}}).cast<Reals>();
+      if (a.ndim() != 2 || static_cast<std::size_t>(a.shape(0)) != tets)
+        throw py::value_error("cell field " + name + " must have shape (m,) or (m, components) with m = number of tets (" +
+                              std::to_string(tets) + ")");
+      const auto r = a.unchecked<2>();
+      topotet::CellField f{name, static_cast<int>(r.shape(1)), topotet::CellFieldKind::kIntensive, {}};
+      f.values.reserve(static_cast<std::size_t>(r.shape(0) * r.shape(1)));
+      for (py::ssize_t t = 0; t < r.shape(0); ++t)
+        for (py::ssize_t c = 0; c < r.shape(1); ++c) f.values.push_back(r(t, c));
+      out.push_back(std::move(f));
+    }
+  }
+  if (!cell_kinds.is_none()) {
+    for (const auto& [key, value] : cell_kinds.cast<py::dict>()) {
+      const std::string name = py::str(key);
+      const auto it = std::find_if(out.begin(), out.end(), [&](const topotet::CellField& f) { return f.name == name; });
+      if (it == out.end()) throw py::value_error("cell_kinds names " + name + ", which is not a cell field");
+      it->kind = cell_kind(name, py::str(value));
+    }
+  }
+  return out;
+}
+
 topotet::MeshData to_mesh_data(const py::object& points, const py::object& tets, const py::object& materials,
                                const py::object& triangles, const py::object& triangle_refs,
                                const py::object& segments, const py::object& segment_refs, const py::object& corners,
-                               const py::object& fields) {
+                               const py::object& fields, const py::object& cell_fields, const py::object& cell_kinds) {
   topotet::MeshData d;
   const Reals p = points.cast<Reals>();
   require_shape(p, 3, "points");
@@ -125,6 +167,7 @@ topotet::MeshData to_mesh_data(const py::object& points, const py::object& tets,
       d.fields.push_back(std::move(f));
     }
   }
+  d.cell_fields = to_cell_fields(cell_fields, cell_kinds, d.tets.size());
   return d;
 }
 
@@ -224,6 +267,18 @@ py::dict to_dict(const topotet::MeshData& d) {
     fields[py::str(f.name)] = value;
   }
   out["fields"] = fields;
+  py::dict cell_fields, cell_kinds;
+  for (const auto& f : d.cell_fields) {
+    const auto m = static_cast<py::ssize_t>(d.tets.size());
+    py::array_t<double> a({m, static_cast<py::ssize_t>(f.components)});
+    std::copy(f.values.begin(), f.values.end(), a.mutable_data());
+    py::object value = a;
+    if (f.components == 1) value = a.reshape({m});
+    cell_fields[py::str(f.name)] = value;
+    cell_kinds[py::str(f.name)] = topotet::cell_kind_name(f.kind);
+  }
+  out["cell_fields"] = cell_fields;
+  out["cell_kinds"] = cell_kinds;
   return out;
 }
 
@@ -338,11 +393,32 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
                   const std::map<std::string, double>& field_weights, double max_field_error,
                   double max_field_error_rel, double boundary_weight, double polyline_weight, double round_fraction,
                   const std::optional<std::string>& hierarchy, const std::string& optimize,
-                  const py::object& isosurfaces) {
+                  const py::object& isosurfaces, const py::object& cell_fields, const py::object& cell_kinds,
+                  const std::vector<std::string>& extensive, const std::vector<std::string>& categorical) {
   std::vector<py::array> keep;
   keep.reserve(4 + (fields.is_none() ? 0 : py::len(fields)));  // the views point into these arrays
   const topotet::MeshView input =
       to_mesh_view(points, tets, materials, triangles, triangle_refs, segments, segment_refs, corners, fields, keep);
+  // The cell arrays are carried onto the output by overlap volume (topotet/cell_fields.h), which
+  // needs the input's geometry: a copy of points, tets and materials, only when there are any.
+  topotet::MeshData original;
+  original.cell_fields = to_cell_fields(cell_fields, cell_kinds, input.tet_count);
+  topotet::CellRemapOptions remap;
+  remap.extensive = extensive;
+  remap.categorical = categorical;
+  if (!original.cell_fields.empty()) {
+    original.positions.resize(input.vertex_count);
+    for (std::size_t v = 0; v < input.vertex_count; ++v)
+      for (int c = 0; c < 3; ++c) original.positions[v][static_cast<std::size_t>(c)] = input.positions.real(v, c, 3);
+    original.tets.resize(input.tet_count);
+    original.tet_material.assign(input.tet_count, 0);
+    for (std::size_t t = 0; t < input.tet_count; ++t) {
+      for (int c = 0; c < 4; ++c) original.tets[t][static_cast<std::size_t>(c)] = static_cast<VertId>(input.tets.integer(t, c, 4) - input.index_base);
+      if (input.materials.given()) original.tet_material[t] = static_cast<std::int32_t>(input.materials.integer(t, 0, 1));
+    }
+  } else if (!extensive.empty() || !categorical.empty()) {
+    throw py::value_error("extensive and categorical name cell fields: pass them as cell_fields");
+  }
   topotet::SimplifyOptions options;
   options.target_vertex_ratio = ratio;
   options.target_vertices = target_vertices;
@@ -380,6 +456,7 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   topotet::Report report;
   topotet::MeshData output;
   std::vector<VertId> map;
+  std::optional<topotet::CellRemapReport> remapped;
   {
     py::gil_scoped_release release;
     topotet::TetMesh mesh;
@@ -396,6 +473,9 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
       }
     });
     output = mesh.to_mesh_data();
+    if (!original.cell_fields.empty() &&
+        (report.status == topotet::Status::kOk || report.status == topotet::Status::kStoppedEarly))
+      remapped = topotet::remap_cell_fields(original, output, remap);
   }
   if (report.status == topotet::Status::kInvalidInput) throw py::value_error(report.message);
   if (report.status == topotet::Status::kOutOfMemory) throw std::bad_alloc();
@@ -409,6 +489,15 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
     out["vertex_map"] = vertex_map;
   }
   out["report"] = report_dict(report);
+  if (remapped) {
+    py::dict r;
+    r["overlap_pairs"] = remapped->overlap_pairs;
+    r["nearest_new_tets"] = remapped->nearest_new_tets;
+    r["nearest_original_tets"] = remapped->nearest_original_tets;
+    r["covered_volume_fraction"] = remapped->covered_volume_fraction;
+    r["seconds"] = remapped->seconds;
+    out["cell_remap"] = r;
+  }
   return out;
 }
 
@@ -440,14 +529,19 @@ PYBIND11_MODULE(topotet, m) {
         py::arg("boundary_weight") = defaults.boundary_weight, py::arg("polyline_weight") = defaults.polyline_weight,
         py::arg("round_fraction") = defaults.round_fraction, py::arg("hierarchy") = py::none(),
         py::arg("optimize") = topotet::to_string(defaults.optimize), py::arg("isosurfaces") = py::none(),
+        py::arg("cell_fields") = py::none(), py::arg("cell_kinds") = py::none(),
+        py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
         "Simplifies the mesh, keeping its topology and that of every substructure. The options and their "
         "defaults are topotet::SimplifyOptions': the geometric tolerance (tolerance_rel, 0.4% of the diagonal; "
         "0 turns it off), features at feature_angle degrees (180 turns them off), field_weights {name: weight}, "
         "field error limits (max_field_error in the field's units, max_field_error_rel relative to its range; "
         "0 = none), optimize ('none', 'light' or 'full': smoothing and flips after the collapses), isosurfaces (the "
-        "list embed_isosurfaces returns: the vertices of those levels' triangles keep the level exactly). hierarchy='h.tth' also records every collapse into that file (topotet.extract reads levels "
+        "list embed_isosurfaces returns: the vertices of those levels' triangles keep the level exactly), cell_fields "
+        "{name: (m,) or (m, components)} per-tet arrays carried onto the output tets by overlap volume with their "
+        "cell_kinds {name: 'intensive' (default) | 'categorical' | 'extensive'} (or the names listed in extensive / "
+        "categorical: a sum conserved, a label kept). hierarchy='h.tth' also records every collapse into that file (topotet.extract reads levels "
         "from it; vertex_map is then None). Returns a dict: points, tets, materials, triangles, triangle_refs, segments, segment_refs, "
-        "corners, fields, vertex_map (for every input point, the output point it merged into) and report.");
+        "corners, fields, cell_fields, cell_kinds, vertex_map (for every input point, the output point it merged into) and report.");
   m.def(
       "extract",
       [](const std::string& path, std::uint64_t vertices, std::optional<double> max_error) {
@@ -475,7 +569,7 @@ PYBIND11_MODULE(topotet, m) {
         if (!mesh.contains("points") || !mesh.contains("tets")) throw py::value_error("the mesh needs 'points' and 'tets'");
         topotet::MeshData d = to_mesh_data(get("points"), get("tets"), get("materials"), get("triangles"),
                                            get("triangle_refs"), get("segments"), get("segment_refs"), get("corners"),
-                                           get("fields"));
+                                           get("fields"), get("cell_fields"), get("cell_kinds"));
         const std::vector<topotet::IsoLevel> wanted = iso_levels(levels);
         topotet::IsoEmbedOptions options;
         options.snap = snap;
@@ -512,7 +606,7 @@ PYBIND11_MODULE(topotet, m) {
         if (!mesh.contains("points") || !mesh.contains("tets")) throw py::value_error("the mesh needs 'points' and 'tets'");
         const topotet::MeshData d = to_mesh_data(get("points"), get("tets"), get("materials"), get("triangles"),
                                                  get("triangle_refs"), get("segments"), get("segment_refs"),
-                                                 get("corners"), get("fields"));
+                                                 get("corners"), get("fields"), get("cell_fields"), get("cell_kinds"));
         py::gil_scoped_release release;
         topotet::write_mesh(path, d, {binary});
       },

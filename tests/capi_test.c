@@ -1,6 +1,6 @@
 /* The C API, compiled as C: strided float32 positions inside an array of structs, 0-based int32
- * tets, a field, the library-owned and the caller-provided results, the vertex map, and the
- * errors (status + message, never a crash). Exit status 0 = pass. */
+ * tets, a field, the library-owned and the caller-provided results, the vertex map, embedded
+ * isosurfaces, and the errors (status + message, never a crash). Exit status 0 = pass. */
 #include <stdio.h>
 #include <string.h>
 
@@ -188,6 +188,42 @@ int main(void) {
   CHECK(topotet_simplify(mesh, &options, NULL) == TOPOTET_INVALID_INPUT);
   CHECK(strstr(topotet_last_error(), "target_vertex_ratio") != NULL);
   topotet_mesh_free(mesh);
+
+  /* Isosurfaces: temperature = x + 2y at 2.5 and 6.5 (through no vertex) become listed surfaces that
+   * simplification keeps, every vertex of theirs exactly on its level. */
+  topotet_mesh* iso = NULL;
+  CHECK(topotet_mesh_build(&in, 1, &iso) == TOPOTET_OK);
+  const double levels[2] = {2.5, 6.5};
+  int32_t level_refs[2] = {0, 0};
+  CHECK(topotet_mesh_embed_isosurfaces(iso, "temperature", 0, levels, 2, -1.0, level_refs) == TOPOTET_OK);
+  CHECK(level_refs[0] != 3 && level_refs[1] != 3 && level_refs[0] != level_refs[1]);
+  CHECK(topotet_mesh_vertex_count(iso) > NV && topotet_mesh_tet_count(iso) > NT);
+  topotet_options iso_options;
+  topotet_options_init(&iso_options);
+  iso_options.num_threads = 1;
+  iso_options.target_vertex_ratio = 0.5;
+  const topotet_status iso_status = topotet_simplify(iso, &iso_options, NULL);
+  CHECK(iso_status == TOPOTET_OK || iso_status == TOPOTET_STOPPED_EARLY);
+  enum { ISO_MAX = 8192 };
+  const int64_t iso_nv = topotet_mesh_vertex_count(iso), iso_nf = topotet_mesh_triangle_count(iso);
+  CHECK(iso_nv <= ISO_MAX && iso_nf <= ISO_MAX);
+  static int32_t iso_triangles[ISO_MAX][3], iso_refs[ISO_MAX];
+  static double iso_values[ISO_MAX];
+  CHECK(topotet_mesh_copy_triangles(iso, (topotet_out_view){iso_triangles, TOPOTET_INT32, 0},
+                                    (topotet_out_view){iso_refs, TOPOTET_INT32, 0}, 0) == TOPOTET_OK);
+  CHECK(topotet_mesh_copy_field(iso, 0, (topotet_out_view){iso_values, TOPOTET_FLOAT64, 0}) == TOPOTET_OK);
+  int on_level[2] = {0, 0};
+  for (int64_t i = 0; i < iso_nf; ++i)
+    for (int l = 0; l < 2; ++l)
+      if (iso_refs[i] == level_refs[l]) {
+        ++on_level[l];
+        for (int c = 0; c < 3; ++c) CHECK(iso_values[iso_triangles[i][c]] == levels[l]);
+      }
+  CHECK(on_level[0] > 0 && on_level[1] > 0);
+  const int64_t iso_before = topotet_mesh_vertex_count(iso);
+  CHECK(topotet_mesh_embed_isosurfaces(iso, "pressure", 0, levels, 1, -1.0, NULL) == TOPOTET_INVALID_INPUT);
+  CHECK(strstr(topotet_last_error(), "pressure") != NULL && topotet_mesh_vertex_count(iso) == iso_before);
+  topotet_mesh_free(iso);
 
   tets[5][2] = NV + 3; /* out of range */
   topotet_mesh* bad = (topotet_mesh*)&in; /* must be reset to NULL on failure */

@@ -1,4 +1,4 @@
-"""The Python module: numpy arrays in and out, the vertex map, read/write round trip, errors.
+"""The Python module: numpy arrays in and out, the vertex map, read/write round trip, cell arrays, errors.
 Run by ctest with PYTHONPATH set to the built module (tests/CMakeLists.txt)."""
 import os
 import sys
@@ -164,10 +164,50 @@ try:
     check(False, "no error reading a missing file")
 except ValueError as e:
     check("x.mesh" in str(e), f"message {e!r}")
+# Cell arrays: carried onto the output tets by overlap volume, each by its kind (topotet/cell_fields.h).
+vol = np.abs(np.einsum("ij,ij->i", points[tets[:, 1]] - points[tets[:, 0]],
+                       np.cross(points[tets[:, 2]] - points[tets[:, 0]], points[tets[:, 3]] - points[tets[:, 0]]))) / 6.0
+mass = vol * 3.0 + (materials == 2) * vol  # density 3 outside, 4 inside
+cells = {"density": np.where(materials == 2, 4.0, 3.0), "mass": mass, "region": materials.astype(float) * 10.0,
+         "grad": np.stack([centres[:, 0], centres[:, 1]], axis=1)}
+cout = topotet.simplify(points, tets, materials=materials, ratio=0.3, threads=1, cell_fields=cells,
+                        cell_kinds={"region": "categorical"}, extensive=["mass"])
+m_out = len(cout["tets"])
+check(list(cout["cell_fields"]) == ["density", "mass", "region", "grad"], f"cell arrays {list(cout['cell_fields'])}")
+check(cout["cell_kinds"] == {"density": "intensive", "mass": "extensive", "region": "categorical", "grad": "intensive"},
+      f"kinds {cout['cell_kinds']}")
+check(cout["cell_fields"]["grad"].shape == (m_out, 2) and cout["cell_fields"]["density"].shape == (m_out,), "cell shapes")
+# One material per tet, so a per-material constant stays exact; labels stay labels; the mass is conserved.
+expect = np.where(cout["materials"] == 2, 4.0, 3.0)
+check(np.allclose(cout["cell_fields"]["density"], expect, rtol=1e-12), "intensive constant per material kept")
+check(np.array_equal(cout["cell_fields"]["region"], cout["materials"] * 10.0), "categorical labels kept")
+check(abs(cout["cell_fields"]["mass"].sum() - mass.sum()) <= 1e-9 * mass.sum(), "extensive total conserved")
+check(cout["cell_remap"]["overlap_pairs"] >= m_out, f"remap report {cout['cell_remap']}")
+with tempfile.TemporaryDirectory() as d:
+    path = os.path.join(d, "cells.mesh")  # MEDIT keeps the kinds (.sol + names file); 2 components it cannot
+    scalar = {k: v for k, v in cout["cell_fields"].items() if k != "grad"}
+    topotet.write(path, {**cout, "cell_fields": scalar, "cell_kinds": {k: cout["cell_kinds"][k] for k in scalar}})
+    back = topotet.read(path)
+    check(np.allclose(back["cell_fields"]["mass"].sum(), cout["cell_fields"]["mass"].sum()), "cell arrays round trip")
+    check(back["cell_kinds"]["region"] == "categorical", f"kinds round trip {back['cell_kinds']}")
+for bad, needle in (({"density": np.ones(3)}, "number of tets"),):
+    try:
+        topotet.simplify(points, tets, cell_fields=bad)
+        check(False, f"no error for {needle}")
+    except ValueError as e:
+        check(needle in str(e), f"message {e!r} lacks {needle!r}")
+try:
+    topotet.simplify(points, tets, cell_fields={"density": cells["density"]}, cell_kinds={"density": "mass"})
+    check(False, "no error for an unknown cell kind")
+except ValueError as e:
+    check("'mass'" in str(e), f"message {e!r}")
 # Isosurfaces: embed the level sets, simplify keeping them; their vertices keep the level exactly.
 radius = np.sqrt(((points - 3.0) ** 2).sum(axis=1))
 embedded = topotet.embed_isosurfaces({"points": points, "tets": tets, "materials": materials,
-                                      "fields": {"r": radius}}, ["r=1.7,2.4"])
+                                      "fields": {"r": radius}, "cell_fields": {"mass": mass},
+                                      "cell_kinds": {"mass": "extensive"}}, ["r=1.7,2.4"])
+check(len(embedded["tets"]) > len(tets) and embedded["cell_kinds"] == {"mass": "extensive"}, "cell arrays through embedding")
+check(abs(embedded["cell_fields"]["mass"].sum() - mass.sum()) <= 1e-9 * mass.sum(), "embedding shares the mass out")
 levels = embedded["isosurfaces"]
 check([l["name"] for l in levels] == ["iso:r=1.7", "iso:r=2.4"], f"isosurface names {levels}")
 check(all(l["triangles"] > 0 and l["tets_split"] > 0 for l in levels), "isosurfaces embedded")

@@ -168,6 +168,17 @@ topotet_status topotet_mesh_read(const char* path, int num_threads, topotet_mesh
 topotet_status topotet_mesh_write(const topotet_mesh* mesh, const char* path);
 void topotet_mesh_free(topotet_mesh* mesh); /* NULL is allowed */
 
+/* Isosurfaces as embedded surfaces (paper 001 section 6.1, topotet/isosurface.h): splits the tets
+ * that the level sets field(component) = values[0..count-1] cross (component 0-based), so that each
+ * level becomes a listed surface with a ref of its own (written to refs_out[i] when refs_out is not
+ * NULL); a crossing within `snap` of an edge end moves onto that vertex (snap < 0: the default,
+ * 1e-6). The mesh remembers the levels: every later topotet_simplify keeps their topology and
+ * their vertices exactly on their values. New vertices come after the existing ones; the vertex map
+ * is cleared. An unknown field, a component out of range or a non-finite value is an error that
+ * leaves the mesh as it was. */
+topotet_status topotet_mesh_embed_isosurfaces(topotet_mesh* mesh, const char* field, int component, const double* values,
+                                              int count, double snap, int32_t* refs_out);
+
 /* Simplifies in place and records the vertex map. options NULL = defaults; report may be NULL. */
 topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* options, topotet_report* report);
 
