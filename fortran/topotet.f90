@@ -285,8 +285,8 @@ contains
   end function
 
   ! Embeds the level sets field(component) = values(:) as listed surfaces (component counted from
-  ! 1, as Fortran counts); refs(i) receives level i's ref (size(refs) >= size(values)). Every later
-  ! topotet_simplify keeps them. snap < 0: the default (1e-6).
+  ! 1, as Fortran counts); refs(i) receives level i's ref for the first size(refs) levels. Every
+  ! later topotet_simplify keeps them. snap < 0: the default (1e-6).
   integer(c_int) function topotet_mesh_embed_isosurfaces(mesh, field, component, values, snap, refs)
     type(c_ptr), intent(in) :: mesh
     character(*), intent(in) :: field
@@ -294,12 +294,14 @@ contains
     real(c_double), intent(in) :: values(:)
     real(c_double), intent(in) :: snap
     integer(c_int32_t), intent(out) :: refs(:)
-    if (size(refs) < size(values)) then
-      topotet_mesh_embed_isosurfaces = TOPOTET_INVALID_INPUT
-      return
-    end if
+    integer(c_int32_t) :: all(max(size(values), 1))
+    integer :: n
+    all = 0
     topotet_mesh_embed_isosurfaces = c_mesh_embed_isosurfaces(mesh, topotet_c_string(field), component - 1_c_int, &
-        values, int(size(values), c_int), snap, refs)
+        values, int(size(values), c_int), snap, all)
+    n = min(size(refs), size(values))
+    refs = 0
+    refs(1:n) = all(1:n)
   end function
 
   ! The message of the last failed call on this thread.

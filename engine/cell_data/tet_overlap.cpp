@@ -8,6 +8,22 @@
 namespace topotet::cell_data {
 namespace {
 
+constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+// Is every corner of `other` strictly outside a face plane of t (a separating plane)?
+bool separated_by_a_face_of(const Tet& t, const glm::dvec3 (&other)[4]) {
+  for (int f = 0; f < 4; ++f) {
+    const glm::dvec3& p0 = t[kFace[f][0]];
+    const glm::dvec3 n = glm::cross(t[kFace[f][1]] - p0, t[kFace[f][2]] - p0);
+    const double inner = glm::dot(n, t[f] - p0);  // the side of the opposite corner
+    if (inner == 0.0) continue;                   // a flat t: no plane to trust
+    bool all_out = true;
+    for (int k = 0; k < 4 && all_out; ++k) all_out = glm::dot(n, other[k] - p0) * inner < 0.0;
+    if (all_out) return true;
+  }
+  return false;
+}
+
 using Plane = TetClipper::Plane;
 
 struct Piece {
@@ -85,7 +101,7 @@ double tet_volume(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
 // The planes are oriented by the vertex opposite each face, so that B's orientation does not
 // matter; a vertex on its face's plane means B is flat.
 TetClipper::TetClipper(const Tet& b) {
-  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  for (int k = 0; k < 4; ++k) corners_[k] = b[k];
   for (int f = 0; f < 4; ++f) {
     const glm::dvec3& p0 = b[kFace[f][0]];
     glm::dvec3 n = glm::cross(b[kFace[f][1]] - p0, b[kFace[f][2]] - p0);
@@ -116,6 +132,7 @@ double TetClipper::overlap_volume(const Tet& a) const {
     any_cut = any_cut || cuts[f];
   }
   if (!any_cut) return tet_volume(a[0], a[1], a[2], a[3]);
+  if (separated_by_a_face_of(a, corners_)) return 0.0;
 
   Pieces buffers[2];
   buffers[0].push(a[0], a[1], a[2], a[3]);
