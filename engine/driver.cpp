@@ -223,6 +223,7 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
         if (report.status == Status::kStoppedEarly && report.message == "no legal collapse left" &&
             mesh.live_vertex_count() > target)
           detail::diagnose_stop(mesh, options, kernel, report);  // Report::stop: why, and what to change
+        if (samples != nullptr) samples->index(mesh);
         if (log == nullptr) optimize_after_collapses(mesh, options, cost, bounds.get(), samples.get(), report);
         samples.reset();
       };

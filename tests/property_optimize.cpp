@@ -348,8 +348,9 @@ TEST(OptimizeFieldGuard, AFlipMustNotMakeTheFieldWorseAtTheInputsVertices) {
     in.fields.push_back({"f", 1, {0.0, 0.0, 0.0, 1.0, 1.0, truth}});
     MeshModel m = reshaped_model(in);
     m.vertex_states[5] &= static_cast<std::uint8_t>(~vertex_state::kDead);  // as before the collapses (a tet's vertex)
-    const InputSamples samples(m);
+    InputSamples samples(m);
     m.vertex_states[5] |= vertex_state::kDead;
+    samples.index(m);
     SwapOptions options;
     options.max_field_change = 1e9;
     return swap_bad_tets(m, options, with_samples ? &samples : nullptr).flips_23;
@@ -372,8 +373,9 @@ TEST(OptimizeFieldGuard, RegionErrorsAreTheSquaredErrorsAtTheRecordedVerticesIns
   in.fields.push_back({"f", 1, {0.0, 2.0, 0.0, 0.0, 0.9, 2.0, -2.0}});
   MeshModel m = build_mesh_model(in);
   m.vertex_states[4] &= static_cast<std::uint8_t>(~vertex_state::kDead);  // as before the collapses
-  const InputSamples samples(m);
+  InputSamples samples(m);
   m.vertex_states[4] |= vertex_state::kDead;  // inside tet 0: its input value 0.9, the tet's 0.5
+  samples.index(m);
   FieldTet before;
   for (int j = 0; j < 4; ++j) {
     before.p[static_cast<std::size_t>(j)] = m.positions[in.tets[0][static_cast<std::size_t>(j)]];
@@ -386,12 +388,12 @@ TEST(OptimizeFieldGuard, RegionErrorsAreTheSquaredErrorsAtTheRecordedVerticesIns
   samples.inside(m, std::span(&before, 1), kInvalid, inside);
   EXPECT_EQ(inside.vertices, std::vector<VertId>{4});
   EXPECT_NEAR(inside.error, (0.4 / 4.0) * (0.4 / 4.0), 1e-15);
-  EXPECT_NEAR(samples.errors_after(std::span(&after, 1), inside), (0.15 / 4.0) * (0.15 / 4.0), 1e-15);
+  EXPECT_NEAR(samples.errors_after(m, std::span(&after, 1), inside), (0.15 / 4.0) * (0.15 / 4.0), 1e-15);
   // The corners are live and unmoved: skipped, though corner 1's value changed in `after`; once
   // it is the moving vertex, it counts (1 away from 3 at its own place).
   samples.inside(m, std::span(&before, 1), in.tets[0][1], inside);
   EXPECT_EQ(inside.vertices.size(), 2u);
-  EXPECT_NEAR(samples.errors_after(std::span(&after, 1), inside), (0.15 / 4.0) * (0.15 / 4.0) + (1.0 / 4.0) * (1.0 / 4.0), 1e-15);
+  EXPECT_NEAR(samples.errors_after(m, std::span(&after, 1), inside), (0.15 / 4.0) * (0.15 / 4.0) + (1.0 / 4.0) * (1.0 / 4.0), 1e-15);
 }
 
 }  // namespace

@@ -296,4 +296,12 @@ std::size_t Proposals::memory_bytes() const {
          verify_with_proof_.capacity();
 }
 
+void Proposals::release() {
+  std::vector<Proposal>().swap(proposals_);
+  std::vector<double>().swap(rank_cost_);
+  std::vector<Bans>().swap(bans_);
+  std::vector<std::uint32_t>().swap(changed_round_);
+  std::vector<std::uint8_t>().swap(verify_with_proof_);
+}
+
 }  // namespace topotet::detail

@@ -94,6 +94,9 @@ class Proposals {
   void lift_all_bans();
 
   std::size_t memory_bytes() const;
+  // Frees the per-vertex tables once the run is over (the optimisation after it allocates its own:
+  // the peak memory of a run is otherwise at its end). No call but memory_bytes() after this.
+  void release();
 
  private:
   struct Proposal {

@@ -55,52 +55,87 @@ double RegionLocator::locate(const glm::dvec3& x, std::size_t& tet, std::array<d
 InputSamples::InputSamples(const MeshModel& mesh) : stride_(mesh.field_stride()) {
   if (stride_ == 0) return;  // nothing to measure
   const auto k = static_cast<std::size_t>(stride_);
-  std::vector<double> lo_value(k, std::numeric_limits<double>::infinity()), hi_value(k, -std::numeric_limits<double>::infinity());
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  positions_.resize(mesh.vertex_capacity());
-  values_.resize(mesh.vertex_capacity() * k);
-  for (VertId v = 0; v < mesh.vertex_capacity(); ++v) {
-    positions_[v] = mesh.positions[v];
-    for (std::size_t c = 0; c < k; ++c) values_[v * k + c] = mesh.field_values[v * k + c];
+  const std::size_t n = mesh.vertex_capacity();
+  value_lo_.assign(k, std::numeric_limits<double>::infinity());
+  std::vector<double> hi_value(k, -std::numeric_limits<double>::infinity());
+  box_lo_ = glm::dvec3(std::numeric_limits<double>::infinity());
+  std::size_t live = 0;
+  for (VertId v = 0; v < n; ++v) {
     if (mesh.is_dead_vertex(v)) continue;
-    ids_.push_back(v);
-    lo = glm::min(lo, mesh.positions[v]);
-    hi = glm::max(hi, mesh.positions[v]);
+    ++live;
+    box_lo_ = glm::min(box_lo_, mesh.positions[v]);
     for (std::size_t c = 0; c < k; ++c) {
-      lo_value[c] = std::min(lo_value[c], values_[v * k + c]);
-      hi_value[c] = std::max(hi_value[c], values_[v * k + c]);
+      value_lo_[c] = std::min(value_lo_[c], mesh.field_values[v * k + c]);
+      hi_value[c] = std::max(hi_value[c], mesh.field_values[v * k + c]);
     }
   }
+  if (live == 0) return;
   for (std::size_t c = 0; c < k; ++c) {
-    const double range = hi_value[c] - lo_value[c];
+    const double range = hi_value[c] - value_lo_[c];
     inv_range_.push_back(range > 0.0 ? 1.0 / range : 0.0);
   }
-  if (ids_.empty()) return;
+  positions_.resize(n);
+  values_.resize(n * k);
+  for (VertId v = 0; v < n; ++v) {
+    // A vertex of no tet is no sample (the field error is measured at the tets' vertices): NaN.
+    positions_[v] = mesh.is_dead_vertex(v) ? glm::vec3(std::numeric_limits<float>::quiet_NaN())
+                                           : glm::vec3(mesh.positions[v] - box_lo_);
+    for (std::size_t c = 0; c < k; ++c) values_[v * k + c] = static_cast<float>(mesh.field_values[v * k + c] - value_lo_[c]);
+  }
+}
+
+glm::dvec3 InputSamples::input_position(const MeshModel& mesh, VertId s) const {
+  return mesh.is_reshaped(s) ? box_lo_ + glm::dvec3(positions_[s]) : mesh.positions[s];
+}
+
+double InputSamples::input_value(const MeshModel& mesh, VertId s, std::size_t m) const {
+  const auto k = static_cast<std::size_t>(stride_);
+  return mesh.is_reshaped(s) ? value_lo_[m] + static_cast<double>(values_[s * k + m]) : mesh.field_values[s * k + m];
+}
+
+void InputSamples::index(const MeshModel& mesh) {
+  ids_.clear();
+  start_.clear();
+  if (empty()) return;
+  // Every vertex live at the recording (a NaN position: it had no tet).
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  std::size_t count = 0;
+  for (VertId v = 0; v < positions_.size(); ++v) {
+    if (std::isnan(positions_[v].x)) continue;
+    const glm::dvec3 p = input_position(mesh, v);
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+    ++count;
+  }
+  if (count == 0) return;
   // Cells of equal sides, about two vertices each: the regions asked about are a few output tets,
   // each of which covers ~1 / ratio input vertices. At most 1024 cells a side.
   const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(1e-300));
-  const double side = std::max({std::cbrt(extent.x * extent.y * extent.z * 2.0 / static_cast<double>(ids_.size())),
+  const double side = std::max({std::cbrt(extent.x * extent.y * extent.z * 2.0 / static_cast<double>(count)),
                                 extent.x / 1024.0, extent.y / 1024.0, extent.z / 1024.0});
   dims_ = glm::ivec3(glm::max(glm::dvec3(1.0), glm::ceil(extent / side)));
   origin_ = lo;
   inv_cell_ = glm::dvec3(dims_) / extent;
-  // Counting sort by cell; ids_ is increasing, so each cell's ids stay increasing.
+  // Counting sort by cell, vertices in increasing order: each cell's ids stay increasing.
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
   start_.assign(static_cast<std::size_t>(dims_.x) * static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(dims_.z) + 1, 0);
-  std::vector<std::uint32_t> cell(ids_.size());
-  for (std::size_t i = 0; i < ids_.size(); ++i) {
-    const glm::ivec3 c = cell_of(positions_[ids_[i]]);
-    cell[i] = static_cast<std::uint32_t>(index(c.x, c.y, c.z));
-    ++start_[cell[i] + 1];
+  std::vector<std::uint32_t> cell(positions_.size(), kNone);
+  for (VertId v = 0; v < positions_.size(); ++v) {
+    if (std::isnan(positions_[v].x)) continue;
+    const glm::ivec3 c = cell_of(input_position(mesh, v));
+    cell[v] = static_cast<std::uint32_t>(index(c.x, c.y, c.z));
+    ++start_[cell[v] + 1];
   }
   for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
-  std::vector<VertId> sorted(ids_.size());
+  ids_.resize(count);
   std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
-  for (std::size_t i = 0; i < ids_.size(); ++i) sorted[next[cell[i]]++] = ids_[i];
-  ids_ = std::move(sorted);
+  for (VertId v = 0; v < positions_.size(); ++v)
+    if (cell[v] != kNone) ids_[next[cell[v]]++] = v;
 }
 
 void InputSamples::inside(const MeshModel& mesh, std::span<const FieldTet> before, VertId moving, Inside& out) const {
   out.vertices.clear();
+  out.places.clear();
   out.error = 0.0;
   if (ids_.empty()) return;
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
@@ -120,44 +155,45 @@ void InputSamples::inside(const MeshModel& mesh, std::span<const FieldTet> befor
         const std::size_t c = index(x, y, z);
         for (std::uint32_t n = start_[c]; n < start_[c + 1]; ++n) {
           const VertId s = ids_[n];
-          const glm::dvec3& q = positions_[s];
-          if (q.x < lo.x || q.y < lo.y || q.z < lo.z || q.x > hi.x || q.y > hi.y || q.z > hi.z) continue;
           if (s != moving && !mesh.is_dead_vertex(s) && !mesh.is_reshaped(s)) continue;
+          const glm::dvec3 q = input_position(mesh, s);
+          if (q.x < lo.x || q.y < lo.y || q.z < lo.z || q.x > hi.x || q.y > hi.y || q.z > hi.z) continue;
           std::size_t i = 0;
           std::array<double, 4> l{};
           if (locator.locate(q, i, l) < -kInsideSlack) continue;
           out.vertices.push_back(s);
-          out.error += squared_error(before[i], l, s);
+          out.places.push_back(q);
+          out.error += squared_error(mesh, before[i], l, s);
         }
       }
 }
 
-double InputSamples::errors_after(std::span<const FieldTet> after, const Inside& in) const {
+double InputSamples::errors_after(const MeshModel& mesh, std::span<const FieldTet> after, const Inside& in) const {
   if (in.vertices.empty()) return 0.0;
   thread_local RegionLocator locator;
   locator.reset(after);
   double error = 0.0;
-  for (VertId s : in.vertices) {
+  for (std::size_t n = 0; n < in.vertices.size(); ++n) {
     std::size_t i = 0;
     std::array<double, 4> l{};
-    locator.locate(positions_[s], i, l);
-    error += squared_error(after[i], l, s);
+    locator.locate(in.places[n], i, l);
+    error += squared_error(mesh, after[i], l, in.vertices[n]);
   }
   return error;
 }
 
-double InputSamples::squared_error(const FieldTet& t, const std::array<double, 4>& l, VertId s) const {
+double InputSamples::squared_error(const MeshModel& mesh, const FieldTet& t, const std::array<double, 4>& l, VertId s) const {
   const auto k = static_cast<std::size_t>(stride_);
   double sum = 0.0;
   for (std::size_t m = 0; m < k; ++m) {
-    const double e = (interpolate(t, l, static_cast<int>(m)) - values_[s * k + m]) * inv_range_[m];
+    const double e = (interpolate(t, l, static_cast<int>(m)) - input_value(mesh, s, m)) * inv_range_[m];
     sum += e * e;
   }
   return sum;
 }
 
 std::size_t InputSamples::memory_bytes() const {
-  return positions_.capacity() * sizeof(glm::dvec3) + values_.capacity() * sizeof(double) +
+  return positions_.capacity() * sizeof(glm::vec3) + values_.capacity() * sizeof(float) +
          start_.capacity() * sizeof(std::uint32_t) + ids_.capacity() * sizeof(VertId);
 }
 

@@ -59,10 +59,17 @@ inline double interpolate(const FieldTet& t, const std::array<double, 4>& l, int
 
 class InputSamples {
  public:
-  // Records every vertex's position and field values (call before the first collapse), in a
-  // uniform grid of about two vertices a cell. Nothing is recorded for a mesh without fields.
-  // Costs (24 + 8 * stride + ~5) bytes per vertex.
+  // Records every vertex's position and field values (call before the first collapse): only the
+  // ones a collapse or a move will overwrite are read back from here (a vertex is reshaped then:
+  // mesh_model.h), the others from the mesh itself, whose dead vertices keep their entries. In
+  // single precision, relative to the bounding box and to each component's minimum, so within
+  // 1e-7 of the diagonal and of the range: (12 + 4 x components) bytes per vertex. Nothing is
+  // recorded for a mesh without fields.
   explicit InputSamples(const MeshModel& mesh);
+
+  // The grid over the recorded vertices (about two a cell), built once the collapses are done
+  // (call before inside()): it does not weigh on the collapses' peak memory.
+  void index(const MeshModel& mesh);
 
   // The recorded vertices inside the region `before`, for errors_after() to compare with: the
   // squared field errors there of the linear field of `before` (in units of each component's range
@@ -72,31 +79,38 @@ class InputSamples {
   // own value there. Deterministic: samples in increasing cell then vertex order.
   struct Inside {
     std::vector<VertId> vertices;
-    double error = 0.0;  // the sum over them, of the field of `before`
+    std::vector<glm::dvec3> places;  // their input positions
+    double error = 0.0;              // the sum over them, of the field of `before`
   };
   void inside(const MeshModel& mesh, std::span<const FieldTet> before, VertId moving, Inside& out) const;
 
   // The same sum for the linear field of `after`: the region of inside() retriangulated, or with
   // its vertex `moving` moved (the same point set).
-  double errors_after(std::span<const FieldTet> after, const Inside& in) const;
+  double errors_after(const MeshModel& mesh, std::span<const FieldTet> after, const Inside& in) const;
 
-  bool empty() const { return ids_.empty(); }
+  bool empty() const { return stride_ == 0 || values_.empty(); }
   int stride() const { return stride_; }
   std::size_t memory_bytes() const;
 
  private:
   glm::ivec3 cell_of(const glm::dvec3& p) const;
-  double squared_error(const FieldTet& t, const std::array<double, 4>& l, VertId s) const;
   std::size_t index(int x, int y, int z) const {
     return (static_cast<std::size_t>(z) * static_cast<std::size_t>(dims_.y) + static_cast<std::size_t>(y)) *
                static_cast<std::size_t>(dims_.x) +
            static_cast<std::size_t>(x);
   }
+  // Vertex s's input position and component m's input value: the mesh's own entries unless a
+  // collapse or a move overwrote them.
+  glm::dvec3 input_position(const MeshModel& mesh, VertId s) const;
+  double input_value(const MeshModel& mesh, VertId s, std::size_t m) const;
+  double squared_error(const MeshModel& mesh, const FieldTet& t, const std::array<double, 4>& l, VertId s) const;
 
   int stride_ = 0;
-  std::vector<glm::dvec3> positions_;  // [vertex] as recorded
-  std::vector<double> values_;         // [vertex * stride + component] as recorded
-  std::vector<double> inv_range_;      // [component] 1 / its range (0 for a constant one)
+  glm::dvec3 box_lo_{0.0};
+  std::vector<glm::vec3> positions_;  // [vertex] input position - box_lo_
+  std::vector<double> value_lo_;      // [component] its smallest input value
+  std::vector<float> values_;         // [vertex * stride + component] input value - value_lo_
+  std::vector<double> inv_range_;     // [component] 1 / its range (0 for a constant one)
   glm::dvec3 origin_{0.0}, inv_cell_{0.0};
   glm::ivec3 dims_{1, 1, 1};
   std::vector<std::uint32_t> start_;  // [cell] first entry of ids_; one past the last cell at the end

@@ -248,7 +248,7 @@ bool samples_kept(const MeshModel& mesh, const CostModel& cost, const InputSampl
     samples->inside(mesh, s.before, v, s.inside);
     gathered = true;
   }
-  return samples->errors_after(s.after, s.inside) <= s.inside.error * (1.0 + growth) + kRoundingError;
+  return samples->errors_after(mesh, s.after, s.inside) <= s.inside.error * (1.0 + growth) + kRoundingError;
 }
 
 // The best point found for movable vertex v, if it lifts the star's worst tet by kMinGain at least.

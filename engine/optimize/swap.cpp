@@ -234,7 +234,7 @@ class FlipFinder {
     if (!change_bounded(before_, after_, k) || !change_bounded(after_, before_, k)) return false;
     if (samples_ == nullptr) return true;
     samples_->inside(m_, before_, kInvalid, inside_);
-    return samples_->errors_after(after_, inside_) <= inside_.error * (1.0 + growth_) + kRoundingError;
+    return samples_->errors_after(m_, after_, inside_) <= inside_.error * (1.0 + growth_) + kRoundingError;
   }
 
   // The change at the centroid, the edge midpoints and the face centroids of each tet of `from`
