@@ -86,6 +86,8 @@ program fortran_isosurface_test
   print '("fortran_isosurface_test: ", i0, " -> ", i0, " vertices, ", i0, " triangles on the level: pass")', &
     report%vertices_before, report%vertices_after, on
   call topotet_mesh_free(mesh)
+  ! A main program's variables are saved: free them, or LeakSanitizer reports them at exit.
+  deallocate (values, triangles, refs, message)
 
 contains
 
