@@ -402,23 +402,17 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   // The cell arrays are carried onto the output by overlap volume (topotet/cell_fields.h), which
   // needs the input's geometry: a copy of points, tets and materials, only when there are any.
   topotet::MeshData original;
-  original.cell_fields = to_cell_fields(cell_fields, cell_kinds, input.tet_count);
-  topotet::CellRemapOptions remap;
-  remap.extensive = extensive;
-  remap.categorical = categorical;
-  if (!original.cell_fields.empty()) {
-    original.positions.resize(input.vertex_count);
-    for (std::size_t v = 0; v < input.vertex_count; ++v)
-      for (int c = 0; c < 3; ++c) original.positions[v][static_cast<std::size_t>(c)] = input.positions.real(v, c, 3);
-    original.tets.resize(input.tet_count);
-    original.tet_material.assign(input.tet_count, 0);
-    for (std::size_t t = 0; t < input.tet_count; ++t) {
-      for (int c = 0; c < 4; ++c) original.tets[t][static_cast<std::size_t>(c)] = static_cast<VertId>(input.tets.integer(t, c, 4) - input.index_base);
-      if (input.materials.given()) original.tet_material[t] = static_cast<std::int32_t>(input.materials.integer(t, 0, 1));
-    }
+  if (!cell_fields.is_none() && py::len(cell_fields) > 0) {
+    const py::object none = py::none();
+    original = to_mesh_data(points, tets, materials, none, none, none, none, none, none, cell_fields, cell_kinds);
+  } else if (!cell_kinds.is_none() && py::len(cell_kinds) > 0) {
+    to_cell_fields(cell_fields, cell_kinds, input.tet_count);  // names a kind without an array: the error
   } else if (!extensive.empty() || !categorical.empty()) {
     throw py::value_error("extensive and categorical name cell fields: pass them as cell_fields");
   }
+  topotet::CellRemapOptions remap;
+  remap.extensive = extensive;
+  remap.categorical = categorical;
   topotet::SimplifyOptions options;
   options.target_vertex_ratio = ratio;
   options.target_vertices = target_vertices;

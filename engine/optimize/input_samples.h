@@ -52,6 +52,16 @@ class RegionLocator {
   std::vector<Map> maps_;
 };
 
+// Tet tv of the mesh as it stands, with its corners' field values (stride k).
+inline FieldTet field_tet(const MeshModel& mesh, const std::array<VertId, 4>& tv, int k) {
+  FieldTet t;
+  for (std::size_t j = 0; j < 4; ++j) {
+    t.p[j] = mesh.positions[tv[j]];
+    t.f[j] = mesh.field_values.data() + static_cast<std::size_t>(tv[j]) * static_cast<std::size_t>(k);
+  }
+  return t;
+}
+
 // Component c of the linear field of t at barycentric coordinates l.
 inline double interpolate(const FieldTet& t, const std::array<double, 4>& l, int c) {
   return l[0] * t.f[0][c] + l[1] * t.f[1][c] + l[2] * t.f[2][c] + l[3] * t.f[3][c];

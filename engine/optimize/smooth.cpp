@@ -228,25 +228,18 @@ bool samples_kept(const MeshModel& mesh, const CostModel& cost, const InputSampl
                   const glm::dvec3& x, Scratch& s, bool& gathered) {
   const int k = mesh.field_stride();
   if (k == 0 || samples == nullptr || samples->empty()) return true;
-  s.values.resize(static_cast<std::size_t>(k));
-  cost.fields_at_point(mesh, v, x, s.values.data());
-  s.before.clear();
-  s.after.clear();
-  for (std::size_t i = 0; i < s.star.size(); ++i) {
-    const auto& tv = mesh.tets[s.star[i]];
-    FieldTet t;
-    for (int j = 0; j < 4; ++j) {
-      t.p[static_cast<std::size_t>(j)] = mesh.positions[tv[j]];
-      t.f[static_cast<std::size_t>(j)] = mesh.field_values.data() + static_cast<std::size_t>(tv[j]) * static_cast<std::size_t>(k);
-    }
-    s.before.push_back(t);
-    t.p[s.corner[i]] = x;
-    t.f[s.corner[i]] = s.values.data();
-    s.after.push_back(t);
-  }
   if (!gathered) {
+    s.before.clear();
+    for (TetId t : s.star) s.before.push_back(field_tet(mesh, mesh.tets[t], k));
     samples->inside(mesh, s.before, v, s.inside);
     gathered = true;
+  }
+  s.values.resize(static_cast<std::size_t>(k));
+  cost.fields_at_point(mesh, v, x, s.values.data());
+  s.after = s.before;
+  for (std::size_t i = 0; i < s.star.size(); ++i) {
+    s.after[i].p[s.corner[i]] = x;
+    s.after[i].f[s.corner[i]] = s.values.data();
   }
   return samples->errors_after(mesh, s.after, s.inside) <= s.inside.error * (1.0 + growth) + kRoundingError;
 }

@@ -221,16 +221,8 @@ class FlipFinder {
     if (k == 0) return true;
     before_.clear();
     after_.clear();
-    const auto field_tet = [&](const std::array<VertId, 4>& tv) {
-      FieldTet t;
-      for (int j = 0; j < 4; ++j) {
-        t.p[static_cast<std::size_t>(j)] = m_.positions[tv[j]];
-        t.f[static_cast<std::size_t>(j)] = m_.field_values.data() + static_cast<std::size_t>(tv[j]) * static_cast<std::size_t>(k);
-      }
-      return t;
-    };
-    for (int i = 0; i < f.old_count; ++i) before_.push_back(field_tet(m_.tets[f.old[static_cast<std::size_t>(i)]]));
-    for (int i = 0; i < f.made_count; ++i) after_.push_back(field_tet(f.made[static_cast<std::size_t>(i)]));
+    for (int i = 0; i < f.old_count; ++i) before_.push_back(field_tet(m_, m_.tets[f.old[static_cast<std::size_t>(i)]], k));
+    for (int i = 0; i < f.made_count; ++i) after_.push_back(field_tet(m_, f.made[static_cast<std::size_t>(i)], k));
     if (!change_bounded(before_, after_, k) || !change_bounded(after_, before_, k)) return false;
     if (samples_ == nullptr) return true;
     samples_->inside(m_, before_, kInvalid, inside_);
