@@ -5,7 +5,7 @@
 # Usage: bash scripts/tsan.sh   (after scripts/setup.sh --tests has installed the packages)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTOPOTET_SANITIZE=thread \
+cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DTOPOTET_SANITIZE=thread \
   -DTOPOTET_BUILD_BENCH=OFF -DTOPOTET_BUILD_CLI=OFF
 tests=(unit_simplify unit_vertex_map unit_tet_mesh unit_mesh_view unit_generate property_hierarchy)
 cmake --build build-tsan -j "$(nproc)" --target "${tests[@]}" unit_field_bounds unit_surface_tolerance property_optimize
