@@ -97,7 +97,7 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
            ->check(whole_number_at_least(0))
            ->capture_default_str());
   keep(cmd->add_option("--round-fraction", args.round_fraction,
-                       "Parallel engine: the cheapest fraction of the proposals that compete in one round")
+                       "Parallel engine: about this fraction of the proposals, the cheapest legal ones, compete in one round (the share grows where the cheapest fail their check)")
            ->check(number_in(0.0, 1.0, true))
            ->capture_default_str());
   keep(cmd->add_option("--field-weight", args.field_weights,
