@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "guarantees/flat_patches.h"
+#include "mesh/probe_set.h"
 #include "mesh/special_faces.h"
 #include "parallel/for_range.h"
 
@@ -726,6 +727,26 @@ std::unique_ptr<SurfaceReference> SurfaceReference::from_mesh(const MeshModel& m
 
 // ---------------------------------------------------------------- the kernel check
 
+namespace {
+
+// A face through u (table 0) or through v but not u (table 1), keyed by its two other vertices (a
+// face through both: v and the third). The two tets of a face through u are both in St(u), so the
+// key names the face among the records.
+struct FaceKey {
+  int table;
+  std::uint64_t key;
+};
+FaceKey face_key(const std::array<VertId, 3>& f, VertId u, VertId v) {
+  const VertId pivot = (f[0] == u || f[1] == u || f[2] == u) ? u : v;
+  VertId o[2];
+  int n = 0;
+  for (VertId x : f)
+    if (x != pivot && n < 2) o[n++] = x;
+  return {pivot == u ? 0 : 1, (std::uint64_t{o[0]} << 32) | o[1]};  // f is sorted: o[0] < o[1]
+}
+
+}  // namespace
+
 void gather_surface_stencil(const MeshModel& mesh, const SurfaceReference& reference, VertId u, VertId v,
                             const std::vector<TetId>& star_u, const std::vector<TetId>& star_v,
                             const std::vector<TetId>& star_uv, SurfaceStencil& out) {
@@ -758,32 +779,73 @@ void gather_surface_stencil(const MeshModel& mesh, const SurfaceReference& refer
   for (TetId t : star_v)
     if (!std::binary_search(star_uv.begin(), star_uv.end(), t)) add(t);
 
-  std::sort(out.recs.begin(), out.recs.end());
-  for (std::size_t i = 0; i < out.recs.size();) {
-    std::size_t j = i + 1;
-    while (j < out.recs.size() && out.recs[j].same_face(out.recs[i])) ++j;
+  // Group the records of each face in two probe tables (about one probe a record; sorting the
+  // ~130 records by their three vertices was a tenth of a surface collapse's time).
+  const std::size_t n = out.recs.size();
+  out.next_rec.assign(n, kInvalid);
+  out.group_head.clear();
+  for (int k = 0; k < 2; ++k) {
+    out.face_slots[k].resize(probe_slots_for(n));
+    out.slot_group[k].resize(out.face_slots[k].size());
+  }
+  ProbeSet<std::uint64_t> tables[2] = {ProbeSet<std::uint64_t>(out.face_slots[0]),
+                                       ProbeSet<std::uint64_t>(out.face_slots[1])};
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const FaceKey k = face_key(out.recs[i].key, u, v);
+    const auto [slot, fresh] = tables[k.table].insert(k.key);
+    if (fresh) {
+      out.slot_group[k.table][slot] = static_cast<std::uint32_t>(out.group_head.size());
+      out.group_head.push_back(i);
+    } else {
+      std::uint32_t& head = out.group_head[out.slot_group[k.table][slot]];
+      out.next_rec[i] = head;
+      head = i;
+    }
+  }
+  const auto outside_star_uv = [&](TetId t) { return !std::binary_search(star_uv.begin(), star_uv.end(), t); };
+  // The record of the lowest tet outside St(uv) among a face's (kInvalid: none).
+  const auto keeper = [&](std::uint32_t head) {
+    std::uint32_t best = kInvalid;
+    for (std::uint32_t r = head; r != kInvalid; r = out.next_rec[r])
+      if (outside_star_uv(out.recs[r].tet) && (best == kInvalid || out.recs[r].tet < out.recs[best].tet)) best = r;
+    return best;
+  };
+  for (std::uint32_t head : out.group_head) {
     bool flagged = false;
     std::int32_t ref = kUnlistedRef;
-    for (std::size_t k = i; k < j; ++k) {
-      const auto& r = out.recs[k];
-      if (!is_surface_face(mesh.flags[r.tet], r.local_face)) continue;
-      const std::int32_t fr = normalised_ref(mesh.refs_table[mesh.tet_refs_slot[r.tet]].face[r.local_face]);
+    int count = 0;
+    TetId low = kInvalid, second = kInvalid;  // the face's two lowest tets
+    for (std::uint32_t r = head; r != kInvalid; r = out.next_rec[r]) {
+      const SurfaceStencil::FaceRec& rec = out.recs[r];
+      ++count;
+      if (rec.tet < low) {
+        second = low;
+        low = rec.tet;
+      } else if (rec.tet < second) {
+        second = rec.tet;
+      }
+      if (!is_surface_face(mesh.flags[rec.tet], rec.local_face)) continue;
+      const std::int32_t fr = normalised_ref(mesh.refs_table[mesh.tet_refs_slot[rec.tet]].face[rec.local_face]);
       ref = flagged ? std::max(ref, fr) : fr;
       flagged = true;
     }
-    const bool boundary = j - i == 1;
-    if (boundary || flagged) {
-      const std::int32_t m0 = mesh.material[out.recs[i].tet];
-      const std::int32_t m1 = boundary ? kOutsideMaterial : mesh.material[out.recs[i + 1].tet];
-      FaceHolder holder{kInvalid, 0};  // a tet that keeps the face through the collapse
-      for (std::size_t k = i; k < j && holder.tet == kInvalid; ++k)
-        if (!std::binary_search(star_uv.begin(), star_uv.end(), out.recs[k].tet))
-          holder = {out.recs[k].tet, out.recs[k].local_face};
-      out.faces.push_back(
-          {out.recs[i].key, reference.face_label_id({ref, std::min(m0, m1), std::max(m0, m1)}), holder});
-    }
-    i = j;
+    const bool boundary = count == 1;
+    if (!boundary && !flagged) continue;
+    const std::int32_t m0 = mesh.material[low];
+    const std::int32_t m1 = boundary ? kOutsideMaterial : mesh.material[second];
+    const std::uint32_t keep = keeper(head);
+    const FaceHolder holder = keep == kInvalid ? FaceHolder{kInvalid, 0}
+                                               : FaceHolder{out.recs[keep].tet, out.recs[keep].local_face};
+    out.faces.push_back(
+        {out.recs[head].key, reference.face_label_id({ref, std::min(m0, m1), std::max(m0, m1)}), holder});
   }
+  // In the order of their vertices, as a sort of the records gave them (the tolerance proof and
+  // the coverage visit the faces in this order).
+  std::sort(out.faces.begin(), out.faces.end(), [](const SurfaceStencil::Face& a, const SurfaceStencil::Face& b) {
+    if (a.v[0] != b.v[0]) return a.v[0] < b.v[0];
+    if (a.v[1] != b.v[1]) return a.v[1] < b.v[1];
+    return a.v[2] < b.v[2];
+  });
   // A face through u (v) whose only tets die with St(uv) lives on in the face it merges with: the
   // same face through v (u), in a tet that survives (a boundary face uxy of a removed tet uvxy
   // becomes the face vxy of its neighbour, renamed). That tet holds it after the collapse.
@@ -796,13 +858,11 @@ void gather_surface_stencil(const MeshModel& mesh, const SurfaceReference& refer
     for (VertId& x : partner)
       if (x == (has_u ? u : v)) x = has_u ? v : u;
     std::sort(partner.begin(), partner.end());
-    const SurfaceStencil::FaceRec wanted{partner, 0, 0};
-    auto it = std::lower_bound(out.recs.begin(), out.recs.end(), wanted);
-    for (; it != out.recs.end() && it->same_face(wanted); ++it)
-      if (!std::binary_search(star_uv.begin(), star_uv.end(), it->tet)) {
-        f.holder = {it->tet, it->local_face};
-        break;
-      }
+    const FaceKey k = face_key(partner, u, v);
+    const std::uint32_t slot = tables[k.table].find(k.key);
+    if (slot == ProbeSet<std::uint64_t>::kNotFound) continue;
+    const std::uint32_t keep = keeper(out.group_head[out.slot_group[k.table][slot]]);
+    if (keep != kInvalid) f.holder = {out.recs[keep].tet, out.recs[keep].local_face};
   }
   // The same for polyline edges: the edge ux (vx) lives on in vx (ux) of a surviving tet.
   for (SurfaceStencil::Edge& e : out.edges) {

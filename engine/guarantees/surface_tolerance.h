@@ -190,21 +190,19 @@ struct SurfaceStencil {
     int label;
     FaceHolder holder;  // a tet outside St(uv) that has it, local = edge index (kInvalid: none)
   };
+  // A face through u or v in one tet of the stars (key: its sorted vertices).
   struct FaceRec {
     std::array<VertId, 3> key;
     TetId tet;
     std::uint8_t local_face;
-    // Element by element: std::array's own comparisons go through memcmp, which cost more
-    // than the sort itself on these 12-byte keys.
-    bool operator<(const FaceRec& o) const {
-      if (key[0] != o.key[0]) return key[0] < o.key[0];
-      if (key[1] != o.key[1]) return key[1] < o.key[1];
-      if (key[2] != o.key[2]) return key[2] < o.key[2];
-      return tet < o.tet;
-    }
-    bool same_face(const FaceRec& o) const { return key[0] == o.key[0] && key[1] == o.key[1] && key[2] == o.key[2]; }
   };
   std::vector<FaceRec> recs;
+  // Scratch of gather_surface_stencil: the records of one face are chained (next_rec) from their
+  // group's head; faces through u and faces through v alone are keyed in two probe tables by
+  // their two other vertices.
+  std::vector<std::uint32_t> next_rec, group_head;
+  std::vector<std::uint64_t> face_slots[2];
+  std::vector<std::uint32_t> slot_group[2];
   std::vector<Face> faces;
   std::vector<Edge> edges;
   // Per placement: the new triangles / segments around p (positions) with their labels.
