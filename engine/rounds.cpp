@@ -236,7 +236,8 @@ class Rounds {
   // doubled or halved from one round to the next): the legal collapses a round takes are still
   // the cheapest ones, as the sequential order takes the cheapest legal one, and a failed
   // verification bans its edge, a check the sequential engine would make too. LOX: 3,131 -> 687
-  // rounds, the families at 100k 1.6-2.3x fewer, field error and dihedral spread within 2%.
+  // rounds, the families at 100k 1.6-2.3x fewer, field error and dihedral spread within 2% (but
+  // sphere3's spread after the light optimisation: +9%; docs/performance.md).
   // A round without a collapse (the end of a run that the tolerance or the quality stops: the
   // cheapest proposals all fail) doubles the share: polycrystal 100k once spent 1,950 of its
   // 2,442 rounds without a collapse. The share is a function of counts, so the rounds stay the

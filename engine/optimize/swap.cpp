@@ -483,7 +483,7 @@ SwapStats swap_bad_tets(MeshModel& mesh, const SwapOptions& options, const Input
   // A tet that found no flip is looked at again only after a flip next to it (its options changed);
   // every flip lifts the worst tet of its region, so this ends, and the cap bounds the work.
   std::uint64_t budget = 16 * heap.size() + 1024;
-  // The search for a tet's best flip reads the mesh and the stars only, and costs ~50 us (the
+  // The search for a tet's best flip reads the mesh and the stars only, and costs ~70 us (most of it the
   // field's test at the input's vertices): the heap's next tets are searched in parallel, a batch
   // at a time, and their flips applied in heap order; a tet a flip of its own batch touched (one of
   // its vertices is in that flip's region, so the rings and faces its search read may have
