@@ -129,14 +129,15 @@ struct Flip {
 };
 
 // Applies a flip: writes the new tets into the old slots (appending the extra ones, killing the
-// unused ones), with the flags of the region, and marks every vertex of the region as touched.
-void apply_flip(MeshModel& m, const Flip& f, RegionFlags& region, std::vector<std::uint8_t>& touched) {
+// unused ones), with the flags of the region, and stamps every vertex of the region with `batch`.
+void apply_flip(MeshModel& m, const Flip& f, RegionFlags& region, std::vector<std::uint32_t>& flipped_in,
+                std::uint32_t batch) {
   region.clear();
   const std::int32_t material = m.material[f.old[0]];
   for (int i = 0; i < f.old_count; ++i) {
     region.add(m, f.old[static_cast<std::size_t>(i)]);
     for (VertId x : m.tets[f.old[static_cast<std::size_t>(i)]]) {
-      touched[x] = 1;
+      flipped_in[x] = batch;
       m.vertex_states[x] |= vertex_state::kReshaped;  // the region's new tets are not the input's
     }
   }
@@ -483,13 +484,9 @@ SwapStats swap_bad_tets(MeshModel& mesh, const SwapOptions& options, const Input
   // A tet that found no flip is looked at again only after a flip next to it (its options changed);
   // every flip lifts the worst tet of its region, so this ends, and the cap bounds the work.
   std::uint64_t budget = 16 * heap.size() + 1024;
-  // The search for a tet's best flip reads the mesh and the stars only, and costs ~70 us (most of it the
-  // field's test at the input's vertices): the heap's next tets are searched in parallel, a batch
-  // at a time, and their flips applied in heap order; a tet a flip of its own batch touched (one of
-  // its vertices is in that flip's region, so the rings and faces its search read may have
-  // changed) is searched again, then, on the changed mesh. Each search is a pure function of the
-  // mesh, so the flips are the same for every thread count. (Sequential, the flips were 0.92 s of
-  // the 7.2 s of a default slab 1M run on 2 threads.) A flip's new bad tets wait for the next batch.
+  // Batches of the heap's next tets searched in parallel, flipped in heap order (swap.h). A tet a
+  // flip of its own batch touched (a vertex of it in that flip's region: the rings and faces its
+  // search read may have changed) is searched again on the changed mesh.
   const FlipFinder prototype(mesh, stars, samples, options);
   parallel::PerThread<FlipFinder> finders([&] { return prototype; });
   constexpr std::size_t kBatch = 64;
@@ -504,10 +501,9 @@ SwapStats swap_bad_tets(MeshModel& mesh, const SwapOptions& options, const Input
   std::vector<std::uint32_t> flipped_in(mesh.vertex_capacity(), 0);  // [vertex] last batch whose flip touched it
   std::uint32_t batch_id = 0;
   RegionFlags region;
-  std::vector<std::uint8_t> touched(mesh.vertex_capacity(), 0);
   for (int pass = 0; pass < options.max_passes && !heap.empty(); ++pass) {
     std::uint64_t applied = 0;
-    std::fill(touched.begin(), touched.end(), 0);
+    const std::uint32_t pass_start = batch_id;  // the vertices a flip of this pass touched: flipped_in > pass_start
     while (!heap.empty() && budget > 0) {
       batch.clear();
       while (!heap.empty() && budget > 0 && batch.size() < kBatch) {
@@ -533,14 +529,11 @@ SwapStats swap_bad_tets(MeshModel& mesh, const SwapOptions& options, const Input
         // The stars of the region's vertices lose the old tets and gain the new ones.
         for (int k = 0; k < flip.old_count; ++k) {
           const TetId old = flip.old[static_cast<std::size_t>(k)];
-          for (VertId x : mesh.tets[old]) {
-            std::erase(stars[x], old);
-            flipped_in[x] = batch_id;
-          }
+          for (VertId x : mesh.tets[old]) std::erase(stars[x], old);
           ++version[old];
         }
         const std::size_t first_new = mesh.tets.size();
-        apply_flip(mesh, flip, region, touched);
+        apply_flip(mesh, flip, region, flipped_in, batch_id);
         version.resize(mesh.tets.size(), 0);
         for (int k = 0; k < flip.made_count; ++k) {
           const TetId made = k < flip.old_count ? flip.old[static_cast<std::size_t>(k)]
@@ -558,7 +551,8 @@ SwapStats swap_bad_tets(MeshModel& mesh, const SwapOptions& options, const Input
     for (TetId t = 0; t < mesh.tets.size(); ++t) {
       if (mesh.is_dead_tet(t)) continue;
       const auto& tv = mesh.tets[t];
-      if (touched[tv[0]] | touched[tv[1]] | touched[tv[2]] | touched[tv[3]]) push_if_bad(t);
+      if (std::max({flipped_in[tv[0]], flipped_in[tv[1]], flipped_in[tv[2]], flipped_in[tv[3]]}) > pass_start)
+        push_if_bad(t);
     }
   }
   compact_tets(mesh);

@@ -140,8 +140,9 @@ struct SimplifyOptions {
   int num_threads = 0;  // 0 = the caller's current task arena; the output is identical for every value
   // Parallel rounds: about this fraction of the cheapest proposals is verified and competes in
   // one round, divided by the share of the last round's that passed the verification (at most
-  // 16x), so that it is about this fraction of the legal collapses. Smaller means closer to the greedy order and fewer verified proposals that lose to
-  // a neighbour (their check is wasted), but more rounds. Measured (1 thread, 10%, one run each on
+  // 16x), so that it is about this fraction of the legal collapses. Smaller means closer to the
+  // greedy order and fewer verified proposals that lose to a neighbour (their check is wasted),
+  // but more rounds. Measured (1 thread, 10%, one run each on
   // a loaded machine): cube-sphere 1M, 0.01 / 0.015 / 0.03: 1.75 / 1.89 / 2.32 kernel checks per
   // collapse, 8.9 / 8.1 / 9.6 s, field error and dihedral spread within 1%; polycrystal 300k: 17.2
   // / 18.2 / 19.7 checks, 6.0 / 5.2 / 6.6 s; LOX to 2%: 0.01 / 0.03: 7.7 / 9.3 checks.
