@@ -57,6 +57,59 @@ else
   fail "gmsh not found (scripts/setup.sh --tests installs it): partitioned Gmsh input untested"
 fi
 
+# Cell arrays from a whole input file: remapped on rank 0 onto the gathered output, as topotet
+# simplify does (an intensive array constant per material stays that constant to rounding, a label follows the
+# materials, an extensive sum is conserved); not with --partitioned (an error if asked, a warning if not).
+python3 - <<'PY'
+mesh = open("in.mesh").read().split()
+i = mesh.index("Tetrahedra")
+n = int(mesh[i + 1])
+mats = [int(mesh[i + 2 + 5 * t + 4]) for t in range(n)]
+rows = ["%r %r %r" % (1.0 + t % 5, 2.5 * m, 10.0 * m) for t, m in enumerate(mats)]
+open("cells.sol", "w").write("MeshVersionFormatted 2\n\nDimension 3\n\nSolAtTetrahedra\n%d\n3 1 1 1\n\n" % n + "\n".join(rows) + "\n\nEnd\n")
+open("cells.mesh", "w").write(open("in.mesh").read())
+open("cells.sol.fields.txt", "w").write("columns of SolAtVertices in order:\ncolumns of SolAtTetrahedra in order: mass, density, label\n")
+PY
+expect 0 cells_2_ranks -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify cells.mesh -o cells_out.mesh --ratio 0.2 --extensive mass --categorical label --report cells.json
+if python3 - <<'PY'
+import json, sys
+def tets(path):
+    m = open(path).read().split()
+    i = m.index("Tetrahedra")
+    return [int(m[i + 2 + 5 * t + 4]) for t in range(int(m[i + 1]))]
+def columns(path):
+    s = open(path).read().split()
+    i = s.index("SolAtTetrahedra")
+    n, k = int(s[i + 1]), int(s[i + 2])
+    v = [float(x) for x in s[i + 3 + k:i + 3 + k + n * k]]
+    return [v[c::k] for c in range(k)]
+mats = tets("cells_out.mesh")
+mass0 = sum(columns("cells.sol")[0])
+mass, density, label = columns("cells_out.sol")
+problems = []
+if len(mats) != len(mass) or len(mats) < 100:
+    problems.append(f"{len(mats)} tets, {len(mass)} values")
+if abs(sum(mass) - mass0) > 1e-9 * mass0:
+    problems.append(f"mass {mass0} -> {sum(mass)}")
+problems += [f"tet {t}: density {d} for material {m}" for t, (d, m) in enumerate(zip(density, mats)) if abs(d - 2.5 * m) > 1e-12 * m][:3]
+problems += [f"tet {t}: label {l} for material {m}" for t, (l, m) in enumerate(zip(label, mats)) if l != 10.0 * m][:3]
+kinds = [(a["name"], a["kind"]) for a in json.load(open("cells.json"))["cell_arrays"]]
+if kinds != [("mass", "extensive"), ("density", "intensive"), ("label", "categorical")]:
+    problems.append(f"report's cell_arrays {kinds}")
+sys.exit("; ".join(problems) if problems else 0)
+PY
+then pass "cell arrays carried by topotet-mpi (constant, labels, conserved sum)"; else fail "cell arrays carried by topotet-mpi"; fi
+expect 0 cells_check -- "$topotet" check cells.mesh cells_out.mesh
+expect 2 cells_partitioned_extensive -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify cells.mesh -o cells.pvtu --partitioned --extensive mass
+if grep -q 'error: --extensive / --categorical: the cell arrays are carried onto a gathered output only' cells_partitioned_extensive.err; then
+  pass "--extensive with --partitioned is refused"; else fail "--extensive with --partitioned is refused"; fi
+expect 0 cells_partitioned -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify cells.mesh -o cells.pvtu --partitioned --ratio 0.2 --count-shares --quiet
+if [[ $(grep -c 'warning: cells.mesh: 3 cell arrays are not carried: with --partitioned' cells_partitioned.err) == 1 ]]; then
+  pass "--partitioned warns once that the cell arrays are not carried"; else fail "--partitioned cell-array warning"; fi
+expect 2 cells_unknown_name -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify cells.mesh -o never.mesh --extensive nope
+if [[ $(grep -c "error: --extensive nope: the input has no cell array of that name (its cell arrays: 'mass', 'density', 'label')" cells_unknown_name.err) == 1 ]]; then
+  pass "an unknown --extensive name is one clear error"; else fail "an unknown --extensive name is one clear error"; fi
+
 expect 2 missing_input -- "$mpiexec" -np 2 --oversubscribe --bind-to none "$topotet_mpi" simplify nowhere.mesh -o never.mesh
 if [[ $(grep -c 'topotet-mpi: error: .*nowhere.mesh' missing_input.err) == 1 ]]; then pass "one error line naming the file"; else fail "one error line naming the file"; fi
 

@@ -8,6 +8,7 @@
 // refuses); the measurements of `topotet simplify` run on one node: use `topotet check IN OUT`.
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -16,6 +17,7 @@
 #include "common.h"
 #include "mpi_options.h"
 #include "read_input.h"
+#include "topotet/cell_fields.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
 #include "topotet/mpi.h"
@@ -51,6 +53,12 @@ int run(MPI_Comm comm, const MpiSimplifyArgs& args) {
                    a.output.c_str());
     return 2;
   }
+  if (args.partitioned && (!a.extensive.empty() || !a.categorical.empty())) {
+    if (rank == 0)
+      std::fprintf(stderr, "topotet-mpi: error: --extensive / --categorical: the cell arrays are carried onto a gathered "
+                   "output only, not with --partitioned (the remap needs every input tet an output tet overlaps)\n");
+    return 2;
+  }
   // The JSON report on stdout: the text report moves to stderr.
   if (a.report == "-") topotet::cli::send_report_to_stderr();
   // Read and distributed together (a partitioned Gmsh input is read where its parts go).
@@ -58,7 +66,11 @@ int run(MPI_Comm comm, const MpiSimplifyArgs& args) {
   read_options.tets_only = a.tets_only;
   read_options.format = topotet::cli::format_for(a.input, a.format);
   read_options.material_array = a.material_array;
-  topotet::cli::mpi::Input input = topotet::cli::mpi::read_input(comm, a.input, 1, read_options);
+  topotet::CellRemapOptions cell_remap;
+  cell_remap.extensive = a.extensive;
+  cell_remap.categorical = a.categorical;
+  topotet::cli::mpi::Input input =
+      topotet::cli::mpi::read_input(comm, a.input, 1, read_options, args.partitioned ? nullptr : &cell_remap);
   topotet::mpi::DistributedMesh& mesh = input.part;
   const std::uint64_t input_tets = input.tets;
   const double read_seconds = seconds();
@@ -74,6 +86,12 @@ int run(MPI_Comm comm, const MpiSimplifyArgs& args) {
   std::uint64_t output_tets = 0;
   MPI_Reduce(&local_tets, &output_tets, 1, MPI_UINT64_T, MPI_SUM, 0, comm);
   if (rank != 0) return 0;
+  // The input's cell arrays onto the gathered tets (topotet/cell_fields.h), as topotet simplify does.
+  std::optional<topotet::CellRemapReport> remapped;
+  if (!input.cell_source.cell_fields.empty()) {
+    remapped = topotet::remap_cell_fields(input.cell_source, out, cell_remap);
+    input.cell_source = topotet::MeshData{};
+  }
   if (!args.partitioned) {
     topotet::WriteOptions write_options;
     write_options.binary = a.binary;
@@ -114,6 +132,18 @@ int run(MPI_Comm comm, const MpiSimplifyArgs& args) {
                       {"migrated_tets", p.migrated_tets},
                       {"bytes_sent", p.bytes_sent}});
   json["passes"] = passes;
+  nlohmann::ordered_json cells = nlohmann::ordered_json::array();
+  for (const topotet::CellField& f : out.cell_fields)
+    cells.push_back({{"name", f.name}, {"components", f.components}, {"kind", topotet::cell_kind_name(f.kind)}});
+  json["cell_arrays"] = cells;
+  if (remapped)
+    json["cell_remap"] = {{"seconds", remapped->seconds},
+                          {"overlap_pairs", remapped->overlap_pairs},
+                          {"nearest_new_tets", remapped->nearest_new_tets},
+                          {"nearest_original_tets", remapped->nearest_original_tets},
+                          {"covered_volume_fraction", remapped->covered_volume_fraction}};
+  else
+    json["cell_remap"] = nullptr;
   if (!a.report.empty()) topotet::write_text_file(a.report, json.dump(2) + "\n");
   // report_stream() is a sink with -q and stderr when the JSON report takes stdout.
   std::FILE* text = report_stream();
@@ -134,6 +164,14 @@ int run(MPI_Comm comm, const MpiSimplifyArgs& args) {
                  static_cast<unsigned long long>(p.vertices_after), static_cast<unsigned long long>(p.collapses),
                  static_cast<unsigned long long>(p.frozen_vertices), static_cast<unsigned long long>(p.migrated_tets),
                  static_cast<unsigned long long>(p.bytes_sent));
+  }
+  if (remapped) {
+    std::string names;
+    for (const topotet::CellField& f : out.cell_fields)
+      names += (names.empty() ? "" : ", ") + f.name + ": " + topotet::cell_kind_name(f.kind);
+    std::fprintf(text, "cell data %zu array%s (%s), remapped on rank 0 in %.2f s, %llu new tets by the nearest original\n",
+                 out.cell_fields.size(), out.cell_fields.size() == 1 ? "" : "s", names.c_str(), remapped->seconds,
+                 static_cast<unsigned long long>(remapped->nearest_new_tets));
   }
   std::fprintf(text, "time      read+distribute %.2f s, simplify %.2f s, gather+write %.2f s\n", read_seconds, r.seconds,
                write_seconds);

@@ -28,8 +28,6 @@ constexpr Unavailable kUnavailable[] = {
     {"--no-field-bounds", "it belongs to --hierarchy"},
     {"--levels-error", "it belongs to --hierarchy"},
     {"--progress", "the ranks draw no progress; the report lists every pass at the end"},
-    {"--extensive", "cell data are not carried by topotet-mpi yet; use topotet simplify"},
-    {"--categorical", "cell data are not carried by topotet-mpi yet; use topotet simplify"},
     {"--progress-interval", "the ranks draw no progress; the report lists every pass at the end"},
 };
 
@@ -49,6 +47,10 @@ constexpr Note kNotes[] = {
     {"--json", "passes, times, traffic and memory"},
     {"--verbose", "-v adds the effective options to the report; there is no stage log"},
     {"--binary", "not with --partitioned (its pieces are ASCII .vtu)"},
+    {"--extensive", "the cell arrays of a whole input file are remapped on rank 0 onto the gathered output; not with "
+                    "--partitioned or a split input"},
+    {"--categorical", "the cell arrays of a whole input file are remapped on rank 0 onto the gathered output; not with "
+                      "--partitioned or a split input"},
 };
 
 void append_to_help(CLI::Option* option, const std::string& text) {

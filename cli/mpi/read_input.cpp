@@ -54,9 +54,6 @@ MeshData read_checked(const std::string& path, ReadOptions options, ReadNotes* n
   options.keep_partitions = true;
   MeshData data = read_mesh_file(path, options, notes);  // with the VTK formats when built
   warn_about_left_out_cells(path, *notes);
-  if (!data.cell_fields.empty())  // the ranks' parts would each need the remap (topotet/cell_fields.h)
-    std::fprintf(stderr, "topotet-mpi: warning: %s: %zu cell array%s not carried (topotet-mpi does not remap cell data "
-                 "yet; topotet simplify does)\n", path.c_str(), data.cell_fields.size(), data.cell_fields.size() == 1 ? " is" : "s are");
   BuildOptions build;
   build.skip_detached_substructures = true;
   BuildNotes built;
@@ -68,6 +65,26 @@ MeshData read_checked(const std::string& path, ReadOptions options, ReadNotes* n
   }
   drop_noted_substructures(data, built);
   return data;
+}
+
+// The cell arrays of a file that no output will carry, said once (rank 0 or the reading rank).
+void warn_cells_not_carried(const std::string& path, const MeshData& data, const char* why) {
+  if (data.cell_fields.empty()) return;
+  std::fprintf(stderr, "topotet-mpi: warning: %s: %zu cell array%s not carried: %s\n", path.c_str(),
+               data.cell_fields.size(), data.cell_fields.size() == 1 ? " is" : "s are", why);
+}
+
+// What the remap on rank 0 needs of the whole input (topotet/cell_fields.h), the kinds applied
+// now so that a wrong --extensive / --categorical name stops the run before the passes.
+MeshData cell_source_of(const MeshData& whole, const CellRemapOptions& carry) {
+  MeshData source;
+  source.cell_fields = whole.cell_fields;
+  apply_cell_kinds(source.cell_fields, carry);  // throws for a name the input lacks
+  if (source.cell_fields.empty()) return source;
+  source.positions = whole.positions;
+  source.tets = whole.tets;
+  source.tet_material = whole.tet_material;
+  return source;
 }
 
 std::string split_name(const std::string& path, int part) {
@@ -84,7 +101,8 @@ std::string partitions_error(const std::string& path, std::uint64_t partitions, 
 
 }  // namespace
 
-Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed, const ReadOptions& options) {
+Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed, const ReadOptions& options,
+                 const CellRemapOptions* carry_cells) {
   const int me = rank_of(comm), ranks = size_of(comm);
   Input in;
   // Rank 0 decides which form IN is, so that every rank takes the same branch.
@@ -98,6 +116,8 @@ Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed
     try {
       ReadNotes notes;
       MeshData d = read_checked(mine, options, &notes);
+      warn_cells_not_carried(mine, d, "each rank reads one part of a split mesh, and the remap needs every input tet an "
+                             "output tet overlaps: give the whole mesh (one file) and a gathered output");
       if (notes.partitions == 0) throw InputError(mine + ": not a partitioned Gmsh 4.1 file (no $PartitionedEntities)");
       if (notes.partitions != static_cast<std::uint64_t>(ranks)) throw InputError(partitions_error(mine, notes.partitions, ranks));
       in.part.global_ids.assign(notes.node_tags.begin(), notes.node_tags.end());
@@ -115,6 +135,9 @@ Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed
       try {
         ReadNotes notes;
         MeshData d = read_checked(path, options, &notes);
+        if (carry_cells) in.cell_source = cell_source_of(d, *carry_cells);
+        else warn_cells_not_carried(path, d, "with --partitioned each rank writes its piece, and the remap needs every input "
+                                    "tet an output tet overlaps: leave out --partitioned to carry them");
         if (notes.partitions != 0) {
           if (notes.partitions != static_cast<std::uint64_t>(ranks)) throw InputError(partitions_error(path, notes.partitions, ranks));
           std::vector<std::uint8_t> seen(static_cast<std::size_t>(ranks), 0);
