@@ -13,7 +13,7 @@
 #                                    --tests: Debian's python3-paraview (which ParaView's CMake
 #                                    package needs) conflicts with libvtk9-dev, so apt removes
 #                                    libvtk9-dev here, and --tests would put it back (removing
-#                                    python3-paraview). Not run by CI (.ci/run): about 8 min more.
+#                                    python3-paraview). CI (.ci/run) runs it last, after every job that uses libvtk9-dev.
 # Other arguments go to the CMake configure step, e.g.
 #   bash scripts/setup.sh --tests -DTOPOTET_SANITIZE=address,undefined
 # Runs as root, or as a user with sudo, with no terminal (CI). Running the first form after the
