@@ -16,12 +16,13 @@ less work than the off run: compare collapses/s there, not times).
 """
 import argparse, json, os, re, statistics, subprocess, sys
 
-from inputs import SHARED as data, family
+from inputs import SHARED as data, family, gmsh_multimaterial
 
 INPUTS = [  # name, file (generated: family name), ratio
     ("cube-sphere 1M", "cube-sphere", 0.1),
     ("slab 1M", "slab", 0.1),
     ("polycrystal 1M", "polycrystal", 0.1),
+    ("Gmsh 20 materials 1.13M", "gmsh:multimaterial", 0.1),
     ("liver 1.31M", f"{data}/large/liver_1.31M.mesh.gz", 0.1),
     ("LOX 513k", f"{data}/volume/lox_post_tets.mesh.gz", 0.02),
     ("tinyBoxt 63k (Mmg, 2 materials)", f"{data}/mmg/tinyBoxt.mesh", 0.1),
@@ -60,7 +61,10 @@ def main():
     for name, source, ratio in INPUTS:
         if a.only and not re.search(a.only, name):
             continue
-        mesh = source if "/" in source else family(a.topotet, a.work, source, 1000000)
+        if source == "gmsh:multimaterial":
+            mesh = gmsh_multimaterial(a.work) or "gmsh (not installed)"
+        else:
+            mesh = source if "/" in source else family(a.topotet, a.work, source, 1000000)
         if not os.path.exists(mesh):
             print(f"skipping {name}: {mesh} not found", file=sys.stderr)
             continue
