@@ -12,6 +12,7 @@
 #include <new>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "mesh/mesh_view.h"
@@ -144,6 +145,15 @@ topotet::StridedArray strided(const topotet_view& v) {
   return {v.data, known ? kTypes[v.type] : topotet::StridedArray::Type::kFloat64, v.stride, 0};
 }
 
+// The value a caller stored in an enum member, read without loading the enum: a value outside the
+// enumerators is undefined behaviour in C++ (UBSan's -fsanitize=enum), and the message says it.
+template <class E>
+int stored_value(const E& e) {
+  std::underlying_type_t<E> x;
+  std::memcpy(&x, &e, sizeof x);
+  return static_cast<int>(x);
+}
+
 // One caller's cell array, checked and converted to doubles; `index` names it when it has no name.
 // Tets and components are counted from 1 in the messages, as in the builder's.
 // `taken` are the names already present (a duplicate is an error).
@@ -155,18 +165,18 @@ topotet::CellField read_cell_field(const topotet_cell_field_view& v, int index, 
   for (const topotet::CellField& g : taken)
     if (g.name == f.name) throw ArgumentError{what + ": the name is given twice"};
   if (v.components < 1) throw ArgumentError{what + ": components must be >= 1, got " + std::to_string(v.components)};
-  switch (v.kind) {
+  switch (const int kind = stored_value(v.kind)) {
     case TOPOTET_CELL_INTENSIVE: f.kind = topotet::CellFieldKind::kIntensive; break;
     case TOPOTET_CELL_CATEGORICAL: f.kind = topotet::CellFieldKind::kCategorical; break;
     case TOPOTET_CELL_EXTENSIVE: f.kind = topotet::CellFieldKind::kExtensive; break;
     default:
-      throw ArgumentError{what + ": unknown kind " + std::to_string(static_cast<int>(v.kind)) +
-                          " (0 intensive, 1 categorical, 2 extensive)"};
+      throw ArgumentError{what + ": unknown kind " + std::to_string(kind) + " (0 intensive, 1 categorical, 2 extensive)"};
   }
   f.components = v.components;
   if (tet_count == 0) return f;
   if (v.values.data == nullptr) throw ArgumentError{what + ": values not given"};
-  if (type_size(v.values.type) == 0) throw ArgumentError{what + ": unknown element type"};
+  if (const int type = stored_value(v.values.type); type < TOPOTET_FLOAT64 || type > TOPOTET_INT64)
+    throw ArgumentError{what + ": unknown element type " + std::to_string(type)};
   f.values.resize(static_cast<std::size_t>(tet_count) * static_cast<std::size_t>(v.components));
   constexpr std::int64_t kExact = std::int64_t{1} << 53;  // integers a double holds exactly
   for (std::int64_t t = 0; t < tet_count; ++t)
@@ -646,8 +656,8 @@ topotet_status topotet_mesh_set_cell_field_kind(topotet_mesh* mesh, int i, topot
   if (mesh == nullptr || i < 0 || i >= static_cast<int>(mesh->cell_fields.size()))
     return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_set_cell_field_kind: no cell array " + std::to_string(i));
   topotet::CellField& f = mesh->cell_fields[static_cast<std::size_t>(i)];
-  if (kind != TOPOTET_CELL_INTENSIVE && kind != TOPOTET_CELL_CATEGORICAL && kind != TOPOTET_CELL_EXTENSIVE)
-    return fail(TOPOTET_INVALID_INPUT, "cell array '" + f.name + "': unknown kind " + std::to_string(static_cast<int>(kind)) +
+  if (const int k = stored_value(kind); k < TOPOTET_CELL_INTENSIVE || k > TOPOTET_CELL_EXTENSIVE)
+    return fail(TOPOTET_INVALID_INPUT, "cell array '" + f.name + "': unknown kind " + std::to_string(k) +
                                            " (0 intensive, 1 categorical, 2 extensive)");
   f.kind = static_cast<topotet::CellFieldKind>(kind);
   return TOPOTET_OK;
