@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <limits>
@@ -11,9 +12,11 @@
 #include <new>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "mesh/mesh_view.h"
+#include "topotet/cell_fields.h"
 #include "topotet/error.h"
 #include "topotet/isosurface.h"
 #include "topotet/nothrow.h"
@@ -25,6 +28,10 @@ struct topotet_mesh {
   topotet::TetMesh mesh;
   std::vector<topotet::VertId> vertex_map;  // of the last simplify
   std::vector<topotet::IsoLevel> isosurfaces;  // embedded so far: every simplify keeps them
+  // Per-tet arrays, aligned with the current tets (empty: none, and no cost). A simplify remaps
+  // them from a copy of the geometry as it was before the call, made only when there are any.
+  std::vector<topotet::CellField> cell_fields;
+  std::vector<double> field_bound;  // of the last simplify that kept the field error bounds
   // The listed triangles and segments, recovered from the tet flags on first use after a change.
   mutable std::vector<topotet::Triangle> triangles;
   mutable std::vector<topotet::Segment> segments;
@@ -136,6 +143,88 @@ topotet::StridedArray strided(const topotet_view& v) {
       topotet::StridedArray::Type::kInt32, topotet::StridedArray::Type::kInt64};
   const bool known = type_size(v.type) != 0;  // an unknown type was refused or is never read
   return {v.data, known ? kTypes[v.type] : topotet::StridedArray::Type::kFloat64, v.stride, 0};
+}
+
+// The value a caller stored in an enum member, read without loading the enum: a value outside the
+// enumerators is undefined behaviour in C++ (UBSan's -fsanitize=enum), and the message says it.
+template <class E>
+int stored_value(const E& e) {
+  std::underlying_type_t<E> x;
+  std::memcpy(&x, &e, sizeof x);
+  return static_cast<int>(x);
+}
+
+// One caller's cell array, checked and converted to doubles; `index` names it when it has no name.
+// Tets and components are counted from 1 in the messages, as in the builder's.
+// `taken` are the names already present (a duplicate is an error).
+topotet::CellField read_cell_field(const topotet_cell_field_view& v, int index, std::int64_t tet_count,
+                                   const std::vector<topotet::CellField>& taken) {
+  topotet::CellField f;
+  f.name = v.name != nullptr ? v.name : "cell" + std::to_string(index);
+  const std::string what = "cell array '" + f.name + "'";
+  for (const topotet::CellField& g : taken)
+    if (g.name == f.name) throw ArgumentError{what + ": the name is given twice"};
+  if (v.components < 1) throw ArgumentError{what + ": components must be >= 1, got " + std::to_string(v.components)};
+  switch (const int kind = stored_value(v.kind)) {
+    case TOPOTET_CELL_INTENSIVE: f.kind = topotet::CellFieldKind::kIntensive; break;
+    case TOPOTET_CELL_CATEGORICAL: f.kind = topotet::CellFieldKind::kCategorical; break;
+    case TOPOTET_CELL_EXTENSIVE: f.kind = topotet::CellFieldKind::kExtensive; break;
+    default:
+      throw ArgumentError{what + ": unknown kind " + std::to_string(kind) + " (0 intensive, 1 categorical, 2 extensive)"};
+  }
+  f.components = v.components;
+  if (tet_count == 0) return f;
+  if (v.values.data == nullptr) throw ArgumentError{what + ": values not given"};
+  if (const int type = stored_value(v.values.type); type < TOPOTET_FLOAT64 || type > TOPOTET_INT64)
+    throw ArgumentError{what + ": unknown element type " + std::to_string(type)};
+  f.values.resize(static_cast<std::size_t>(tet_count) * static_cast<std::size_t>(v.components));
+  constexpr std::int64_t kExact = std::int64_t{1} << 53;  // integers a double holds exactly
+  for (std::int64_t t = 0; t < tet_count; ++t)
+    for (int c = 0; c < v.components; ++c) {
+      double x;
+      const char* p = at(v.values, t, c, v.components);
+      if (is_integer(v.values.type)) {
+        const std::int64_t i = read_int(v.values, t, c, v.components);
+        if (i > kExact || i < -kExact)
+          throw ArgumentError{what + ": value " + std::to_string(i) + " of tet " + std::to_string(t + 1) +
+                              " does not fit in a double exactly"};
+        x = static_cast<double>(i);
+      } else if (v.values.type == TOPOTET_FLOAT32) {
+        float y;
+        std::memcpy(&y, p, sizeof y);
+        x = y;
+      } else {
+        std::memcpy(&x, p, sizeof x);
+      }
+      if (!std::isfinite(x))
+        throw ArgumentError{what + ": value " + std::to_string(x) + " of tet " + std::to_string(t + 1) + ", component " +
+                            std::to_string(c + 1) + " is not finite"};
+      f.values[static_cast<std::size_t>(t) * static_cast<std::size_t>(v.components) + static_cast<std::size_t>(c)] = x;
+    }
+  return f;
+}
+
+std::vector<topotet::CellField> read_cell_fields(const topotet_mesh_arrays& a) {
+  std::vector<topotet::CellField> out;
+  if (a.cell_field_count < 0) throw ArgumentError{"cell_field_count must be >= 0"};
+  if (a.cell_field_count > 0 && a.cell_fields == nullptr) throw ArgumentError{"cell_fields not given"};
+  for (int i = 0; i < a.cell_field_count; ++i) out.push_back(read_cell_field(a.cell_fields[i], i, a.tet_count, out));
+  return out;
+}
+
+// The geometry the cell remap needs (positions, tets, materials) of the current mesh, without its
+// substructures. The handle's meshes are compact: every tet up to tet_capacity is live.
+topotet::MeshData remap_geometry(const topotet::TetMesh& m) {
+  topotet::MeshData d;
+  const std::size_t nv = m.vertex_capacity(), nt = m.tet_capacity();
+  d.positions.resize(nv);
+  if (nv > 0) std::memcpy(d.positions.data(), m.positions_data(), nv * sizeof d.positions[0]);
+  d.tets.resize(nt);
+  if (nt > 0) {
+    std::memcpy(d.tets.data(), m.tets_data(), nt * sizeof d.tets[0]);
+    d.tet_material.assign(m.materials_data(), m.materials_data() + nt);
+  }
+  return d;
 }
 
 // The caller's arrays as the engine's views: positions, tets, materials, vertex refs and fields are
@@ -267,7 +356,7 @@ const char* topotet_status_string(topotet_status status) {
 }
 
 void topotet_mesh_arrays_init(topotet_mesh_arrays* arrays) {
-  if (arrays != nullptr) *arrays = topotet_mesh_arrays{};
+  if (arrays != nullptr) *arrays = topotet_mesh_arrays{};  // cell_field_count 0, cell_fields NULL
 }
 
 void topotet_options_init(topotet_options* options) {
@@ -292,6 +381,9 @@ void topotet_options_init(topotet_options* options) {
   options->field_weight_names = nullptr;
   options->field_weights = nullptr;
   options->optimize = static_cast<int>(d.optimize);
+  options->track_field_bounds = d.track_field_bounds ? 1 : 0;
+  options->progress = nullptr;  // d.on_progress is empty
+  options->progress_user_data = nullptr;
 }
 
 topotet_status topotet_mesh_build(const topotet_mesh_arrays* arrays, int num_threads, topotet_mesh** mesh) {
@@ -301,6 +393,7 @@ topotet_status topotet_mesh_build(const topotet_mesh_arrays* arrays, int num_thr
     if (num_threads < 0) return fail(TOPOTET_INVALID_INPUT, "num_threads must be >= 0");
     const topotet::MeshView view = to_mesh_view(*arrays);
     auto result = std::make_unique<topotet_mesh>();
+    result->cell_fields = read_cell_fields(*arrays);
     topotet::run_with_thread_limit(num_threads, [&] {
       result->mesh = topotet::TetMesh(std::make_unique<topotet::MeshModel>(topotet::build_mesh_model(view)));
     });
@@ -320,6 +413,9 @@ topotet_status topotet_mesh_read(const char* path, int num_threads, topotet_mesh
     auto result = std::make_unique<topotet_mesh>();
     s = topotet::try_build_tet_mesh(data, result->mesh, message, {}, num_threads);
     if (s != Status::kOk) return fail(to_c(s), std::string(path) + ": " + message);
+    if (!data.cell_fields.empty() && result->mesh.tet_capacity() != data.tets.size())
+      return fail(TOPOTET_INTERNAL_ERROR, std::string(path) + ": the build changed the tet count: the cell arrays do not fit");
+    result->cell_fields = std::move(data.cell_fields);
     *mesh = result.release();
     return TOPOTET_OK;
   });
@@ -329,7 +425,13 @@ topotet_status topotet_mesh_write(const topotet_mesh* mesh, const char* path) {
   return guarded([&] {
     if (path == nullptr || mesh == nullptr) return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_write: NULL argument");
     std::string message;
-    const Status s = topotet::try_write_mesh(path, mesh->mesh.to_mesh_data(), message);
+    topotet::MeshData data = mesh->mesh.to_mesh_data();
+    if (!mesh->cell_fields.empty()) {
+      if (data.tets.size() != mesh->mesh.tet_capacity())
+        return fail(TOPOTET_INTERNAL_ERROR, "topotet_mesh_write: the mesh has dead tets: the cell arrays do not fit");
+      data.cell_fields = mesh->cell_fields;
+    }
+    const Status s = topotet::try_write_mesh(path, data, message);
     return s == Status::kOk ? TOPOTET_OK : fail(to_c(s), message);
   });
 }
@@ -348,9 +450,12 @@ topotet_status topotet_mesh_embed_isosurfaces(topotet_mesh* mesh, const char* fi
     if (snap >= 0.0) embed.snap = snap;
     // On a copy: a refused level (unknown field, ...) leaves the mesh as it was.
     topotet::MeshData data = mesh->mesh.to_mesh_data();
+    data.cell_fields = mesh->cell_fields;  // the split tets take their pieces' share (isosurface.h)
     const topotet::IsoEmbedReport embedded = topotet::embed_isosurfaces(data, levels, embed);
     topotet::TetMesh rebuilt = topotet::build_tet_mesh(data);
     mesh->mesh = std::move(rebuilt);
+    mesh->cell_fields = std::move(data.cell_fields);
+    mesh->field_bound.clear();
     mesh->vertex_map.clear();
     mesh->has_substructures = false;
     for (std::size_t i = 0; i < embedded.levels.size(); ++i) {
@@ -393,11 +498,52 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
       if (c.field_weight_names[i] == nullptr) return fail(TOPOTET_INVALID_INPUT, "field_weight_names has a NULL entry");
       o.field_weights[c.field_weight_names[i]] = c.field_weights[i];  // the library checks names and values
     }
+    o.track_field_bounds = c.track_field_bounds != 0;
+    if (c.progress != nullptr) {
+      const auto progress = c.progress;
+      void* const user_data = c.progress_user_data;
+      o.on_progress = [progress, user_data](double done) { return progress(done, user_data) != 0; };
+    }
     o.isosurfaces = mesh->isosurfaces;
+    // The cell arrays' original: the geometry before the collapses, with the arrays moved in (they
+    // come back remapped, or as they were when the run changed nothing).
+    std::unique_ptr<topotet::MeshData> original;
+    if (!mesh->cell_fields.empty()) {
+      original = std::make_unique<topotet::MeshData>(remap_geometry(mesh->mesh));
+      original->cell_fields = std::move(mesh->cell_fields);
+      mesh->cell_fields.clear();
+    }
     mesh->has_substructures = false;
     const topotet::Report r = topotet::simplify(mesh->mesh, o, mesh->vertex_map);
+    topotet::CellRemapReport remapped;
+    std::string remap_error;
+    topotet_status remap_status = TOPOTET_OK;
+    if (original != nullptr && r.status == Status::kInvalidInput) {
+      mesh->cell_fields = std::move(original->cell_fields);  // the mesh is untouched
+    } else if (original != nullptr) {
+      // Every other status may have changed the mesh: the arrays follow it, or are dropped.
+      try {
+        topotet::MeshData output = remap_geometry(mesh->mesh);
+        topotet::run_with_thread_limit(o.num_threads, [&] { remapped = topotet::remap_cell_fields(*original, output); });
+        mesh->cell_fields = std::move(output.cell_fields);
+      } catch (const std::bad_alloc&) {
+        remap_status = TOPOTET_OUT_OF_MEMORY;
+        remap_error = "out of memory while remapping the cell arrays: they were dropped";
+      } catch (const std::exception& e) {
+        remap_status = TOPOTET_INTERNAL_ERROR;
+        remap_error = std::string("internal error while remapping the cell arrays (they were dropped): ") + e.what();
+      }
+    }
+    mesh->field_bound = r.field_bounds ? r.field_bound : std::vector<double>{};
     if (report != nullptr) {
       *report = topotet_report{};
+      report->field_bounds = r.field_bounds ? 1 : 0;
+      report->field_bound_rel = r.field_bound_rel;
+      report->cell_overlap_pairs = static_cast<std::int64_t>(remapped.overlap_pairs);
+      report->cell_nearest_new_tets = static_cast<std::int64_t>(remapped.nearest_new_tets);
+      report->cell_nearest_original_tets = static_cast<std::int64_t>(remapped.nearest_original_tets);
+      report->cell_covered_volume_fraction = remapped.covered_volume_fraction;
+      report->cell_remap_seconds = remapped.seconds;
       report->status = to_c(r.status);
       report->vertices_before = static_cast<std::int64_t>(r.vertices_before);
       report->vertices_after = static_cast<std::int64_t>(r.vertices_after);
@@ -444,6 +590,10 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
     }
     const topotet_status s = to_c(r.status);
     if (s != TOPOTET_OK && s != TOPOTET_STOPPED_EARLY) return fail(s, r.message);
+    if (remap_status != TOPOTET_OK) {
+      if (report != nullptr) report->status = remap_status;
+      return fail(remap_status, remap_error);
+    }
     return s;
   });
 }
@@ -457,6 +607,9 @@ int64_t topotet_mesh_tet_count(const topotet_mesh* mesh) {
 int topotet_mesh_field_count(const topotet_mesh* mesh) {
   return mesh != nullptr ? static_cast<int>(mesh->mesh.fields().size()) : 0;
 }
+int topotet_mesh_cell_field_count(const topotet_mesh* mesh) {
+  return mesh != nullptr ? static_cast<int>(mesh->cell_fields.size()) : 0;
+}
 int64_t topotet_mesh_vertex_map_size(const topotet_mesh* mesh) {
   return mesh != nullptr ? static_cast<std::int64_t>(mesh->vertex_map.size()) : 0;
 }
@@ -467,6 +620,51 @@ topotet_status topotet_mesh_field_info(const topotet_mesh* mesh, int i, const ch
   if (name != nullptr) *name = mesh->mesh.fields()[i].name.c_str();
   if (components != nullptr) *components = mesh->mesh.fields()[i].components;
   return TOPOTET_OK;
+}
+
+topotet_status topotet_mesh_cell_field_info(const topotet_mesh* mesh, int i, const char** name, int* components,
+                                            topotet_cell_kind* kind) {
+  if (mesh == nullptr || i < 0 || i >= static_cast<int>(mesh->cell_fields.size()))
+    return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_cell_field_info: no cell array " + std::to_string(i));
+  const topotet::CellField& f = mesh->cell_fields[static_cast<std::size_t>(i)];
+  if (name != nullptr) *name = f.name.c_str();
+  if (components != nullptr) *components = f.components;
+  if (kind != nullptr) *kind = static_cast<topotet_cell_kind>(f.kind);
+  return TOPOTET_OK;
+}
+
+const double* topotet_mesh_cell_field_values(const topotet_mesh* mesh, int i) {
+  if (mesh == nullptr || i < 0 || i >= static_cast<int>(mesh->cell_fields.size())) return nullptr;
+  return mesh->cell_fields[static_cast<std::size_t>(i)].values.data();
+}
+
+topotet_status topotet_mesh_add_cell_field(topotet_mesh* mesh, const topotet_cell_field_view* field, int64_t row_count) {
+  return guarded([&] {
+    if (mesh == nullptr || field == nullptr) return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_add_cell_field: NULL argument");
+    if (row_count != static_cast<std::int64_t>(mesh->mesh.tet_capacity()))
+      return fail(TOPOTET_INVALID_INPUT, "cell array '" + std::string(field->name != nullptr ? field->name : "") + "': " +
+                                             std::to_string(row_count) + " rows for " +
+                                             std::to_string(mesh->mesh.tet_capacity()) + " tets");
+    topotet::CellField f = read_cell_field(*field, static_cast<int>(mesh->cell_fields.size()),
+                                           static_cast<std::int64_t>(mesh->mesh.tet_capacity()), mesh->cell_fields);
+    mesh->cell_fields.push_back(std::move(f));
+    return TOPOTET_OK;
+  });
+}
+
+topotet_status topotet_mesh_set_cell_field_kind(topotet_mesh* mesh, int i, topotet_cell_kind kind) {
+  if (mesh == nullptr || i < 0 || i >= static_cast<int>(mesh->cell_fields.size()))
+    return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_set_cell_field_kind: no cell array " + std::to_string(i));
+  topotet::CellField& f = mesh->cell_fields[static_cast<std::size_t>(i)];
+  if (const int k = stored_value(kind); k < TOPOTET_CELL_INTENSIVE || k > TOPOTET_CELL_EXTENSIVE)
+    return fail(TOPOTET_INVALID_INPUT, "cell array '" + f.name + "': unknown kind " + std::to_string(k) +
+                                           " (0 intensive, 1 categorical, 2 extensive)");
+  f.kind = static_cast<topotet::CellFieldKind>(kind);
+  return TOPOTET_OK;
+}
+
+const double* topotet_mesh_field_bounds(const topotet_mesh* mesh) {
+  return mesh != nullptr && !mesh->field_bound.empty() ? mesh->field_bound.data() : nullptr;
 }
 
 const double* topotet_mesh_positions(const topotet_mesh* mesh) {
@@ -515,6 +713,34 @@ topotet_status topotet_mesh_copy_field(const topotet_mesh* mesh, int i, topotet_
   for (std::size_t v = 0; v < mesh->mesh.vertex_capacity(); ++v)
     for (int c = 0; c < n; ++c)
       write_real(out, static_cast<std::int64_t>(v), c, n, mesh->mesh.field_values_data()[v * stride + offset + c]);
+  return TOPOTET_OK;
+}
+
+topotet_status topotet_mesh_copy_cell_field(const topotet_mesh* mesh, int i, topotet_out_view out) {
+  if (mesh == nullptr) return fail(TOPOTET_INVALID_INPUT, "cell array: mesh is NULL");
+  if (i < 0 || i >= static_cast<int>(mesh->cell_fields.size()))
+    return fail(TOPOTET_INVALID_INPUT, "topotet_mesh_copy_cell_field: no cell array " + std::to_string(i));
+  const topotet::CellField& f = mesh->cell_fields[static_cast<std::size_t>(i)];
+  const std::string what = "cell array '" + f.name + "'";
+  if (out.data == nullptr) return fail(TOPOTET_INVALID_INPUT, what + ": output array is NULL");
+  if (type_size(out.type) == 0) return fail(TOPOTET_INVALID_INPUT, what + ": unknown output type");
+  const int n = f.components;
+  if (is_integer(out.type)) {  // labels: every value must be an integer of the output's range
+    const double lo = out.type == TOPOTET_INT32 ? -2147483648.0 : -9223372036854775808.0;
+    for (std::size_t k = 0; k < f.values.size(); ++k)
+      if (f.values[k] != std::trunc(f.values[k]) || f.values[k] < lo || f.values[k] >= -lo)
+        return fail(TOPOTET_INVALID_INPUT, what + ": value " + std::to_string(f.values[k]) + " of tet " +
+                                               std::to_string(k / static_cast<std::size_t>(n) + 1) +
+                                               " is not an integer of the output type");
+  }
+  for (std::size_t t = 0; t < f.values.size() / static_cast<std::size_t>(n); ++t)
+    for (int c = 0; c < n; ++c) {
+      const double x = f.values[t * static_cast<std::size_t>(n) + static_cast<std::size_t>(c)];
+      if (is_integer(out.type))
+        write_int(out, static_cast<std::int64_t>(t), c, n, static_cast<std::int64_t>(x));
+      else
+        write_real(out, static_cast<std::int64_t>(t), c, n, x);
+    }
   return TOPOTET_OK;
 }
 

@@ -22,6 +22,9 @@ module topotet
                                        TOPOTET_OUT_OF_MEMORY = 3, TOPOTET_CANCELLED = 4, TOPOTET_INTERNAL_ERROR = 5
   ! topotet_type
   integer(c_int), parameter, public :: TOPOTET_FLOAT64 = 0, TOPOTET_FLOAT32 = 1, TOPOTET_INT32 = 2, TOPOTET_INT64 = 3
+  ! topotet_cell_kind: how a per-tet array is carried onto the simplified tets
+  integer(c_int), parameter, public :: TOPOTET_CELL_INTENSIVE = 0, TOPOTET_CELL_CATEGORICAL = 1, &
+                                       TOPOTET_CELL_EXTENSIVE = 2
 
   type, bind(c), public :: topotet_view
     type(c_ptr) :: data = c_null_ptr
@@ -41,6 +44,15 @@ module topotet
     type(topotet_view) :: values
   end type
 
+  ! One per-tet array: tet_count rows of `components` values (topotet_mesh_add_cell_field below
+  ! makes one from a Fortran name and array).
+  type, bind(c), public :: topotet_cell_field_view
+    type(c_ptr) :: name = c_null_ptr  ! c_loc of a NUL-terminated character(kind=c_char) string
+    integer(c_int) :: components = 1
+    integer(c_int) :: kind = TOPOTET_CELL_INTENSIVE
+    type(topotet_view) :: values
+  end type
+
   type, bind(c), public :: topotet_mesh_arrays
     integer(c_int64_t) :: vertex_count = 0
     type(topotet_view) :: positions
@@ -55,6 +67,8 @@ module topotet
     integer(c_int) :: field_count = 0
     type(c_ptr) :: fields = c_null_ptr  ! c_loc of a topotet_field_view array
     integer(c_int) :: index_base = 0
+    integer(c_int) :: cell_field_count = 0
+    type(c_ptr) :: cell_fields = c_null_ptr  ! c_loc of a topotet_cell_field_view array
   end type
 
   type, bind(c), public :: topotet_options
@@ -67,6 +81,11 @@ module topotet
     integer(c_int) :: field_weight_count
     type(c_ptr) :: field_weight_names, field_weights  ! c_loc of c_ptr / real(c_double) arrays
     integer(c_int) :: optimize  ! 0 = none, 1 = light (default), 2 = full
+    integer(c_int) :: track_field_bounds  ! 1 = keep and report the field error bounds (topotet_mesh_field_bounds)
+    ! c_funloc of an integer(c_int) function f(done_fraction, user_data) bind(c), with
+    ! real(c_double), value :: done_fraction and type(c_ptr), value :: user_data; 0 cancels.
+    type(c_funptr) :: progress
+    type(c_ptr) :: progress_user_data
   end type
 
   type, bind(c), public :: topotet_report
@@ -84,6 +103,10 @@ module topotet
     real(c_double) :: stop_dominant_share
     character(kind=c_char) :: stop_dominant(16), stop_suggestion(512)  ! NUL-terminated
     integer(c_int64_t) :: optimize_moves, optimize_flips
+    integer(c_int) :: field_bounds
+    real(c_double) :: field_bound_rel
+    integer(c_int64_t) :: cell_overlap_pairs, cell_nearest_new_tets, cell_nearest_original_tets
+    real(c_double) :: cell_covered_volume_fraction, cell_remap_seconds
   end type
 
   public :: topotet_mesh_arrays_init, topotet_options_init, topotet_mesh_build, topotet_mesh_read, &
@@ -93,7 +116,15 @@ module topotet
             topotet_mesh_copy_field, topotet_mesh_copy_vertex_map, topotet_error_message, topotet_status_name, &
             topotet_mesh_triangle_count, topotet_mesh_segment_count, topotet_mesh_copy_triangles, &
             topotet_mesh_copy_segments, topotet_mesh_embed_isosurfaces, &
-            topotet_c_string
+            topotet_mesh_cell_field_count, topotet_mesh_cell_field_info, topotet_mesh_cell_field_values, &
+            topotet_mesh_copy_cell_field, topotet_mesh_add_cell_field, topotet_mesh_set_cell_field_kind, &
+            topotet_mesh_field_bounds, topotet_c_string
+
+  ! topotet_mesh_add_cell_field(mesh, name, kind, values): a Fortran name and the array's values,
+  ! real(c_double) values(m) or values(components, m), or integer(c_int32_t) labels(m).
+  interface topotet_mesh_add_cell_field
+    module procedure add_cell_field_real1, add_cell_field_real2, add_cell_field_int1
+  end interface
 
   interface
     subroutine topotet_mesh_arrays_init(arrays) bind(c, name="topotet_mesh_arrays_init")
@@ -229,6 +260,55 @@ module topotet
       integer(c_int), value :: index_base
     end function
 
+    integer(c_int) function topotet_mesh_cell_field_count(mesh) bind(c, name="topotet_mesh_cell_field_count")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mesh
+    end function
+
+    integer(c_int) function c_mesh_cell_field_info(mesh, i, name, components, kind) &
+        bind(c, name="topotet_mesh_cell_field_info")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mesh
+      integer(c_int), value :: i
+      type(c_ptr), intent(out) :: name
+      integer(c_int), intent(out) :: components, kind
+    end function
+
+    ! The values of cell array i (0-based), tet count x components doubles owned by the mesh
+    ! (c_f_pointer them to shape (components, tet count)); c_null_ptr for an index out of range.
+    type(c_ptr) function topotet_mesh_cell_field_values(mesh, i) bind(c, name="topotet_mesh_cell_field_values")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mesh
+      integer(c_int), value :: i
+    end function
+
+    integer(c_int) function topotet_mesh_copy_cell_field(mesh, i, out) bind(c, name="topotet_mesh_copy_cell_field")
+      import :: c_int, c_ptr, topotet_out_view
+      type(c_ptr), value :: mesh
+      integer(c_int), value :: i  ! 0-based, as in C
+      type(topotet_out_view), value :: out
+    end function
+
+    integer(c_int) function c_mesh_add_cell_field(mesh, field, row_count) bind(c, name="topotet_mesh_add_cell_field")
+      import :: c_int, c_int64_t, c_ptr, topotet_cell_field_view
+      type(c_ptr), value :: mesh
+      type(topotet_cell_field_view), intent(in) :: field
+      integer(c_int64_t), value :: row_count
+    end function
+
+    integer(c_int) function topotet_mesh_set_cell_field_kind(mesh, i, kind) &
+        bind(c, name="topotet_mesh_set_cell_field_kind")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mesh
+      integer(c_int), value :: i, kind  ! i 0-based, as in C
+    end function
+
+    ! Field error bounds of the last simplify that kept them: one double per field component.
+    type(c_ptr) function topotet_mesh_field_bounds(mesh) bind(c, name="topotet_mesh_field_bounds")
+      import :: c_ptr
+      type(c_ptr), value :: mesh
+    end function
+
     type(c_ptr) function c_last_error() bind(c, name="topotet_last_error")
       import :: c_ptr
     end function
@@ -302,6 +382,61 @@ contains
     n = min(size(refs), size(values))
     refs = 0
     refs(1:n) = all(1:n)
+  end function
+
+  ! Name, component count and kind (TOPOTET_CELL_...) of cell array i (0-based, as in C).
+  integer(c_int) function topotet_mesh_cell_field_info(mesh, i, name, components, kind)
+    type(c_ptr), intent(in) :: mesh
+    integer(c_int), intent(in) :: i
+    character(:), allocatable, intent(out) :: name
+    integer(c_int), intent(out) :: components, kind
+    type(c_ptr) :: p
+    topotet_mesh_cell_field_info = c_mesh_cell_field_info(mesh, i, p, components, kind)
+    if (topotet_mesh_cell_field_info == TOPOTET_OK) then
+      name = from_c(p)
+    else
+      name = ""
+    end if
+  end function
+
+  ! The array's size is checked against the mesh's tet count by the C call (rows).
+  integer(c_int) function add_cell_field(mesh, name, kind, components, rows, values)
+    type(c_ptr), intent(in) :: mesh
+    character(*), intent(in) :: name
+    integer(c_int), intent(in) :: kind, components
+    integer, intent(in) :: rows
+    type(topotet_view), intent(in) :: values
+    character(kind=c_char), target :: c_name(len_trim(name) + 1)
+    c_name = topotet_c_string(name)
+    add_cell_field = c_mesh_add_cell_field(mesh, topotet_cell_field_view(c_loc(c_name), components, kind, values), &
+                                           int(rows, c_int64_t))
+  end function
+
+  integer(c_int) function add_cell_field_real1(mesh, name, kind, values)
+    type(c_ptr), intent(in) :: mesh
+    character(*), intent(in) :: name
+    integer(c_int), intent(in) :: kind
+    real(c_double), contiguous, target, intent(in) :: values(:)
+    add_cell_field_real1 = add_cell_field(mesh, name, kind, 1_c_int, size(values), &
+                                          topotet_view(c_loc(values), TOPOTET_FLOAT64, 0))
+  end function
+
+  integer(c_int) function add_cell_field_real2(mesh, name, kind, values)
+    type(c_ptr), intent(in) :: mesh
+    character(*), intent(in) :: name
+    integer(c_int), intent(in) :: kind
+    real(c_double), contiguous, target, intent(in) :: values(:, :)  ! (components, tet count)
+    add_cell_field_real2 = add_cell_field(mesh, name, kind, int(size(values, 1), c_int), size(values, 2), &
+                                          topotet_view(c_loc(values), TOPOTET_FLOAT64, 0))
+  end function
+
+  integer(c_int) function add_cell_field_int1(mesh, name, kind, values)
+    type(c_ptr), intent(in) :: mesh
+    character(*), intent(in) :: name
+    integer(c_int), intent(in) :: kind
+    integer(c_int32_t), contiguous, target, intent(in) :: values(:)
+    add_cell_field_int1 = add_cell_field(mesh, name, kind, 1_c_int, size(values), &
+                                         topotet_view(c_loc(values), TOPOTET_INT32, 0))
   end function
 
   ! The message of the last failed call on this thread.

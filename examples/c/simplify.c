@@ -42,6 +42,14 @@ int main(int argc, char** argv) {
       }
     }
 
+  /* Per-tet arrays travel with the tets: the material as a label (each output tet takes the one of
+   * the largest part of its volume) and an amount of heat, shared out so that its sum is kept. */
+  static double heat[NT];
+  double heat_in = 0.0;
+  for (int i = 0; i < NT; ++i) heat_in += heat[i] = material[i] == 2 ? 3.0 : 1.0;
+  const topotet_cell_field_view cells[2] = {{"region", 1, TOPOTET_CELL_CATEGORICAL, {material, TOPOTET_INT32, 0}},
+                                            {"heat", 1, TOPOTET_CELL_EXTENSIVE, {heat, TOPOTET_FLOAT64, 0}}};
+
   topotet_mesh_arrays in;
   topotet_mesh_arrays_init(&in);
   in.vertex_count = NV;
@@ -50,6 +58,8 @@ int main(int argc, char** argv) {
   in.tets = (topotet_view){tets, TOPOTET_INT64, 0};
   in.materials = (topotet_view){material, TOPOTET_INT32, 0};
   in.index_base = 1;
+  in.cell_field_count = 2;
+  in.cell_fields = cells;
   topotet_mesh* mesh = NULL;
   if (topotet_mesh_build(&in, 0, &mesh) != TOPOTET_OK) {
     fprintf(stderr, "build: %s\n", topotet_last_error());
@@ -87,8 +97,26 @@ int main(int argc, char** argv) {
     const double* p = out_xyz + 3 * (map[v] - 1);
     farthest = fmax(farthest, hypot(hypot(p[0] - xyz[v][0], p[1] - xyz[v][1]), p[2] - xyz[v][2]));
   }
-  printf("%s: %lld -> %lld vertices, %lld -> %lld tets, farthest merge %.2f cells\n", topotet_status_string(status),
-         (long long)report.vertices_before, (long long)nv, (long long)report.tets_before, (long long)nt, farthest);
+  /* The cell arrays on the output tets (owned by the mesh, in the order given): a region is a
+   * material, and the heat's sum is the input's. */
+  const double* region = topotet_mesh_cell_field_values(mesh, 0);
+  const double* heat_out = topotet_mesh_cell_field_values(mesh, 1);
+  const int32_t* out_material = topotet_mesh_materials(mesh);
+  double heat_sum = 0.0;
+  for (int64_t i = 0; i < nt; ++i) {
+    heat_sum += heat_out[i];
+    if (region[i] != out_material[i]) {
+      fprintf(stderr, "tet %lld: region %g in material %d\n", (long long)i + 1, region[i], out_material[i]);
+      return 1;
+    }
+  }
+  if (fabs(heat_sum - heat_in) > 1e-9 * heat_in) {
+    fprintf(stderr, "heat %.17g -> %.17g: not conserved\n", heat_in, heat_sum);
+    return 1;
+  }
+  printf("%s: %lld -> %lld vertices, %lld -> %lld tets, farthest merge %.2f cells, heat %g kept\n",
+         topotet_status_string(status), (long long)report.vertices_before, (long long)nv, (long long)report.tets_before,
+         (long long)nt, farthest, heat_sum);
   if (argc > 1) {
     snprintf(path, sizeof path, "%s/out.mesh", argv[1]);
     if (topotet_mesh_write(mesh, path) != TOPOTET_OK) fprintf(stderr, "write: %s\n", topotet_last_error());

@@ -7,10 +7,10 @@ program simplify_f90
   implicit none
   integer, parameter :: n = 8, nv = (n + 1)**3, nt = 6 * n**3
   integer, parameter :: order(3, 6) = reshape([1, 2, 3, 2, 3, 1, 3, 1, 2, 1, 3, 2, 2, 1, 3, 3, 2, 1], [3, 6])
-  real(c_double), target :: xyz(3, nv)
+  real(c_double), target :: xyz(3, nv), heat(nt)
   integer(c_int32_t), target :: tets(4, nt), material(nt), vertex_map(nv)
   integer(c_int32_t), allocatable, target :: out_tets(:, :)
-  real(c_double), allocatable, target :: out_xyz(:, :)
+  real(c_double), allocatable, target :: out_xyz(:, :), out_heat(:)
   type(topotet_mesh_arrays) :: in
   type(topotet_options) :: options
   type(topotet_report) :: report
@@ -52,6 +52,12 @@ program simplify_f90
   in%index_base = 1
   status = topotet_mesh_build(in, 0, mesh)
   if (status /= TOPOTET_OK) error stop topotet_error_message()
+  ! Per-tet arrays travel with the tets: the material as a label, and an amount of heat whose sum
+  ! is kept (a Fortran name and array; cell arrays can also be views in `in`, as in C).
+  heat = merge(3d0, 1d0, material == 2)
+  status = topotet_mesh_add_cell_field(mesh, "region", TOPOTET_CELL_CATEGORICAL, material)
+  if (status == TOPOTET_OK) status = topotet_mesh_add_cell_field(mesh, "heat", TOPOTET_CELL_EXTENSIVE, heat)
+  if (status /= TOPOTET_OK) error stop topotet_error_message()
   dir = ""
   if (command_argument_count() > 0) call get_command_argument(1, dir)
   if (len_trim(dir) > 0) status = topotet_mesh_write(mesh, trim(dir)//"/in.mesh")
@@ -68,12 +74,16 @@ program simplify_f90
   status = topotet_mesh_copy_vertex_map(mesh, topotet_out_view(c_loc(vertex_map), TOPOTET_INT32, 0), 1)
   if (any(vertex_map < 1) .or. any(vertex_map > size(out_xyz, 2))) error stop "vertex map out of range"
   if (any(out_tets < 1) .or. any(out_tets > size(out_xyz, 2))) error stop "tet index out of range"
+  ! The cell arrays on the output tets, copied like the fields (numbered from 0, as in C).
+  allocate (out_heat(size(out_tets, 2)))
+  status = topotet_mesh_copy_cell_field(mesh, 1, topotet_out_view(c_loc(out_heat), TOPOTET_FLOAT64, 0))
+  if (abs(sum(out_heat) - sum(heat)) > 1d-9 * sum(heat)) error stop "the heat is not conserved"
   print '(a, ": ", i0, " -> ", i0, " vertices, ", i0, " -> ", i0, " tets, farthest merge ", f0.2, " cells")', &
     topotet_status_name(report%status), report%vertices_before, size(out_xyz, 2), report%tets_before, &
     size(out_tets, 2), maxval(norm2(out_xyz(:, vertex_map) - xyz, dim=1))
   if (len_trim(dir) > 0) status = topotet_mesh_write(mesh, trim(dir)//"/out.mesh")
   call topotet_mesh_free(mesh)
-  deallocate (out_tets, out_xyz)
+  deallocate (out_tets, out_xyz, out_heat)
 
 contains
 

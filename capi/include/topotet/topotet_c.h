@@ -30,7 +30,8 @@
  *    num_threads (build, options) bounds every parallel loop of the call; 0 = all cores, or the
  *    limit of the caller's oneTBB task arena.
  *  - Pointers returned by topotet_mesh_positions() and friends stay valid until the mesh is
- *    simplified again or freed.
+ *    simplified again or freed; the names and values of cell arrays, until then or until a cell
+ *    array is added.
  */
 #ifndef TOPOTET_TOPOTET_C_H
 #define TOPOTET_TOPOTET_C_H
@@ -82,6 +83,24 @@ typedef struct topotet_field_view {
   topotet_view values; /* FLOAT64 or FLOAT32, vertex_count rows of `components` values */
 } topotet_field_view;
 
+/* How a per-tet ("cell") array is carried onto the tets of the simplified mesh (topotet/cell_fields.h:
+ * an exact overlap-volume remap within each material). Same values as topotet::CellFieldKind. */
+typedef enum topotet_cell_kind {
+  TOPOTET_CELL_INTENSIVE = 0,   /* density-like (pressure, conductivity): volume-weighted average */
+  TOPOTET_CELL_CATEGORICAL = 1, /* a label (region id, flag): the value of the largest overlap volume */
+  TOPOTET_CELL_EXTENSIVE = 2    /* an amount (mass, heat): shared out by covered volume, sum conserved */
+} topotet_cell_kind;
+
+/* One per-tet array: tet_count rows of `components` values, FLOAT64, FLOAT32, INT32 or INT64
+ * (kept as doubles: an integer must fit in 53 bits). Names are unique among the cell arrays;
+ * values are finite. */
+typedef struct topotet_cell_field_view {
+  const char* name; /* NULL = "cell<i>" */
+  int components;
+  topotet_cell_kind kind;
+  topotet_view values;
+} topotet_cell_field_view;
+
 /* The input mesh: views of the caller's arrays. Only positions and tets are required. */
 typedef struct topotet_mesh_arrays {
   int64_t vertex_count;
@@ -101,6 +120,8 @@ typedef struct topotet_mesh_arrays {
   int field_count;
   const topotet_field_view* fields;
   int index_base;           /* 0 or 1: the first vertex is numbered index_base everywhere */
+  int cell_field_count;     /* per-tet arrays, carried through topotet_simplify (kinds above) */
+  const topotet_cell_field_view* cell_fields;
 } topotet_mesh_arrays;
 
 /* Same meaning and defaults as topotet::SimplifyOptions (topotet/simplify.h). */
@@ -123,6 +144,12 @@ typedef struct topotet_options {
   const char* const* field_weight_names; /* field names (as topotet_mesh_field_info gives them) */
   const double* field_weights;           /* their weights, >= 0 */
   int optimize;               /* after the collapses: 0 = none, 1 = light (default), 2 = full */
+  int track_field_bounds;     /* 1 = keep the per-tet field error bounds without a limit and report
+                                 them (topotet_mesh_field_bounds), as `--field-bounds`; default 0 */
+  /* Called now and then with the fraction done (0..1), on any thread but never concurrently with
+     itself; return 0 to cancel (TOPOTET_CANCELLED, the mesh valid and partly simplified). NULL = none. */
+  int (*progress)(double done_fraction, void* user_data);
+  void* progress_user_data;
 } topotet_options;
 
 /* Same counters as topotet::Report. */
@@ -150,6 +177,18 @@ typedef struct topotet_report {
   char stop_dominant[16];    /* "topology", "pinned", "inversion", "quality", "tolerance", ... */
   char stop_suggestion[512]; /* NUL-terminated (cut to fit) */
   int64_t optimize_moves, optimize_flips; /* the optimisation: vertices moved, flips and edge removals */
+  /* Field error bounds (a field error limit or track_field_bounds): field_bounds 1 when they were
+     kept, the largest bound relative to its component's range; per component from
+     topotet_mesh_field_bounds. */
+  int field_bounds;
+  double field_bound_rel;
+  /* The cell arrays' remap (topotet::CellRemapReport; all 0 when the mesh has none): (new tet,
+     original tet) pairs with a positive overlap, new tets that overlapped no original tet of their
+     material (given the nearest one's value), original tets that no new tet of their material
+     covered (their amount went to the nearest), the covered share of the original volume, and its
+     time (not included in seconds). */
+  int64_t cell_overlap_pairs, cell_nearest_new_tets, cell_nearest_original_tets;
+  double cell_covered_volume_fraction, cell_remap_seconds;
 } topotet_report;
 
 typedef struct topotet_mesh topotet_mesh;
@@ -163,7 +202,8 @@ void topotet_options_init(topotet_options* options);        /* the defaults */
 
 /* Builds a validated mesh from the caller's arrays (copied: the arrays may be freed afterwards). */
 topotet_status topotet_mesh_build(const topotet_mesh_arrays* arrays, int num_threads, topotet_mesh** mesh);
-/* Reads MEDIT .mesh(+.sol), Gmsh .msh (optionally .gz); writes .mesh, .msh, .vtu. */
+/* Reads MEDIT .mesh(+.sol), Gmsh .msh (optionally .gz); writes .mesh, .msh, .vtu. Both keep the
+ * per-tet arrays (SolAtTetrahedra, $ElementData; VTU CellData when written). */
 topotet_status topotet_mesh_read(const char* path, int num_threads, topotet_mesh** mesh);
 topotet_status topotet_mesh_write(const topotet_mesh* mesh, const char* path);
 void topotet_mesh_free(topotet_mesh* mesh); /* NULL is allowed */
@@ -188,6 +228,25 @@ int64_t topotet_mesh_tet_count(const topotet_mesh* mesh);
 int topotet_mesh_field_count(const topotet_mesh* mesh);
 /* Name (owned by the mesh) and component count of field i, 0 <= i < field count. */
 topotet_status topotet_mesh_field_info(const topotet_mesh* mesh, int i, const char** name, int* components);
+/* Per-tet arrays (topotet_mesh_arrays.cell_fields, or the file's: MEDIT SolAtTetrahedra, Gmsh
+ * $ElementData, VTU CellData), aligned with the current tets: every topotet_simplify remaps them
+ * from the mesh as it was before that call (rules in topotet_cell_kind; docs/library.md), and
+ * topotet_mesh_embed_isosurfaces splits them with the tets. Name and kind as for fields; the values
+ * (tet count x components doubles, library-owned) are NULL for an index out of range. */
+int topotet_mesh_cell_field_count(const topotet_mesh* mesh);
+topotet_status topotet_mesh_cell_field_info(const topotet_mesh* mesh, int i, const char** name, int* components,
+                                            topotet_cell_kind* kind);
+const double* topotet_mesh_cell_field_values(const topotet_mesh* mesh, int i);
+/* Adds one array to the mesh (copied): row_count, the rows the caller's array has, must be the tet
+ * count. The same checks as topotet_mesh_build; on error the mesh is unchanged. */
+topotet_status topotet_mesh_add_cell_field(topotet_mesh* mesh, const topotet_cell_field_view* field, int64_t row_count);
+/* Changes how array i is carried by the next topotet_simplify (a file stores labels as reals:
+ * `--categorical`, amounts: `--extensive` on the CLI). */
+topotet_status topotet_mesh_set_cell_field_kind(topotet_mesh* mesh, int i, topotet_cell_kind kind);
+/* Field error bounds of the last topotet_simplify that kept them (report.field_bounds): the largest
+ * over the output's tets per field component (fields in order, then components; field units);
+ * NULL when it kept none. */
+const double* topotet_mesh_field_bounds(const topotet_mesh* mesh);
 /* Entries of the vertex map: the vertex count before the last topotet_simplify (0 before any). */
 int64_t topotet_mesh_vertex_map_size(const topotet_mesh* mesh);
 
@@ -204,6 +263,8 @@ topotet_status topotet_mesh_copy_positions(const topotet_mesh* mesh, topotet_out
 topotet_status topotet_mesh_copy_tets(const topotet_mesh* mesh, topotet_out_view out, int index_base);
 topotet_status topotet_mesh_copy_materials(const topotet_mesh* mesh, topotet_out_view out);
 topotet_status topotet_mesh_copy_field(const topotet_mesh* mesh, int i, topotet_out_view out);
+/* Cell array i, tet count rows of its components; an integer output takes only integer values. */
+topotet_status topotet_mesh_copy_cell_field(const topotet_mesh* mesh, int i, topotet_out_view out);
 /* For every input vertex of the last simplify, the output vertex it became or merged into. */
 topotet_status topotet_mesh_copy_vertex_map(const topotet_mesh* mesh, topotet_out_view out, int index_base);
 
