@@ -66,8 +66,19 @@ struct ArgumentError {
   std::string message;
 };
 
-std::size_t type_size(topotet_type t) {
-  switch (t) {
+// The value a caller stored in an enum member, read without loading the enum: a value outside the
+// enumerators is undefined behaviour in C++ (UBSan's -fsanitize=enum), and the message says it.
+template <class E>
+int stored_value(const E& e) {
+  std::underlying_type_t<E> x;
+  std::memcpy(&x, &e, sizeof x);
+  return static_cast<int>(x);
+}
+
+// 0 for a value that is no element type (the views' checks refuse it before any read). Both take
+// the member itself, read as stored: the caller's struct may hold any integer there.
+std::size_t type_size(const topotet_type& member) {
+  switch (stored_value(member)) {
     case TOPOTET_FLOAT64: return 8;
     case TOPOTET_FLOAT32: return 4;
     case TOPOTET_INT32: return 4;
@@ -76,7 +87,10 @@ std::size_t type_size(topotet_type t) {
   return 0;
 }
 
-bool is_integer(topotet_type t) { return t == TOPOTET_INT32 || t == TOPOTET_INT64; }
+bool is_integer(const topotet_type& member) {
+  const int t = stored_value(member);
+  return t == TOPOTET_INT32 || t == TOPOTET_INT64;
+}
 
 // Address of value `col` of row `row`; rows are `width` values wide.
 const char* at(const topotet_view& v, std::int64_t row, int col, int width) {
@@ -143,15 +157,6 @@ topotet::StridedArray strided(const topotet_view& v) {
       topotet::StridedArray::Type::kInt32, topotet::StridedArray::Type::kInt64};
   const bool known = type_size(v.type) != 0;  // an unknown type was refused or is never read
   return {v.data, known ? kTypes[v.type] : topotet::StridedArray::Type::kFloat64, v.stride, 0};
-}
-
-// The value a caller stored in an enum member, read without loading the enum: a value outside the
-// enumerators is undefined behaviour in C++ (UBSan's -fsanitize=enum), and the message says it.
-template <class E>
-int stored_value(const E& e) {
-  std::underlying_type_t<E> x;
-  std::memcpy(&x, &e, sizeof x);
-  return static_cast<int>(x);
 }
 
 // One caller's cell array, checked and converted to doubles; `index` names it when it has no name.

@@ -236,6 +236,16 @@ int main(void) {
   CHECK(strstr(topotet_last_error(), "tet 6: vertex index -1 out of range (index_base 0)") != NULL);
   in.index_base = 2;
   CHECK(topotet_mesh_build(&in, 0, &bad) == TOPOTET_INVALID_INPUT);
+  /* A type member holding no enumerator (a caller's garbage): an error, read without loading it as
+     the enum (UBSan's enum check runs this in CI) */
+  tets[5][2] = 1;
+  in.index_base = 0;
+  const topotet_type positions_type = in.positions.type;
+  const int garbage = 7;
+  memcpy(&in.positions.type, &garbage, sizeof garbage);
+  CHECK(topotet_mesh_build(&in, 0, &bad) == TOPOTET_INVALID_INPUT);
+  CHECK(strstr(topotet_last_error(), "positions: unknown element type") != NULL);
+  in.positions.type = positions_type;
   CHECK(topotet_mesh_read("/nonexistent/x.mesh", 0, &bad) == TOPOTET_INVALID_INPUT);
   CHECK(strstr(topotet_last_error(), "x.mesh") != NULL);
   CHECK(strcmp(topotet_version(), TOPOTET_VERSION_STRING) == 0);
