@@ -1,6 +1,7 @@
-"""Builds the Python module `topotet` with the project's own CMake (see pyproject.toml).
+"""Builds the Python package `topotet` with the project's own CMake (see pyproject.toml).
 
-The extension is one CMake target, `topotet_python` (python/CMakeLists.txt), built for the
+The package is python/topotet/; its extension `topotet._core` is one CMake target, `topotet_python`
+(python/CMakeLists.txt), built for the
 interpreter that runs pip, with the library linked in statically; nothing is compiled twice by
 setuptools. TOPOTET_CMAKE_BUILD_DIR reuses an existing build tree (the tests do), and
 TOPOTET_CMAKE_ARGS adds configure arguments.
@@ -49,14 +50,17 @@ class CMakeBuild(build_ext):
         # (A reused tree keeps its configuration: its module must be for this interpreter's Python.)
         jobs = str(max(1, os.cpu_count() or 1))
         subprocess.check_call(["cmake", "--build", build, "--target", "topotet_python", "--parallel", jobs])
-        built = [f for f in os.listdir(os.path.join(build, "python")) if f.startswith("topotet") and f.endswith(".so")]
+        package = os.path.join(build, "python", "topotet")
+        built = [f for f in os.listdir(package) if f.startswith("_core") and f.endswith(".so")]
         if len(built) != 1:
-            raise RuntimeError(f"expected one built module in {build}/python, found {built}")
+            raise RuntimeError(f"expected one built extension in {package}, found {built}")
         target = self.get_ext_fullpath(ext.name)
         os.makedirs(os.path.dirname(target), exist_ok=True)
-        shutil.copyfile(os.path.join(build, "python", built[0]), target)
+        shutil.copyfile(os.path.join(package, built[0]), target)
 
 
-setup(version=project_version(), packages=[], py_modules=[], ext_modules=[CMakeExtension("topotet")],
+# The package's Python files come from python/topotet; its extension topotet._core from CMake.
+setup(version=project_version(), packages=["topotet"], package_dir={"topotet": "python/topotet"},
+      ext_modules=[CMakeExtension("topotet._core")],
       cmdclass={"build_ext": CMakeBuild},
       zip_safe=False)

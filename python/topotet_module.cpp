@@ -1,4 +1,6 @@
-// The Python module `topotet`: numpy arrays in and out.
+// The extension `topotet._core` of the Python package `topotet` (python/topotet/: the package
+// re-exports all of it, and adds the meshio and VTK adapters and `python -m topotet`): numpy arrays
+// in and out.
 //
 //   out = topotet.simplify(points, tets, materials=None, fields=None, ratio=0.25, tolerance_rel=0.004,
 //                          feature_angle=45, threads=0, ...)   (every default is SimplifyOptions')
@@ -497,7 +499,7 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
 
 }  // namespace
 
-PYBIND11_MODULE(topotet, m) {
+PYBIND11_MODULE(_core, m) {
   m.doc() = "Topology-preserving simplification of tetrahedral meshes (numpy arrays in and out)";
   m.attr("__version__") = TOPOTET_VERSION_STRING;
   // The library's InputError (bad file, bad mesh) is a ValueError in Python.
@@ -511,6 +513,28 @@ PYBIND11_MODULE(topotet, m) {
   // Every default is the library's (SimplifyOptions), so that the same call gives the same run, with
   // the same guarantees, from C++, C, Fortran, Python and the CLI.
   const topotet::SimplifyOptions defaults;
+  m.def(
+      "default_options",
+      [defaults] {
+        py::dict d;
+        d["ratio"] = defaults.target_vertex_ratio;
+        d["target_vertices"] = defaults.target_vertices;
+        d["tolerance_rel"] = defaults.tolerance_rel;
+        d["tolerance"] = defaults.tolerance;
+        d["min_quality"] = defaults.min_quality;
+        d["max_cost"] = defaults.max_cost;
+        d["threads"] = defaults.num_threads;
+        d["feature_angle"] = defaults.feature_angle;
+        d["max_field_error"] = defaults.max_field_error;
+        d["max_field_error_rel"] = defaults.max_field_error_rel;
+        d["boundary_weight"] = defaults.boundary_weight;
+        d["polyline_weight"] = defaults.polyline_weight;
+        d["round_fraction"] = defaults.round_fraction;
+        d["optimize"] = topotet::to_string(defaults.optimize);
+        return d;
+      },
+      "The library's SimplifyOptions defaults under simplify()'s keyword names (the keywords' own defaults "
+      "are these; python -m topotet --help shows them).");
   m.def("simplify", &simplify, py::arg("points"), py::arg("tets"), py::kw_only(), py::arg("materials") = py::none(),
         py::arg("fields") = py::none(), py::arg("ratio") = defaults.target_vertex_ratio,
         py::arg("target_vertices") = defaults.target_vertices, py::arg("tolerance_rel") = defaults.tolerance_rel,

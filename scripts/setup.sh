@@ -44,7 +44,7 @@ if ((all)); then
     gmsh tetgen
     clang libclang-rt-14-dev
     gfortran pkg-config pybind11-dev python3-dev python3-numpy python3-pybind11
-    python3-venv python3-setuptools python3-wheel
+    python3-venv python3-setuptools python3-wheel python3-meshio python3-vtk9
     openmpi-bin libopenmpi-dev libmetis-dev
     libvtk9-dev
   )

@@ -78,11 +78,12 @@ cc -O1 "$src/examples/c/simplify.c" -o "$work/pc_c" $(pkg-config --cflags --libs
 "$work/pc_c"
 
 if [[ -n $python ]]; then
-  echo "--- Python module"
-  module=$(find "$prefix" -name 'topotet*.so' -path '*python*' | head -1)
-  test -n "$module" || { echo "no Python module installed"; exit 1; }
+  echo "--- Python package"
+  package=$(find "$prefix" -name '__init__.py' -path '*python*/topotet/*' | head -1)
+  test -n "$package" || { echo "no Python package installed"; exit 1; }
+  compgen -G "$(dirname "$package")/_core*.so" >/dev/null || { echo "the package has no extension _core"; exit 1; }
   mkdir -p "$work/py"
-  PYTHONPATH=$(dirname "$module") "$python" "$src/examples/python/simplify.py" "$work/py"
+  PYTHONPATH=$(dirname "$(dirname "$package")") "$python" "$src/examples/python/simplify.py" "$work/py"
   "$cli" check "$work/py/in.mesh" "$work/py/out.mesh" --fast >"$work/check.log" || { cat "$work/check.log"; exit 1; }
   echo "Python output: topology check passed"
 fi

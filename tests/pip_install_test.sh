@@ -54,5 +54,11 @@ rep = out["report"]
 assert rep["status"] in ("ok", "stopped_early"), rep["status"]
 assert len(out["points"]) < len(g) and rep["tolerance"] > 0, rep
 assert sorted(np.unique(out["materials"])) == [1, 2]
+# The package, not only its extension: the adapters and python -m topotet come with it.
+import subprocess
+assert callable(topotet.from_meshio) and callable(topotet.to_meshio) and callable(topotet.default_options)
+assert os.path.realpath(topotet._core.__file__).startswith(os.path.dirname(where))
+run = subprocess.run([sys.executable, "-m", "topotet", "--help"], capture_output=True, text=True)
+assert run.returncode == 0 and "simplify" in run.stdout, run
 print(f"pip-installed topotet {topotet.__version__} from {where}: {len(g)} -> {len(out['points'])} vertices")
 PY
