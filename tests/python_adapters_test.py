@@ -139,6 +139,24 @@ if numpy_to_vtk is not None:
     check(result.GetPointData().GetArray("f").GetNumberOfTuples() == result.GetNumberOfPoints(), "vtk: point field back")
     report = json.loads(result.GetFieldData().GetAbstractArray("topotet_report").GetValue(0))
     check(report["status"] in ("ok", "stopped_early") and report["tolerance"] > 0, f"vtk: report {report.get('status')}")
+    # From a file, as ParaView writes one: VTK's own .vtu writer, then VTK's reader and meshio's.
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader, vtkXMLUnstructuredGridWriter
+    vtu = os.path.join(tempfile.mkdtemp(prefix="topotet_vtu_"), "grid.vtu")
+    writer = vtkXMLUnstructuredGridWriter()
+    writer.SetFileName(vtu)
+    writer.SetInputData(ugrid)
+    check(writer.Write() == 1, "vtk: the .vtu written")
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(vtu)
+    reader.Update()
+    from_file = topotet.vtk.simplify(reader.GetOutput(), ratio=0.3, threads=1, extensive=["mass"])
+    check(np.array_equal(vtk_to_numpy(from_file.GetCells().GetConnectivityArray()),
+                         vtk_to_numpy(result.GetCells().GetConnectivityArray())),
+          "vtk: the grid read from its .vtu gives the same mesh (1 thread against 2)")
+    if meshio is not None:
+        m, _ = topotet.simplify_meshio(meshio.read(vtu), ratio=0.3, extensive=["mass"], material_array="ObjectId")
+        cd = {k: v[0] for k, v in m.cell_data.items()}
+        check_cells("meshio from .vtu", cd["ObjectId"], cd["density"], cd["label"], cd["mass"], mass_before, len(tets))
     try:
         topotet.vtk.simplify(ugrid, material_array="nope")
         check(False, "vtk: an unknown material_array is an error")

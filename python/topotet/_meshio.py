@@ -45,6 +45,23 @@ def _gather(mesh, name, blocks):
     return np.concatenate([np.asarray(mesh.cell_data[name][i]) for i in blocks]) if blocks else np.zeros(0)
 
 
+def cell_arguments(arrays, extensive, where):
+    """simplify()'s cell_fields and cell_kinds for the tets' numeric arrays {name: values}: integer
+    arrays are labels ("categorical"), float arrays "intensive", the names in `extensive` amounts to
+    conserve. `where` names the owner in the error for an unknown extensive name."""
+    cell_fields, kinds = {}, {}
+    for name, values in arrays.items():
+        if not np.issubdtype(values.dtype, np.number):
+            continue
+        cell_fields[name] = values.astype(np.float64)
+        kinds[name] = "categorical" if np.issubdtype(values.dtype, np.integer) else "intensive"
+    for name in extensive:
+        if name not in cell_fields:
+            raise ValueError(f"extensive {name!r}: {where} no cell array of that name")
+        kinds[name] = "extensive"
+    return ({"cell_fields": cell_fields, "cell_kinds": kinds} if cell_fields else {})
+
+
 def from_meshio(mesh, material_array=None, extensive=()):
     """simplify()'s keyword arguments for a meshio.Mesh (see the module's doc for the mapping):
     topotet.simplify(**topotet.from_meshio(mesh), ratio=0.1)."""
@@ -74,21 +91,8 @@ def _arguments(mesh, material_array, extensive):
     fields = {name: np.asarray(v, dtype=np.float64) for name, v in mesh.point_data.items()}
     if fields:
         kwargs["fields"] = fields
-    cell_fields, kinds = {}, {}
-    for name, arrays in mesh.cell_data.items():
-        if name == material:
-            continue
-        values = _gather(mesh, name, tetra)
-        if not np.issubdtype(values.dtype, np.number):
-            continue
-        cell_fields[name] = values.astype(np.float64)
-        kinds[name] = "categorical" if np.issubdtype(values.dtype, np.integer) else "intensive"
-    for name in extensive:
-        if name not in cell_fields:
-            raise ValueError(f"extensive {name!r}: the tets have no cell array of that name")
-        kinds[name] = "extensive"
-    if cell_fields:
-        kwargs["cell_fields"], kwargs["cell_kinds"] = cell_fields, kinds
+    arrays = {name: _gather(mesh, name, tetra) for name in mesh.cell_data if name != material}
+    kwargs.update(cell_arguments(arrays, extensive, "the tets have"))
     return kwargs, material
 
 

@@ -20,7 +20,7 @@ import warnings
 
 import numpy as np
 
-from ._meshio import MATERIAL_ARRAYS
+from ._meshio import MATERIAL_ARRAYS, cell_arguments
 
 VTK_TETRA = 10
 VTK_VOLUME_CELLS = {11: "voxel", 12: "hexahedron", 13: "wedge", 14: "pyramid", 24: "quadratic tetra",
@@ -67,19 +67,8 @@ def simplify(ugrid, material_array=None, extensive=(), **options):
     kwargs = {}
     if material is not None:
         kwargs["materials"] = arrays[material][is_tet].astype(np.int32)
-    cell_fields, kinds, dtypes = {}, {}, {}
-    for name, values in arrays.items():
-        if name == material:
-            continue
-        cell_fields[name] = values[is_tet].astype(np.float64)
-        kinds[name] = "categorical" if np.issubdtype(values.dtype, np.integer) else "intensive"
-        dtypes[name] = values.dtype
-    for name in extensive:
-        if name not in cell_fields:
-            raise ValueError(f"extensive {name!r}: the grid has no cell array of that name")
-        kinds[name] = "extensive"
-    if cell_fields:
-        kwargs["cell_fields"], kwargs["cell_kinds"] = cell_fields, kinds
+    dtypes = {name: values.dtype for name, values in arrays.items() if name != material}
+    kwargs.update(cell_arguments({name: arrays[name][is_tet] for name in dtypes}, extensive, "the grid has"))
     point_data = ugrid.GetPointData()
     fields = {}
     for i in range(point_data.GetNumberOfArrays()):
