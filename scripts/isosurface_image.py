@@ -1,7 +1,7 @@
 """Renders docs/images/isosurface_lox.png: the isosurface Pressure = 0.8 of the LOX post dataset
 (../shared/data/volume) as `topotet simplify --isosurface` keeps it: embedded in the input (the
-tets it crosses split, its triangles listed), then at 10% and 2% of the vertices. Its topology (8
-closed pieces) and its vertices' value are kept at every level; the labels give the triangle
+tets it crosses split, its triangles listed), then at 10% and 2% of the vertices. Its topology (Betti
+numbers [8, 0, 0, 0]) and its vertices' value are kept at every level; the labels give the triangle
 counts and the checker's verdict. Regenerate (docs/cli.md#isosurfaces):
 
     xvfb-run -a -s "-screen 0 1600x1000x24" pvbatch scripts/isosurface_image.py \\
@@ -16,7 +16,7 @@ import subprocess
 import sys
 import tempfile
 
-from paraview.simple import (ColorBy, CreateView, Outline, Render, SaveScreenshot, Show, Text, Transform,
+from paraview.simple import (CreateView, Outline, Render, SaveScreenshot, Show, Text, Transform,
                              XMLPolyDataReader, XMLUnstructuredGridReader)
 
 topotet, lox, image = sys.argv[1:4]
@@ -46,6 +46,7 @@ for i, (ratio, title) in enumerate(panels):
     volume = XMLUnstructuredGridReader(FileName=[mesh])
     surfaces = XMLPolyDataReader(FileName=[mesh[:-4] + "_substructures.vtp"])
     surfaces.UpdatePipeline()
+    volume.UpdatePipeline()
     if width is None:
         bounds = volume.GetDataInformation().GetBounds()
         width = 1.25 * (bounds[1] - bounds[0])
@@ -55,9 +56,9 @@ for i, (ratio, title) in enumerate(panels):
         moved.Transform.Translate = [i * width, 0.0, 0.0]
         shown = Show(moved, view)
         shown.SetRepresentationType(representation)
-        ColorBy(shown, None)
+        shown.ColorArrayName = [None, ""]  # one solid color
         shown.AmbientColor = shown.DiffuseColor = [0.85, 0.55, 0.3] if source is surfaces else [0.3, 0.3, 0.3]
-        shown.EdgeColor = [0.2, 0.2, 0.2]
+        shown.EdgeColor = [0.45, 0.28, 0.15]
     label = Text(Text="%s: %d triangles, topology %s" % (title, triangles, verdict))
     shown = Show(label, view)
     shown.WindowLocation = "Any Location"
@@ -65,10 +66,14 @@ for i, (ratio, title) in enumerate(panels):
     shown.FontSize = 12
     shown.Color = [0.1, 0.1, 0.1]
 
+# From above the panels' row (the dataset is flat in z), a little tilted, without perspective.
+view.CameraParallelProjection = 1
+view.CameraFocalPoint = [width, 0.0, 0.0]
+view.CameraPosition = [width, -60.0, 100.0]
+view.CameraViewUp = [0.0, 1.0, 0.0]
 Render(view)
 view.ResetCamera()
-view.GetActiveCamera().Elevation(25)
-view.GetActiveCamera().Dolly(1.35)
+view.CameraParallelScale = 0.45 * view.CameraParallelScale
 Render(view)
 SaveScreenshot(image, view, ImageResolution=[1500, 520], CompressionLevel="9")
 print("wrote", image)
