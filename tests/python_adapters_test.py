@@ -94,6 +94,15 @@ if meshio is not None:
     out1, _ = topotet.simplify_meshio(mesh, extensive=["mass"], ratio=0.3, threads=1)
     check(np.array_equal(out.points, out1.points) and np.array_equal(out.cells[0].data, out1.cells[0].data),
           "meshio: 1 and 2 threads give the same mesh")
+    # A mesher's file as meshio reads it (Mmg's tinyBoxt, ../shared/data when this checkout has it):
+    # its triangles and ridges with their refs become listed surfaces and polylines, medit:ref the
+    # materials, and meshio's own vertex refs no field.
+    tiny = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "data", "mmg", "tinyBoxt.mesh")
+    if os.path.exists(tiny):
+        k = topotet.from_meshio(meshio.read(tiny))
+        check(len(k["triangles"]) == len(k["triangle_refs"]) > 0 and len(k["segments"]) > 0 and "fields" not in k,
+              f"tinyBoxt through meshio: {sorted(k)}")
+        check(sorted(set(k["materials"].tolist())) == [2, 3], "tinyBoxt through meshio: its two materials (refs 2 and 3)")
     try:
         topotet.from_meshio(mesh, material_array="nope")
         check(False, "an unknown material_array is an error")

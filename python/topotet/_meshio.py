@@ -7,7 +7,8 @@ A meshio.Mesh maps onto simplify()'s keywords as follows:
   that the mesh has; none: every tet is material 0;
 - "triangle" cells with an integer ref array (the same names) -> listed surfaces (triangles,
   triangle_refs); "line" cells likewise -> polylines (segments, segment_refs);
-- point_data -> fields (float arrays of one value or one row per point);
+- point_data -> fields (float arrays of one value or one row per point), except meshio's own
+  "medit:" and "gmsh:" arrays (vertex refs, dim tags);
 - the tets' other cell_data -> cell_fields: integer arrays are "categorical" (labels: the majority of
   the volume), float arrays "intensive" (volume-weighted average); `extensive` names the amounts to
   conserve as sums (topotet/cell_fields.h).
@@ -20,6 +21,7 @@ import warnings
 import numpy as np
 
 MATERIAL_ARRAYS = ("material", "gmsh:physical", "medit:ref", "ObjectId", "ElementBlockIds", "CellEntityIds")
+FORMAT_ARRAYS = ("medit:", "gmsh:")
 VOLUME_CELLS = ("hexahedron", "wedge", "pyramid", "polyhedron", "tetra10", "hexahedron20", "hexahedron27",
                 "wedge15", "pyramid13")
 
@@ -88,7 +90,9 @@ def _arguments(mesh, material_array, extensive):
         ref = next((n for n in ((material,) if material else ()) + MATERIAL_ARRAYS if n in mesh.cell_data), None)
         refs = _gather(mesh, ref, blocks) if ref else np.ones(len(kwargs[cells_key]))
         kwargs[refs_key] = refs.astype(np.int32)
-    fields = {name: np.asarray(v, dtype=np.float64) for name, v in mesh.point_data.items()}
+    # meshio's own bookkeeping (medit:ref vertex labels, gmsh:dim_tags) is not a field to steer the cost.
+    fields = {name: np.asarray(v, dtype=np.float64) for name, v in mesh.point_data.items()
+              if not name.startswith(FORMAT_ARRAYS)}
     if fields:
         kwargs["fields"] = fields
     arrays = {name: _gather(mesh, name, tetra) for name in mesh.cell_data if name != material}
