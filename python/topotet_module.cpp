@@ -173,25 +173,29 @@ topotet::MeshData to_mesh_data(const py::object& points, const py::object& tets,
   return d;
 }
 
+// Whether `a` holds T in native byte order. Not dtype identity: numpy makes equal dtypes that are
+// distinct objects (meshio's arrays read from a .vtu have one), which were taken for int64 here.
+template <class T>
+bool holds(const py::array& a) {
+  return py::isinstance<py::array_t<T>>(a);
+}
+
 // A numpy array that the builder reads in place when its dtype is one it reads (float64 or
 // float32, int32 or int64, native byte order), with any strides; another dtype is converted once.
 py::array readable(const py::object& obj, bool integer) {
   py::array a = py::array::ensure(obj);
   if (!a) throw py::value_error("expected an array");
-  const py::dtype k = a.dtype();
-  const bool in_place = integer ? k.is(py::dtype::of<std::int32_t>()) || k.is(py::dtype::of<std::int64_t>())
-                                : k.is(py::dtype::of<double>()) || k.is(py::dtype::of<float>());
+  const bool in_place = integer ? holds<std::int32_t>(a) || holds<std::int64_t>(a) : holds<double>(a) || holds<float>(a);
   if (in_place) return a;
   return integer ? py::array(obj.cast<Ints>()) : py::array(obj.cast<Reals>());
 }
 
 topotet::StridedArray strided(const py::array& a) {
   using Type = topotet::StridedArray::Type;
-  const py::dtype k = a.dtype();
-  const Type type = k.is(py::dtype::of<double>())         ? Type::kFloat64
-                    : k.is(py::dtype::of<float>())        ? Type::kFloat32
-                    : k.is(py::dtype::of<std::int32_t>()) ? Type::kInt32
-                                                          : Type::kInt64;
+  const Type type = holds<double>(a)         ? Type::kFloat64
+                    : holds<float>(a)        ? Type::kFloat32
+                    : holds<std::int32_t>(a) ? Type::kInt32
+                                             : Type::kInt64;
   return {a.data(), type, a.ndim() > 0 ? a.strides(0) : 0, a.ndim() > 1 ? a.strides(1) : 0};
 }
 
