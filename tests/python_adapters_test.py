@@ -108,6 +108,21 @@ if meshio is not None:
         check(False, "an unknown material_array is an error")
     except ValueError as e:
         check("nope" in str(e) and "density" in str(e), f"material_array error names it and the arrays: {e}")
+    # A mixed mesh is refused as on the command line, or its tets taken with tets_only (a warning).
+    hexes = np.array([[0, 1, 6, 5, 25, 26, 31, 30]])
+    mixed = meshio.Mesh(points, [("tetra", tets), ("hexahedron", hexes)],
+                        cell_data={"material": [materials, np.array([1], dtype=np.int32)]})
+    try:
+        topotet.from_meshio(mixed)
+        check(False, "a mixed mesh is refused without tets_only")
+    except ValueError as e:
+        check("hexahedron" in str(e) and "tets_only" in str(e), f"mixed mesh: {e}")
+    import warnings
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        k = topotet.from_meshio(mixed, tets_only=True)
+    check(len(k["tets"]) == len(tets) and any("left out" in str(w.message) for w in caught),
+          "tets_only: the tets taken, the hexahedron left out with a warning")
     try:
         topotet.from_meshio(meshio.Mesh(points, [("triangle", tets[:, :3])]))
         check(False, "a mesh without tets is an error")

@@ -1,8 +1,8 @@
 """meshio 7 meshes in and out of topotet.simplify (Debian: python3-meshio).
 
 A meshio.Mesh maps onto simplify()'s keywords as follows:
-- points -> points; "tetra" cells -> tets (other volume cells are left out, with a warning, as the
-  command line's --tets-only does);
+- points -> points; "tetra" cells -> tets; other volume cells are an error, as on the command line,
+  unless tets_only=True leaves them out with a warning (--tets-only);
 - the material of each tet: the integer cell array `material_array`, or the first of MATERIAL_ARRAYS
   that the mesh has; none: every tet is material 0;
 - "triangle" cells with an integer ref array (the same names) -> listed surfaces (triangles,
@@ -64,19 +64,32 @@ def cell_arguments(arrays, extensive, where):
     return ({"cell_fields": cell_fields, "cell_kinds": kinds} if cell_fields else {})
 
 
-def from_meshio(mesh, material_array=None, extensive=()):
+def other_volume_cells(counts, tets_only):
+    """Refuses a mixed mesh ({cell type: count} of its non-tet volume cells) as the command line
+    does, or with tets_only warns that they are left out (--tets-only)."""
+    if not counts:
+        return
+    if not tets_only:
+        raise ValueError(f"the mesh has other volume cells than tets ({counts}): pass tets_only=True to leave "
+                         "them out (the command line's --tets-only)")
+    warnings.warn(f"tets_only: left out {counts}; the output covers the tets only", stacklevel=3)
+
+
+def from_meshio(mesh, material_array=None, extensive=(), tets_only=False):
     """simplify()'s keyword arguments for a meshio.Mesh (see the module's doc for the mapping):
     topotet.simplify(**topotet.from_meshio(mesh), ratio=0.1)."""
-    return _arguments(mesh, material_array, extensive)[0]
+    return _arguments(mesh, material_array, extensive, tets_only)[0]
 
 
-def _arguments(mesh, material_array, extensive):
+def _arguments(mesh, material_array, extensive, tets_only):
     tetra = _blocks(mesh, "tetra")
     if not tetra:
         raise ValueError("the mesh has no 'tetra' cells: topotet simplifies tetrahedral meshes")
-    left_out = {b.type: len(b.data) for b in mesh.cells if b.type in VOLUME_CELLS}
-    if left_out:
-        warnings.warn(f"only the tets are simplified; left out: {left_out}", stacklevel=2)
+    counts = {}
+    for b in mesh.cells:
+        if b.type in VOLUME_CELLS:
+            counts[b.type] = counts.get(b.type, 0) + len(b.data)
+    other_volume_cells(counts, tets_only)
     tets = np.concatenate([np.asarray(mesh.cells[i].data) for i in tetra])
     kwargs = {"points": np.asarray(mesh.points, dtype=np.float64)[:, :3], "tets": tets}
     material = _material_name(mesh, material_array, tetra)
@@ -120,11 +133,11 @@ def to_meshio(result, material_array="material"):
     return meshio.Mesh(np.asarray(result["points"]), cells, point_data=dict(result.get("fields", {})), cell_data=cell_data)
 
 
-def simplify_meshio(mesh, material_array=None, extensive=(), **options):
+def simplify_meshio(mesh, material_array=None, extensive=(), tets_only=False, **options):
     """topotet.simplify on a meshio.Mesh: (the simplified meshio.Mesh, simplify()'s report). The
     material array keeps its name; every point and cell array of the tets is carried."""
     from ._core import simplify
 
-    kwargs, material = _arguments(mesh, material_array, extensive)
+    kwargs, material = _arguments(mesh, material_array, extensive, tets_only)
     result = simplify(**kwargs, **options)
     return to_meshio(result, material_array=material or "material"), result["report"]

@@ -5,8 +5,9 @@ the grid's arrays where their types allow it (vtkmodules.util.numpy_support).
     out = topotet.vtk.simplify(ugrid, ratio=0.1)          # a new vtkUnstructuredGrid
     out = topotet.vtk.simplify(ugrid, ratio=0.1, material_array="ObjectId", extensive=["mass"])
 
-The grid's tets are simplified; its other volume cells are left out with a warning (the command
-line's --tets-only) and its other cells (triangles, lines, vertices) are ignored: listed surfaces
+The grid's tets are simplified; other volume cells are an error, as on the command line, unless
+tets_only=True leaves them out with a warning (--tets-only); its other cells (triangles, lines,
+vertices) are ignored: listed surfaces
 and polylines come from files (topotet.read) or from simplify()'s triangles / segments. The material
 of each tet is the integer cell array `material_array`, or the first of
 topotet._meshio.MATERIAL_ARRAYS the grid has, else 0. Every point array becomes a field and comes
@@ -16,11 +17,10 @@ topotet/cell_fields.h) and comes back as a cell array of the same name and type.
 report is in the output's field data as "topotet_report" (a JSON string).
 """
 import json
-import warnings
 
 import numpy as np
 
-from ._meshio import MATERIAL_ARRAYS, cell_arguments
+from ._meshio import MATERIAL_ARRAYS, cell_arguments, other_volume_cells
 
 VTK_TETRA = 10
 VTK_VOLUME_CELLS = {11: "voxel", 12: "hexahedron", 13: "wedge", 14: "pyramid", 24: "quadratic tetra",
@@ -33,7 +33,7 @@ def _numpy(array):
     return vtk_to_numpy(array)
 
 
-def simplify(ugrid, material_array=None, extensive=(), **options):
+def simplify(ugrid, material_array=None, extensive=(), tets_only=False, **options):
     """A new vtkUnstructuredGrid: `ugrid`'s tets simplified by topotet.simplify(**options)."""
     from vtkmodules.util.numpy_support import numpy_to_vtk
     from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
@@ -47,9 +47,8 @@ def simplify(ugrid, material_array=None, extensive=(), **options):
     is_tet = types == VTK_TETRA
     if not is_tet.any():
         raise ValueError("the grid has no tetrahedra (VTK_TETRA cells): topotet simplifies tetrahedral meshes")
-    left_out = {VTK_VOLUME_CELLS[t]: int((types == t).sum()) for t in np.unique(types) if t in VTK_VOLUME_CELLS}
-    if left_out:
-        warnings.warn(f"only the tets are simplified; left out: {left_out}", stacklevel=2)
+    other_volume_cells({VTK_VOLUME_CELLS[t]: int((types == t).sum()) for t in np.unique(types) if t in VTK_VOLUME_CELLS},
+                       tets_only)
     cells = ugrid.GetCells()
     offsets = _numpy(cells.GetOffsetsArray())
     connectivity = _numpy(cells.GetConnectivityArray())
