@@ -116,8 +116,9 @@ Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed
     try {
       ReadNotes notes;
       MeshData d = read_checked(mine, options, &notes);
-      warn_cells_not_carried(mine, d, "each rank reads one part of a split mesh, and the remap needs every input tet an "
-                             "output tet overlaps: give the whole mesh (one file) and a gathered output");
+      if (me == 0)  // every part holds the same arrays: one line for the run
+        warn_cells_not_carried(mine, d, "each rank reads one part of a split mesh, and the remap needs every input tet "
+                               "an output tet overlaps: give the whole mesh (one file) and a gathered output");
       if (notes.partitions == 0) throw InputError(mine + ": not a partitioned Gmsh 4.1 file (no $PartitionedEntities)");
       if (notes.partitions != static_cast<std::uint64_t>(ranks)) throw InputError(partitions_error(mine, notes.partitions, ranks));
       in.part.global_ids.assign(notes.node_tags.begin(), notes.node_tags.end());
