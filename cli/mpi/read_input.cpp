@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "common.h"  // read_mesh_file
@@ -74,16 +75,17 @@ void warn_cells_not_carried(const std::string& path, const MeshData& data, const
                data.cell_fields.size(), data.cell_fields.size() == 1 ? " is" : "s are", why);
 }
 
-// What the remap on rank 0 needs of the whole input (topotet/cell_fields.h), the kinds applied
-// now so that a wrong --extensive / --categorical name stops the run before the passes.
-MeshData cell_source_of(const MeshData& whole, const CellRemapOptions& carry) {
+// What the remap on rank 0 needs of the whole input (topotet/cell_fields.h), taken from it once
+// the ranks' parts are cut from it, the kinds applied before the passes so that a wrong
+// --extensive / --categorical name stops the run on every rank (agree).
+MeshData cell_source_of(MeshData&& whole, const CellRemapOptions& carry) {
   MeshData source;
-  source.cell_fields = whole.cell_fields;
+  source.cell_fields = std::move(whole.cell_fields);
   apply_cell_kinds(source.cell_fields, carry);  // throws for a name the input lacks
   if (source.cell_fields.empty()) return source;
-  source.positions = whole.positions;
-  source.tets = whole.tets;
-  source.tet_material = whole.tet_material;
+  source.positions = std::move(whole.positions);
+  source.tets = std::move(whole.tets);
+  source.tet_material = std::move(whole.tet_material);
   return source;
 }
 
@@ -136,9 +138,9 @@ Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed
       try {
         ReadNotes notes;
         MeshData d = read_checked(path, options, &notes);
-        if (carry_cells) in.cell_source = cell_source_of(d, *carry_cells);
-        else warn_cells_not_carried(path, d, "with --partitioned each rank writes its piece, and the remap needs every input "
-                                    "tet an output tet overlaps: leave out --partitioned to carry them");
+        if (!carry_cells)
+          warn_cells_not_carried(path, d, "with --partitioned each rank writes its piece, and the remap needs every input "
+                                 "tet an output tet overlaps: leave out --partitioned to carry them");
         if (notes.partitions != 0) {
           if (notes.partitions != static_cast<std::uint64_t>(ranks)) throw InputError(partitions_error(path, notes.partitions, ranks));
           std::vector<std::uint8_t> seen(static_cast<std::size_t>(ranks), 0);
@@ -157,6 +159,7 @@ Input read_input(MPI_Comm comm, const std::string& path, std::int32_t metis_seed
                              "mesh without its _<part> suffix");
         }
         in.part = topotet::mpi::from_whole(d);
+        if (carry_cells) in.cell_source = cell_source_of(std::move(d), *carry_cells);  // d's last use
       } catch (const std::exception& e) {
         error = e.what();
       }

@@ -91,9 +91,8 @@ def simplify(ugrid, material_array=None, extensive=(), tets_only=False, **option
         array = numpy_to_vtk(np.ascontiguousarray(values), deep=True)
         array.SetName(name)
         out.GetPointData().AddArray(array)
-    material_values = [(material or "material", np.asarray(result["materials"]), np.dtype(np.int32))]
-    if material is not None:
-        material_values[0] = (material, np.asarray(result["materials"]), arrays[material].dtype)
+    material_values = [(material or "material", np.asarray(result["materials"]),
+                        arrays[material].dtype if material is not None else np.dtype(np.int32))]
     for name, values in result["cell_fields"].items():
         values = np.asarray(values)
         if result["cell_kinds"].get(name) == "categorical" or np.issubdtype(dtypes.get(name, np.float64), np.integer):
