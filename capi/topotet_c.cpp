@@ -372,6 +372,7 @@ void topotet_options_init(topotet_options* options) {
   options->target_vertices = static_cast<std::int64_t>(d.target_vertices);
   options->max_cost = d.max_cost;
   options->min_quality = d.min_quality;
+  options->min_dihedral = d.min_dihedral;
   options->boundary_weight = d.boundary_weight;
   options->polyline_weight = d.polyline_weight;
   options->tolerance = d.tolerance;
@@ -484,6 +485,7 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
     o.target_vertices = static_cast<std::uint64_t>(c.target_vertices);
     o.max_cost = c.max_cost;
     o.min_quality = c.min_quality;
+    o.min_dihedral = c.min_dihedral;
     o.boundary_weight = c.boundary_weight;
     o.polyline_weight = c.polyline_weight;
     o.tolerance = c.tolerance;

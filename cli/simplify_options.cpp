@@ -56,6 +56,11 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
   keep(cmd->add_option("--min-quality", args.min_quality, "Reject collapses creating tets below this mean ratio")
            ->check(number_in(0.0, 1.0, false))
            ->capture_default_str());
+  keep(cmd->add_option("--min-dihedral", args.min_dihedral,
+                       "Reject collapses and optimisation steps creating tets with a dihedral angle below this "
+                       "(degrees; or above 180 minus it), unless the tets they replace were already worse; 0 = no floor")
+           ->check(number_in(0.0, 60.0, false))
+           ->capture_default_str());
   auto* tolerance = keep(cmd->add_option("--tolerance", args.tolerance,
                                          "Keep boundary, interfaces, surfaces and polylines within this distance of "
                                          "the original ones (mesh units; 0 = unchecked; default: --tolerance-rel)")
@@ -189,6 +194,7 @@ SimplifyOptions engine_options(const SimplifyArgs& args) {
   o.target_vertices = args.target_vertices;
   o.max_cost = args.max_cost;
   o.min_quality = args.min_quality;
+  o.min_dihedral = args.min_dihedral;
   if (args.tolerance >= 0.0) {
     o.tolerance = args.tolerance;
     o.tolerance_rel = 0.0;  // --tolerance 0 turns the check off
@@ -225,6 +231,7 @@ std::string options_text(const SimplifyOptions& o, const std::vector<double>& le
   }
   if (o.max_cost > 0) s += ", max cost " + format_number(o.max_cost);
   s += ", min quality " + format_number(o.min_quality);
+  if (o.min_dihedral > 0) s += ", min dihedral " + format_number(o.min_dihedral);
   s += o.tolerance > 0 ? ", tolerance " + format_number(o.tolerance)
        : o.tolerance_rel > 0 ? ", tolerance " + format_number(100.0 * o.tolerance_rel) + "% of the diagonal"
                              : std::string(", no tolerance");

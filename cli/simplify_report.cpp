@@ -454,6 +454,7 @@ Json options_json(const SimplifyJob& job, const SimplifyRun& run) {
           {"levels", job.levels},
           {"max_cost", job.options.max_cost},
           {"min_quality", job.options.min_quality},
+          {"min_dihedral", job.options.min_dihedral},
           {"round_fraction", job.options.round_fraction},
           {"tolerance", job.options.tolerance},
           {"tolerance_rel", job.options.tolerance_rel},

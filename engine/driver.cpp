@@ -65,6 +65,7 @@ std::string check_options(const SimplifyOptions& o) {
     return "target_vertex_ratio must be in (0, 1], got " + std::to_string(o.target_vertex_ratio);
   if (!(o.max_cost >= 0.0)) return "max_cost must be >= 0";
   if (!(o.min_quality >= 0.0 && o.min_quality < 1.0)) return "min_quality must be in [0, 1)";
+  if (!(o.min_dihedral >= 0.0 && o.min_dihedral < 60.0)) return "min_dihedral must be in [0, 60) degrees";
   if (!(o.boundary_weight >= 0.0) || !(o.polyline_weight >= 0.0)) return "weights must be >= 0";
   if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance)) return "tolerance must be finite and >= 0";
   if (!(o.tolerance_rel >= 0.0) || !std::isfinite(o.tolerance_rel)) return "tolerance_rel must be finite and >= 0";
@@ -183,6 +184,7 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
       report.feature_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - feature_start).count();
       CollapseOptions kernel;
       kernel.quality_floor = options.min_quality;
+      kernel.dihedral_floor = DihedralFloor::degrees(options.min_dihedral);
       // The original surfaces, built before the first collapse and shared read-only by all threads.
       std::unique_ptr<SurfaceReference> surfaces;
       std::unique_ptr<SurfaceCoverage> coverage;

@@ -35,8 +35,8 @@ struct Entry {
   double cost;
   VertId a, b;
   std::uint32_t stamp;
-  // 0, or the clock when the kernel accepted placement `checked & 3` of this edge, times 4: the
-  // entry stays 24 bytes (the heap holds an entry per edge). Clocks from 2^30 on are not kept.
+  // 0, or the clock when the kernel accepted placement `checked & 7` of this edge, times 8: the
+  // entry stays 24 bytes (the heap holds an entry per edge). Clocks from 2^29 on are not kept.
   std::uint32_t checked = 0;
   bool operator>(const Entry& o) const {
     return cost != o.cost ? cost > o.cost : (a != o.a ? a > o.a : b > o.b);
@@ -50,14 +50,14 @@ void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const 
                          const FinishStep& finish) {
   CostModel cost(mesh, options, kernel_options.surfaces);
   CollapseScratch scratch;
-  CollapseCandidate cands[4];
+  CollapseCandidate cands[kMaxCandidates];
   std::vector<VertId> nbrs, stencil;
   std::vector<double> fields(static_cast<std::size_t>(mesh.field_stride()));
   std::vector<double> candidate_fields;  // the field error check's values at each placement
   std::vector<std::uint32_t> stamp(mesh.positions.size(), 0);
   // The clock of the last collapse whose stencil held the vertex: its star changed then.
   std::vector<std::uint32_t> changed(mesh.positions.size(), 0);
-  constexpr std::uint32_t kMaxCheckedClock = (1u << 30) - 1;
+  constexpr std::uint32_t kMaxCheckedClock = (1u << 29) - 1;
   // Edges dropped as illegal, remembered at both ends (up to kParked partners per vertex; past
   // that the vertex overflows and all its edges are offered again).
   constexpr int kParked = 3;
@@ -104,17 +104,17 @@ void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const 
     const int n = cost.candidates(mesh, e.a, e.b, cands, scratch.link);
     ++report.evaluations;
     int chosen = -1;
-    const std::uint32_t checked_at = e.checked >> 2;
+    const std::uint32_t checked_at = e.checked >> 3;
     if (e.checked != 0 && changed[e.a] <= checked_at && changed[e.b] <= checked_at &&
-        static_cast<int>(e.checked & 3) < n && cands[e.checked & 3].cost == e.cost) {
+        static_cast<int>(e.checked & 7) < n && cands[e.checked & 7].cost == e.cost) {
       // Re-ranked, and St(a) ∪ St(b) untouched since the kernel accepted this placement: the same
       // candidates, the same verdict (the field bounds of the stars are unchanged too). The stars
       // are gathered for the stencil below.
-      chosen = static_cast<int>(e.checked & 3);
+      chosen = static_cast<int>(e.checked & 7);
       gather_stars(mesh, cands[chosen].u, cands[chosen].v, scratch);
     } else {
-      Placement placements[4];
-      for (int i = 0; i < n; ++i) placements[i] = {cands[i].u, cands[i].v, cands[i].p};
+      Placement placements[kMaxCandidates];
+      for (int i = 0; i < n; ++i) placements[i] = {cands[i].u, cands[i].v, cands[i].p, nullptr, cands[i].fallback};
       if (bounds != nullptr && bounds->has_limit()) set_placement_fields(mesh, cost, cands, n, placements, candidate_fields);
       ++report.legality_checks;
       cost.hint_orders(e.a, e.b, scratch.link);
@@ -134,7 +134,7 @@ void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const 
     // The accepted placement is remembered: an edge left alone until it comes back out is not
     // checked again (most of them; the others had their stars changed by a collapse meanwhile).
     if (cands[chosen].cost > e.cost && !heap.empty() && cands[chosen].cost > 2.0 * heap.top().cost) {
-      const std::uint32_t checked = clock <= kMaxCheckedClock ? clock << 2 | static_cast<std::uint32_t>(chosen) : 0;
+      const std::uint32_t checked = clock <= kMaxCheckedClock ? clock << 3 | static_cast<std::uint32_t>(chosen) : 0;
       heap.push({cands[chosen].cost, e.a, e.b, e.stamp, checked});
       continue;
     }

@@ -87,11 +87,12 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
         if (best == kCollapsible) break;
         if (mesh.is_frozen(u)) continue;
         const VertId a = std::min(u, v), b = std::max(u, v);
-        CollapseCandidate cands[4];
+        CollapseCandidate cands[kMaxCandidates];
         const int n = cost.candidates(mesh, a, b, cands, scratch.link);
         // The placements that remove v: v merges into u, or both move to one new point.
-        Placement placements[4];
-        CollapseCandidate kept[4];
+        // Each placement is tried alone, the quality fallbacks included (as if reached).
+        Placement placements[kMaxCandidates];
+        CollapseCandidate kept[kMaxCandidates];
         int m = 0;
         for (int k = 0; k < n; ++k)
           if (cands[k].v == v || cands[k].placement != 0) {
@@ -167,6 +168,11 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
       return "--tolerance-rel " + number(2.0 * rel) + " (SimplifyOptions::tolerance_rel, twice H = " +
              number(report.tolerance) + ") is the next step" + effect;
     }
+    if (name == "quality" && options.min_dihedral > 0.0)
+      return "--min-dihedral " + number(options.min_dihedral / 2.0) + " or --min-quality " +
+             number(options.min_quality / 2.0) +
+             " (SimplifyOptions::min_dihedral, min_quality: half a floor) is the next step" + effect +
+             ", with flatter tets";
     if (name == "quality")
       return "--min-quality " + number(options.min_quality / 2.0) +
              " (SimplifyOptions::min_quality, half the floor) is the next step" + effect + ", with flatter tets";

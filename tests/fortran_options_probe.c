@@ -43,7 +43,8 @@ int topotet_probe_options(const topotet_options* options, double* values, int ca
                       options->optimize,
                       options->track_field_bounds,
                       options->progress != NULL,
-                      options->progress_user_data != NULL};
+                      options->progress_user_data != NULL,
+                      options->min_dihedral};
   const int n = (int)(sizeof v / sizeof v[0]);
   if (capacity < n) return -1;
   for (int i = 0; i < n; ++i) values[i] = v[i];

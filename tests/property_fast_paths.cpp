@@ -111,7 +111,7 @@ void run(const testing::PlantedMesh& planted, std::uint64_t seed, std::uint64_t 
       ++stats.order_checks;
     }
     // The cost of ranking agrees with the cost of the cheapest candidate.
-    CollapseCandidate cands[4];
+    CollapseCandidate cands[kMaxCandidates];
     const int n = cost.candidates(m, a, b, cands, scratch.link);
     const double ranked = cost.edge_cost(m, a, b, scratch.link);
     ++stats.cost_checks;
@@ -145,8 +145,8 @@ void run(const testing::PlantedMesh& planted, std::uint64_t seed, std::uint64_t 
     }
 
     // The collapse the engines would take, through the hinted path.
-    Placement placements[4];
-    for (int i = 0; i < n; ++i) placements[i] = {cands[i].u, cands[i].v, cands[i].p};
+    Placement placements[kMaxCandidates];
+    for (int i = 0; i < n; ++i) placements[i] = {cands[i].u, cands[i].v, cands[i].p, nullptr, cands[i].fallback};
     cost.hint_orders(a, b, scratch.link);
     const int chosen = first_acceptable(m, placements, n, CollapseOptions{}, scratch, nullptr);
     if (chosen < 0) {

@@ -37,6 +37,7 @@ TEST(CapiOptions, DefaultsAreTheLibrarys) {
   EXPECT_EQ(c.target_vertices, static_cast<std::int64_t>(d.target_vertices));
   EXPECT_EQ(c.max_cost, d.max_cost);
   EXPECT_EQ(c.min_quality, d.min_quality);
+  EXPECT_EQ(c.min_dihedral, d.min_dihedral);
   EXPECT_EQ(c.boundary_weight, d.boundary_weight);
   EXPECT_EQ(c.polyline_weight, d.polyline_weight);
   EXPECT_EQ(c.tolerance, d.tolerance);
@@ -61,14 +62,14 @@ TEST(CapiOptions, DefaultsAreTheLibrarys) {
   EXPECT_EQ(static_cast<int>(topotet::CellFieldKind::kExtensive), TOPOTET_CELL_EXTENSIVE);
 }
 
-// SimplifyOptions' 21 fields: 19 reach C, 17 as options of their own and three as pairs or
+// SimplifyOptions' 22 fields: 20 reach C, 18 as options of their own and three as pairs or
 // triples (field_weights: field_weight_count, _names, _weights; on_progress: progress,
 // progress_user_data), isosurfaces through topotet_mesh_embed_isosurfaces (the handle remembers
 // them); 2 are the C++ engine's own:
 //   round_log  - per-round diagnostics for bench_simplify and `topotet simplify -vv`
 //   cost_units - the MPI driver's shared cost units (topotet::mpi)
 TEST(CapiOptions, FieldCountIsKnown) {
-  constexpr std::size_t in_c = 19;        // every other field
+  constexpr std::size_t in_c = 20;        // every other field
   constexpr std::size_t engine_only = 2;  // round_log, cost_units
   EXPECT_EQ(field_count<topotet::SimplifyOptions>(), in_c + engine_only)
       << "SimplifyOptions changed: add the field to topotet_options (capi/include/topotet/topotet_c.h, at the end), "

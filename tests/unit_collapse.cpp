@@ -3,6 +3,8 @@
 
 #include "kernel/collapse.h"
 #include "kernel/link_condition.h"
+#include "mesh/dihedral.h"
+#include "mesh/moved_corner.h"
 #include "mesh/mesh_model.h"
 #include "test_meshes.h"
 
@@ -154,6 +156,57 @@ TEST(Collapse, InversionIsDetected) {
   // Move the merged vertex far outside its star: some tet must flip.
   const glm::dvec3 far = m.positions[g.vid(2, 2, 2)] + glm::dvec3(0, 0, 5);
   EXPECT_EQ(may_collapse(m, g.vid(2, 2, 2), g.vid(2, 2, 1), far, {}, s), CollapseReason::kInversion);
+}
+
+// The dihedral floor's sine: the regular tet's angle is acos(1/3) (sin^2 = 8/9); the screen
+// (mesh/dihedral.h): no tet with an angle under 5 degrees (or over 175) has a mean ratio of 0.25.
+TEST(DihedralFloor, SineOfTheSmallestAngleAndTheScreen) {
+  const glm::dvec3 a(1, 0, -1 / std::sqrt(2.0)), b(-1, 0, -1 / std::sqrt(2.0)), c(0, 1, 1 / std::sqrt(2.0)),
+      d(0, -1, 1 / std::sqrt(2.0));
+  EXPECT_NEAR(min_dihedral_sine_sq(a, b, c, d), 8.0 / 9.0, 1e-12);
+  EXPECT_NEAR(min_dihedral_sine_sq(a, c, b, d), 8.0 / 9.0, 1e-12);  // either orientation
+  // A sliver: a unit square's corners, two of them lifted by h: angles near 0 and 180.
+  const double h = 0.01;
+  const double s = min_dihedral_sine_sq({0, 0, 0}, {1, 1, 0}, {1, 0, h}, {0, 1, h});
+  EXPECT_LT(s, 4.0 * h * h);
+  EXPECT_GT(s, 0.0);
+  EXPECT_EQ(min_dihedral_sine_sq({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}), 0.0);  // flat
+  const DihedralFloor floor = DihedralFloor::degrees(5.0);
+  std::uint64_t state = 12345;
+  const auto next = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) / static_cast<double>(1ull << 53);
+  };
+  int under = 0;
+  for (int i = 0; i < 200000; ++i) {
+    glm::dvec3 p[4];
+    for (auto& x : p) x = {next(), next() * (0.05 + next()), next() * (0.05 + next())};
+    const double q3 = std::fabs(mean_ratio_cubed(p[0], p[1], p[2], p[3]));
+    if (min_dihedral_sine_sq(p[0], p[1], p[2], p[3]) < floor.sine_sq) {
+      ++under;
+      EXPECT_LT(q3, floor.screen_q3) << "a tet under the floor passes the screen";
+    }
+  }
+  EXPECT_GT(under, 1000);
+  EXPECT_EQ(DihedralFloor::degrees(20.0).screen_q3, 2.0);  // above 5 degrees: every tet is tested
+  EXPECT_FALSE(DihedralFloor::degrees(0.0).active());
+}
+
+// The kernel refuses a placement whose new star has an angle under min(floor, the old star's),
+// as the quality floor does (the same reason).
+TEST(DihedralFloor, TheKernelRefusesAPlacementUnderIt) {
+  Grid g = uniform(4);
+  const MeshModel m = build_mesh_model(g.data);
+  CollapseScratch s;
+  const VertId u = g.vid(2, 2, 2), v = g.vid(2, 2, 1);
+  CollapseOptions none;
+  none.quality_floor = 0.0;
+  ASSERT_EQ(may_collapse(m, u, v, m.positions[u], none, s), CollapseReason::kOk);
+  CollapseOptions with = none;
+  with.dihedral_floor = DihedralFloor::degrees(44.0);  // the grid's tets have 45, 60 and 90 degrees
+  EXPECT_EQ(may_collapse(m, u, v, m.positions[u], with, s), CollapseReason::kQuality);
+  with.dihedral_floor = DihedralFloor::degrees(1.0);
+  EXPECT_EQ(may_collapse(m, u, v, m.positions[u], with, s), CollapseReason::kOk);
 }
 
 TEST(Collapse, ApplyKeepsIncidenceAndFlagsConsistent) {

@@ -71,6 +71,22 @@ TEST(StopDiagnosis, OnlyTheQualityFloorStopsIt) {
   EXPECT_NE(r.stop.suggestion.find("--min-quality 0.45"), std::string::npos) << r.stop.suggestion;
 }
 
+// The dihedral floor alone (no mean ratio floor): the reason is quality, and the suggestion halves
+// the dihedral floor.
+TEST(StopDiagnosis, OnlyTheDihedralFloorStopsIt) {
+  MeshModel mesh = build_mesh_model(small_cube_sphere());
+  SimplifyOptions options;
+  options.tolerance_rel = 0.0;
+  options.feature_angle = 180.0;
+  options.min_quality = 0.0;
+  options.min_dihedral = 50.0;
+  options.target_vertex_ratio = 0.02;
+  const Report r = simplify(mesh, options);
+  expect_consistent(r, "quality");
+  EXPECT_GT(r.rejected_by(RejectReason::kQuality), 0u);
+  EXPECT_NE(r.stop.suggestion.find("--min-dihedral 25"), std::string::npos) << r.stop.suggestion;
+}
+
 // Every vertex listed as a corner (or required): nothing moves, and no option changes that.
 TEST(StopDiagnosis, OnlyPinnedVerticesStopIt) {
   for (const bool required : {false, true}) {

@@ -24,7 +24,7 @@ constexpr double kFeatureFieldWeight = 3.0;
 // quadric's (cost.h).
 constexpr double kFieldBlend = 0.25;
 
-enum Placement : int { kAtU = 0, kMidpoint = 1, kOptimum = 2 };
+enum Placement : int { kAtU = 0, kMidpoint = 1, kOptimum = 2, kAlong = 3 };
 
 }  // namespace
 
@@ -253,7 +253,7 @@ bool CostModel::pins_conflict(const MeshModel& mesh, VertId a, VertId b) const {
   return false;
 }
 
-int CostModel::candidates(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch) {
+int CostModel::candidates(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[kMaxCandidates], LinkScratch& scratch) {
   if (pins_conflict(mesh, a, b)) return 0;
   // The hot path of both engines: the quadric arithmetic is instantiated for the common
   // dimensions (positions plus up to 4 field components) so that its loops unroll.
@@ -327,7 +327,7 @@ struct CostModel::EdgeQuadric {
 };
 
 template <int kN>
-int CostModel::candidates_n(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch) {
+int CostModel::candidates_n(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[kMaxCandidates], LinkScratch& scratch) {
   if (mesh.is_frozen(a) || mesh.is_frozen(b)) return 0;  // no collapse touches a frozen vertex
   const std::uint8_t oa = order(mesh, a, scratch), ob = order(mesh, b, scratch);
   if (oa == 3 && ob == 3) return 0;  // link condition (I); pinned vertices have order 3
@@ -343,6 +343,7 @@ int CostModel::candidates_n(const MeshModel& mesh, VertId a, VertId b, CollapseC
     c.v = v;
     c.placement = placement;
     std::copy_n(x, n, c.x);
+    c.fallback = false;
     c.p = placement == kAtU ? mesh.positions[u]
           : placement == kMidpoint ? 0.5 * (mesh.positions[a] + mesh.positions[b])
                                    : origin_ + glm::dvec3(x[0], x[1], x[2]) / inv_diag_;
@@ -374,7 +375,30 @@ int CostModel::candidates_n(const MeshModel& mesh, VertId a, VertId b, CollapseC
     o.p = c.p;
     o.cost = c.cost;
     o.placement = c.placement;
+    o.fallback = false;
     std::copy_n(c.x, n, o.x);
+  }
+  // The quality fallbacks (issue #26: where a quality floor refuses every placement above, try
+  // others before refusing the edge): the points at 1/4 and 3/4 of the edge, where its two ends
+  // may both move. They lie wherever the midpoint does (on the edge: on a flat face's plane, on a
+  // polyline's segment), so the same rules hold; the kernel checks them like any placement. Not
+  // ranked with the others: the edge's rank stays its cheapest placement's (edge_cost), and a
+  // fallback is said to cost at least as much as the dearest placement before it, so the list
+  // stays sorted (the engines rely on it: a verified proposal may only get dearer when its proof
+  // moves on to a later placement; rounds.cpp).
+  if (count >= 3) {
+    double dearest = out[count - 1].cost;
+    const glm::dvec3 end_a = mesh.positions[a], end_b = mesh.positions[b];
+    for (const double t : {0.25, 0.75}) {
+      CollapseCandidate& o = out[count++];
+      o.u = a;
+      o.v = b;
+      o.placement = kAlong;
+      o.fallback = true;
+      o.p = end_a + t * (end_b - end_a);
+      for (int i = 0; i < n; ++i) o.x[i] = e.xa[i] + t * (e.xb[i] - e.xa[i]);
+      o.cost = dearest = std::max(e.placement_cost(o.x, true), dearest);
+    }
   }
   return count;
 }

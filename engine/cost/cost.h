@@ -110,11 +110,18 @@
 
 namespace topotet {
 
+// The placements candidates() gives for one edge, at most: the two endpoints, the midpoint and
+// the optimum, then two fallbacks (below).
+inline constexpr int kMaxCandidates = 6;
+
 struct CollapseCandidate {
   VertId u = kInvalid, v = kInvalid;  // v merges into u
   glm::dvec3 p{0.0};                  // new position of u (mesh units)
   double cost = 0.0;                  // normalised units
-  int placement = 0;                  // 0 = at u, 1 = midpoint, 2 = quadric optimum
+  int placement = 0;                  // 0 = at u, 1 = midpoint, 2 = quadric optimum, 3 = along the edge
+  // A quality fallback: tried only when a placement before it was refused by a quality floor
+  // (Placement::quality_fallback).
+  bool fallback = false;
   double x[kMaxQuadricDim];           // the placement in normalised quadric coordinates
 };
 
@@ -128,9 +135,11 @@ class CostModel {
 
   int dimension() const { return n_; }
 
-  // Placements for edge ab, cheapest first (at most 4). Returns 0 when the orders forbid the
+  // Placements for edge ab, cheapest first (at most 4), then, where the edge's ends may both move
+  // (equal orders, neither pinned), the two quality fallbacks at a quarter and three quarters of
+  // the edge (kMaxCandidates in all). Returns 0 when the orders forbid the
   // collapse outright (both ends order 3, or a pinned end that would have to move).
-  int candidates(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch);
+  int candidates(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[kMaxCandidates], LinkScratch& scratch);
 
   // The cost of edge ab's cheapest placement (candidates()[0].cost, up to rounding: the optimum,
   // when it is a candidate, is taken as the cheapest without evaluating the others); infinity
@@ -182,7 +191,7 @@ class CostModel {
   template <int kN>
   struct EdgeQuadric;
   template <int kN>
-  int candidates_n(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[4], LinkScratch& scratch);
+  int candidates_n(const MeshModel& mesh, VertId a, VertId b, CollapseCandidate out[kMaxCandidates], LinkScratch& scratch);
   template <int kN>
   double edge_cost_n(const MeshModel& mesh, VertId a, VertId b, LinkScratch& scratch);
   void normalise(const MeshModel& mesh, VertId v, double* x) const;

@@ -174,8 +174,8 @@ void Proposals::restore_lifted_bans(VertId a, Proposal& p, VertId u) {
 }
 
 int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
-  Placement placements[4];
-  for (int i = 0; i < n; ++i) placements[i] = {s.cands[i].u, s.cands[i].v, s.cands[i].p};
+  Placement placements[kMaxCandidates];
+  for (int i = 0; i < n; ++i) placements[i] = {s.cands[i].u, s.cands[i].v, s.cands[i].p, nullptr, s.cands[i].fallback};
   if (kernel_.field_bounds != nullptr && kernel_.field_bounds->has_limit()) set_placement_fields(mesh_, cost_, s.cands, n, placements, s.fields);
   ++s.checks;
   cost_.hint_orders(a, b, s.collapse.link);
@@ -190,8 +190,11 @@ int Proposals::prove(VertId a, ProposalScratch& s) {
   if (surfaces == nullptr || (!surfaces->on_surface(a) && !surfaces->on_surface(p.b))) return from;  // nothing deferred
   const int n = cost_.candidates(mesh_, a, p.b, s.cands, s.collapse.link);
   if (from < 0 || from >= n) throw std::logic_error("parallel rounds: a verified proposal changed before it was proved");
-  Placement placements[4];
-  for (int i = from; i < n; ++i) placements[i - from] = {s.cands[i].u, s.cands[i].v, s.cands[i].p};
+  // The verified placement is proved whatever it is (a quality fallback was reached then); the ones
+  // after it keep their rule.
+  Placement placements[kMaxCandidates];
+  for (int i = from; i < n; ++i)
+    placements[i - from] = {s.cands[i].u, s.cands[i].v, s.cands[i].p, nullptr, i > from && s.cands[i].fallback};
   if (kernel_.field_bounds != nullptr && kernel_.field_bounds->has_limit())
     set_placement_fields(mesh_, cost_, s.cands + from, n - from, placements, s.fields);
   ++s.checks;

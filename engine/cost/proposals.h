@@ -41,7 +41,7 @@ struct ProposalScratch {
     VertId b;
   };
   CollapseScratch collapse;  // the kernel's; after a successful verify() it holds that edge's stars
-  CollapseCandidate cands[4];
+  CollapseCandidate cands[kMaxCandidates];
   std::vector<VertId> nbrs;
   std::vector<EdgeCost> edges;
   std::vector<std::uint32_t> edge_order;

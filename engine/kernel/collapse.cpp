@@ -160,6 +160,22 @@ double old_star_quality(const MeshModel& mesh, const CollapseScratch& s) {
   return worst;
 }
 
+// Smallest sin^2 of a dihedral angle in St(u) ∪ St(v) before the collapse, over the tets the
+// floor's screen does not clear (the others are above the floor: they cannot lower min(floor, it)).
+double old_star_dihedral(const MeshModel& mesh, const CollapseScratch& s, const DihedralFloor& floor) {
+  const auto& P = mesh.positions;
+  double worst = 1.0;
+  auto visit = [&](TetId t) {
+    const auto& tv = mesh.tets[t];
+    if (std::fabs(mean_ratio_cubed(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]])) >= floor.screen_q3) return;
+    worst = std::min(worst, min_dihedral_sine_sq(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]));
+  };
+  for (TetId t : s.star_u) visit(t);
+  for (TetId t : s.star_v)
+    if (!std::binary_search(s.star_uv.begin(), s.star_uv.end(), t)) visit(t);
+  return worst;
+}
+
 // The geometric test of one placement reads, for every tet of the new star, only the three corners
 // that stay and p (mesh/moved_corner.h).
 void prepare_moved_tet(const MeshModel& mesh, CollapseScratch& s, std::size_t i) {
@@ -173,8 +189,11 @@ void prepare_moved_tet(const MeshModel& mesh, CollapseScratch& s, std::size_t i)
 // flat (sign not certainly positive); otherwise `worst_q3` is the worst (mean ratio)^3 of the new star.
 // Most placements fail on one of the first tets, so the per-tet data is prepared lazily: tet i
 // is prepared the first time a placement of this edge gets that far.
-bool new_star_geometry(const MeshModel& mesh, CollapseScratch& s, const glm::dvec3& p, VertId staying, double& worst_q3) {
-  double worst = 1.0;
+// With a dihedral floor, `worst_sine_sq` is the smallest sin^2 of a dihedral angle among the new
+// tets its screen does not clear (1 if none).
+bool new_star_geometry(const MeshModel& mesh, CollapseScratch& s, const glm::dvec3& p, VertId staying,
+                       const DihedralFloor& floor, double& worst_q3, double& worst_sine_sq) {
+  double worst = 1.0, worst_sine = 1.0;
   if (s.moved.size() < s.new_star.size()) s.moved.resize(s.new_star.size());
   if (s.prepared.size() < s.new_star.size()) s.prepared.resize(s.new_star.size(), 0);
   for (std::size_t i = 0; i < s.new_star.size(); ++i) {
@@ -196,8 +215,13 @@ bool new_star_geometry(const MeshModel& mesh, CollapseScratch& s, const glm::dve
       return false;
     }
     worst = std::min(worst, q3);
+    if (q3 < floor.screen_q3) {
+      const MovedCorner& m = s.moved[i];
+      worst_sine = std::min(worst_sine, min_dihedral_sine_sq(m.a, p, m.c, m.d));
+    }
   }
   worst_q3 = worst;
+  worst_sine_sq = worst_sine;
   return true;
 }
 
@@ -253,9 +277,12 @@ int first_acceptable(const MeshModel& mesh, const Placement* placements, int cou
   VertId gathered_u = kInvalid, gathered_v = kInvalid;
   bool link_done = false;
   double old_quality = -1.0;  // of this edge's stencil, computed once when first needed
+  double old_dihedral = -1.0;  // likewise
+  bool quality_refused = false;  // the quality fallbacks are tried only then
   std::array<VertId, 2> surface_edge{kInvalid, kInvalid};  // edge whose surface stencil s.surface holds
   for (int i = 0; i < count; ++i) {
     const Placement& pl = placements[i];
+    if (pl.quality_fallback && !quality_refused) continue;
     if (mesh.is_frozen(pl.u) || mesh.is_frozen(pl.v) || mesh.is_pinned(pl.v) ||
         (mesh.is_pinned(pl.u) && pl.p != mesh.positions[pl.u])) {
       reject(CollapseReason::kPinned);
@@ -280,8 +307,8 @@ int first_acceptable(const MeshModel& mesh, const Placement* placements, int cou
       reject(CollapseReason::kLinkK);  // not an edge
       return -1;
     }
-    double new_quality = 0.0;
-    if (!new_star_geometry(mesh, s, pl.p, staying, new_quality)) {
+    double new_quality = 0.0, new_dihedral = 1.0;
+    if (!new_star_geometry(mesh, s, pl.p, staying, options.dihedral_floor, new_quality, new_dihedral)) {
       reject(CollapseReason::kInversion);
       continue;
     }
@@ -293,6 +320,16 @@ int first_acceptable(const MeshModel& mesh, const Placement* placements, int cou
       if (old_quality < 0.0) old_quality = old_star_quality(mesh, s);
       if (new_quality < std::min(floor3, old_quality)) {
         reject(CollapseReason::kQuality);
+        quality_refused = true;
+        continue;
+      }
+    }
+    // The dihedral floor, by the same rule: min(floor, smallest angle of the old star).
+    if (new_dihedral < options.dihedral_floor.sine_sq) {
+      if (old_dihedral < 0.0) old_dihedral = old_star_dihedral(mesh, s, options.dihedral_floor);
+      if (new_dihedral < std::min(options.dihedral_floor.sine_sq, old_dihedral)) {
+        reject(CollapseReason::kQuality);
+        quality_refused = true;
         continue;
       }
     }

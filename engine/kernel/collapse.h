@@ -21,6 +21,7 @@
 #include "kernel/link_condition.h"
 #include "guarantees/surface_coverage.h"
 #include "guarantees/surface_tolerance.h"
+#include "mesh/dihedral.h"
 #include "mesh/mesh_model.h"
 #include "mesh/moved_corner.h"
 
@@ -42,6 +43,9 @@ const char* to_string(CollapseReason reason);
 struct CollapseOptions {
   // The worst mean ratio of the new star may not fall below min(quality_floor, worst of the old).
   double quality_floor = 0.05;
+  // Nor may its smallest dihedral angle fall below min(floor, the smallest of the old star's)
+  // (mesh/dihedral.h; inactive by default).
+  DihedralFloor dihedral_floor;
   // Optional geometric tolerance (surface_tolerance.h): with a reference, the surfaces and
   // polylines around p must stay within `tolerance` of the original ones. Checked last; the
   // reference is immutable, so the check is thread-safe.
@@ -122,10 +126,13 @@ struct CollapseScratch {
 
 // One way to collapse an edge: v merges into u, which moves to p with field values `fields`
 // (field_stride() of them; nullptr: u keeps its values). Only the field error check reads them.
+// A quality fallback (CollapseCandidate::fallback) is tried only when a placement before it in the
+// same call was refused by a quality floor; otherwise it is skipped, and counts as no rejection.
 struct Placement {
   VertId u, v;
   glm::dvec3 p;
   const double* fields = nullptr;
+  bool quality_fallback = false;
 };
 
 // Fills scratch.star_u, star_v, star_uv. Returns false if uv is not an edge.

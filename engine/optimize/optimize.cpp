@@ -21,6 +21,7 @@ void optimize_after_collapses(MeshModel& mesh, const SimplifyOptions& options, C
   // a mean ratio above 0.3.
   SmoothOptions smooth;  // light: their defaults
   SwapOptions swap;
+  smooth.dihedral_floor = swap.dihedral_floor = DihedralFloor::degrees(options.min_dihedral);
   if (full) {
     smooth.max_passes = 2;  // per round
     swap.max_passes = 8;

@@ -169,6 +169,27 @@ double star_quality(const std::vector<MovedCorner>& moved, const glm::dvec3& x, 
   return q;
 }
 
+// The star's smallest sin^2 of a dihedral angle with the vertex at x, over the tets the floor's
+// screen does not clear (1 if none; mesh/dihedral.h).
+double star_dihedral(const std::vector<MovedCorner>& moved, const glm::dvec3& x, const DihedralFloor& floor) {
+  double worst = 1.0;
+  for (const MovedCorner& m : moved) {
+    double q3 = 0.0;
+    if (moved_corner_quality(m, x, q3) && q3 >= floor.screen_q3) continue;
+    worst = std::min(worst, min_dihedral_sine_sq(m.a, x, m.c, m.d));
+  }
+  return worst;
+}
+
+// Does moving the vertex from x0 to x keep the dihedral floor: the new star's smallest angle at
+// least min(floor, the old star's)?
+bool dihedral_kept(const std::vector<MovedCorner>& moved, const glm::dvec3& x0, const glm::dvec3& x,
+                   const DihedralFloor& floor) {
+  if (!floor.active()) return true;
+  const double now = star_dihedral(moved, x, floor);
+  return now >= floor.sine_sq || now >= std::min(floor.sine_sq, star_dihedral(moved, x0, floor));
+}
+
 // Gradient of log((mean ratio)^3) of one tet with respect to its moving corner at x:
 // q3 = 432 det^2 / S^3, so d log q3 = 2 d(det) / det - 3 dS / S, with d(det) / dx = normal and
 // dS / dx = 2 ((x - a) + (x - c) + (x - d)).
@@ -247,8 +268,8 @@ bool samples_kept(const MeshModel& mesh, const CostModel& cost, const InputSampl
 // The best point found for movable vertex v, if it lifts the star's worst tet by kMinGain at least.
 // A vertex of a flat sheet moves in its axis plane only: every candidate point keeps that
 // coordinate exactly.
-bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double target3, Scratch& s, std::uint8_t& known,
-             Proposal& out) {
+bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double target3, const DihedralFloor& floor,
+             Scratch& s, std::uint8_t& known, Proposal& out) {
   if (known == kUnknown) known = encode(mobility_of(mesh, v, s));
   if (known == kKnownFixed) return false;
   const int axis = known >= kKnownInPlane ? known - kKnownInPlane : -1;
@@ -317,7 +338,7 @@ bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double targ
     x = in_plane(0.5 * (x0 + x), x0);
     qx = star_quality(s.moved, x);
   }
-  if (tries == 8 || !(qx > q0 * kMinGain)) return false;
+  if (tries == 8 || !(qx > q0 * kMinGain) || !dihedral_kept(s.moved, x0, x, floor)) return false;
   out = {v, x, q0};
   return true;
 }
@@ -329,15 +350,15 @@ bool propose(const MeshModel& mesh, const CostModel& cost, VertId v, double targ
 // on the way: it is convex, and the old point is within its budget), while the star's worst tet
 // still gains kMinGain; false when it does not. Reads the mesh only: the winners' stars share no
 // tet, and none of them is a vertex of another's star.
-bool keep_samples(const MeshModel& mesh, const CostModel& cost, const InputSamples* samples, double growth, Proposal& pr,
-                  Scratch& s) {
+bool keep_samples(const MeshModel& mesh, const CostModel& cost, const InputSamples* samples, double growth,
+                  const DihedralFloor& floor, Proposal& pr, Scratch& s) {
   if (samples == nullptr || samples->empty() || mesh.field_stride() == 0) return true;
   prepare_star(mesh, pr.v, s);
   const glm::dvec3 x0 = mesh.positions[pr.v];
   bool gathered = false;
   glm::dvec3 x = pr.p;
   for (int tries = 0; tries < 8; ++tries) {
-    if (samples_kept(mesh, cost, samples, growth, pr.v, x, s, gathered)) {
+    if (samples_kept(mesh, cost, samples, growth, pr.v, x, s, gathered) && dihedral_kept(s.moved, x0, x, floor)) {
       pr.p = x;
       return true;
     }
@@ -420,7 +441,7 @@ SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostM
     std::vector<std::uint8_t> has(candidates.size(), 0);
     parallel::for_range<std::size_t>(0, candidates.size(), 64, "smooth_evaluate", [&](std::size_t b, std::size_t e) {
       Scratch& s = scratch.local();
-      for (std::size_t i = b; i < e; ++i) has[i] = propose(mesh, cost, candidates[i], target3, s, known[candidates[i]], all[i]) ? 1 : 0;
+      for (std::size_t i = b; i < e; ++i) has[i] = propose(mesh, cost, candidates[i], target3, options.dihedral_floor, s, known[candidates[i]], all[i]) ? 1 : 0;
     });
     proposals.clear();
     for (std::size_t i = 0; i < all.size(); ++i)
@@ -475,7 +496,7 @@ SmoothStats smooth_vertices(MeshModel& mesh, const SmoothOptions& options, CostM
     parallel::for_range<std::size_t>(0, proposals.size(), 16, "smooth_samples", [&](std::size_t b, std::size_t e) {
       Scratch& s = scratch.local();
       for (std::size_t i = b; i < e; ++i)
-        if (won[i] && !keep_samples(mesh, cost, samples, options.max_sample_error_growth, proposals[i], s)) won[i] = 0;
+        if (won[i] && !keep_samples(mesh, cost, samples, options.max_sample_error_growth, options.dihedral_floor, proposals[i], s)) won[i] = 0;
     });
     std::vector<std::uint8_t> moved(proposals.size(), 0);
     parallel::for_range<std::size_t>(0, proposals.size(), 16, "smooth_apply", [&](std::size_t b, std::size_t e) {

@@ -51,6 +51,7 @@
 
 #include "cost/cost.h"
 #include "guarantees/field_bounds.h"
+#include "mesh/dihedral.h"
 #include "mesh/mesh_model.h"
 #include "optimize/input_samples.h"
 
@@ -68,6 +69,9 @@ struct SmoothOptions {
   // errors may grow by this fraction at most (1: double), as for the flips (swap.h, where the
   // measurements are); a move is pulled back toward the old point until it holds.
   double max_sample_error_growth = 1.0;
+  // A move may not make the star's smallest dihedral angle fall below min(floor, the smallest it
+  // had) (SimplifyOptions::min_dihedral, as for the collapses).
+  DihedralFloor dihedral_floor;
 };
 
 struct SmoothStats {

@@ -160,7 +160,7 @@ using Stars = std::vector<std::vector<TetId>>;
 class FlipFinder {
  public:
   FlipFinder(const MeshModel& m, const Stars& stars, const InputSamples* samples, const SwapOptions& options)
-      : m_(m), stars_(stars), samples_(samples), growth_(options.max_sample_error_growth) {
+      : m_(m), stars_(stars), samples_(samples), growth_(options.max_sample_error_growth), floor_(options.dihedral_floor) {
     // Each field component's range over the live vertices: the unit of max_field_change.
     const int k = m.field_stride();
     std::vector<double> lo(static_cast<std::size_t>(k), std::numeric_limits<double>::infinity());
@@ -199,7 +199,7 @@ class FlipFinder {
     });
     for (int i = 0; i < count; ++i) {
       const Flip& f = candidates_[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
-      if (field_kept(f)) {
+      if (dihedral_kept(f) && field_kept(f)) {
         best = f;
         return true;
       }
@@ -208,6 +208,25 @@ class FlipFinder {
   }
 
  private:
+  // The smallest sin^2 of a dihedral angle over tets the floor's screen does not clear (1 if none).
+  double smallest_dihedral(const std::array<VertId, 4>& tv) const {
+    const auto& P = m_.positions;
+    if (std::fabs(quality(m_, tv)) >= floor_.screen_q3) return 1.0;
+    return min_dihedral_sine_sq(P[tv[0]], P[tv[1]], P[tv[2]], P[tv[3]]);
+  }
+
+  // Does the flip keep the dihedral floor: the made tets' smallest angle at least min(floor, the
+  // smallest of the tets it replaces)?
+  bool dihedral_kept(const Flip& f) const {
+    if (!floor_.active()) return true;
+    double made = 1.0;
+    for (int i = 0; i < f.made_count; ++i) made = std::min(made, smallest_dihedral(f.made[static_cast<std::size_t>(i)]));
+    if (made >= floor_.sine_sq) return true;
+    double old = 1.0;
+    for (int i = 0; i < f.old_count; ++i) old = std::min(old, smallest_dihedral(m_.tets[f.old[static_cast<std::size_t>(i)]]));
+    return made >= std::min(floor_.sine_sq, old);
+  }
+
   // Is the flip's change of the interpolated field acceptable? Two tests, component by component:
   // - at the input's vertices inside the region (InputSamples: where the output's field error is
   //   measured), the sum of the squared errors (in units of each component's range) must not grow
@@ -454,6 +473,7 @@ class FlipFinder {
   std::vector<double> allowed_;    // [field component] the largest change a flip may make
   const InputSamples* samples_;
   double growth_;
+  DihedralFloor floor_;
   std::vector<TetId> ring_;
   std::vector<FieldTet> before_, after_;
   std::array<Flip, 10> candidates_{};  // 6 edges, 4 faces

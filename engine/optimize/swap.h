@@ -44,6 +44,7 @@
 
 #include <cstdint>
 
+#include "mesh/dihedral.h"
 #include "mesh/mesh_model.h"
 #include "optimize/input_samples.h"
 
@@ -69,6 +70,9 @@ struct SwapOptions {
   // is left to tell. Thin tets aligned with a steep field are what represents it: with this bound
   // alone (0.03; 0.1 was +34% on LOX at 2%), the flips tripled LOX's field RMS at 30%.
   double max_field_change = 0.03;
+  // A flip may not make its region's smallest dihedral angle fall below min(floor, the smallest it
+  // had) (SimplifyOptions::min_dihedral, as for the collapses).
+  DihedralFloor dihedral_floor;
 };
 
 struct SwapStats {

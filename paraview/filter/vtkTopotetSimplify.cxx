@@ -56,6 +56,7 @@ vtkTopotetSimplify::vtkTopotetSimplify() {
   this->Tolerance = defaults.tolerance;
   this->FeatureAngle = defaults.feature_angle;
   this->MinQuality = defaults.min_quality;
+  this->MinDihedral = defaults.min_dihedral;
   this->MaxCost = defaults.max_cost;
   this->MaxFieldErrorRel = defaults.max_field_error_rel;
   this->Optimize = static_cast<int>(defaults.optimize);
@@ -101,6 +102,7 @@ int vtkTopotetSimplify::RequestData(vtkInformation*, vtkInformationVector** inpu
     options.tolerance = this->Tolerance;
     options.feature_angle = this->FeatureAngle;
     options.min_quality = this->MinQuality;
+    options.min_dihedral = this->MinDihedral;
     options.max_cost = this->MaxCost;
     options.max_field_error_rel = this->MaxFieldErrorRel;
     options.optimize = static_cast<topotet::Optimize>(this->Optimize);
@@ -162,6 +164,7 @@ void vtkTopotetSimplify::PrintSelf(ostream& os, vtkIndent indent) {
      << indent << "Tolerance: " << this->Tolerance << "\n"
      << indent << "FeatureAngle: " << this->FeatureAngle << "\n"
      << indent << "MinQuality: " << this->MinQuality << "\n"
+     << indent << "MinDihedral: " << this->MinDihedral << "\n"
      << indent << "MaxCost: " << this->MaxCost << "\n"
      << indent << "MaxFieldErrorRel: " << this->MaxFieldErrorRel << "\n"
      << indent << "Optimize: " << this->Optimize << "\n"

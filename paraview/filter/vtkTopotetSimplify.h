@@ -56,6 +56,10 @@ class TOPOTETFILTERS_EXPORT vtkTopotetSimplify : public vtkUnstructuredGridAlgor
   // Refuse collapses creating tets below this mean ratio (SimplifyOptions::min_quality).
   vtkSetMacro(MinQuality, double);
   vtkGetMacro(MinQuality, double);
+  // Refuse collapses and optimisation steps creating tets with a dihedral angle below this, in
+  // degrees, unless the tets they replace were already worse; 0 = off (SimplifyOptions::min_dihedral).
+  vtkSetMacro(MinDihedral, double);
+  vtkGetMacro(MinDihedral, double);
   // Stop when the cheapest collapse costs more; 0 = no limit (SimplifyOptions::max_cost).
   vtkSetMacro(MaxCost, double);
   vtkGetMacro(MaxCost, double);
@@ -101,6 +105,7 @@ class TOPOTETFILTERS_EXPORT vtkTopotetSimplify : public vtkUnstructuredGridAlgor
   double Tolerance;
   double FeatureAngle;
   double MinQuality;
+  double MinDihedral;
   double MaxCost;
   double MaxFieldErrorRel;
   int Optimize;

@@ -150,6 +150,8 @@ typedef struct topotet_options {
      itself; return 0 to cancel (TOPOTET_CANCELLED, the mesh valid and partly simplified). NULL = none. */
   int (*progress)(double done_fraction, void* user_data);
   void* progress_user_data;
+  double min_dihedral;        /* degrees; no new tet below min(this, the smallest angle of the tets it
+                                 replaces); default 5; 0 = no floor */
 } topotet_options;
 
 /* Same counters as topotet::Report. */

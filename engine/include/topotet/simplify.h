@@ -62,7 +62,7 @@ enum class RejectReason : std::uint8_t {
   kLinkKtilde,     // would change the topology of a substructure (surfaces, interfaces, polylines)
   kPinned,         // would remove a pinned vertex or move it
   kInversion,      // a tet of the new star would be inverted or degenerate
-  kQuality,        // a tet of the new star would fall below min_quality
+  kQuality,        // a tet of the new star would fall below min_quality or min_dihedral
   kTolerance,      // a surface or polyline would leave the geometric tolerance
   kFieldError,     // a tet's field error bound would exceed max_field_error(_rel)
 };
@@ -95,6 +95,13 @@ struct SimplifyOptions {
   // Reject collapses whose new star would have a tet below min(min_quality, worst of the old star)
   // (mean ratio, 1 = regular tet).
   double min_quality = 0.05;
+  // Nor a tet with a dihedral angle below min(min_dihedral, the smallest of the old star), in
+  // degrees (or above 180 - min_dihedral: the floor is on the angle's sine); 0 = no floor. The
+  // optimisation (optimize) keeps it too, so no output tet is below min(min_dihedral, the input's
+  // smallest dihedral angle), and where the input is worse its slivers are not made worse. 5 by
+  // default (issue #26: slivers cost a solver; measured in docs/performance.md, "The dihedral
+  // floor"); where a floor refuses every placement, points at 1/4 and 3/4 of the edge are tried.
+  double min_dihedral = 5.0;
   // Weight of boundary/surface (plane) and polyline (line) quadrics relative to tet quadrics.
   double boundary_weight = 100.0;
   double polyline_weight = 100.0;
