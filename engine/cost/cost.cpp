@@ -18,6 +18,11 @@ namespace {
 constexpr std::uint8_t kStale = 0xFF;         // unknown
 constexpr std::uint8_t kStaleFeature = 0xFE;  // unknown, but it was not 0: skip the interior test
 constexpr double kLengthTieBreak = 1e-6;
+// The size term's unit (SimplifyOptions::size_weight; cost.h): an edge of length l weighs
+// size_weight x kSizeUnit x l^3, about the quadric error of a relative field error
+// sqrt(size_weight) over the ~20 tets of edge length l around it (each input tet counted at its 4
+// vertices: 4 x 20 / (6 sqrt 2) = 9.43).
+constexpr double kSizeUnit = 80.0 / (6.0 * 1.4142135623730951);
 // A feature face's field term weighs this many tets (cost.h).
 constexpr double kFeatureFieldWeight = 3.0;
 // The new vertex's field value: this much of the mesh's field at its position, the rest the
@@ -29,7 +34,10 @@ enum Placement : int { kAtU = 0, kMidpoint = 1, kOptimum = 2 };
 }  // namespace
 
 CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options, const SurfaceReference* surfaces)
-    : stride_(mesh.field_stride()), surfaces_(surfaces), vertex_count_(mesh.positions.size()) {
+    : stride_(mesh.field_stride()),
+      length_weight_(kLengthTieBreak + options.size_weight * kSizeUnit),
+      surfaces_(surfaces),
+      vertex_count_(mesh.positions.size()) {
   // The quadric's field coordinates: every component of a field with a positive weight, in mesh
   // order, at most kMaxQuadricDim - 3 of them.
   std::vector<double> component_weight;
@@ -296,7 +304,7 @@ struct CostModel::EdgeQuadric {
     std::copy_n(model.coordinates(b), n, xb);
     for (int i = 0; i < n; ++i) xm[i] = 0.5 * (xa[i] + xb[i]);
     length = glm::length(glm::dvec3(xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]));
-    tie = kLengthTieBreak * length * length * length;
+    tie = model.length_weight_ * length * length * length;  // the tie break and the size term (cost.h)
   }
 
   // Cost at x (normalised). Where the position is constrained (an endpoint, the midpoint), the

@@ -150,6 +150,7 @@ typedef struct topotet_options {
      itself; return 0 to cancel (TOPOTET_CANCELLED, the mesh valid and partly simplified). NULL = none. */
   int (*progress)(double done_fraction, void* user_data);
   void* progress_user_data;
+  double size_weight;         /* size term in the ranking of collapses; 0 = error only (as --size-weight) */
 } topotet_options;
 
 /* Same counters as topotet::Report. */

@@ -95,6 +95,16 @@ struct SimplifyOptions {
   // Reject collapses whose new star would have a tet below min(min_quality, worst of the old star)
   // (mean ratio, 1 = regular tet).
   double min_quality = 0.05;
+  // Weight of the size term in the ranking of collapses (issue #26, item 5; engine/cost/cost.h):
+  // every edge ab costs size_weight x 80 / (6 sqrt 2) x |ab|^3 (|ab| relative to the bounding box
+  // diagonal) on top of its quadric error, about what a relative field error of sqrt(size_weight)
+  // at every input vertex around the edge costs. Short edges go first wherever the error is small,
+  // so flat surfaces and smooth regions coarsen evenly instead of being left dense while the
+  // interior empties; where the field or the shape needs vertices the quadric still wins. Placements,
+  // the kernel's checks and every guarantee are the same; max_cost bounds the ranking cost, size
+  // term included. 0 = rank by the error alone (the smallest edges first only among equal errors):
+  // the most field accuracy for a vertex count, for visualisation. Must be finite and >= 0.
+  double size_weight = 0.0;
   // Weight of boundary/surface (plane) and polyline (line) quadrics relative to tet quadrics.
   double boundary_weight = 100.0;
   double polyline_weight = 100.0;
