@@ -31,7 +31,7 @@ struct SimplifyArgs {
   std::uint64_t target_vertices = 0;
   double max_cost = 0.0;
   double min_quality = SimplifyOptions{}.min_quality;
-  double size_weight = SimplifyOptions{}.size_weight;  // --size-weight
+  std::string size_weight = "auto";  // --size-weight auto|W
   double tolerance = -1.0;  // < 0: not given (the relative default applies)
   double tolerance_rel = SimplifyOptions{}.tolerance_rel;
   double max_field_error = 0.0;

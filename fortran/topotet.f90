@@ -86,7 +86,7 @@ module topotet
     ! real(c_double), value :: done_fraction and type(c_ptr), value :: user_data; 0 cancels.
     type(c_funptr) :: progress
     type(c_ptr) :: progress_user_data
-    real(c_double) :: size_weight  ! size term in the ranking of collapses; 0 = error only
+    real(c_double) :: size_weight  ! size term in the ranking of collapses; 0 = error only; < 0 = auto (default)
   end type
 
   type, bind(c), public :: topotet_report

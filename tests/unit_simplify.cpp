@@ -274,6 +274,30 @@ TEST(SizeTerm, CoarsensAFineLayerTheErrorAloneKeeps) {
   }
 }
 
+// size_weight's default, auto: the size term where only the geometry steers the cost, the error
+// alone where a field does (SimplifyOptions::size_weight says why).
+TEST(SizeTerm, AutoIsOnWithoutFieldsAndOffWithThem) {
+  testing::Grid g = testing::make_grid(8, 8, 8, [](int i, int j, int k) {
+    const double dx = i - 4, dy = j - 4, dz = k - 4;
+    return dx * dx + dy * dy + dz * dz < 7 ? 2 : 1;
+  });
+  const auto run = [](const MeshData& input, double size_weight) {
+    MeshModel mesh = build_mesh_model(input);
+    SimplifyOptions options;
+    options.target_vertex_ratio = 0.2;
+    options.size_weight = size_weight;
+    const Status status = simplify(mesh, options).status;
+    EXPECT_TRUE(status == Status::kOk || status == Status::kStoppedEarly) << to_string(status);
+    return mesh.to_mesh_data();
+  };
+  ASSERT_LT(SimplifyOptions{}.size_weight, 0.0);
+  EXPECT_TRUE(run(g.data, kSizeWeightAuto) == run(g.data, kAutoSizeWeight));
+  EXPECT_FALSE(run(g.data, kSizeWeightAuto) == run(g.data, 0.0)) << "the size term changed nothing here";
+  testing::add_linear_field(g);
+  for (auto& p : g.data.fields[0].values) p = p * p;  // a curved field: the error steers
+  EXPECT_TRUE(run(g.data, kSizeWeightAuto) == run(g.data, 0.0));
+}
+
 TEST(Simplify, ProgressCanCancel) {
   testing::Grid g = testing::make_grid(12, 12, 12, [](int, int, int) { return 1; });
   for (Engine engine : {Engine::kSequential, Engine::kParallel}) {

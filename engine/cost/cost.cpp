@@ -35,7 +35,6 @@ enum Placement : int { kAtU = 0, kMidpoint = 1, kOptimum = 2 };
 
 CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options, const SurfaceReference* surfaces)
     : stride_(mesh.field_stride()),
-      length_weight_(kLengthTieBreak + options.size_weight * kSizeUnit),
       surfaces_(surfaces),
       vertex_count_(mesh.positions.size()) {
   // The quadric's field coordinates: every component of a field with a positive weight, in mesh
@@ -52,6 +51,9 @@ CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options, cons
   }
   const int k = static_cast<int>(component_.size());
   n_ = 3 + k;
+  // The size term (cost.h); auto: on where only the geometry steers the cost (SimplifyOptions).
+  const double size_weight = options.size_weight >= 0.0 ? options.size_weight : k == 0 ? kAutoSizeWeight : 0.0;
+  length_weight_ = kLengthTieBreak + size_weight * kSizeUnit;
   compute_field_pins(mesh, options.isosurfaces, pins_);  // checked by simplify() (driver.cpp)
   const std::size_t nv = mesh.positions.size();
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());

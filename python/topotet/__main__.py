@@ -93,7 +93,7 @@ def main(argv=None):
     s.add_argument("--tolerance", type=float, help="the same in mesh units (wins over --tolerance-rel)")
     s.add_argument("--feature-angle", type=float, help=f"sharp edges kept as curves, degrees (default {d['feature_angle']}; 180 = none)")
     s.add_argument("--min-quality", type=float, help=f"quality floor, mean ratio (default {d['min_quality']})")
-    s.add_argument("--size-weight", type=float, help=f"size term in the ranking of collapses (default {d['size_weight']}; 0 = error only)")
+    s.add_argument("--size-weight", type=float, help="size term in the ranking of collapses (0 = error only; default: auto, 3e-4 when no field steers the cost, else 0)")
     s.add_argument("--threads", type=int, help="threads (default: all; the output is the same for every count)")
     s.add_argument("--optimize", choices=("none", "light", "full"), help=f"after the collapses (default {d['optimize']})")
     s.add_argument("--max-field-error", type=float, help="field error bound per component, field units")

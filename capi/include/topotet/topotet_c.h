@@ -150,7 +150,8 @@ typedef struct topotet_options {
      itself; return 0 to cancel (TOPOTET_CANCELLED, the mesh valid and partly simplified). NULL = none. */
   int (*progress)(double done_fraction, void* user_data);
   void* progress_user_data;
-  double size_weight;         /* size term in the ranking of collapses; 0 = error only (as --size-weight) */
+  double size_weight;         /* size term in the ranking of collapses (--size-weight); 0 = error only;
+                                 negative = auto (default): 3e-4 when no field steers the cost, else 0 */
 } topotet_options;
 
 /* Same counters as topotet::Report. */
