@@ -34,9 +34,7 @@ enum Placement : int { kAtU = 0, kMidpoint = 1, kOptimum = 2 };
 }  // namespace
 
 CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options, const SurfaceReference* surfaces)
-    : stride_(mesh.field_stride()),
-      surfaces_(surfaces),
-      vertex_count_(mesh.positions.size()) {
+    : stride_(mesh.field_stride()), surfaces_(surfaces), vertex_count_(mesh.positions.size()) {
   // The quadric's field coordinates: every component of a field with a positive weight, in mesh
   // order, at most kMaxQuadricDim - 3 of them.
   std::vector<double> component_weight;
