@@ -390,6 +390,7 @@ void topotet_options_init(topotet_options* options) {
   options->track_field_bounds = d.track_field_bounds ? 1 : 0;
   options->progress = nullptr;  // d.on_progress is empty
   options->progress_user_data = nullptr;
+  options->size_weight = d.size_weight;
 }
 
 topotet_status topotet_mesh_build(const topotet_mesh_arrays* arrays, int num_threads, topotet_mesh** mesh) {
@@ -486,6 +487,7 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
     o.max_cost = c.max_cost;
     o.min_quality = c.min_quality;
     o.min_dihedral = c.min_dihedral;
+    o.size_weight = c.size_weight;
     o.boundary_weight = c.boundary_weight;
     o.polyline_weight = c.polyline_weight;
     o.tolerance = c.tolerance;

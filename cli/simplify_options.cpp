@@ -61,6 +61,17 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
                        "(degrees; or above 180 minus it), unless the tets they replace were already worse; 0 = no floor")
            ->check(number_in(0.0, 60.0, false))
            ->capture_default_str());
+  keep(cmd->add_option("--size-weight", args.size_weight,
+                       "Weight W of the edge size in the ranking of collapses: short edges go first where the error "
+                       "is small, so sizes even out (flat surfaces coarsen too); about a relative field error of "
+                       "sqrt(W); 0 = rank by the error alone; auto = " + format_number(kAutoSizeWeight) +
+                           " when no field steers the cost, else 0")
+           ->type_name("auto|W")
+           ->check([](const std::string& value) {
+             std::string text = value;
+             return value == "auto" ? std::string() : number_in(0.0, kInfinity, false)(text);
+           })
+           ->capture_default_str());
   auto* tolerance = keep(cmd->add_option("--tolerance", args.tolerance,
                                          "Keep boundary, interfaces, surfaces and polylines within this distance of "
                                          "the original ones (mesh units; 0 = unchecked; default: --tolerance-rel)")
@@ -195,6 +206,7 @@ SimplifyOptions engine_options(const SimplifyArgs& args) {
   o.max_cost = args.max_cost;
   o.min_quality = args.min_quality;
   o.min_dihedral = args.min_dihedral;
+  o.size_weight = args.size_weight == "auto" ? kSizeWeightAuto : std::stod(args.size_weight);  // checked when parsing
   if (args.tolerance >= 0.0) {
     o.tolerance = args.tolerance;
     o.tolerance_rel = 0.0;  // --tolerance 0 turns the check off
@@ -232,6 +244,8 @@ std::string options_text(const SimplifyOptions& o, const std::vector<double>& le
   if (o.max_cost > 0) s += ", max cost " + format_number(o.max_cost);
   s += ", min quality " + format_number(o.min_quality);
   if (o.min_dihedral > 0) s += ", min dihedral " + format_number(o.min_dihedral);
+  s += o.size_weight < 0 ? std::string(", size weight auto")
+       : o.size_weight > 0 ? ", size weight " + format_number(o.size_weight) : std::string(", error only");
   s += o.tolerance > 0 ? ", tolerance " + format_number(o.tolerance)
        : o.tolerance_rel > 0 ? ", tolerance " + format_number(100.0 * o.tolerance_rel) + "% of the diagonal"
                              : std::string(", no tolerance");

@@ -32,6 +32,7 @@ struct SimplifyArgs {
   double max_cost = 0.0;
   double min_quality = SimplifyOptions{}.min_quality;
   double min_dihedral = SimplifyOptions{}.min_dihedral;
+  std::string size_weight = "auto";  // --size-weight auto|W
   double tolerance = -1.0;  // < 0: not given (the relative default applies)
   double tolerance_rel = SimplifyOptions{}.tolerance_rel;
   double max_field_error = 0.0;

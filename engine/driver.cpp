@@ -67,6 +67,7 @@ std::string check_options(const SimplifyOptions& o) {
   if (!(o.min_quality >= 0.0 && o.min_quality < 1.0)) return "min_quality must be in [0, 1)";
   if (!(o.min_dihedral >= 0.0 && o.min_dihedral < 60.0)) return "min_dihedral must be in [0, 60) degrees";
   if (!(o.boundary_weight >= 0.0) || !(o.polyline_weight >= 0.0)) return "weights must be >= 0";
+  if (!std::isfinite(o.size_weight)) return "size_weight must be finite (negative = auto)";
   if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance)) return "tolerance must be finite and >= 0";
   if (!(o.tolerance_rel >= 0.0) || !std::isfinite(o.tolerance_rel)) return "tolerance_rel must be finite and >= 0";
   if (!(o.max_field_error >= 0.0) || !std::isfinite(o.max_field_error)) return "max_field_error must be finite and >= 0";

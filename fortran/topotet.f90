@@ -87,6 +87,7 @@ module topotet
     type(c_funptr) :: progress
     type(c_ptr) :: progress_user_data
     real(c_double) :: min_dihedral  ! degrees; default 5; 0 = no dihedral floor
+    real(c_double) :: size_weight  ! size term in the ranking of collapses; 0 = error only; < 0 = auto (default)
   end type
 
   type, bind(c), public :: topotet_report

@@ -393,8 +393,8 @@ py::list iso_level_list(const topotet::IsoEmbedReport& report, const topotet::Me
 
 py::dict simplify(const py::object& points, const py::object& tets, const py::object& materials,
                   const py::object& fields, double ratio, std::uint64_t target_vertices, double tolerance_rel,
-                  double tolerance, double min_quality, double min_dihedral, double max_cost, int threads,
-                  const std::string& engine,
+                  double tolerance, double min_quality, double min_dihedral, double size_weight, double max_cost,
+                  int threads, const std::string& engine,
                   const py::object& triangles, const py::object& triangle_refs, const py::object& segments,
                   const py::object& segment_refs, const py::object& corners, double feature_angle,
                   const std::map<std::string, double>& field_weights, double max_field_error,
@@ -427,6 +427,7 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   options.tolerance = tolerance;
   options.min_quality = min_quality;
   options.min_dihedral = min_dihedral;
+  options.size_weight = size_weight;
   options.max_cost = max_cost;
   options.num_threads = threads;
   options.feature_angle = feature_angle;
@@ -529,6 +530,7 @@ PYBIND11_MODULE(_core, m) {
         d["tolerance"] = defaults.tolerance;
         d["min_quality"] = defaults.min_quality;
         d["min_dihedral"] = defaults.min_dihedral;
+        d["size_weight"] = defaults.size_weight;
         d["max_cost"] = defaults.max_cost;
         d["threads"] = defaults.num_threads;
         d["feature_angle"] = defaults.feature_angle;
@@ -546,7 +548,8 @@ PYBIND11_MODULE(_core, m) {
         py::arg("fields") = py::none(), py::arg("ratio") = defaults.target_vertex_ratio,
         py::arg("target_vertices") = defaults.target_vertices, py::arg("tolerance_rel") = defaults.tolerance_rel,
         py::arg("tolerance") = defaults.tolerance, py::arg("min_quality") = defaults.min_quality,
-        py::arg("min_dihedral") = defaults.min_dihedral, py::arg("max_cost") = defaults.max_cost,
+        py::arg("min_dihedral") = defaults.min_dihedral, py::arg("size_weight") = defaults.size_weight,
+        py::arg("max_cost") = defaults.max_cost,
         py::arg("threads") = defaults.num_threads, py::arg("engine") = "parallel", py::arg("triangles") = py::none(),
         py::arg("triangle_refs") = py::none(), py::arg("segments") = py::none(),
         py::arg("segment_refs") = py::none(), py::arg("corners") = py::none(),

@@ -16,7 +16,7 @@ size_t topotet_probe_sizeof(int which) {
 }
 
 /* The fields of *options (NULL: of a fresh topotet_options_init) in declaration order, as doubles
- * (pointers as 1 = set, 0 = NULL). Returns the count (21), or -1 when capacity is too small. */
+ * (pointers as 1 = set, 0 = NULL). Returns the count (22), or -1 when capacity is too small. */
 int topotet_probe_options(const topotet_options* options, double* values, int capacity) {
   topotet_options fresh;
   if (options == NULL) {
@@ -44,7 +44,8 @@ int topotet_probe_options(const topotet_options* options, double* values, int ca
                       options->track_field_bounds,
                       options->progress != NULL,
                       options->progress_user_data != NULL,
-                      options->min_dihedral};
+                      options->min_dihedral,
+                      options->size_weight};
   const int n = (int)(sizeof v / sizeof v[0]);
   if (capacity < n) return -1;
   for (int i = 0; i < n; ++i) values[i] = v[i];

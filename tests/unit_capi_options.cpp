@@ -55,6 +55,7 @@ TEST(CapiOptions, DefaultsAreTheLibrarys) {
   EXPECT_EQ(c.track_field_bounds != 0, d.track_field_bounds);
   EXPECT_EQ(c.progress == nullptr, !d.on_progress);
   EXPECT_EQ(c.progress_user_data, nullptr);
+  EXPECT_EQ(c.size_weight, d.size_weight);
   // The enums' values are the library's.
   EXPECT_EQ(static_cast<int>(topotet::Engine::kSequential), 1);
   EXPECT_EQ(static_cast<int>(topotet::Optimize::kFull), 2);
@@ -62,14 +63,14 @@ TEST(CapiOptions, DefaultsAreTheLibrarys) {
   EXPECT_EQ(static_cast<int>(topotet::CellFieldKind::kExtensive), TOPOTET_CELL_EXTENSIVE);
 }
 
-// SimplifyOptions' 22 fields: 20 reach C, 18 as options of their own and three as pairs or
+// SimplifyOptions' 23 fields: 21 reach C, 19 as options of their own and three as pairs or
 // triples (field_weights: field_weight_count, _names, _weights; on_progress: progress,
 // progress_user_data), isosurfaces through topotet_mesh_embed_isosurfaces (the handle remembers
 // them); 2 are the C++ engine's own:
 //   round_log  - per-round diagnostics for bench_simplify and `topotet simplify -vv`
 //   cost_units - the MPI driver's shared cost units (topotet::mpi)
 TEST(CapiOptions, FieldCountIsKnown) {
-  constexpr std::size_t in_c = 20;        // every other field
+  constexpr std::size_t in_c = 21;        // every other field
   constexpr std::size_t engine_only = 2;  // round_log, cost_units
   EXPECT_EQ(field_count<topotet::SimplifyOptions>(), in_c + engine_only)
       << "SimplifyOptions changed: add the field to topotet_options (capi/include/topotet/topotet_c.h, at the end), "

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 #include <random>
@@ -230,6 +231,71 @@ TEST(Simplify, PolycrystalKeepsEveryCellAndJunction) {
                 (unsigned long long)report.vertices_before, (unsigned long long)report.vertices_after,
                 to_string(report.status));
   }
+}
+
+// The size term (SimplifyOptions::size_weight; engine/cost/cost.h): a flat boundary layer of thin
+// tets (4 layers of 1/4, under 8 layers of 1) whose field, a boundary layer exp(-z / 0.5), is
+// steep there. Ranked by the error alone the thin layer is where collapses cost most, so it stays
+// dense over a coarse interior; with the size term its short edges go first and the sizes even
+// out. Both runs keep the topology, and the run with the term is the same for 1 and 2 threads.
+TEST(SizeTerm, CoarsensAFineLayerTheErrorAloneKeeps) {
+  testing::Grid g = testing::make_grid(10, 10, 12, [](int, int, int) { return 1; });
+  const auto layer_z = [](double z) { return z <= 4.0 ? 0.25 * z : z - 3.0; };  // monotone
+  VertexField f{"f", 1, {}};
+  for (auto& p : g.data.positions) {
+    p[2] = layer_z(p[2]);
+    f.values.push_back(std::exp(-p[2] / 0.5));
+  }
+  g.data.fields.push_back(std::move(f));
+  const auto before = topotet::compute_topology(g.data);
+  const auto run = [&](double size_weight, int threads) {
+    MeshModel mesh = build_mesh_model(g.data);
+    SimplifyOptions options;
+    options.target_vertex_ratio = 0.3;
+    options.size_weight = size_weight;
+    options.num_threads = threads;
+    const Report report = simplify(mesh, options);
+    EXPECT_EQ(report.status, Status::kOk) << report.message;
+    return mesh.to_mesh_data();
+  };
+  // Vertices left inside the thin layer (below z = 1, the boundary plane z = 0 included).
+  const auto in_layer = [](const MeshData& m) {
+    return std::count_if(m.positions.begin(), m.positions.end(), [](const auto& p) { return p[2] < 0.999; });
+  };
+  const MeshData error_only = run(0.0, 2), even = run(1e-3, 2), even_1 = run(1e-3, 1);
+  const auto layer_error_only = in_layer(error_only), layer_even = in_layer(even);
+  std::printf("[ size term ] vertices below z = 1: input %td, error only %td, size weight 1e-3 %td (of %zu / %zu left)\n",
+              in_layer(g.data), layer_error_only, layer_even, error_only.positions.size(), even.positions.size());
+  EXPECT_LT(layer_even * 10, layer_error_only * 7) << "the thin layer kept its vertices with the size term";
+  EXPECT_TRUE(even == even_1) << "the size term's output differs between 1 and 2 threads";
+  for (const MeshData* out : {&error_only, &even}) {
+    std::string differences;
+    EXPECT_TRUE(topotet::same_topology(before, topotet::compute_topology(*out), &differences)) << differences;
+  }
+}
+
+// size_weight's default, auto: the size term where only the geometry steers the cost, the error
+// alone where a field does (SimplifyOptions::size_weight says why).
+TEST(SizeTerm, AutoIsOnWithoutFieldsAndOffWithThem) {
+  testing::Grid g = testing::make_grid(8, 8, 8, [](int i, int j, int k) {
+    const double dx = i - 4, dy = j - 4, dz = k - 4;
+    return dx * dx + dy * dy + dz * dz < 7 ? 2 : 1;
+  }, 0.12, 7);  // jittered: on a regular grid the interior's costs are the length term alone, ranked alike by any weight
+  const auto run = [](const MeshData& input, double size_weight) {
+    MeshModel mesh = build_mesh_model(input);
+    SimplifyOptions options;
+    options.target_vertex_ratio = 0.2;
+    options.size_weight = size_weight;
+    const Report report = simplify(mesh, options);
+    EXPECT_TRUE(report.status == Status::kOk || report.status == Status::kStoppedEarly) << to_string(report.status);
+    return mesh.to_mesh_data();
+  };
+  ASSERT_LT(SimplifyOptions{}.size_weight, 0.0);
+  EXPECT_TRUE(run(g.data, kSizeWeightAuto) == run(g.data, kAutoSizeWeight));
+  EXPECT_FALSE(run(g.data, kSizeWeightAuto) == run(g.data, 0.0)) << "the size term changed nothing here";
+  testing::add_linear_field(g);
+  for (auto& p : g.data.fields[0].values) p = p * p;  // a curved field: the error steers
+  EXPECT_TRUE(run(g.data, kSizeWeightAuto) == run(g.data, 0.0));
 }
 
 TEST(Simplify, ProgressCanCancel) {

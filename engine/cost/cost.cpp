@@ -18,6 +18,11 @@ namespace {
 constexpr std::uint8_t kStale = 0xFF;         // unknown
 constexpr std::uint8_t kStaleFeature = 0xFE;  // unknown, but it was not 0: skip the interior test
 constexpr double kLengthTieBreak = 1e-6;
+// The size term's unit (SimplifyOptions::size_weight; cost.h): an edge of length l weighs
+// size_weight x kSizeUnit x l^3, about the quadric error of a relative field error
+// sqrt(size_weight) over the ~20 tets of edge length l around it (each input tet counted at its 4
+// vertices: 4 x 20 / (6 sqrt 2) = 9.43).
+constexpr double kSizeUnit = 80.0 / (6.0 * 1.4142135623730951);
 // A feature face's field term weighs this many tets (cost.h).
 constexpr double kFeatureFieldWeight = 3.0;
 // The new vertex's field value: this much of the mesh's field at its position, the rest the
@@ -44,6 +49,9 @@ CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options, cons
   }
   const int k = static_cast<int>(component_.size());
   n_ = 3 + k;
+  // The size term (cost.h); auto: on where only the geometry steers the cost (SimplifyOptions).
+  const double size_weight = options.size_weight >= 0.0 ? options.size_weight : k == 0 ? kAutoSizeWeight : 0.0;
+  length_weight_ = kLengthTieBreak + size_weight * kSizeUnit;
   compute_field_pins(mesh, options.isosurfaces, pins_);  // checked by simplify() (driver.cpp)
   const std::size_t nv = mesh.positions.size();
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
@@ -296,7 +304,7 @@ struct CostModel::EdgeQuadric {
     std::copy_n(model.coordinates(b), n, xb);
     for (int i = 0; i < n; ++i) xm[i] = 0.5 * (xa[i] + xb[i]);
     length = glm::length(glm::dvec3(xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]));
-    tie = kLengthTieBreak * length * length * length;
+    tie = model.length_weight_ * length * length * length;  // the tie break and the size term (cost.h)
   }
 
   // Cost at x (normalised). Where the position is constrained (an endpoint, the midpoint), the

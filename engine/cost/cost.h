@@ -92,6 +92,28 @@
 // the 16th) are interpolated only.
 // A small length term (1e-6 |ab|^3) breaks ties between zero-cost collapses in favour of short
 // edges, which keeps tets well shaped when there is no field to preserve.
+// The size term (SimplifyOptions::size_weight = w; issue #26 item 5) is the same length term made
+// strong enough to rank: every placement of edge ab costs w x 9.43 x |ab|^3 more, 9.43 =
+// 4 x 20 / (6 sqrt 2): a regular tet of edge l has volume l^3 / (6 sqrt 2), about 20 of them lie
+// around an edge of length l, and the tet quadrics count each input tet at its 4 vertices, so the
+// quadric error of a relative field error e everywhere around the edge is about 9.43 e^2 |ab|^3,
+// and w = e^2 says which error the size is worth. Why this form:
+//   - the error alone ranks by what is cheap, not by where vertices are dense: interior vertices
+//     and flat faces cost nothing, while the plane quadrics and the tolerance hold curved surfaces,
+//     so a run leaves a dense surface over a coarse interior, with slivers between (Gmsh cube in a
+//     sphere at 10%: boundary edges 0.31x the interior's, 4.1% of the tets under 10 degrees; with
+//     w = 3e-4: 0.52x and 0.6%; docs/performance.md "Even sizes"); shortest-first among small
+//     errors grades the sizes evenly;
+//   - the cube of the length, not the square: quadric errors add up over the input samples an edge
+//     stands for, about l^3 of them, so with l^3 the balance between size and error is the same at
+//     every stage of a run and every mesh size (it is independent of the mean tet volume, so parts
+//     of one mesh simplified apart (topotet::mpi) rank alike too); the error of a curved field or
+//     surface grows faster with l (~ l^7) and takes over where the shape needs vertices;
+//   - the edge's own length, not the longest edge a collapse makes: a pure function of the two
+//     end positions, as cheap as the tie break and the same for every thread count. The same
+//     amount is added to every placement of the edge, so it ranks edges and never changes which
+//     placement is chosen, nor the kernel's checks: no guarantee depends on it.
+// The tie break is the size term with w = 1.06e-7.
 #pragma once
 
 #include <atomic>
@@ -200,6 +222,7 @@ class CostModel {
 
   int n_ = 3;             // quadric dimension
   int stride_ = 0;        // mesh field stride
+  double length_weight_ = 0.0;  // x |ab|^3 (normalised) on every placement of ab: tie break + size term
   std::vector<int> component_;  // quadric field coordinate -> mesh field component
   glm::dvec3 origin_{0.0};
   double inv_diag_ = 1.0;

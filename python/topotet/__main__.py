@@ -36,7 +36,7 @@ def _simplify(args):
     read_seconds = time.perf_counter() - start
     options = {k: getattr(args, k) for k in ("ratio", "target_vertices", "tolerance_rel", "tolerance", "feature_angle",
                                              "threads", "optimize", "max_field_error", "max_field_error_rel",
-                                             "min_quality", "min_dihedral")
+                                             "min_quality", "min_dihedral", "size_weight")
                if getattr(args, k) is not None}
     if args.field_weight:
         options["field_weights"] = {k: float(v) for k, v in _pairs(args.field_weight, "--field-weight").items()}
@@ -95,6 +95,7 @@ def main(argv=None):
     s.add_argument("--min-quality", type=float, help=f"quality floor, mean ratio (default {d['min_quality']})")
     s.add_argument("--min-dihedral", type=float,
                    help=f"dihedral angle floor, degrees (default {d['min_dihedral']}; 0 = off)")
+    s.add_argument("--size-weight", type=float, help="size term in the ranking of collapses (0 = error only; default: auto, 3e-4 when no field steers the cost, else 0)")
     s.add_argument("--threads", type=int, help="threads (default: all; the output is the same for every count)")
     s.add_argument("--optimize", choices=("none", "light", "full"), help=f"after the collapses (default {d['optimize']})")
     s.add_argument("--max-field-error", type=float, help="field error bound per component, field units")

@@ -132,6 +132,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   SimplifyOptions options;
   options.target_vertex_ratio = 0.05 * bytes.in(1, 19);
   options.min_quality = 0.01 * bytes.in(0, 20);
+  options.size_weight = 1e-4 * (bytes.in(0, 10) - 1);  // -1e-4 = auto, 0 = error only, up to 9e-4
   options.engine = bytes.next() % 2 ? Engine::kSequential : Engine::kParallel;
   options.num_threads = bytes.in(1, 2);
 

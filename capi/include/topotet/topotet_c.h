@@ -152,6 +152,8 @@ typedef struct topotet_options {
   void* progress_user_data;
   double min_dihedral;        /* degrees; no new tet below min(this, the smallest angle of the tets it
                                  replaces); default 5; 0 = no floor */
+  double size_weight;         /* size term in the ranking of collapses (--size-weight); 0 = error only;
+                                 negative = auto (default): 3e-4 when no field steers the cost, else 0 */
 } topotet_options;
 
 /* Same counters as topotet::Report. */

@@ -54,6 +54,10 @@ const char* to_string(Optimize optimize);  // "none", "light", "full"
 
 // The default geometric tolerance, relative to the bounding box diagonal (SimplifyOptions).
 inline constexpr double kDefaultToleranceRel = 0.004;
+// SimplifyOptions::size_weight: any negative value means "auto", which is kAutoSizeWeight when no
+// field steers the cost (the mesh has none, or all weigh 0) and 0 (the error alone) when one does.
+inline constexpr double kSizeWeightAuto = -1.0;
+inline constexpr double kAutoSizeWeight = 3e-4;
 
 // Why the kernel refused a collapse placement (engine/kernel/collapse.h has the checks). The values
 // index Report::rejected; read the counters with Report::rejected_by.
@@ -102,6 +106,20 @@ struct SimplifyOptions {
   // default (issue #26: slivers cost a solver; measured in docs/performance.md, "The dihedral
   // floor"); where a floor refuses every placement, points at 1/4 and 3/4 of the edge are tried.
   double min_dihedral = 5.0;
+  // Weight of the size term in the ranking of collapses (issue #26, item 5; engine/cost/cost.h):
+  // every edge ab costs size_weight x 80 / (6 sqrt 2) x |ab|^3 (|ab| relative to the bounding box
+  // diagonal) on top of its quadric error, about what a relative field error of sqrt(size_weight)
+  // at every input vertex around the edge costs. Short edges go first wherever the error is small,
+  // so flat surfaces and smooth regions coarsen evenly instead of being left dense while the
+  // interior empties; where the field or the shape needs vertices the quadric still wins. Placements,
+  // the kernel's checks and every guarantee are the same; max_cost bounds the ranking cost, size
+  // term included. 0 = rank by the error alone (the smallest edges first only among equal errors):
+  // the most field accuracy for a vertex count, for visualisation. Negative = auto (the default):
+  // kAutoSizeWeight without a field in the cost, 0 with one, because the term evens sizes and
+  // removes slivers at no measured cost where only the geometry steers the collapses, but costs
+  // field accuracy where a field does (LOX at 10%: field RMS +45% at 1e-4; docs/performance.md
+  // "Even sizes"). Must be finite.
+  double size_weight = kSizeWeightAuto;
   // Weight of boundary/surface (plane) and polyline (line) quadrics relative to tet quadrics.
   double boundary_weight = 100.0;
   double polyline_weight = 100.0;
