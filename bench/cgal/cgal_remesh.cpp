@@ -173,6 +173,34 @@ Input prepare(const std::string& path) {
     }
     in.volume += std::abs(v);
   }
+  // CGAL's triangulation closes the boundary with cells on an infinite vertex: a boundary edge with
+  // more than two boundary faces (a non-manifold boundary) cannot be represented. Say so up front.
+  {
+    std::unordered_map<std::array<std::uint32_t, 3>, int, FaceHash> faces;
+    faces.reserve(m.tets.size() * 3);
+    for (const auto& t : m.tets)
+      for (int i = 0; i < 4; ++i) {
+        std::array<std::uint32_t, 3> f{};
+        for (int j = 0, k = 0; j < 4; ++j)
+          if (j != i) f[k++] = t[j];
+        ++faces[sorted(f)];
+      }
+    std::unordered_map<std::array<std::uint32_t, 3>, int, FaceHash> edges;  // [a, b, 0]
+    std::size_t shared = 0;
+    for (const auto& [f, n] : faces) {
+      if (n > 2) ++shared;
+      if (n != 1) continue;
+      for (int i = 0; i < 3; ++i) ++edges[{f[i], f[(i + 1) % 3], 0}];
+    }
+    std::size_t non_manifold = 0;
+    for (const auto& [e, n] : edges) non_manifold += n > 2 ? 1 : 0;
+    if (shared > 0)
+      throw std::runtime_error(path + ": " + std::to_string(shared) + " faces shared by more than two tets");
+    if (non_manifold > 0)
+      throw std::runtime_error(path + ": the boundary has " + std::to_string(non_manifold) +
+                               " non-manifold edges (more than two boundary faces): CGAL's triangulation cannot "
+                               "represent it (CGAL::build_triangulation refuses it)");
+  }
   in.materials = m.tet_ref;
   std::sort(in.materials.begin(), in.materials.end());
   in.materials.erase(std::unique(in.materials.begin(), in.materials.end()), in.materials.end());
@@ -241,7 +269,7 @@ Tr build_triangulation(const Input& in) {
   const std::map<std::array<int, 3>, Tr::Cell::Surface_patch_index> no_border_facets;  // from the subdomains
   std::vector<Tr::Vertex_handle> handles(points.size() + 1);
   Tr tr;
-  if (!CGAL::build_triangulation<Tr, false>(tr, points, cells, no_border_facets, handles))
+  if (!CGAL::build_triangulation<Tr, false>(tr, points, cells, no_border_facets, handles, std::getenv("CGAL_REMESH_VERBOSE") != nullptr))
     throw std::runtime_error("CGAL::build_triangulation refused the mesh (a non-manifold boundary or a face "
                              "shared by more than two tets?)");
   return tr;

@@ -13,6 +13,7 @@
 #include <CGAL/Labeled_mesh_domain_3.h>
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Mesh_criteria_3.h>
+#include <CGAL/Mesh_facet_topology.h>
 #include <CGAL/Mesh_triangulation_3.h>
 #include <CGAL/Random.h>
 #include <CGAL/make_mesh_3.h>
@@ -57,11 +58,14 @@ options:
   --raw FILE NX NY NZ        label a raw uint8 volume instead (voxel size 1)
   --thresholds A,B,...       with --raw: label = number of thresholds <= value (default 128)
   --facet-angle DEG          (default 30)
-  --facet-size S             (default 3.5 voxels)
-  --facet-distance D         (default 1 voxel)
+  --facet-size S             (default 2 voxels)
+  --facet-distance D         (default 0.75 voxel)
   --cell-radius-edge-ratio R (default 3)
-  --cell-size S              (default 5 voxels)
+  --cell-size S              (default 2 voxels; the defaults give 412k tets at --size 128)
   --no-perturb, --no-exude   skip CGAL's sliver perturber / exuder (both run by default)
+  --no-manifold              no facet_topology = MANIFOLD criterion (on by default: without it
+                             Mesh_3 may leave non-manifold edges on the boundary, which CGAL's
+                             own remesher then refuses to load)
   --no-triangles             write no Triangles
   --seed N                   CGAL::get_default_random() seed (default 0)
   -h, --help                 this text
@@ -87,29 +91,29 @@ struct Ellipsoid {
 // The synthetic segmentation, in coordinates normalised to [0,1]^3 (voxel centres). Priority:
 // the first shape that contains a voxel gives its label.
 int synthetic_label(double x, double y, double z) {
-  static const Ellipsoid body{{0.5, 0.5, 0.5}, {0.46, 0.36, 0.47}};
-  static const Ellipsoid ventricle{{0.60, 0.43, 0.78}, {0.045, 0.035, 0.04}};
-  static const Ellipsoid liver_a{{0.38, 0.45, 0.55}, {0.20, 0.14, 0.12}, 0.44};
-  static const Ellipsoid liver_b{{0.52, 0.40, 0.63}, {0.12, 0.10, 0.08}, -0.3};
-  static const Ellipsoid stomach{{0.64, 0.38, 0.53}, {0.11, 0.08, 0.09}, 0.2};
-  static const Ellipsoid kidney_l{{0.30, 0.63, 0.33}, {0.06, 0.045, 0.11}, 0.3};
-  static const Ellipsoid kidney_r{{0.70, 0.63, 0.33}, {0.06, 0.045, 0.11}, -0.3};
+  static const Ellipsoid body{{0.5, 0.5, 0.5}, {0.47, 0.38, 0.48}};
+  static const Ellipsoid ventricle{{0.60, 0.42, 0.77}, {0.06, 0.045, 0.05}};
+  static const Ellipsoid liver_a{{0.36, 0.45, 0.55}, {0.25, 0.17, 0.15}, 0.44};
+  static const Ellipsoid liver_b{{0.52, 0.40, 0.64}, {0.15, 0.12, 0.10}, -0.3};
+  static const Ellipsoid stomach{{0.66, 0.38, 0.52}, {0.14, 0.10, 0.12}, 0.2};
+  static const Ellipsoid kidney_l{{0.28, 0.65, 0.32}, {0.08, 0.06, 0.14}, 0.3};
+  static const Ellipsoid kidney_r{{0.72, 0.65, 0.32}, {0.08, 0.06, 0.14}, -0.3};
   if (!body.contains(x, y, z)) return 0;
   if (ventricle.contains(x, y, z)) return 6;
   // Heart: a metaball of three Gaussians.
   {
-    static const std::array<std::array<double, 3>, 3> centres{{{0.57, 0.43, 0.80}, {0.65, 0.44, 0.76}, {0.60, 0.38, 0.72}}};
+    static const std::array<std::array<double, 3>, 3> centres{{{0.56, 0.43, 0.80}, {0.66, 0.44, 0.76}, {0.60, 0.37, 0.71}}};
     double f = 0.0;
     for (const auto& ce : centres) {
       const double d2 = (x - ce[0]) * (x - ce[0]) + (y - ce[1]) * (y - ce[1]) + (z - ce[2]) * (z - ce[2]);
-      f += std::exp(-d2 / (0.055 * 0.055));
+      f += std::exp(-d2 / (0.075 * 0.075));
     }
     if (f > 0.6) return 5;
   }
   // Aorta: a bent tube along z.
   if (z > 0.12 && z < 0.86) {
     const double cx = 0.5 + 0.06 * std::sin(2.0 * std::numbers::pi * z), cy = 0.60;
-    if ((x - cx) * (x - cx) + (y - cy) * (y - cy) < 0.028 * 0.028) return 7;
+    if ((x - cx) * (x - cx) + (y - cy) * (y - cy) < 0.035 * 0.035) return 7;
   }
   if (liver_a.contains(x, y, z) || liver_b.contains(x, y, z)) return 2;
   if (stomach.contains(x, y, z)) return 8;
@@ -152,8 +156,8 @@ struct Args {
   std::string raw;
   int raw_n[3] = {0, 0, 0};
   std::vector<int> thresholds{128};
-  double facet_angle = 30.0, facet_size = 3.5, facet_distance = 1.0, cell_radius_edge_ratio = 3.0, cell_size = 5.0;
-  bool perturb = true, exude = true, triangles = true;
+  double facet_angle = 30.0, facet_size = 2.0, facet_distance = 0.75, cell_radius_edge_ratio = 3.0, cell_size = 2.0;
+  bool perturb = true, exude = true, triangles = true, manifold = true;
   int seed = 0;
 };
 
@@ -220,6 +224,8 @@ Args parse(int argc, char** argv) {
       a.perturb = false;
     } else if (arg == "--no-exude") {
       a.exude = false;
+    } else if (arg == "--no-manifold") {
+      a.manifold = false;
     } else if (arg == "--no-triangles") {
       a.triangles = false;
     } else if (arg == "--seed") {
@@ -258,7 +264,8 @@ int run(const Args& args) {
   namespace P = CGAL::parameters;
   const Criteria criteria(P::facet_angle = args.facet_angle, P::facet_size = args.facet_size,
                           P::facet_distance = args.facet_distance,
-                          P::cell_radius_edge_ratio = args.cell_radius_edge_ratio, P::cell_size = args.cell_size);
+                          P::cell_radius_edge_ratio = args.cell_radius_edge_ratio, P::cell_size = args.cell_size,
+                          P::facet_topology = args.manifold ? CGAL::MANIFOLD : CGAL::FACET_VERTICES_ON_SURFACE);
   const auto t1 = Clock::now();
   // make_mesh_3 gives the perturber and the exuder the refinement's duration as a time limit by
   // default, which makes the output depend on the machine's speed: no time limit here (0).
