@@ -2,14 +2,21 @@
 // (CGAL/tetrahedral_remeshing.h) used as a coarsener, for a side-by-side benchmark with topotet
 // (bench/quality_vs_remesher.py, issue #26 item 4).
 //
-// The MEDIT input (positions, tets, materials, listed triangles) becomes a
-// Tetrahedral_remeshing::Remeshing_triangulation_3 whose cells carry the materials as subdomain
-// indices (1, 2, ... in the order of the materials: CGAL reserves 0 for "outside"), so every
-// material interface and the boundary are surfaces the remesher keeps as surfaces. It remeshes
-// them too (remesh_boundaries = true, CGAL's default): with frozen surfaces a coarsener cannot go
-// below the surface vertex count, and topotet simplifies its surfaces too. Edges where three or
-// more surface patches meet are CGAL's features (it computes them); the input's listed polylines and
-// corners are not given to it (this program reports them as not carried).
+// The MEDIT input becomes a Mesh_complex_3_in_triangulation_3 on a
+// Tetrahedral_remeshing::Remeshing_triangulation_3, and everything the input lists goes into the
+// complex, so that CGAL keeps it as topotet does:
+//  - the materials are the subdomain indices (1, 2, ... in the order of the materials: CGAL
+//    reserves 0 for "outside");
+//  - every listed triangle is a complex facet whose surface patch is its ref (embedded surfaces
+//    inside one material included); the material interfaces and the boundary that the input does
+//    not list are complex facets too (one patch per pair of materials), not written back;
+//  - every listed edge (MEDIT Edges) is a complex edge whose curve is its ref;
+//  - Corners and RequiredVertices are complex vertices (corners).
+// The surfaces are remeshed (remesh_boundaries = true, CGAL's default, protect off): with frozen
+// surfaces a coarsener cannot go below the surface vertex count, and topotet simplifies its
+// surfaces too. CGAL adds as features the edges where three or more subdomains or two or more
+// patches meet. Complex edges are split and collapsed along themselves, their vertices are not
+// smoothed (smooth_constrained_edges false, CGAL's default).
 //
 // CGAL takes a target edge length, not a vertex count: a short search finds it. A first length
 // from the volume (a vertex per 0.54 L^3 of an isotropic mesh), then secant steps on
@@ -17,13 +24,13 @@
 // --max-runs runs were made; the run closest to the target is written. Each run starts from the
 // input. The time of the chosen run and of the whole search are printed (and written with --json).
 //
-// Output: MEDIT, the materials back as tet refs, and the surface facets (subdomain interfaces and
-// the boundary) as Triangles whose ref is the input's ref for that pair of materials.
+// Output: MEDIT with the materials, the listed triangles, edges and corners back under their refs.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Random.h>
 #include <CGAL/Tetrahedral_remeshing/Remeshing_triangulation_3.h>
 #include <CGAL/tetrahedral_remeshing.h>
 #include <CGAL/Mesh_3/tet_soup_to_c3t3.h>
+#include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 
 #include <algorithm>
 #include <array>
@@ -46,6 +53,15 @@ namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = K::Point_3;
 using Tr = CGAL::Tetrahedral_remeshing::Remeshing_triangulation_3<K>;
+using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr, int, int>;  // corner and curve indices: int
+
+// Index ranges in the complex. Surface patches: 1..listed refs, then kUnlistedPatch + pair for the
+// interfaces the input does not list. Curves: CGAL gives its own features curve 1; listed edge refs
+// from 2. Corners: CGAL numbers its own from 1; listed ones from kCornerBase / kRequiredBase.
+constexpr int kUnlistedPatch = 1 << 24;
+constexpr int kFirstCurve = 2;
+constexpr int kCornerBase = 1 << 24;
+constexpr int kRequiredBase = 1 << 25;
 
 constexpr const char* kUsage = R"(usage: cgal_remesh IN.mesh OUT.mesh (--vertices N | --ratio R) [options]
 
@@ -140,9 +156,11 @@ struct FaceHash {
 // The input in CGAL's terms.
 struct Input {
   cgal_bench::MeditMesh mesh;
-  std::vector<int> materials;                   // subdomain s (1-based) has material materials[s - 1]
-  std::vector<int> subdomain;                   // [tet] 1, 2, ...
-  std::map<std::pair<int, int>, int> pair_ref;  // (subdomain a <= b; 0 = outside) -> triangle ref
+  std::vector<int> materials;  // subdomain s (1-based) has material materials[s - 1]
+  std::vector<int> subdomain;  // [tet] 1, 2, ...
+  std::vector<int> triangle_refs, edge_refs;  // sorted distinct: patch i + 1, curve i + kFirstCurve
+  std::map<std::array<int, 3>, int> facet_patch;  // (min vertex, other two sorted) -> patch
+  std::vector<int> ridge_refs;  // edge refs all of whose edges are Ridges
   std::vector<std::string> warnings;
   double volume = 0.0;
   std::size_t flipped = 0;
@@ -208,54 +226,67 @@ Input prepare(const std::string& path) {
   for (std::size_t t = 0; t < m.tets.size(); ++t)
     in.subdomain[t] = static_cast<int>(std::lower_bound(in.materials.begin(), in.materials.end(), m.tet_ref[t]) -
                                        in.materials.begin()) + 1;
-  // The refs of the listed triangles, per pair of subdomains they separate.
-  if (!m.triangles.empty()) {
-    std::unordered_map<std::array<std::uint32_t, 3>, std::array<int, 2>, FaceHash> sides;
-    sides.reserve(m.triangles.size() * 2);
-    for (const auto& tri : m.triangles) sides.try_emplace(sorted(tri), std::array<int, 2>{0, 0});
+  // Surface patches: the listed triangles by ref, then the unlisted interfaces and boundary.
+  for (int r : m.triangle_ref) in.triangle_refs.push_back(r);
+  std::sort(in.triangle_refs.begin(), in.triangle_refs.end());
+  in.triangle_refs.erase(std::unique(in.triangle_refs.begin(), in.triangle_refs.end()), in.triangle_refs.end());
+  const auto key = [](std::array<std::uint32_t, 3> f) {
+    f = sorted(f);
+    return std::array<int, 3>{static_cast<int>(f[0]), static_cast<int>(f[1]), static_cast<int>(f[2])};
+  };
+  for (std::size_t i = 0; i < m.triangles.size(); ++i) {
+    const int patch = static_cast<int>(std::lower_bound(in.triangle_refs.begin(), in.triangle_refs.end(), m.triangle_ref[i]) -
+                                       in.triangle_refs.begin()) + 1;
+    if (!in.facet_patch.emplace(key(m.triangles[i]), patch).second)
+      in.warnings.push_back("a triangle is listed twice; its first ref is kept");
+  }
+  {
+    std::unordered_map<std::array<std::uint32_t, 3>, std::array<int, 2>, FaceHash> sides;  // subdomains, 0 = none
+    sides.reserve(m.tets.size() * 3);
     for (std::size_t t = 0; t < m.tets.size(); ++t)
       for (int i = 0; i < 4; ++i) {
         std::array<std::uint32_t, 3> f{};
         for (int j = 0, k = 0; j < 4; ++j)
           if (j != i) f[k++] = m.tets[t][j];
-        const auto it = sides.find(sorted(f));
-        if (it == sides.end()) continue;
-        (it->second[0] == 0 ? it->second[0] : it->second[1]) = in.subdomain[t];
+        auto& s = sides[sorted(f)];
+        (s[0] == 0 ? s[0] : s[1]) = in.subdomain[t];
       }
-    std::map<std::pair<int, int>, std::map<int, std::size_t>> refs;
-    std::size_t inside = 0;
-    for (std::size_t i = 0; i < m.triangles.size(); ++i) {
-      const auto& s = sides.at(sorted(m.triangles[i]));
-      if (s[0] == s[1] || s[0] == 0) {  // inside one material (or not a face of any tet)
-        ++inside;
-        continue;
-      }
-      ++refs[{std::min(s[0], s[1]), std::max(s[0], s[1])}][m.triangle_ref[i]];
+    const int n = static_cast<int>(in.materials.size()) + 1;
+    for (const auto& [f, s] : sides) {
+      if (s[0] == s[1]) continue;
+      const std::array<int, 3> k{static_cast<int>(f[0]), static_cast<int>(f[1]), static_cast<int>(f[2])};
+      in.facet_patch.try_emplace(k, kUnlistedPatch + std::min(s[0], s[1]) * n + std::max(s[0], s[1]));
     }
-    for (const auto& [pair, counts] : refs) {
-      auto best = counts.begin();
-      for (auto it = counts.begin(); it != counts.end(); ++it)
-        if (it->second > best->second) best = it;
-      in.pair_ref[pair] = best->first;
-      if (counts.size() > 1)
-        in.warnings.push_back("the surface between materials " + std::to_string(pair.first ? in.materials[pair.first - 1] : 0) +
-                              " and " + std::to_string(in.materials[pair.second - 1]) + " carries " +
-                              std::to_string(counts.size()) + " triangle refs: the remeshed one gets ref " +
-                              std::to_string(best->first) + " only (materials do not determine the others)");
-    }
-    if (inside > 0)
-      in.warnings.push_back(std::to_string(inside) +
-                            " listed triangles lie inside one material (embedded surfaces): not given to the remesher, lost");
+  }
+  // Curves: the listed edges by ref; ridges by ref.
+  for (int r : m.edge_ref) in.edge_refs.push_back(r);
+  std::sort(in.edge_refs.begin(), in.edge_refs.end());
+  in.edge_refs.erase(std::unique(in.edge_refs.begin(), in.edge_refs.end()), in.edge_refs.end());
+  if (!m.ridges.empty()) {
+    std::map<int, std::pair<std::size_t, std::size_t>> count;  // ref -> (edges, ridges)
+    for (int r : m.edge_ref) ++count[r].first;
+    for (std::uint32_t e : m.ridges) ++count[m.edge_ref[e]].second;
+    for (const auto& [r, c] : count)
+      if (c.second == c.first) in.ridge_refs.push_back(r);
+      else if (c.second > 0)
+        in.warnings.push_back("edge ref " + std::to_string(r) + " is partly Ridges: written without Ridges");
   }
   if (m.skipped_entries > 0)
-    in.warnings.push_back(std::to_string(m.skipped_entries) +
-                          " entries of other MEDIT sections (Edges, Corners, Ridges, ...) not carried: polylines and corners are lost");
+    in.warnings.push_back(std::to_string(m.skipped_entries) + " entries of other MEDIT sections not carried");
   return in;
 }
 
 // CGAL 5.5 has no tetrahedron_soup_to_triangulation_3 (5.6 adds it): CGAL::build_triangulation
-// (CGAL/Mesh_3/tet_soup_to_c3t3.h) is what CGAL's own MEDIT loader and the remesher use.
-Tr build_triangulation(const Input& in) {
+// (CGAL/Mesh_3/tet_soup_to_c3t3.h) is what CGAL's own MEDIT loader and the remesher use. It gives
+// the cells their subdomains and the facets of `facet_patch` their patches; the listed edges and
+// corners are added to the complex here.
+// The listed corners and required vertices, by handle: the remesher renumbers the corners of the
+// complex (rescan_after_load_of_triangulation), but never removes a vertex of dimension 0.
+struct Pinned {
+  std::vector<Tr::Vertex_handle> corners, required;
+};
+
+void build_complex(const Input& in, C3t3& c3t3, Pinned& pinned) {
   std::vector<Point> points;
   points.reserve(in.mesh.positions.size());
   for (const auto& p : in.mesh.positions) points.emplace_back(p[0], p[1], p[2]);
@@ -266,13 +297,39 @@ Tr build_triangulation(const Input& in) {
     cells.push_back({static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2]), static_cast<int>(v[3]),
                      in.subdomain[t]});
   }
-  const std::map<std::array<int, 3>, Tr::Cell::Surface_patch_index> no_border_facets;  // from the subdomains
   std::vector<Tr::Vertex_handle> handles(points.size() + 1);
   Tr tr;
-  if (!CGAL::build_triangulation<Tr, false>(tr, points, cells, no_border_facets, handles, std::getenv("CGAL_REMESH_VERBOSE") != nullptr))
-    throw std::runtime_error("CGAL::build_triangulation refused the mesh (a non-manifold boundary or a face "
-                             "shared by more than two tets?)");
-  return tr;
+  if (!CGAL::build_triangulation<Tr, false>(tr, points, cells, in.facet_patch, handles,
+                                            std::getenv("CGAL_REMESH_VERBOSE") != nullptr))
+    throw std::runtime_error("CGAL::build_triangulation refused the mesh");
+  c3t3.triangulation().swap(tr);
+  c3t3.rescan_after_load_of_triangulation();  // cells by subdomain, facets by patch
+  for (std::size_t e = 0; e < in.mesh.edges.size(); ++e) {
+    const auto a = handles[in.mesh.edges[e][0] + 1], b = handles[in.mesh.edges[e][1] + 1];
+    Tr::Cell_handle c;
+    int i = 0, j = 0;
+    if (!c3t3.triangulation().tds().is_edge(a, b, c, i, j))
+      throw std::runtime_error("a listed edge is no edge of the tets");
+    if (c3t3.is_in_complex(a, b)) continue;  // listed twice
+    const int curve = static_cast<int>(std::lower_bound(in.edge_refs.begin(), in.edge_refs.end(), in.mesh.edge_ref[e]) -
+                                       in.edge_refs.begin()) + kFirstCurve;
+    c3t3.add_to_complex(a, b, curve);
+    for (auto v : {a, b})
+      if (v->in_dimension() != 0) v->set_dimension(1);
+  }
+  for (std::size_t k = 0; k < in.mesh.corners.size(); ++k) {
+    const auto v = handles[in.mesh.corners[k] + 1];
+    c3t3.add_to_complex(v, kCornerBase + static_cast<int>(k));
+    v->set_dimension(0);
+    pinned.corners.push_back(v);
+  }
+  for (std::size_t k = 0; k < in.mesh.required_vertices.size(); ++k) {
+    const auto v = handles[in.mesh.required_vertices[k] + 1];
+    if (c3t3.is_in_complex(v)) continue;  // a corner too
+    c3t3.add_to_complex(v, kRequiredBase + static_cast<int>(k));
+    v->set_dimension(0);
+    pinned.required.push_back(v);
+  }
 }
 
 struct RunResult {
@@ -281,34 +338,27 @@ struct RunResult {
   double seconds = 0.0;
 };
 
-std::size_t vertices_in_complex(const Tr& tr) {
-  std::size_t n = 0;
-  for (auto v : tr.finite_vertex_handles()) {
-    (void)v;
-    ++n;
-  }
-  return n;
-}
-
-RunResult remesh(const Input& in, double edge_length, int iterations, Tr* keep) {
-  Tr tr = build_triangulation(in);
+RunResult remesh(const Input& in, double edge_length, int iterations, C3t3* keep, Pinned* keep_pinned) {
+  C3t3 c3t3;
+  Pinned pinned;
+  build_complex(in, c3t3, pinned);
   CGAL::get_default_random() = CGAL::Random(0);
   const auto t0 = std::chrono::steady_clock::now();
-  CGAL::tetrahedral_isotropic_remeshing(tr, edge_length,
+  CGAL::tetrahedral_isotropic_remeshing(c3t3, edge_length,
                                         CGAL::parameters::number_of_iterations(iterations).remesh_boundaries(true));
   RunResult r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.edge_length = edge_length;
-  std::size_t cells = 0;
-  for (auto c : tr.finite_cell_handles())
-    if (c->subdomain_index() != 0) ++cells;
-  r.tets = cells;
-  r.vertices = vertices_in_complex(tr);
-  if (keep) *keep = std::move(tr);
+  r.tets = c3t3.number_of_cells_in_complex();
+  r.vertices = c3t3.triangulation().number_of_vertices();
+  if (keep) {
+    keep->swap(c3t3);
+    std::swap(*keep_pinned, pinned);
+  }
   return r;
 }
 
-cgal_bench::MeditMesh to_medit(const Tr& tr, const Input& in) {
+cgal_bench::MeditMesh to_medit(const C3t3& c3t3, const Pinned& pinned, const Input& in) {
   cgal_bench::MeditMesh out;
   std::unordered_map<Tr::Vertex_handle, std::uint32_t> index;
   const auto id = [&](Tr::Vertex_handle v) {
@@ -316,26 +366,30 @@ cgal_bench::MeditMesh to_medit(const Tr& tr, const Input& in) {
     if (inserted) out.positions.push_back({v->point().x(), v->point().y(), v->point().z()});
     return it->second;
   };
-  const auto sub = [&](Tr::Cell_handle c) { return tr.is_infinite(c) ? 0 : static_cast<int>(c->subdomain_index()); };
-  for (auto c : tr.finite_cell_handles()) {
-    const int s = sub(c);
-    if (s == 0) continue;
+  for (auto c = c3t3.cells_in_complex_begin(); c != c3t3.cells_in_complex_end(); ++c) {
     out.tets.push_back({id(c->vertex(0)), id(c->vertex(1)), id(c->vertex(2)), id(c->vertex(3))});
-    out.tet_ref.push_back(in.materials[static_cast<std::size_t>(s - 1)]);
+    out.tet_ref.push_back(in.materials[static_cast<std::size_t>(c3t3.subdomain_index(c) - 1)]);
   }
-  for (auto f : tr.finite_facets()) {
-    const auto c = f.first;
-    const auto n = c->neighbor(f.second);
-    const int a = sub(c), b = sub(n);
-    if (a == b) continue;
-    const auto it = in.pair_ref.find({std::min(a, b), std::max(a, b)});
-    if (it == in.pair_ref.end()) continue;  // a surface the input does not list
+  for (auto f = c3t3.facets_in_complex_begin(); f != c3t3.facets_in_complex_end(); ++f) {
+    const int patch = c3t3.surface_patch_index(*f);
+    if (patch < 1 || patch > static_cast<int>(in.triangle_refs.size())) continue;  // not listed in the input
     std::array<std::uint32_t, 3> tri{};
     for (int i = 0, k = 0; i < 4; ++i)
-      if (i != f.second) tri[k++] = id(c->vertex(i));
+      if (i != f->second) tri[k++] = id(f->first->vertex(i));
     out.triangles.push_back(tri);
-    out.triangle_ref.push_back(it->second);
+    out.triangle_ref.push_back(in.triangle_refs[static_cast<std::size_t>(patch - 1)]);
   }
+  for (auto e = c3t3.edges_in_complex_begin(); e != c3t3.edges_in_complex_end(); ++e) {
+    const int curve = c3t3.curve_index(*e);
+    if (curve < kFirstCurve || curve - kFirstCurve >= static_cast<int>(in.edge_refs.size())) continue;  // CGAL's own
+    const int ref = in.edge_refs[static_cast<std::size_t>(curve - kFirstCurve)];
+    if (std::binary_search(in.ridge_refs.begin(), in.ridge_refs.end(), ref))
+      out.ridges.push_back(static_cast<std::uint32_t>(out.edges.size()));
+    out.edges.push_back({id(e->first->vertex(e->second)), id(e->first->vertex(e->third))});
+    out.edge_ref.push_back(ref);
+  }
+  for (auto v : pinned.corners) out.corners.push_back(id(v));
+  for (auto v : pinned.required) out.required_vertices.push_back(id(v));
   return out;
 }
 
@@ -352,18 +406,20 @@ int run(const Args& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const Input in = prepare(args.input);
   const std::size_t nv_in = in.mesh.positions.size();
-  std::printf("IN  %s: %zu vertices, %zu tets, %zu materials, %zu listed triangles%s\n", args.input.c_str(), nv_in,
-              in.mesh.tets.size(), in.materials.size(), in.mesh.triangles.size(),
+  std::printf("IN  %s: %zu vertices, %zu tets, %zu materials, %zu listed triangles, %zu edges, %zu corners, %zu required%s\n",
+              args.input.c_str(), nv_in, in.mesh.tets.size(), in.materials.size(), in.mesh.triangles.size(),
+              in.mesh.edges.size(), in.mesh.corners.size(), in.mesh.required_vertices.size(),
               in.flipped ? (", " + std::to_string(in.flipped) + " tets reoriented").c_str() : "");
   for (const auto& w : in.warnings) std::printf("warning: %s\n", w.c_str());
   const double target = args.vertices > 0 ? static_cast<double>(args.vertices)
                                           : args.ratio > 0 ? args.ratio * static_cast<double>(nv_in) : 0.0;
   std::vector<RunResult> runs;
-  Tr best_tr;
+  C3t3 best_c3t3;
+  Pinned best_pinned;
   std::size_t best = 0;
   const auto miss = [&](const RunResult& r) { return std::abs(std::log(static_cast<double>(r.vertices) / target)); };
   if (args.edge_length > 0) {
-    runs.push_back(remesh(in, args.edge_length, args.iterations, &best_tr));
+    runs.push_back(remesh(in, args.edge_length, args.iterations, &best_c3t3, &best_pinned));
     std::printf("run 1: edge length %.6g -> %zu vertices, %zu tets, %.2f s\n", runs[0].edge_length, runs[0].vertices,
                 runs[0].tets, runs[0].seconds);
   } else {
@@ -372,15 +428,17 @@ int run(const Args& args) {
     double length = std::cbrt(in.volume / (0.54 * target));
     double slope = -2.5;  // d log(vertices) / d log(length); surfaces make it between -2 and -3
     for (int k = 0; k < args.max_runs; ++k) {
-      Tr tr;
-      const RunResult r = remesh(in, length, args.iterations, &tr);
+      C3t3 c3t3;
+      Pinned pinned;
+      const RunResult r = remesh(in, length, args.iterations, &c3t3, &pinned);
       std::printf("run %d: edge length %.6g -> %zu vertices (target %.0f), %zu tets, %.2f s\n", k + 1, r.edge_length,
                   r.vertices, target, r.tets, r.seconds);
       std::fflush(stdout);
       runs.push_back(r);
       if (runs.size() == 1 || miss(r) < miss(runs[best])) {
         best = runs.size() - 1;
-        best_tr = std::move(tr);
+        best_c3t3.swap(c3t3);
+        std::swap(best_pinned, pinned);
       }
       if (std::abs(static_cast<double>(r.vertices) / target - 1.0) <= args.tolerance) break;
       if (runs.size() >= 2) {
@@ -395,11 +453,12 @@ int run(const Args& args) {
     }
   }
   const RunResult& chosen = runs[best];
-  const cgal_bench::MeditMesh out = to_medit(best_tr, in);
+  const cgal_bench::MeditMesh out = to_medit(best_c3t3, best_pinned, in);
   cgal_bench::write_medit(args.output, out);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("OUT %s: %zu vertices, %zu tets, %zu triangles; remeshing %.2f s (edge length %.6g), whole search %.2f s in %zu runs\n",
-              args.output.c_str(), out.positions.size(), out.tets.size(), out.triangles.size(), chosen.seconds,
+  std::printf("OUT %s: %zu vertices, %zu tets, %zu triangles, %zu edges, %zu corners; remeshing %.2f s (edge length %.6g), whole search %.2f s in %zu runs\n",
+              args.output.c_str(), out.positions.size(), out.tets.size(), out.triangles.size(), out.edges.size(),
+              out.corners.size() + out.required_vertices.size(), chosen.seconds,
               chosen.edge_length, total, runs.size());
   if (!args.json.empty()) {
     std::FILE* f = std::fopen(args.json.c_str(), "w");

@@ -1,7 +1,8 @@
 // A small MEDIT ASCII (.mesh) reader and writer for the CGAL benchmark programs (bench/cgal/).
 // Kept apart from topotet's io library on purpose: these programs link CGAL alone, so that they
-// build in seconds and measure CGAL, not topotet. Read: Vertices, Tetrahedra and Triangles (with
-// their refs); every other section of the format is skipped (Edges, Ridges, Corners, ...).
+// build in a minute and measure CGAL, not topotet. Read and written: Vertices, Tetrahedra,
+// Triangles and Edges (with their refs), Ridges, Corners and RequiredVertices; the other sections
+// of the format are skipped and counted (normals, tangents, other cells).
 // Gzip'd files and other formats: convert them first (`topotet convert IN OUT.mesh`).
 #pragma once
 
@@ -22,6 +23,11 @@ struct MeditMesh {
   std::vector<int> tet_ref;
   std::vector<std::array<std::uint32_t, 3>> triangles;  // 0-based
   std::vector<int> triangle_ref;
+  std::vector<std::array<std::uint32_t, 2>> edges;  // 0-based
+  std::vector<int> edge_ref;
+  std::vector<std::uint32_t> ridges;            // 0-based indices into edges
+  std::vector<std::uint32_t> corners;           // 0-based vertices
+  std::vector<std::uint32_t> required_vertices; // 0-based vertices
   std::size_t skipped_entries = 0;  // entries of the sections this reader does not keep
 };
 
@@ -30,9 +36,8 @@ namespace detail {
 // Numbers of values per entry of the MEDIT sections this reader skips (dimension 3).
 inline int skipped_section_width(const std::string& keyword) {
   static const std::pair<const char*, int> widths[] = {
-      {"Edges", 3},          {"Quadrilaterals", 5},   {"Hexahedra", 9},          {"Prisms", 7},
-      {"Pyramids", 6},       {"Corners", 1},          {"RequiredVertices", 1},   {"Ridges", 1},
-      {"RequiredEdges", 1},  {"RequiredTriangles", 1}, {"Normals", 3},          {"NormalAtVertices", 2},
+      {"Quadrilaterals", 5},   {"Hexahedra", 9},          {"Prisms", 7},
+      {"Pyramids", 6},       {"RequiredEdges", 1},  {"RequiredTriangles", 1}, {"Normals", 3},          {"NormalAtVertices", 2},
       {"Tangents", 3},       {"TangentAtVertices", 2}, {"TangentAtEdges", 3},    {"NormalAtTriangleVertices", 3},
       {"RequiredQuadrilaterals", 1}, {"RequiredTetrahedra", 1},
   };
@@ -128,6 +133,26 @@ inline MeditMesh read_medit(const std::string& path) {
         for (auto& v : m.triangles[t]) v = vertex_index("Triangles");
         m.triangle_ref[t] = static_cast<int>(next_long("Triangles"));
       }
+    } else if (keyword == "Edges") {
+      const std::size_t n = count_of("Edges");
+      m.edges.resize(n);
+      m.edge_ref.resize(n);
+      for (std::size_t t = 0; t < n; ++t) {
+        for (auto& v : m.edges[t]) v = vertex_index("Edges");
+        m.edge_ref[t] = static_cast<int>(next_long("Edges"));
+      }
+    } else if (keyword == "Corners" || keyword == "RequiredVertices") {
+      auto& list = keyword == "Corners" ? m.corners : m.required_vertices;
+      const std::size_t n = count_of(keyword.c_str());
+      for (std::size_t t = 0; t < n; ++t) list.push_back(vertex_index(keyword.c_str()));
+    } else if (keyword == "Ridges") {
+      const std::size_t n = count_of("Ridges");
+      for (std::size_t t = 0; t < n; ++t) {
+        const long long e = next_long("Ridges");
+        if (e < 1 || static_cast<std::size_t>(e) > m.edges.size())
+          throw std::runtime_error(path + ": Ridges: edge " + std::to_string(e) + " out of range (Edges must come first)");
+        m.ridges.push_back(static_cast<std::uint32_t>(e - 1));
+      }
     } else if (keyword == "End") {
       break;
     } else {
@@ -160,6 +185,23 @@ inline void write_medit(const std::string& path, const MeditMesh& m) {
     for (std::size_t t = 0; t < m.triangles.size(); ++t)
       std::fprintf(f, "%u %u %u %d\n", m.triangles[t][0] + 1, m.triangles[t][1] + 1, m.triangles[t][2] + 1,
                    m.triangle_ref[t]);
+  }
+  if (!m.edges.empty()) {
+    std::fprintf(f, "Edges\n%zu\n", m.edges.size());
+    for (std::size_t t = 0; t < m.edges.size(); ++t)
+      std::fprintf(f, "%u %u %d\n", m.edges[t][0] + 1, m.edges[t][1] + 1, m.edge_ref[t]);
+  }
+  if (!m.ridges.empty()) {
+    std::fprintf(f, "Ridges\n%zu\n", m.ridges.size());
+    for (std::uint32_t e : m.ridges) std::fprintf(f, "%u\n", e + 1);
+  }
+  if (!m.corners.empty()) {
+    std::fprintf(f, "Corners\n%zu\n", m.corners.size());
+    for (std::uint32_t v : m.corners) std::fprintf(f, "%u\n", v + 1);
+  }
+  if (!m.required_vertices.empty()) {
+    std::fprintf(f, "RequiredVertices\n%zu\n", m.required_vertices.size());
+    for (std::uint32_t v : m.required_vertices) std::fprintf(f, "%u\n", v + 1);
   }
   std::fprintf(f, "End\n");
   const bool ok = std::ferror(f) == 0;
