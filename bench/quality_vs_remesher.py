@@ -70,6 +70,7 @@ def check(args, src, out, tag):
         "min_mean_ratio": q["min_mean_ratio"],
         "inverted": q["inverted_tets"],
         "topology": c["topology"].upper(),
+        "hausdorff_rel": c["surface_distance"]["hausdorff_rel"],
         "differences": c.get("topology_differences", [])[:6],
     }
 
@@ -98,10 +99,12 @@ def main():
     ap.add_argument("--ratios", default="0.1,0.02")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--only", help="regex on the input names")
+    ap.add_argument("--skip", help="regex on the input names to leave out")
     ap.add_argument("--segmentation", help="the CGAL segmentation (default: made by cgal_segmentation into --work)")
-    ap.add_argument("--max-cgal-tets", type=int, default=800000,
+    ap.add_argument("--max-cgal-tets", type=int, default=1500000,
                     help="skip the remesher above this many input tets (a run must stay under ~5 min)")
-    ap.add_argument("--cgal-timeout", type=float, default=600.0, help="seconds for one cgal_remesh call (its search)")
+    ap.add_argument("--cgal-timeout", type=float, default=900.0, help="seconds for one cgal_remesh call (its search)")
+    ap.add_argument("--cgal-max-runs", type=int, default=4, help="cgal_remesh --max-runs (remeshing runs of the search)")
     ap.add_argument("--json", default=None, help="results (default WORK/quality_vs_remesher.json)")
     args = ap.parse_args()
     args.topotet = args.build if os.path.isfile(args.build) else os.path.join(args.build, "cli", "topotet")
@@ -109,7 +112,7 @@ def main():
     ratios = [float(r) for r in args.ratios.split(",")]
     results = []
     for name, path in inputs(args):
-        if args.only and not re.search(args.only, name):
+        if (args.only and not re.search(args.only, name)) or (args.skip and re.search(args.skip, name)):
             continue
         inq = input_quality(args, name, path)
         print(f"## {name}: {inq['vertices']} vertices, {inq['tets']} tets, min dihedral {inq['min_dihedral']:.2f}, "
@@ -138,7 +141,7 @@ def main():
                 cj = os.path.join(args.work, f"{tag}_cgal.json")
                 try:
                     p, wall = run([os.path.join(args.cgal, "cgal_remesh"), src, out_c, "--vertices",
-                                   str(t["vertices"]), "--json", cj], timeout=args.cgal_timeout, check=False)
+                                   str(t["vertices"]), "--json", cj, "--max-runs", str(args.cgal_max_runs)], timeout=args.cgal_timeout, check=False)
                     if p.returncode != 0:
                         last = [l for l in p.stdout.strip().splitlines() if l][-1:] or ["(no output)"]
                         row["cgal"] = {"skipped": f"cgal_remesh failed (exit {p.returncode}): {last[0]}"}
@@ -162,15 +165,15 @@ def main():
 
 
 def print_table(results):
-    print("| input | ratio | tool | vertices | min dihedral | tets < 10 deg | mean ratio (mean) | time s | topology |")
-    print("| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | --- |")
+    print("| input | ratio | tool | vertices | min dihedral | tets < 10 deg | mean ratio (mean) | Hausdorff / diag | time s | topology |")
+    print("| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- |")
     for r in results:
         inq = r["input_quality"]
         for tool in ("topotet", "cgal"):
             x = r[tool]
             label = "topotet" if tool == "topotet" else "CGAL remesh"
             if "skipped" in x:
-                print(f"| {r['input']} | {r['ratio']:g} | {label} | - | - | - | - | - | skipped: {x['skipped']} |")
+                print(f"| {r['input']} | {r['ratio']:g} | {label} | - | - | - | - | - | - | skipped: {x['skipped']} |")
                 continue
             time_s = f"{x['seconds']:.2f}"
             if tool == "cgal":
@@ -180,7 +183,7 @@ def print_table(results):
                 verdict += ": " + "; ".join(x["differences"][:2]).replace("|", "/")[:160]
             print(f"| {r['input']} ({inq['vertices']} v, min {inq['min_dihedral']:.1f} deg) | {r['ratio']:g} | {label} | "
                   f"{x['vertices']:,} | {x['min_dihedral']:.2f} | {x['under10']:,} ({x['under10_pct']:.1f}%) | "
-                  f"{x['mean_ratio']:.3f} | {time_s} | {verdict} |")
+                  f"{x['mean_ratio']:.3f} | {100 * x['hausdorff_rel']:.2f}% | {time_s} | {verdict} |")
 
 
 if __name__ == "__main__":
