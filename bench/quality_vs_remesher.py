@@ -34,20 +34,29 @@ def run(cmd, timeout=None, check=True):
     return p, seconds
 
 
+def wanted(args, name):
+    return not ((args.only and not re.search(args.only, name)) or (args.skip and re.search(args.skip, name)))
+
+
 def inputs(args):
+    """(name, path) of the inputs --only/--skip keep; families and the segmentation made on demand."""
     out = []
     for name in FAMILIES:
-        out.append((f"{name} {args.tets // 1000}k", family(args.topotet, args.work, name, args.tets)))
+        label = f"{name} {args.tets // 1000}k"
+        if wanted(args, label):
+            out.append((label, family(args.topotet, args.work, name, args.tets)))
     for rel in ("mfem/nested_cubes.msh", "mmg/tinyBoxt.mesh", "mmg/torus.mesh", "simnibs/sphere3.msh",
                 "palace/circular_hole.msh", "palace/parallel_plate.msh", "palace/sheet_w_two_holes.msh",
                 "large/liver_1.31M.mesh.gz"):
         path = shared(rel)
-        if path:
+        if path and wanted(args, rel.split(".")[0]):
             out.append((rel.split(".")[0], path))
-    seg = args.segmentation or os.path.join(args.work, "cgal_segmentation.mesh")
-    if not os.path.exists(seg):
-        run([os.path.join(args.cgal, "cgal_segmentation"), "-o", seg])
-    out.append(("CGAL segmentation (ours)", seg))
+    label = "CGAL segmentation (ours)"
+    if wanted(args, label):
+        seg = args.segmentation or os.path.join(args.work, "cgal_segmentation.mesh")
+        if not os.path.exists(seg):
+            run([os.path.join(args.cgal, "cgal_segmentation"), "-o", seg])
+        out.append((label, seg))
     return out
 
 
@@ -112,8 +121,6 @@ def main():
     ratios = [float(r) for r in args.ratios.split(",")]
     results = []
     for name, path in inputs(args):
-        if (args.only and not re.search(args.only, name)) or (args.skip and re.search(args.skip, name)):
-            continue
         inq = input_quality(args, name, path)
         print(f"## {name}: {inq['vertices']} vertices, {inq['tets']} tets, min dihedral {inq['min_dihedral']:.2f}, "
               f"under 10: {inq['under10']}", file=sys.stderr)
