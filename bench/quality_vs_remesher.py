@@ -149,8 +149,13 @@ def main():
                 try:
                     p, wall = run([os.path.join(args.cgal, "cgal_remesh"), src, out_c, "--vertices",
                                    str(t["vertices"]), "--json", cj, "--max-runs", str(args.cgal_max_runs)], timeout=args.cgal_timeout, check=False)
-                    if p.returncode != 0:
-                        last = [l for l in p.stdout.strip().splitlines() if l][-1:] or ["(no output)"]
+                    if p.returncode < 0:
+                        runs = [l for l in p.stdout.splitlines() if l.startswith("run ")]
+                        where = f" during {runs[-1].strip()}" if runs else ""
+                        row["cgal"] = {"skipped": f"cgal_remesh crashed (signal {-p.returncode}){where}"}
+                    elif p.returncode != 0:
+                        errors = [l for l in p.stdout.splitlines() if l.startswith("cgal_remesh:")]
+                        last = errors[-1:] or [l for l in p.stdout.strip().splitlines() if l][-1:] or ["(no output)"]
                         row["cgal"] = {"skipped": f"cgal_remesh failed (exit {p.returncode}): {last[0]}"}
                     else:
                         with open(cj) as f:

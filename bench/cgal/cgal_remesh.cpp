@@ -208,16 +208,30 @@ Input prepare(const std::string& path) {
     for (const auto& [f, n] : faces) {
       if (n > 2) ++shared;
       if (n != 1) continue;
-      for (int i = 0; i < 3; ++i) ++edges[{f[i], f[(i + 1) % 3], 0}];
+      for (int i = 0; i < 3; ++i) ++edges[{std::min(f[i], f[(i + 1) % 3]), std::max(f[i], f[(i + 1) % 3]), 0}];
     }
     std::size_t non_manifold = 0;
     for (const auto& [e, n] : edges) non_manifold += n > 2 ? 1 : 0;
+    // The infinite vertex's link is the boundary: it must be one sphere (Euler characteristic 2).
+    std::size_t boundary_faces = 0;
+    std::unordered_map<std::uint32_t, char> boundary_vertices;
+    for (const auto& [f, n] : faces)
+      if (n == 1) {
+        ++boundary_faces;
+        for (std::uint32_t v : f) boundary_vertices[v] = 1;
+      }
+    const long long euler = static_cast<long long>(boundary_vertices.size()) - static_cast<long long>(edges.size()) +
+                            static_cast<long long>(boundary_faces);
     if (shared > 0)
       throw std::runtime_error(path + ": " + std::to_string(shared) + " faces shared by more than two tets");
     if (non_manifold > 0)
       throw std::runtime_error(path + ": the boundary has " + std::to_string(non_manifold) +
                                " non-manifold edges (more than two boundary faces): CGAL's triangulation cannot "
                                "represent it (CGAL::build_triangulation refuses it)");
+    if (euler != 2)
+      throw std::runtime_error(path + ": the boundary's Euler characteristic is " + std::to_string(euler) +
+                               ", not one sphere's (2): CGAL's triangulation closes the boundary with one infinite "
+                               "vertex whose link must be a sphere (CGAL::build_triangulation refuses it)");
   }
   in.materials = m.tet_ref;
   std::sort(in.materials.begin(), in.materials.end());
@@ -411,6 +425,7 @@ int run(const Args& args) {
               in.mesh.edges.size(), in.mesh.corners.size(), in.mesh.required_vertices.size(),
               in.flipped ? (", " + std::to_string(in.flipped) + " tets reoriented").c_str() : "");
   for (const auto& w : in.warnings) std::printf("warning: %s\n", w.c_str());
+  std::fflush(stdout);
   const double target = args.vertices > 0 ? static_cast<double>(args.vertices)
                                           : args.ratio > 0 ? args.ratio * static_cast<double>(nv_in) : 0.0;
   std::vector<RunResult> runs;
@@ -430,9 +445,10 @@ int run(const Args& args) {
     for (int k = 0; k < args.max_runs; ++k) {
       C3t3 c3t3;
       Pinned pinned;
+      std::printf("run %d: edge length %.17g", k + 1, length);
+      std::fflush(stdout);
       const RunResult r = remesh(in, length, args.iterations, &c3t3, &pinned);
-      std::printf("run %d: edge length %.6g -> %zu vertices (target %.0f), %zu tets, %.2f s\n", k + 1, r.edge_length,
-                  r.vertices, target, r.tets, r.seconds);
+      std::printf(" -> %zu vertices (target %.0f), %zu tets, %.2f s\n", r.vertices, target, r.tets, r.seconds);
       std::fflush(stdout);
       runs.push_back(r);
       if (runs.size() == 1 || miss(r) < miss(runs[best])) {
