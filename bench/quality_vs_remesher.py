@@ -115,7 +115,12 @@ def main():
     ap.add_argument("--cgal-timeout", type=float, default=900.0, help="seconds for one cgal_remesh call (its search)")
     ap.add_argument("--cgal-max-runs", type=int, default=4, help="cgal_remesh --max-runs (remeshing runs of the search)")
     ap.add_argument("--json", default=None, help="results (default WORK/quality_vs_remesher.json)")
+    ap.add_argument("--table-from", help="print the table of a results JSON written earlier, run nothing")
     args = ap.parse_args()
+    if args.table_from:
+        with open(args.table_from) as f:
+            print_table(json.load(f))
+        return
     args.topotet = args.build if os.path.isfile(args.build) else os.path.join(args.build, "cli", "topotet")
     os.makedirs(args.work, exist_ok=True)
     ratios = [float(r) for r in args.ratios.split(",")]
@@ -190,12 +195,14 @@ def print_table(results):
             time_s = f"{x['seconds']:.2f}"
             if tool == "cgal":
                 time_s += f" ({x['search_seconds']:.0f} search, {x['runs']} runs)"
+            # None: a label of IN is missing in OUT, so no distance (the verdict says which).
+            hausdorff = "-" if x["hausdorff_rel"] is None else f"{100 * x['hausdorff_rel']:.2f}%"
             verdict = x["topology"]
             if verdict == "FAIL" and x["differences"]:
                 verdict += ": " + "; ".join(x["differences"][:2]).replace("|", "/")[:160]
             print(f"| {r['input']} ({inq['vertices']} v, min {inq['min_dihedral']:.1f} deg) | {r['ratio']:g} | {label} | "
                   f"{x['vertices']:,} | {x['min_dihedral']:.2f} | {x['under10']:,} ({x['under10_pct']:.1f}%) | "
-                  f"{x['mean_ratio']:.3f} | {100 * x['hausdorff_rel']:.2f}% | {time_s} | {verdict} |")
+                  f"{x['mean_ratio']:.3f} | {hausdorff} | {time_s} | {verdict} |")
 
 
 if __name__ == "__main__":
