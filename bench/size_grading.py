@@ -29,40 +29,38 @@ import sys
 from inputs import FAMILIES, family, shared
 
 
-def ball_in_cube(work, size=0.03):
-    """bench/gmsh_smooth.sh's ball in a cube (2 materials), meshed by gmsh into WORK once; None without gmsh."""
-    path = os.path.join(work, f"ball_{size}.msh")
+def gmsh_mesh(work, name, geo):
+    """The OpenCASCADE model `geo` meshed by gmsh into WORK/NAME.msh once (written to a temporary name
+    and renamed); None without gmsh."""
+    path = os.path.join(work, f"{name}.msh")
     if not os.path.exists(path):
         if shutil.which("gmsh") is None:
             return None
-        geo = os.path.join(work, "ball.geo")
-        with open(geo, "w") as f:
-            f.write('SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 1, 1, 1};\nSphere(2) = {0.5, 0.5, 0.5, 0.3};\n'
-                    "BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; }\n"
-                    'Physical Volume("ball", 1) = {2};\nPhysical Volume("box", 2) = {3};\n'
-                    f"Mesh.MeshSizeMax = {size};\nMesh.MeshSizeMin = {size};\n")
-        subprocess.run(["gmsh", "-3", geo, "-o", path + ".part.msh", "-format", "msh41", "-nt", "1"], check=True,
+        geo_path = os.path.join(work, f"{name}.geo")
+        with open(geo_path, "w") as f:
+            f.write(geo)
+        subprocess.run(["gmsh", "-3", geo_path, "-o", path + ".part.msh", "-format", "msh41", "-nt", "1"], check=True,
                        stdout=subprocess.DEVNULL)
         os.replace(path + ".part.msh", path)
     return path
+
+
+def ball_in_cube(work, size=0.03):
+    """bench/gmsh_smooth.sh's ball in a cube (2 materials)."""
+    return gmsh_mesh(work, f"ball_{size}",
+                     'SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 1, 1, 1};\nSphere(2) = {0.5, 0.5, 0.5, 0.3};\n'
+                     "BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; }\n"
+                     'Physical Volume("ball", 1) = {2};\nPhysical Volume("box", 2) = {3};\n'
+                     f"Mesh.MeshSizeMax = {size};\nMesh.MeshSizeMin = {size};\n")
 
 
 def cube_in_sphere(work, size=0.058):
-    """Issue #26's case: a cube inside a ball (2 materials, the cube's faces a flat interface), by gmsh; ~100k tets."""
-    path = os.path.join(work, f"cube_in_sphere_{size}.msh")
-    if not os.path.exists(path):
-        if shutil.which("gmsh") is None:
-            return None
-        geo = os.path.join(work, "cube_in_sphere.geo")
-        with open(geo, "w") as f:
-            f.write('SetFactory("OpenCASCADE");\nSphere(1) = {0, 0, 0, 1};\nBox(2) = {-0.4, -0.4, -0.4, 0.8, 0.8, 0.8};\n'
-                    "BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; }\n"
-                    'Physical Volume("shell", 1) = {3};\nPhysical Volume("cube", 2) = {2};\n'
-                    f"Mesh.MeshSizeMax = {size};\nMesh.MeshSizeMin = {size};\n")
-        subprocess.run(["gmsh", "-3", geo, "-o", path + ".part.msh", "-format", "msh41", "-nt", "1"], check=True,
-                       stdout=subprocess.DEVNULL)
-        os.replace(path + ".part.msh", path)
-    return path
+    """Issue #26's case: a cube inside a ball (2 materials, the cube's faces a flat interface); ~100k tets."""
+    return gmsh_mesh(work, f"cube_in_sphere_{size}",
+                     'SetFactory("OpenCASCADE");\nSphere(1) = {0, 0, 0, 1};\nBox(2) = {-0.4, -0.4, -0.4, 0.8, 0.8, 0.8};\n'
+                     "BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; }\n"
+                     'Physical Volume("shell", 1) = {3};\nPhysical Volume("cube", 2) = {2};\n'
+                     f"Mesh.MeshSizeMax = {size};\nMesh.MeshSizeMin = {size};\n")
 
 
 def inputs(topotet, work, tets):
