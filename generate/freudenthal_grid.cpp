@@ -276,58 +276,63 @@ void add_chain(const FreudenthalGrid& grid, std::array<std::uint32_t, 3> start, 
   }
 }
 
+std::array<double, 3> jittered_position(const FreudenthalGrid& grid, std::uint64_t key, std::uint32_t i, std::uint32_t j,
+                                        std::uint32_t k, bool keep_z) {
+  const Cells& n = grid.cells();
+  const std::uint64_t v = grid.vertex(i, j, k);
+  // Uniform in the unit ball by rejection: every attempt hashes (seed, vertex, attempt),
+  // so the result does not depend on the order vertices are visited in. After 16 misses
+  // (about one vertex in 10^5) the vertex stays on the lattice.
+  glm::dvec3 d(0.0);
+  for (std::uint64_t attempt = 0; attempt < 16; ++attempt) {
+    const std::uint64_t base = splitmix64(key ^ (v * 64 + attempt * 4));
+    const glm::dvec3 c(to_symmetric_unit(splitmix64(base + 1)), to_symmetric_unit(splitmix64(base + 2)),
+                       to_symmetric_unit(splitmix64(base + 3)));
+    if (c.x * c.x + c.y * c.y + c.z * c.z <= 1.0) {
+      d = c;
+      break;
+    }
+  }
+  // Box faces stay flat: no motion along the normal of a face the vertex lies on.
+  if (i == 0 || i == n[0]) d.x = 0.0;
+  if (j == 0 || j == n[1]) d.y = 0.0;
+  if (keep_z) d.z = 0.0;
+  return from_glm((glm::dvec3(i, j, k) + kJitter * d) * grid.cell_size());
+}
+
 void set_jittered_positions(const FreudenthalGrid& grid, std::uint64_t seed, MeshData& mesh,
                             const std::vector<std::uint32_t>& flat_z) {
   const Cells& n = grid.cells();
-  const double h = grid.cell_size();
   const std::uint64_t key = splitmix64(seed);
   mesh.positions.resize(grid.vertex_count());
   std::size_t v = 0;
   for (std::uint32_t k = 0; k <= n[2]; ++k) {
     const bool keep_z = k == 0 || k == n[2] || std::find(flat_z.begin(), flat_z.end(), k) != flat_z.end();
-    for (std::uint32_t j = 0; j <= n[1]; ++j) {
-      for (std::uint32_t i = 0; i <= n[0]; ++i, ++v) {
-        // Uniform in the unit ball by rejection: every attempt hashes (seed, vertex, attempt),
-        // so the result does not depend on the order vertices are visited in. After 16 misses
-        // (about one vertex in 10^5) the vertex stays on the lattice.
-        glm::dvec3 d(0.0);
-        for (std::uint64_t attempt = 0; attempt < 16; ++attempt) {
-          const std::uint64_t base = splitmix64(key ^ (v * 64 + attempt * 4));
-          const glm::dvec3 c(to_symmetric_unit(splitmix64(base + 1)), to_symmetric_unit(splitmix64(base + 2)),
-                             to_symmetric_unit(splitmix64(base + 3)));
-          if (c.x * c.x + c.y * c.y + c.z * c.z <= 1.0) {
-            d = c;
-            break;
-          }
-        }
-        // Box faces stay flat: no motion along the normal of a face the vertex lies on.
-        if (i == 0 || i == n[0]) d.x = 0.0;
-        if (j == 0 || j == n[1]) d.y = 0.0;
-        if (keep_z) d.z = 0.0;
-        mesh.positions[v] = from_glm((glm::dvec3(i, j, k) + kJitter * d) * h);
-      }
-    }
+    for (std::uint32_t j = 0; j <= n[1]; ++j)
+      for (std::uint32_t i = 0; i <= n[0]; ++i, ++v) mesh.positions[v] = jittered_position(grid, key, i, j, k, keep_z);
   }
 }
 
-void add_feature_field(const FreudenthalGrid& grid, MeshData& mesh) {
+double feature_value(const FreudenthalGrid& grid, const std::array<double, 3>& position) {
   const Cells& n = grid.cells();
   const double h = grid.cell_size();
   const glm::dvec3 extent(n[0] * h, n[1] * h, n[2] * h);
   constexpr double kPi = 3.14159265358979323846;
+  const glm::dvec3 q = to_glm(position) / extent;  // in [0, 1]^3
+  const double smooth =
+      0.5 * std::sin(2 * kPi * q.x) * std::cos(3 * kPi * q.y) + 0.25 * std::sin(4 * kPi * q.z + 1.0);
+  // A steep front across an oblique plane (width 1% of the box).
+  const double front = 0.5 * std::tanh((q.x + 0.6 * q.y - 0.3 * q.z - 0.55) / 0.01);
+  // A narrow peak away from the planted substructures.
+  const glm::dvec3 r = q - glm::dvec3(0.8, 0.25, 0.7);
+  const double peak = 1.5 * std::exp(-(r.x * r.x + r.y * r.y + r.z * r.z) / (2 * 0.03 * 0.03));
+  return smooth + front + peak;
+}
+
+void add_feature_field(const FreudenthalGrid& grid, MeshData& mesh) {
   VertexField field{"f", 1, {}};
   field.values.resize(mesh.positions.size());
-  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-    const glm::dvec3 q = to_glm(mesh.positions[v]) / extent;  // in [0, 1]^3
-    const double smooth =
-        0.5 * std::sin(2 * kPi * q.x) * std::cos(3 * kPi * q.y) + 0.25 * std::sin(4 * kPi * q.z + 1.0);
-    // A steep front across an oblique plane (width 1% of the box).
-    const double front = 0.5 * std::tanh((q.x + 0.6 * q.y - 0.3 * q.z - 0.55) / 0.01);
-    // A narrow peak away from the planted substructures.
-    const glm::dvec3 r = q - glm::dvec3(0.8, 0.25, 0.7);
-    const double peak = 1.5 * std::exp(-(r.x * r.x + r.y * r.y + r.z * r.z) / (2 * 0.03 * 0.03));
-    field.values[v] = smooth + front + peak;
-  }
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) field.values[v] = feature_value(grid, mesh.positions[v]);
   mesh.fields.push_back(std::move(field));
 }
 

@@ -19,6 +19,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "topotet/generate.h"
 #include "topotet/mesh_data.h"
 
 namespace topotet::gen {
@@ -29,6 +30,8 @@ MeshData generate_slab(std::uint64_t target_tets, std::uint64_t seed);
 MeshData generate_linked_tori(std::uint64_t target_tets, std::uint64_t seed);
 // cells = 0 picks the default count.
 MeshData generate_polycrystal(std::uint64_t target_tets, std::uint64_t seed, std::uint32_t cells);
+// The same mesh as generate_cube_sphere, handed to `sink` section by section (generate.h).
+void stream_cube_sphere(std::uint64_t target_tets, std::uint64_t seed, GenerateSink& sink);
 
 // splitmix64 (Steele, Lea, Flood 2014): a fixed, portable 64-bit mixer, so the generated meshes
 // are the same on every platform and standard library (unlike std::uniform_real_distribution).
@@ -94,6 +97,33 @@ class FreudenthalGrid {
   std::array<std::uint64_t, 3> stride_;
 };
 
+// The Kuhn tet `perm` of cube (i, j, k), positively oriented, and its lattice-coordinate centroid.
+inline std::array<VertId, 4> kuhn_tet(const FreudenthalGrid& grid, std::uint32_t i, std::uint32_t j, std::uint32_t k,
+                                      int perm) {
+  const VertId v0 = grid.vertex(i, j, k);
+  const VertId v3 = static_cast<VertId>(v0 + grid.stride(0) + grid.stride(1) + grid.stride(2));
+  const auto [a, b, d] = kPerms[perm];
+  const VertId v1 = static_cast<VertId>(v0 + grid.stride(a));
+  const VertId v2 = static_cast<VertId>(v1 + grid.stride(b));
+  return kPermOdd[perm] ? std::array<VertId, 4>{v1, v0, v2, v3} : std::array<VertId, 4>{v0, v1, v2, v3};
+}
+// Tet id -> its vertices (the inverse of FreudenthalGrid::tet).
+inline std::array<VertId, 4> kuhn_tet(const FreudenthalGrid& grid, TetId t) {
+  const std::uint64_t cube = t / 6;
+  const Cells& n = grid.cells();
+  return kuhn_tet(grid, static_cast<std::uint32_t>(cube % n[0]), static_cast<std::uint32_t>(cube / n[0] % n[1]),
+                  static_cast<std::uint32_t>(cube / n[0] / n[1]), static_cast<int>(t % 6));
+}
+// Centroid = c + (3 e[a] + 2 e[b] + e[d]) / 4.
+inline glm::dvec3 kuhn_centroid(std::uint32_t i, std::uint32_t j, std::uint32_t k, int perm) {
+  const auto [a, b, d] = kPerms[perm];
+  glm::dvec3 centroid(i, j, k);
+  centroid[a] += 0.75;
+  centroid[b] += 0.5;
+  centroid[d] += 0.25;
+  return centroid;
+}
+
 // Fills mesh.tets (positively oriented on the lattice) and mesh.tet_material, with
 // material_of(centroid) deciding each tet from its lattice-coordinate centroid.
 template <class MaterialOf>
@@ -101,25 +131,13 @@ void build_tets(const FreudenthalGrid& grid, MaterialOf&& material_of, MeshData&
   const Cells& n = grid.cells();
   mesh.tets.resize(grid.tet_count());
   mesh.tet_material.resize(grid.tet_count());
-  const std::uint64_t step[3] = {grid.stride(0), grid.stride(1), grid.stride(2)};
   std::size_t t = 0;
   for (std::uint32_t k = 0; k < n[2]; ++k) {
     for (std::uint32_t j = 0; j < n[1]; ++j) {
       for (std::uint32_t i = 0; i < n[0]; ++i) {
-        const VertId v0 = grid.vertex(i, j, k);
-        const VertId v3 = static_cast<VertId>(v0 + step[0] + step[1] + step[2]);
         for (int p = 0; p < 6; ++p, ++t) {
-          const auto [a, b, d] = kPerms[p];
-          const VertId v1 = static_cast<VertId>(v0 + step[a]);
-          const VertId v2 = static_cast<VertId>(v1 + step[b]);
-          mesh.tets[t] = kPermOdd[p] ? std::array<VertId, 4>{v1, v0, v2, v3}
-                                     : std::array<VertId, 4>{v0, v1, v2, v3};
-          // Centroid = c + (3 e[a] + 2 e[b] + e[d]) / 4.
-          glm::dvec3 centroid(i, j, k);
-          centroid[a] += 0.75;
-          centroid[b] += 0.5;
-          centroid[d] += 0.25;
-          mesh.tet_material[t] = material_of(centroid);
+          mesh.tets[t] = kuhn_tet(grid, i, j, k, p);
+          mesh.tet_material[t] = material_of(kuhn_centroid(i, j, k, p));
         }
       }
     }
@@ -212,6 +230,12 @@ void add_chain(const FreudenthalGrid& grid, std::array<std::uint32_t, 3> start, 
 inline constexpr double kJitter = 0.15;
 void set_jittered_positions(const FreudenthalGrid& grid, std::uint64_t seed, MeshData& mesh,
                             const std::vector<std::uint32_t>& flat_z = {});
+// The position set_jittered_positions gives lattice point (i, j, k), vertex id v; key =
+// splitmix64(seed). The streaming writer calls it vertex by vertex.
+std::array<double, 3> jittered_position(const FreudenthalGrid& grid, std::uint64_t key, std::uint32_t i, std::uint32_t j,
+                                        std::uint32_t k, bool keep_z);
+// The value add_feature_field gives a vertex at `position`.
+double feature_value(const FreudenthalGrid& grid, const std::array<double, 3>& position);
 
 // Appends the scalar field "f" at the vertices: a smooth sin/cos background plus a steep tanh front
 // and a narrow Gaussian peak (both narrower than a cell at small sizes), in box-relative coordinates.

@@ -1,6 +1,8 @@
 // generate_mesh: dispatch to the family generators (one file each, on freudenthal_grid.h).
 #include "topotet/generate.h"
 
+#include <stdexcept>
+
 #include "generate/freudenthal_grid.h"
 #include "topotet/error.h"
 
@@ -25,6 +27,14 @@ MeshData generate_mesh(const GenerateOptions& options) {
   // Only polycrystal has cells: refuse the option rather than ignore it.
   if (options.cells != 0) throw InputError(options.family + ": --cells applies to polycrystal only");
   return generate(options.target_tets, options.seed);
+}
+
+bool can_stream(const GenerateOptions& options) { return options.family == "cube-sphere"; }
+
+void generate_streamed(const GenerateOptions& options, GenerateSink& sink) {
+  if (!can_stream(options)) throw std::logic_error(options.family + ": this family does not stream");
+  if (options.cells != 0) throw InputError(options.family + ": --cells applies to polycrystal only");
+  gen::stream_cube_sphere(options.target_tets, options.seed, sink);
 }
 
 }  // namespace topotet

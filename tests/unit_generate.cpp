@@ -907,5 +907,73 @@ TEST(Generate, OneMillionTets) {
   }
 }
 
+// Collects what generate_streamed sends into a MeshData, checking the announced counts.
+class CollectSink final : public GenerateSink {
+ public:
+  MeshData mesh;
+  std::uint64_t announced[5] = {};
+  void begin_vertices(std::uint64_t count) override {
+    announced[0] = count;
+    mesh.fields.push_back({"f", 1, {}});
+  }
+  void vertex(const std::array<double, 3>& p, double value) override {
+    mesh.positions.push_back(p);
+    mesh.fields[0].values.push_back(value);
+  }
+  void begin_tets(std::uint64_t count) override { announced[1] = count; }
+  void tet(const std::array<VertId, 4>& v, std::int32_t material) override {
+    mesh.tets.push_back(v);
+    mesh.tet_material.push_back(material);
+  }
+  void begin_triangles(std::uint64_t count) override { announced[2] = count; }
+  void triangle(const Triangle& t) override { mesh.triangles.push_back(t); }
+  void begin_segments(std::uint64_t count) override { announced[3] = count; }
+  void segment(const Segment& s) override { mesh.segments.push_back(s); }
+  void begin_corners(std::uint64_t count) override { announced[4] = count; }
+  void corner(VertId v) override { mesh.corners.push_back(v); }
+};
+
+// The streamed generator must send exactly the in-memory mesh: the CLI writes either one, and
+// its output must not depend on which (tests/cli_test.sh compares the bytes).
+TEST(GenerateStreamed, CubeSphereSendsTheInMemoryMesh) {
+  for (const std::uint64_t tets : {3000ull, 10000ull, 50000ull, 200000ull}) {
+    for (const std::uint64_t seed : {1ull, 7ull}) {
+      const GenerateOptions options{"cube-sphere", tets, seed};
+      ASSERT_TRUE(can_stream(options));
+      const MeshData expected = generate_mesh(options);
+      CollectSink sink;
+      generate_streamed(options, sink);
+      const MeshData& got = sink.mesh;
+      SCOPED_TRACE(std::to_string(tets) + " tets, seed " + std::to_string(seed));
+      EXPECT_EQ(sink.announced[0], got.positions.size());
+      EXPECT_EQ(sink.announced[1], got.tets.size());
+      EXPECT_EQ(sink.announced[2], got.triangles.size());
+      EXPECT_EQ(sink.announced[3], got.segments.size());
+      EXPECT_EQ(sink.announced[4], got.corners.size());
+      EXPECT_TRUE(got.positions == expected.positions);  // bit for bit
+      EXPECT_TRUE(got.tets == expected.tets);
+      EXPECT_TRUE(got.tet_material == expected.tet_material);
+      ASSERT_EQ(got.triangles.size(), expected.triangles.size());
+      for (std::size_t i = 0; i < got.triangles.size(); ++i) {
+        ASSERT_TRUE(got.triangles[i].v == expected.triangles[i].v && got.triangles[i].ref == expected.triangles[i].ref)
+            << "triangle " << i;
+      }
+      ASSERT_EQ(got.segments.size(), expected.segments.size());
+      for (std::size_t i = 0; i < got.segments.size(); ++i)
+        EXPECT_TRUE(got.segments[i].v == expected.segments[i].v && got.segments[i].ref == expected.segments[i].ref);
+      EXPECT_EQ(got.corners, expected.corners);
+      ASSERT_EQ(expected.fields.size(), 1u);
+      EXPECT_EQ(expected.fields[0].name, "f");
+      EXPECT_TRUE(got.fields[0].values == expected.fields[0].values);
+    }
+  }
+}
+
+TEST(GenerateStreamed, OtherFamiliesStayInMemory) {
+  for (const char* family : {"slab", "linked-tori", "polycrystal"}) {
+    EXPECT_FALSE(can_stream({family, 100000, 1})) << family;
+  }
+}
+
 }  // namespace
 }  // namespace topotet

@@ -39,6 +39,7 @@
 // peak.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -59,5 +60,31 @@ struct GenerateOptions {
 MeshData generate_mesh(const GenerateOptions& options);
 
 const std::vector<std::string>& generator_families();
+
+// Receives a generated mesh section by section, in the order a MEDIT file lists them, each
+// begin_* with the section's count before its entries; vertices come with the value of the
+// field "f" there. Lets a writer put a mesh larger than memory on disk.
+class GenerateSink {
+ public:
+  virtual ~GenerateSink() = default;
+  virtual void begin_vertices(std::uint64_t count) = 0;
+  virtual void vertex(const std::array<double, 3>& position, double field_value) = 0;
+  virtual void begin_tets(std::uint64_t count) = 0;
+  virtual void tet(const std::array<VertId, 4>& v, std::int32_t material) = 0;
+  virtual void begin_triangles(std::uint64_t count) = 0;
+  virtual void triangle(const Triangle& t) = 0;
+  virtual void begin_segments(std::uint64_t count) = 0;
+  virtual void segment(const Segment& s) = 0;
+  virtual void begin_corners(std::uint64_t count) = 0;
+  virtual void corner(VertId v) = 0;
+};
+
+// True for the families generate_streamed can send (cube-sphere).
+bool can_stream(const GenerateOptions& options);
+// Sends exactly what generate_mesh(options) returns (same numbering, order and values) to `sink`,
+// with memory independent of the mesh size for the tets, vertices and boundary: cube-sphere keeps
+// only the box around its ball in memory (about 20 bytes per tet there). Throws like
+// generate_mesh, and std::logic_error for a family that cannot stream.
+void generate_streamed(const GenerateOptions& options, GenerateSink& sink);
 
 }  // namespace topotet
