@@ -114,7 +114,7 @@ void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const 
       gather_stars(mesh, cands[chosen].u, cands[chosen].v, scratch);
     } else {
       Placement placements[kMaxCandidates];
-      for (int i = 0; i < n; ++i) placements[i] = {cands[i].u, cands[i].v, cands[i].p, nullptr, cands[i].fallback};
+      for (int i = 0; i < n; ++i) placements[i] = placement_of(cands[i]);
       if (bounds != nullptr && bounds->has_limit()) set_placement_fields(mesh, cost, cands, n, placements, candidate_fields);
       ++report.legality_checks;
       cost.hint_orders(e.a, e.b, scratch.link);

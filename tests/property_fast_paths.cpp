@@ -146,7 +146,7 @@ void run(const testing::PlantedMesh& planted, std::uint64_t seed, std::uint64_t 
 
     // The collapse the engines would take, through the hinted path.
     Placement placements[kMaxCandidates];
-    for (int i = 0; i < n; ++i) placements[i] = {cands[i].u, cands[i].v, cands[i].p, nullptr, cands[i].fallback};
+    for (int i = 0; i < n; ++i) placements[i] = placement_of(cands[i]);
     cost.hint_orders(a, b, scratch.link);
     const int chosen = first_acceptable(m, placements, n, CollapseOptions{}, scratch, nullptr);
     if (chosen < 0) {

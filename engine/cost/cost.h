@@ -257,6 +257,10 @@ class CostModel {
   void apply_pins(const MeshModel& mesh, VertId u, VertId v, double* out) const;
 };
 
+// The kernel's view of candidate c (collapse.h): v into u at p, tried as a quality fallback if it
+// is one; no field values (set_placement_fields adds them where the field bounds need them).
+inline Placement placement_of(const CollapseCandidate& c) { return {c.u, c.v, c.p, nullptr, c.fallback}; }
+
 // Points placements[i].fields at fields_at(cands[i]) (stored in `storage`), for the kernel's field
 // error check (CollapseOptions::field_bounds): it must see the values collapse() will write.
 void set_placement_fields(const MeshModel& mesh, const CostModel& cost, const CollapseCandidate* cands, int n,

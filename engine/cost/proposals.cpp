@@ -175,7 +175,7 @@ void Proposals::restore_lifted_bans(VertId a, Proposal& p, VertId u) {
 
 int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
   Placement placements[kMaxCandidates];
-  for (int i = 0; i < n; ++i) placements[i] = {s.cands[i].u, s.cands[i].v, s.cands[i].p, nullptr, s.cands[i].fallback};
+  for (int i = 0; i < n; ++i) placements[i] = placement_of(s.cands[i]);
   if (kernel_.field_bounds != nullptr && kernel_.field_bounds->has_limit()) set_placement_fields(mesh_, cost_, s.cands, n, placements, s.fields);
   ++s.checks;
   cost_.hint_orders(a, b, s.collapse.link);
@@ -193,8 +193,8 @@ int Proposals::prove(VertId a, ProposalScratch& s) {
   // The verified placement is proved whatever it is (a quality fallback was reached then); the ones
   // after it keep their rule.
   Placement placements[kMaxCandidates];
-  for (int i = from; i < n; ++i)
-    placements[i - from] = {s.cands[i].u, s.cands[i].v, s.cands[i].p, nullptr, i > from && s.cands[i].fallback};
+  for (int i = from; i < n; ++i) placements[i - from] = placement_of(s.cands[i]);
+  placements[0].quality_fallback = false;
   if (kernel_.field_bounds != nullptr && kernel_.field_bounds->has_limit())
     set_placement_fields(mesh_, cost_, s.cands + from, n - from, placements, s.fields);
   ++s.checks;
