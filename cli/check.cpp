@@ -1,13 +1,16 @@
 // topotet check IN OUT [--json FILE] [--fast]: the independent topology checker on two meshes.
 // Prints the topology of both, the verdict (exit 1 on any difference), the quality of OUT (whose
-// inverted tets must be 0) and the Hausdorff distances between their surfaces, per label.
+// inverted tets must be 0), the Hausdorff distances between their surfaces, per label, and the
+// error of the fields both carry.
 #include <cstdio>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 #include "common.h"
 #include "distance_report.h"
 #include "json_report.h"
+#include "topotet/metrics/field_error.h"
 #include "topotet/metrics/quality.h"
 #include "topotet/metrics/topology.h"
 
@@ -87,6 +90,18 @@ int run_check(const CheckArgs& args) {
   const SurfaceDistance distance = surface_distance(before, after, distance_options);
   const double distance_seconds = distance_clock.seconds();
   print_surface_distance(distance, distance_seconds, /*per_label=*/true);
+  // Fields both meshes carry (same name and size): the error an out-of-core run, or any run whose
+  // report did not measure it, is compared with (topotet simplify reports it in core).
+  std::optional<FieldError> fields;
+  double field_seconds = 0.0;
+  if (!before.fields.empty() && !after.fields.empty()) {
+    const Stopwatch field_clock;
+    fields = compare_fields(before, after);
+    field_seconds = field_clock.seconds();
+    std::fprintf(report_stream(), "fields    rms %s, max %s (relative to the range, worst of %zu components; %s)\n",
+                 format_number(fields->worst_rms_rel).c_str(), format_number(fields->worst_max_rel).c_str(),
+                 fields->components.size(), format_seconds(field_seconds).c_str());
+  }
 
   if (!args.json_path.empty()) {
     Json j = json_header("check");
@@ -104,6 +119,10 @@ int run_check(const CheckArgs& args) {
     j["topology_seconds"] = topology_seconds;  // both meshes' topology and the comparison
     j["surface_distance"] = surface_distance_json(distance);
     j["surface_distance_seconds"] = distance_seconds;
+    if (fields) {
+      j["field_error"] = {{"rms_rel", fields->worst_rms_rel}, {"max_rel", fields->worst_max_rel}};
+      j["field_error_seconds"] = field_seconds;
+    }
     write_json_atomically(args.json_path, j);
   }
   return ok ? kExitOk : kExitCheckFailed;

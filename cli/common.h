@@ -82,6 +82,9 @@ struct SimplifyJob {
 };
 // Builds, simplifies, writes, measures and verifies; prints the report. Returns the exit code.
 int run_simplify_job(SimplifyJob& job);
+// topotet simplify --memory-limit / --pieces: out of core (cli/simplify_out_of_core.cpp).
+struct SimplifyArgs;
+int run_simplify_out_of_core(const SimplifyArgs& args);
 
 // ---- levels of a collapse hierarchy (extract.cpp) ----
 // One uniform level per error threshold, written as `output` with the threshold before the

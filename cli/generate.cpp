@@ -3,7 +3,6 @@
 #include <cstdio>
 #include <memory>
 
-#include <filesystem>
 
 #include "common.h"
 #include "io/atomic_file.h"
@@ -11,6 +10,7 @@
 #include "topotet/error.h"
 #include "topotet/generate.h"
 #include "topotet/io.h"
+#include "topotet/medit_stream.h"
 
 namespace topotet::cli {
 namespace {
@@ -24,79 +24,45 @@ struct GenerateArgs {
   bool binary = false;
 };
 
-// Writes what generate_streamed sends as MEDIT ASCII: <stem>.mesh, <stem>.sol (the field "f") and
-// <stem>.sol.fields.txt (its name), byte for byte what write_mesh_file writes for the in-memory
-// mesh (io/medit.cpp), all three committed together at the end (io/atomic_file.h).
+// Writes what generate_streamed sends as MEDIT ASCII through io's streaming writer
+// (topotet/medit_stream.h): <stem>.mesh, <stem>.sol (the field "f") and <stem>.sol.fields.txt (its
+// name), byte for byte what write_mesh_file writes for the in-memory mesh, all committed together.
 class MeditSink final : public GenerateSink {
  public:
-  MeditSink(const std::string& path, const std::string& stem)
-      : stem_(stem), mesh_(path), sol_(stem + ".sol"), names_(stem + ".sol.fields.txt") {}
+  explicit MeditSink(const std::string& path) : out_(path, {VertexField{"f", 1, {}}}) {}
   void begin_vertices(std::uint64_t count) override {
     vertex_count_ = count;
-    mesh_.put("MeshVersionFormatted 2\n\nDimension 3\n\nVertices\n");
-    mesh_.put_int(count);
-    mesh_.put('\n');
-    sol_.put("MeshVersionFormatted 2\n\nDimension 3\n\nSolAtVertices\n");
-    sol_.put_int(count);
-    sol_.put("\n1 1\n\n");
+    out_.begin_vertices(count);
   }
-  void vertex(const std::array<double, 3>& p, double value) override {
-    mesh_.put_double(p[0]);
-    mesh_.put(' ');
-    mesh_.put_double(p[1]);
-    mesh_.put(' ');
-    mesh_.put_double(p[2]);
-    mesh_.put(" 0\n");
-    sol_.put_double(value);
-    sol_.put('\n');
+  void vertex(const std::array<double, 3>& p, double value) override { out_.vertex(p, 0, &value); }
+  void begin_tets(std::uint64_t count) override {
+    counts_[0] = count;
+    out_.begin_tets(count);
   }
-  void begin_tets(std::uint64_t count) override { begin("Tetrahedra", count); }
-  void tet(const std::array<VertId, 4>& v, std::int32_t material) override { entry(v.data(), 4, material); }
-  void begin_triangles(std::uint64_t count) override { begin("Triangles", count); }
-  void triangle(const Triangle& t) override { entry(t.v.data(), 3, t.ref); }
-  void begin_segments(std::uint64_t count) override { begin("Edges", count); }
-  void segment(const Segment& s) override { entry(s.v.data(), 2, s.ref); }
-  void begin_corners(std::uint64_t count) override { begin("Corners", count); }
-  void corner(VertId v) override {
-    mesh_.put_int(std::uint64_t{v} + 1);
-    mesh_.put('\n');
+  void tet(const std::array<VertId, 4>& v, std::int32_t material) override { out_.tet(v, material, nullptr); }
+  void begin_triangles(std::uint64_t count) override {
+    counts_[1] = count;
+    out_.begin_triangles(count);
   }
+  void triangle(const Triangle& t) override { out_.triangle(t); }
+  void begin_segments(std::uint64_t count) override {
+    counts_[2] = count;
+    out_.begin_segments(count);
+  }
+  void segment(const Segment& s) override { out_.segment(s); }
+  void begin_corners(std::uint64_t count) override {
+    counts_[3] = count;
+    out_.begin_corners(count);
+  }
+  void corner(VertId v) override { out_.corner(v); }
   std::uint64_t vertex_count() const { return vertex_count_; }
   std::uint64_t count(int section) const { return counts_[section]; }
-  void commit() {
-    mesh_.put("\nEnd\n");
-    sol_.put("\nEnd\n");
-    names_.put("columns of SolAtVertices in order: f\n");
-    io::commit_all({&sol_, &names_, &mesh_});
-    std::error_code ec;
-    std::filesystem::remove(stem_ + ".sol.gz", ec);  // a stale companion would be read with the new mesh
-  }
+  void commit() { out_.commit(); }
 
  private:
-  // Sections with no entries are left out, as write_medit does.
-  void begin(const char* name, std::uint64_t count) {
-    counts_[section_++] = count;
-    if (count == 0) return;
-    mesh_.put("\n");
-    mesh_.put(name);
-    mesh_.put('\n');
-    mesh_.put_int(count);
-    mesh_.put('\n');
-  }
-  void entry(const VertId* v, int n, std::int32_t ref) {
-    for (int k = 0; k < n; ++k) {
-      mesh_.put_int(std::uint64_t{v[k]} + 1);
-      mesh_.put(' ');
-    }
-    mesh_.put_int(ref);
-    mesh_.put('\n');
-  }
-
-  std::string stem_;
-  io::AtomicFile mesh_, sol_, names_;
+  MeditStreamWriter out_;
   std::uint64_t vertex_count_ = 0;
   std::uint64_t counts_[4] = {};  // tets, triangles, edges, corners
-  int section_ = 0;
 };
 
 // Streams when the output is a plain .mesh file (not a stream or device, which has no folder for
@@ -107,8 +73,7 @@ bool streams(const GenerateArgs& args, const GenerateOptions& options) {
 
 int run_generate_streamed(const GenerateArgs& args, const GenerateOptions& options) {
   const Stopwatch clock;
-  const std::string stem = args.output.substr(0, args.output.size() - 5);
-  MeditSink sink(args.output, stem);
+  MeditSink sink(args.output);
   try {
     generate_streamed(options, sink);
   } catch (const InputError& e) {

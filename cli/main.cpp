@@ -4,7 +4,7 @@
 // stderr and exit code 2: bad usage (CLI11 parse errors), bad input (topotet::InputError) and any
 // other std::exception. A failed check (topology, inverted tets) is exit code 1.
 //
-// SIGINT and SIGTERM remove the temporary files of writes in progress (outputs already written
+// SIGINT and SIGTERM remove the temporary files of writes in progress and out-of-core scratch folders (outputs already written
 // stay; a file being written keeps its old content), print one error line and exit 130 / 143,
 // the codes a shell gives a process killed by those signals.
 #include <signal.h>
@@ -18,6 +18,7 @@
 #include "common.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
+#include "topotet/out_of_core.h"
 #include "topotet/version.h"
 
 namespace {
@@ -25,6 +26,7 @@ namespace {
 // Async-signal-safe: unlink, write and _exit only.
 extern "C" void on_terminate_signal(int sig) {
   topotet::remove_temporary_files();
+  topotet::remove_out_of_core_scratch();
   static const char kInt[] = "topotet: error: interrupted (SIGINT)\n";
   static const char kTerm[] = "topotet: error: terminated (SIGTERM)\n";
   const char* text = sig == SIGINT ? kInt : kTerm;

@@ -196,6 +196,24 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
                      "Leave hexahedra, prisms and pyramids out of a mixed mesh (with a warning and their count) "
                      "instead of refusing it"));
   keep(cmd->add_option("--material-array", args.material_array, kMaterialArrayHelp));
+  // Out of core (topotet/out_of_core.h): what it cannot do is excluded here, before any reading.
+  auto* memory_limit = keep(cmd->add_option("--memory-limit", args.memory_limit,
+                                            "Simplify out of core, keeping the peak memory under SIZE (2G, 256M, ...): "
+                                            "the input (MEDIT .mesh, .mesh.gz) is streamed and cut into pieces kept in "
+                                            "a scratch folder, simplified with frozen borders and merged pairwise (the "
+                                            "report says what was left apart)"));
+  auto* scratch = keep(cmd->add_option("--scratch", args.scratch,
+                                       "Out of core: the folder in which the scratch folder is made (default: OUT's "
+                                       "folder); it is removed at the end, on failure and on SIGINT/SIGTERM"));
+  auto* pieces = keep(cmd->add_option("--pieces", args.pieces,
+                                      "Out of core in exactly N pieces (a power of two), whatever the limit (tests, "
+                                      "benchmarks); without --memory-limit nothing limits the merges")
+                          ->check(CLI::Range(1u, 4096u)));
+  for (CLI::Option* out_of_core : {memory_limit, pieces})
+    for (const char* not_out_of_core : {"--levels", "--hierarchy", "--levels-error", "--isosurface", "--field-bounds",
+                                        "--max-field-error", "--max-field-error-rel", "--feature-ref"})
+      out_of_core->excludes(not_out_of_core);
+  scratch->check(CLI::ExistingDirectory);
   return set;
 }
 

@@ -59,6 +59,9 @@ struct SimplifyArgs {
   std::string material_array;  // --material-array (VTK formats)
   std::vector<std::string> extensive;    // --extensive NAME: cell arrays conserved as sums
   std::vector<std::string> categorical;  // --categorical NAME: cell arrays remapped as labels
+  std::string memory_limit;  // --memory-limit SIZE: out of core (topotet/out_of_core.h) under SIZE
+  std::string scratch;       // --scratch DIR: the out-of-core scratch folder's parent
+  std::uint32_t pieces = 0;  // --pieces N: out of core in exactly N pieces (tests, benchmarks)
 };
 
 // The registered options, for a tool that adds its own rules to some of them.

@@ -43,7 +43,7 @@ install(TARGETS ${topotet_install_targets} EXPORT topotetTargets
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/engine/include/ ${PROJECT_SOURCE_DIR}/io/include/
-  ${PROJECT_SOURCE_DIR}/generate/include/ ${PROJECT_SOURCE_DIR}/metrics/include/
+  ${PROJECT_SOURCE_DIR}/generate/include/ ${PROJECT_SOURCE_DIR}/metrics/include/ ${PROJECT_SOURCE_DIR}/outofcore/include/
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
 install(FILES ${PROJECT_BINARY_DIR}/include/topotet/version.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/topotet)
 if(TARGET topotet_c)

@@ -20,6 +20,7 @@
 #include "io/formats.h"
 #include "io/line_reader.h"
 #include "topotet/error.h"
+#include "topotet/medit_stream.h"
 
 namespace topotet::io {
 namespace {
@@ -208,10 +209,13 @@ void read_sol_at_tets(LineReader& r, std::optional<std::size_t> tet_count, std::
   read_sol_section(r, "SolAtTetrahedra", tet_count, "tetrahedra", "cellsol", fields);
 }
 
+// One parser for both readers: into a MeshData (read_mesh: sections in any order, indices of
+// sections before Vertices checked at the end), or through a MeditVisitor (stream_medit: nothing
+// kept, so sections that index vertices must follow Vertices, and fields must be in the .sol).
 class MeditReader {
  public:
-  MeditReader(const std::string& path, const ReadOptions& options, ReadNotes& notes)
-      : r_(path), options_(options), notes_(notes) {
+  MeditReader(const std::string& path, const ReadOptions& options, ReadNotes& notes, MeditVisitor* visitor = nullptr)
+      : r_(path), options_(options), notes_(notes), visitor_(visitor) {
     r_.set_comment_char('#');
   }
 
@@ -239,6 +243,8 @@ class MeditReader {
         read_vertex_list(m_.required_vertices, "RequiredVertices");
       } else if (iequals(kw, "Ridges")) {
         read_ridges();
+      } else if (visitor_ && (iequals(kw, "SolAtVertices") || iequals(kw, "SolAtTetrahedra"))) {
+        r_.fail(kw + " inside the .mesh: a streamed mesh takes its fields from the .sol beside it (write them there)");
       } else if (iequals(kw, "SolAtVertices")) {
         read_sol_at_vertices(r_, have_vertices_ ? std::optional<std::size_t>(nv_) : std::nullopt, m_.fields);
       } else if (iequals(kw, "SolAtTetrahedra")) {
@@ -284,7 +290,9 @@ class MeditReader {
   void begin_section(std::string_view name, bool& seen) {
     if (seen) r_.fail("duplicate section " + std::string(name));
     seen = true;
-    if (!have_vertices_) deferred_.push_back({std::string(name), r_.line()});
+    if (have_vertices_) return;
+    if (visitor_) r_.fail(std::string(name) + " before Vertices: a streamed mesh needs its Vertices first");
+    deferred_.push_back({std::string(name), r_.line()});
   }
 
   VertId read_vertex(std::string_view what) {
@@ -299,15 +307,21 @@ class MeditReader {
   void read_vertices() {
     if (have_vertices_) r_.fail("duplicate section Vertices");
     const std::uint32_t n = read_count(r_, "Vertices");
-    const std::size_t hint = r_.reserve_hint(n, 8);
+    if (visitor_) visitor_->begin_vertices(n);
+    const std::size_t hint = visitor_ ? 0 : r_.reserve_hint(n, 8);
     m_.positions.reserve(hint);
     m_.vertex_refs.reserve(hint);
     for (std::uint32_t i = 0; i < n; ++i) {
       const double x = r_.read_double("Vertices coordinate");
       const double y = r_.read_double("Vertices coordinate");
       const double z = r_.read_double("Vertices coordinate");
-      m_.positions.push_back({x, y, z});
-      m_.vertex_refs.push_back(read_ref(r_, "Vertices reference"));
+      const std::int32_t ref = read_ref(r_, "Vertices reference");
+      if (visitor_) {
+        visitor_->vertex({x, y, z}, ref);
+      } else {
+        m_.positions.push_back({x, y, z});
+        m_.vertex_refs.push_back(ref);
+      }
     }
     have_vertices_ = true;
     nv_ = n;
@@ -316,38 +330,49 @@ class MeditReader {
   void read_tets() {
     begin_section("Tetrahedra", seen_tets_);
     const std::uint32_t n = read_count(r_, "Tetrahedra");
-    const std::size_t hint = r_.reserve_hint(n, 10);
+    if (visitor_) visitor_->begin_tets(n);
+    const std::size_t hint = visitor_ ? 0 : r_.reserve_hint(n, 10);
     m_.tets.reserve(hint);
     m_.tet_material.reserve(hint);
     for (std::uint32_t i = 0; i < n; ++i) {
       std::array<VertId, 4> t;
       for (VertId& v : t) v = read_vertex("Tetrahedra");
-      m_.tets.push_back(t);
-      m_.tet_material.push_back(read_ref(r_, "Tetrahedra reference"));
+      const std::int32_t material = read_ref(r_, "Tetrahedra reference");
+      if (visitor_) {
+        visitor_->tet(t, material);
+      } else {
+        m_.tets.push_back(t);
+        m_.tet_material.push_back(material);
+      }
     }
   }
 
   void read_triangles() {
     begin_section("Triangles", seen_triangles_);
     const std::uint32_t n = read_count(r_, "Triangles");
-    m_.triangles.reserve(r_.reserve_hint(n, 8));
+    if (visitor_) visitor_->begin_triangles(n);
+    m_.triangles.reserve(visitor_ ? 0 : r_.reserve_hint(n, 8));
     for (std::uint32_t i = 0; i < n; ++i) {
       Triangle t;
       for (VertId& v : t.v) v = read_vertex("Triangles");
       t.ref = read_ref(r_, "Triangles reference");
-      m_.triangles.push_back(t);
+      if (visitor_) visitor_->triangle(t);
+      else m_.triangles.push_back(t);
     }
   }
 
   void read_edges() {
     begin_section("Edges", seen_edges_);
     const std::uint32_t n = read_count(r_, "Edges");
-    m_.segments.reserve(r_.reserve_hint(n, 6));
+    if (visitor_) visitor_->begin_segments(n);
+    m_.segments.reserve(visitor_ ? 0 : r_.reserve_hint(n, 6));
+    segment_count_ = n;
     for (std::uint32_t i = 0; i < n; ++i) {
       Segment s;
       for (VertId& v : s.v) v = read_vertex("Edges");
       s.ref = read_ref(r_, "Edges reference");
-      m_.segments.push_back(s);
+      if (visitor_) visitor_->segment(s);
+      else m_.segments.push_back(s);
     }
   }
 
@@ -357,7 +382,7 @@ class MeditReader {
     const bool corners = name == "Corners";
     begin_section(name, corners ? seen_corners_ : seen_required_);
     const std::uint32_t n = read_count(r_, name);
-    out.reserve(r_.reserve_hint(n, 2));
+    out.reserve(visitor_ ? 0 : r_.reserve_hint(n, 2));
     for (std::uint32_t i = 0; i < n; ++i) {
       if (corners) {
         const std::int64_t v = r_.read_int(name);
@@ -365,9 +390,12 @@ class MeditReader {
           ++notes_.dropped_corners;
           continue;
         }
-        out.push_back(static_cast<VertId>(v - 1));
+        if (visitor_) visitor_->corner(static_cast<VertId>(v - 1));
+        else out.push_back(static_cast<VertId>(v - 1));
       } else {
-        out.push_back(read_vertex(name));
+        const VertId v = read_vertex(name);
+        if (visitor_) visitor_->required_vertex(v);
+        else out.push_back(v);
       }
     }
   }
@@ -377,14 +405,16 @@ class MeditReader {
     seen_ridges_ = true;
     ridges_line_ = r_.line();
     const std::uint32_t n = read_count(r_, "Ridges");
-    m_.ridges.reserve(r_.reserve_hint(n, 2));
+    if (visitor_ && !seen_edges_ && n > 0) r_.fail("Ridges before Edges: a streamed mesh needs its Edges first");
+    m_.ridges.reserve(visitor_ ? 0 : r_.reserve_hint(n, 2));
     // Ridges index Edges; before Edges is read we can only bound them, and check them at the end.
-    const std::int64_t hi = seen_edges_ ? static_cast<std::int64_t>(m_.segments.size()) : kInvalid - 1;
+    const std::int64_t hi = seen_edges_ ? static_cast<std::int64_t>(segment_count_) : kInvalid - 1;
     for (std::uint32_t i = 0; i < n; ++i) {
       const std::int64_t e = r_.read_int("Ridges");
       if (e < 1 || e > hi)
         r_.fail("Ridges: edge index " + std::to_string(e) + " out of range [1, " + std::to_string(hi) + "]");
-      m_.ridges.push_back(static_cast<std::uint32_t>(e - 1));
+      if (visitor_) visitor_->ridge(static_cast<std::uint32_t>(e - 1));
+      else m_.ridges.push_back(static_cast<std::uint32_t>(e - 1));
     }
   }
 
@@ -424,7 +454,9 @@ class MeditReader {
   LineReader r_;
   const ReadOptions& options_;
   ReadNotes& notes_;
+  MeditVisitor* visitor_;  // null: into m_
   MeshData m_;
+  std::size_t segment_count_ = 0;  // entries of Edges
   bool have_vertices_ = false;
   std::size_t nv_ = 0;
   bool seen_tets_ = false, seen_triangles_ = false, seen_edges_ = false;
@@ -551,40 +583,6 @@ bool default_field_names(const MeshData& m) {
   return true;
 }
 
-// A SolAt... section of `fields` (count entries); `where` names the file in errors.
-template <class Field>
-void put_sol_section(AtomicFile& sol, const char* keyword, std::size_t count, const std::vector<Field>& fields) {
-  if (fields.empty()) return;
-  sol.put(keyword);
-  sol.put('\n');
-  sol.put_int(count);
-  sol.put('\n');
-  sol.put_int(fields.size());
-  for (const Field& f : fields) {
-    const auto type = std::find(kSolComponents.begin() + 1, kSolComponents.end(), f.components);
-    if (type == kSolComponents.end()) {
-      throw InputError(sol.path() + ": cannot write field '" + f.name + "' with " + std::to_string(f.components) +
-                       " components (.sol supports 1, 3, 6 or 9)");
-    }
-    sol.put(' ');
-    sol.put_int(type - kSolComponents.begin());
-  }
-  sol.put("\n\n");
-  for (std::size_t i = 0; i < count; ++i) {
-    bool first = true;
-    for (const Field& f : fields) {
-      const std::size_t c = static_cast<std::size_t>(f.components);
-      for (std::size_t k = 0; k < c; ++k) {
-        if (!first) sol.put(' ');
-        first = false;
-        sol.put_double(f.values[i * c + k]);
-      }
-    }
-    sol.put('\n');
-  }
-  sol.put("\n");
-}
-
 void put_vertex_ids(AtomicFile& out, const VertId* v, int n) {
   for (int k = 0; k < n; ++k) {
     out.put_int(std::uint64_t{v[k]} + 1);
@@ -594,140 +592,395 @@ void put_vertex_ids(AtomicFile& out, const VertId* v, int n) {
 
 }  // namespace
 
-MeshData read_medit(const std::string& path, const ReadOptions& options, ReadNotes& notes) {
-  MeshData mesh = MeditReader(path, options, notes).read();
-  if (path == "-") return mesh;  // stdin has no folder with a .sol beside it
+namespace {
+
+// The .sol beside the mesh at `path` (prefer the same compression as the mesh, accept the other);
+// empty when there is none (or the mesh is stdin, which has no folder).
+std::string sol_beside(const std::string& path, std::string* stem_out) {
+  if (path == "-") return {};
   bool gz = false;
   const std::string stem = mesh_stem(path, gz);
-  // The .sol beside the mesh: prefer the same compression as the mesh, accept the other.
-  const std::string candidates[2] = {stem + (gz ? ".sol.gz" : ".sol"), stem + (gz ? ".sol" : ".sol.gz")};
+  if (stem_out) *stem_out = stem;
   std::error_code ec;
-  for (const std::string& sol : candidates) {
-    if (!std::filesystem::is_regular_file(sol, ec)) continue;
-    const std::size_t first = mesh.fields.size(), first_cell = mesh.cell_fields.size();
-    read_sol_file(sol, mesh, mesh.fields, mesh.cell_fields);
-    const std::string names_path = stem + ".sol.fields.txt";
-    if (std::filesystem::is_regular_file(names_path, ec)) {
-      SolNames names = read_field_names(names_path);
-      // A file of names that knows no SolAtTetrahedra line names the vertex columns only.
-      if (names.vertex.size() != mesh.fields.size() - first ||
-          (!names.cell.empty() && names.cell.size() != mesh.cell_fields.size() - first_cell)) {
-        throw InputError(names_path + ": " + std::to_string(names.vertex.size()) + " + " + std::to_string(names.cell.size()) +
-                         " names for the " + std::to_string(mesh.fields.size() - first) + " SolAtVertices + " +
-                         std::to_string(mesh.cell_fields.size() - first_cell) + " SolAtTetrahedra solutions of " + sol);
-      }
-      for (std::size_t i = 0; i < names.vertex.size(); ++i) mesh.fields[first + i].name = names.vertex[i];
-      for (std::size_t i = 0; i < names.cell.size(); ++i) {
-        CellField& f = mesh.cell_fields[first_cell + i];
-        f.name = names.cell[i];
-        if (f.name.size() > kCategoricalSuffix.size() && f.name.ends_with(kCategoricalSuffix)) {
-          f.name.resize(f.name.size() - kCategoricalSuffix.size());
-          f.kind = CellFieldKind::kCategorical;
-        }
-      }
-    }
-    break;
+  for (const std::string& sol : {stem + (gz ? ".sol.gz" : ".sol"), stem + (gz ? ".sol" : ".sol.gz")})
+    if (std::filesystem::is_regular_file(sol, ec)) return sol;
+  return {};
+}
+
+// Names from <stem>.sol.fields.txt, when present, for the solutions read from `sol` after the
+// first `first` (`first_cell`) ones.
+void apply_field_names(const std::string& stem, const std::string& sol, std::vector<VertexField>& fields,
+                       std::size_t first, std::vector<CellField>& cell_fields, std::size_t first_cell) {
+  std::error_code ec;
+  const std::string names_path = stem + ".sol.fields.txt";
+  if (!std::filesystem::is_regular_file(names_path, ec)) return;
+  SolNames names = read_field_names(names_path);
+  // A file of names that knows no SolAtTetrahedra line names the vertex columns only.
+  if (names.vertex.size() != fields.size() - first ||
+      (!names.cell.empty() && names.cell.size() != cell_fields.size() - first_cell)) {
+    throw InputError(names_path + ": " + std::to_string(names.vertex.size()) + " + " + std::to_string(names.cell.size()) +
+                     " names for the " + std::to_string(fields.size() - first) + " SolAtVertices + " +
+                     std::to_string(cell_fields.size() - first_cell) + " SolAtTetrahedra solutions of " + sol);
   }
+  for (std::size_t i = 0; i < names.vertex.size(); ++i) fields[first + i].name = names.vertex[i];
+  for (std::size_t i = 0; i < names.cell.size(); ++i) {
+    CellField& f = cell_fields[first_cell + i];
+    f.name = names.cell[i];
+    if (f.name.size() > kCategoricalSuffix.size() && f.name.ends_with(kCategoricalSuffix)) {
+      f.name.resize(f.name.size() - kCategoricalSuffix.size());
+      f.kind = CellFieldKind::kCategorical;
+    }
+  }
+}
+
+}  // namespace
+
+MeshData read_medit(const std::string& path, const ReadOptions& options, ReadNotes& notes) {
+  MeshData mesh = MeditReader(path, options, notes).read();
+  std::string stem;
+  const std::string sol = sol_beside(path, &stem);
+  if (sol.empty()) return mesh;
+  const std::size_t first = mesh.fields.size(), first_cell = mesh.cell_fields.size();
+  read_sol_file(sol, mesh, mesh.fields, mesh.cell_fields);
+  apply_field_names(stem, sol, mesh.fields, first, mesh.cell_fields, first_cell);
   return mesh;
 }
 
 void write_medit(const std::string& path, const MeshData& m) {
-  // A stream or device has no folder for the companion .sol: fields cannot go with it.
-  const bool direct = is_direct_output(path);
-  if (direct && (!m.fields.empty() || !m.cell_fields.empty()))
-    throw InputError(path + ": cannot write the fields' .sol beside a stream or device (write .msh, which keeps "
-                     "fields inline, or a regular file)");
-  AtomicFile out(path);
-  out.put("MeshVersionFormatted 2\n\nDimension 3\n\nVertices\n");
-  out.put_int(m.positions.size());
-  out.put('\n');
-  for (std::size_t i = 0; i < m.positions.size(); ++i) {
-    const std::array<double, 3>& p = m.positions[i];
-    out.put_double(p[0]);
-    out.put(' ');
-    out.put_double(p[1]);
-    out.put(' ');
-    out.put_double(p[2]);
-    out.put(' ');
-    out.put_int(m.vertex_refs.empty() ? 0 : m.vertex_refs[i]);
-    out.put('\n');
-  }
-  if (!m.tets.empty()) {
-    out.put("\nTetrahedra\n");
-    out.put_int(m.tets.size());
-    out.put('\n');
-    for (std::size_t i = 0; i < m.tets.size(); ++i) {
-      put_vertex_ids(out, m.tets[i].data(), 4);
-      out.put_int(m.tet_material.empty() ? 0 : m.tet_material[i]);
-      out.put('\n');
+  MeditStreamWriter out(path, m.fields, m.cell_fields);
+  int vstride = 0, cstride = 0;
+  for (const VertexField& f : m.fields) vstride += f.components;
+  for (const CellField& f : m.cell_fields) cstride += f.components;
+  std::vector<double> values(static_cast<std::size_t>(std::max(vstride, cstride)));
+  // One entity's values of every field, interleaved as the stream takes them.
+  const auto gather = [&](const auto& fields, std::size_t i) {
+    std::size_t at = 0;
+    for (const auto& f : fields) {
+      const std::size_t c = static_cast<std::size_t>(f.components);
+      for (std::size_t k = 0; k < c; ++k) values[at++] = f.values[i * c + k];
     }
-  }
-  if (!m.triangles.empty()) {
-    out.put("\nTriangles\n");
-    out.put_int(m.triangles.size());
-    out.put('\n');
-    for (const Triangle& t : m.triangles) {
-      put_vertex_ids(out, t.v.data(), 3);
-      out.put_int(t.ref);
-      out.put('\n');
-    }
-  }
-  if (!m.segments.empty()) {
-    out.put("\nEdges\n");
-    out.put_int(m.segments.size());
-    out.put('\n');
-    for (const Segment& s : m.segments) {
-      put_vertex_ids(out, s.v.data(), 2);
-      out.put_int(s.ref);
-      out.put('\n');
-    }
-  }
-  const auto put_list = [&](const char* name, const std::vector<std::uint32_t>& list) {
-    if (list.empty()) return;
-    out.put("\n");
-    out.put(name);
-    out.put('\n');
-    out.put_int(list.size());
-    out.put('\n');
-    for (std::uint32_t x : list) {
-      out.put_int(std::uint64_t{x} + 1);
-      out.put('\n');
-    }
+    return values.data();
   };
-  put_list("Ridges", m.ridges);
-  put_list("Corners", m.corners);
-  put_list("RequiredVertices", m.required_vertices);
-  out.put("\nEnd\n");
+  out.begin_vertices(m.positions.size());
+  for (std::size_t i = 0; i < m.positions.size(); ++i)
+    out.vertex(m.positions[i], m.vertex_refs.empty() ? 0 : m.vertex_refs[i], vstride ? gather(m.fields, i) : nullptr);
+  out.begin_tets(m.tets.size());
+  for (std::size_t i = 0; i < m.tets.size(); ++i)
+    out.tet(m.tets[i], m.tet_material.empty() ? 0 : m.tet_material[i], cstride ? gather(m.cell_fields, i) : nullptr);
+  out.begin_triangles(m.triangles.size());
+  for (const Triangle& t : m.triangles) out.triangle(t);
+  out.begin_segments(m.segments.size());
+  for (const Segment& s : m.segments) out.segment(s);
+  out.begin_ridges(m.ridges.size());
+  for (std::uint32_t r : m.ridges) out.ridge(r);
+  out.begin_corners(m.corners.size());
+  for (VertId v : m.corners) out.corner(v);
+  out.begin_required_vertices(m.required_vertices.size());
+  for (VertId v : m.required_vertices) out.required_vertex(v);
+  out.commit();
+}
 
+}  // namespace topotet::io
+
+// ---- streaming (topotet/medit_stream.h) ----
+namespace topotet {
+
+using namespace io;
+
+void stream_medit(const std::string& path, MeditVisitor& visitor, const ReadOptions& options, ReadNotes& notes) {
+  MeditReader(path, options, notes, &visitor).read();
+}
+
+// Two readers of one .sol: one at the SolAtVertices values, one at the SolAtTetrahedra values.
+struct SolStream::Readers {
+  std::unique_ptr<LineReader> vertices, tets;
+};
+
+namespace {
+
+// Opens `sol` and moves to the values of section `wanted` (SolAtVertices or SolAtTetrahedra),
+// appending its layout to `fields`; null when the file has no such section.
+template <class Field>
+std::unique_ptr<LineReader> open_sol_section(const std::string& sol, const char* wanted, std::uint64_t count,
+                                             const char* entities, const char* prefix, std::vector<Field>& fields) {
+  auto r = std::make_unique<LineReader>(sol);
+  r->set_comment_char('#');
+  for (;;) {
+    const std::string_view tok = r->next_token();
+    if (tok.empty() || iequals(tok, "End")) return nullptr;
+    if (!is_keyword_token(tok)) r->fail("expected a section keyword, got '" + std::string(tok.substr(0, 40)) + "'");
+    const std::string kw(tok);
+    if (iequals(kw, "MeshVersionFormatted")) {
+      read_version(*r);
+    } else if (iequals(kw, "Dimension")) {
+      read_dimension(*r);
+    } else if (iequals(kw, wanted)) {
+      const std::uint32_t n = read_count(*r, kw);
+      if (n != count)
+        r->fail(kw + ": " + std::to_string(n) + " entries but the mesh has " + std::to_string(count) + " " + entities);
+      const auto types = r->read_int(kw + ": number of solutions", 1, 1000);
+      for (std::int64_t t = 0; t < types; ++t) {
+        const auto type = r->read_int(kw + ": type (1 scalar, 2 vector, 3 symmetric tensor, 4 matrix)", 1, 4);
+        Field f;
+        f.name = prefix + std::to_string(fields.size());
+        f.components = kSolComponents[static_cast<std::size_t>(type)];
+        fields.push_back(std::move(f));
+      }
+      return r;
+    } else {
+      skip_section(*r, kw);
+    }
+  }
+}
+
+}  // namespace
+
+SolStream::SolStream(const std::string& mesh_path, std::uint64_t vertex_count, std::uint64_t tet_count)
+    : readers_(std::make_unique<Readers>()) {
+  std::string stem;
+  const std::string sol = sol_beside(mesh_path, &stem);
+  if (sol.empty()) return;
+  readers_->vertices = open_sol_section(sol, "SolAtVertices", vertex_count, "vertices", "sol", vertex_fields_);
+  readers_->tets = open_sol_section(sol, "SolAtTetrahedra", tet_count, "tetrahedra", "cellsol", cell_fields_);
+  apply_field_names(stem, sol, vertex_fields_, 0, cell_fields_, 0);
+  for (const VertexField& f : vertex_fields_) vertex_stride_ += f.components;
+  for (const CellField& f : cell_fields_) cell_stride_ += f.components;
+}
+
+SolStream::~SolStream() = default;
+
+void SolStream::next_vertex(double* values) {
+  for (int k = 0; k < vertex_stride_; ++k) values[k] = readers_->vertices->read_double("SolAtVertices value");
+}
+
+void SolStream::next_tet(double* values) {
+  for (int k = 0; k < cell_stride_; ++k) values[k] = readers_->tets->read_double("SolAtTetrahedra value");
+}
+
+// The sections in the order they are written (MeditStreamWriter::begin's `section`).
+enum Section : int { kVertices, kTets, kTriangles, kSegments, kRidges, kCorners, kRequired, kSections };
+
+struct MeditStreamWriter::Files {
+  std::string path, stem;
+  bool direct = false;
+  std::vector<VertexField> vertex_fields;
+  std::vector<CellField> cell_fields;
+  std::optional<AtomicFile> mesh, sol;
+  int section = -1;  // the last begun
+  std::uint64_t declared = 0, written = 0;
+  std::uint64_t vertex_count = 0, tet_count = 0;
+  bool sol_tets_begun = false;
+  void put_sol_header(const char* keyword, std::uint64_t count, const auto& fields) {
+    sol->put(keyword);
+    sol->put('\n');
+    sol->put_int(count);
+    sol->put('\n');
+    sol->put_int(fields.size());
+    for (const auto& f : fields) {
+      sol->put(' ');
+      sol->put_int(std::find(kSolComponents.begin() + 1, kSolComponents.end(), f.components) - kSolComponents.begin());
+    }
+    sol->put("\n\n");
+  }
+  void put_values(const double* values, const auto& fields) {
+    bool first = true;
+    for (const auto& f : fields)
+      for (int k = 0; k < f.components; ++k) {
+        if (!first) sol->put(' ');
+        first = false;
+        sol->put_double(*values++);
+      }
+    sol->put('\n');
+  }
+};
+
+MeditStreamWriter::MeditStreamWriter(const std::string& path, std::vector<VertexField> vertex_fields,
+                                     std::vector<CellField> cell_fields)
+    : files_(std::make_unique<Files>()) {
+  Files& f = *files_;
+  f.path = path;
+  f.direct = is_direct_output(path);
+  f.vertex_fields = std::move(vertex_fields);
+  f.cell_fields = std::move(cell_fields);
+  for (auto& x : f.vertex_fields) x.values.clear();
+  for (auto& x : f.cell_fields) x.values.clear();
+  const bool fields = !f.vertex_fields.empty() || !f.cell_fields.empty();
+  // A stream or device has no folder for the companion .sol: fields cannot go with it.
+  if (f.direct && fields)
+    throw InputError(path + ": cannot write the fields' .sol beside a stream or device (write .msh, which keeps "
+                            "fields inline, or a regular file)");
   bool gz = false;
-  const std::string stem = mesh_stem(path, gz);
-  const std::string sol_path = stem + ".sol", names_path = stem + ".sol.fields.txt";
+  f.stem = mesh_stem(path, gz);
+  const auto check_layout = [&](const auto& list) {
+    for (const auto& x : list)
+      if (std::find(kSolComponents.begin() + 1, kSolComponents.end(), x.components) == kSolComponents.end())
+        throw InputError(f.stem + ".sol: cannot write field '" + x.name + "' with " + std::to_string(x.components) +
+                         " components (.sol supports 1, 3, 6 or 9)");
+  };
+  check_layout(f.vertex_fields);
+  check_layout(f.cell_fields);
+  f.mesh.emplace(path);
+  f.mesh->put("MeshVersionFormatted 2\n\nDimension 3\n\n");
+  if (fields) {
+    f.sol.emplace(f.stem + ".sol");
+    f.sol->put("MeshVersionFormatted 2\n\nDimension 3\n\n");
+  }
+}
+
+MeditStreamWriter::~MeditStreamWriter() = default;
+
+void MeditStreamWriter::begin(int section, const char* keyword, std::uint64_t count) {
+  Files& f = *files_;
+  if (section <= f.section) throw std::logic_error(std::string("MeditStreamWriter: section ") + keyword + " out of order");
+  if (f.written != f.declared)
+    throw std::logic_error("MeditStreamWriter: " + std::to_string(f.written) + " entries written for " +
+                           std::to_string(f.declared) + " declared");
+  f.section = section;
+  f.declared = count;
+  f.written = 0;
+  // Vertices is always written (write_mesh always did); other sections only with entries.
+  if (count == 0 && section != kVertices) return;
+  if (section != kVertices) f.mesh->put('\n');
+  f.mesh->put(keyword);
+  f.mesh->put('\n');
+  f.mesh->put_int(count);
+  f.mesh->put('\n');
+}
+
+void MeditStreamWriter::entry(int section) {
+  Files& f = *files_;
+  if (f.section != section) throw std::logic_error("MeditStreamWriter: entry outside its section");
+  if (++f.written > f.declared) throw std::logic_error("MeditStreamWriter: more entries than declared");
+}
+
+void MeditStreamWriter::begin_vertices(std::uint64_t count) {
+  begin(kVertices, "Vertices", count);
+  files_->vertex_count = count;
+  if (files_->sol && !files_->vertex_fields.empty()) files_->put_sol_header("SolAtVertices", count, files_->vertex_fields);
+}
+
+void MeditStreamWriter::vertex(const std::array<double, 3>& p, std::int32_t ref, const double* field_values) {
+  entry(kVertices);
+  AtomicFile& out = *files_->mesh;
+  out.put_double(p[0]);
+  out.put(' ');
+  out.put_double(p[1]);
+  out.put(' ');
+  out.put_double(p[2]);
+  out.put(' ');
+  out.put_int(ref);
+  out.put('\n');
+  if (!files_->vertex_fields.empty()) files_->put_values(field_values, files_->vertex_fields);
+}
+
+void MeditStreamWriter::begin_tets(std::uint64_t count) {
+  Files& f = *files_;
+  begin(kTets, "Tetrahedra", count);
+  f.tet_count = count;
+  if (f.sol && !f.vertex_fields.empty()) f.sol->put("\n");  // ends SolAtVertices
+  if (f.sol && !f.cell_fields.empty()) f.put_sol_header("SolAtTetrahedra", count, f.cell_fields);
+  f.sol_tets_begun = true;
+}
+
+void MeditStreamWriter::tet(const std::array<VertId, 4>& v, std::int32_t material, const double* cell_values) {
+  entry(kTets);
+  put_vertex_ids(*files_->mesh, v.data(), 4);
+  files_->mesh->put_int(material);
+  files_->mesh->put('\n');
+  if (!files_->cell_fields.empty()) files_->put_values(cell_values, files_->cell_fields);
+}
+
+void MeditStreamWriter::begin_triangles(std::uint64_t count) {
+  if (!files_->sol_tets_begun) begin_tets(0);
+  begin(kTriangles, "Triangles", count);
+}
+
+void MeditStreamWriter::triangle(const Triangle& t) {
+  entry(kTriangles);
+  put_vertex_ids(*files_->mesh, t.v.data(), 3);
+  files_->mesh->put_int(t.ref);
+  files_->mesh->put('\n');
+}
+
+void MeditStreamWriter::begin_segments(std::uint64_t count) {
+  if (!files_->sol_tets_begun) begin_tets(0);
+  begin(kSegments, "Edges", count);
+}
+
+void MeditStreamWriter::segment(const Segment& s) {
+  entry(kSegments);
+  put_vertex_ids(*files_->mesh, s.v.data(), 2);
+  files_->mesh->put_int(s.ref);
+  files_->mesh->put('\n');
+}
+
+namespace {
+void put_index(AtomicFile& out, std::uint64_t i) {
+  out.put_int(i + 1);
+  out.put('\n');
+}
+}  // namespace
+
+void MeditStreamWriter::begin_ridges(std::uint64_t count) {
+  if (!files_->sol_tets_begun) begin_tets(0);
+  begin(kRidges, "Ridges", count);
+}
+void MeditStreamWriter::ridge(std::uint32_t segment_index) {
+  entry(kRidges);
+  put_index(*files_->mesh, segment_index);
+}
+void MeditStreamWriter::begin_corners(std::uint64_t count) {
+  if (!files_->sol_tets_begun) begin_tets(0);
+  begin(kCorners, "Corners", count);
+}
+void MeditStreamWriter::corner(VertId v) {
+  entry(kCorners);
+  put_index(*files_->mesh, v);
+}
+void MeditStreamWriter::begin_required_vertices(std::uint64_t count) {
+  if (!files_->sol_tets_begun) begin_tets(0);
+  begin(kRequired, "RequiredVertices", count);
+}
+void MeditStreamWriter::required_vertex(VertId v) {
+  entry(kRequired);
+  put_index(*files_->mesh, v);
+}
+
+void MeditStreamWriter::commit() {
+  Files& f = *files_;
+  if (f.section < kVertices) begin_vertices(0);
+  if (!f.sol_tets_begun) begin_tets(0);
+  if (f.written != f.declared)
+    throw std::logic_error("MeditStreamWriter: " + std::to_string(f.written) + " entries written for " +
+                           std::to_string(f.declared) + " declared");
+  f.mesh->put("\nEnd\n");
+  const std::string sol_path = f.stem + ".sol", names_path = f.stem + ".sol.fields.txt";
   // The companion files of <stem>.mesh are replaced with it: whatever this write does not produce
   // is removed afterwards, or the next read would attach a stale .sol to the new mesh.
   const auto remove_stale = [&](std::initializer_list<std::string> paths) {
     std::error_code ec;
     for (const std::string& p : paths) std::filesystem::remove(p, ec);
   };
-  if (m.fields.empty() && m.cell_fields.empty()) {
-    out.commit();
-    if (!direct) remove_stale({sol_path, stem + ".sol.gz", names_path});
+  if (!f.sol) {
+    f.mesh->commit();
+    if (!f.direct) remove_stale({sol_path, f.stem + ".sol.gz", names_path});
     return;
   }
-  AtomicFile sol(sol_path);
-  sol.put("MeshVersionFormatted 2\n\nDimension 3\n\n");
-  put_sol_section(sol, "SolAtVertices", m.positions.size(), m.fields);
-  put_sol_section(sol, "SolAtTetrahedra", m.tets.size(), m.cell_fields);
-  sol.put("End\n");
+  if (!f.cell_fields.empty()) f.sol->put("\n");  // ends SolAtTetrahedra
+  f.sol->put("End\n");
+  MeshData layout;  // names only, for the defaults test and the names file
+  layout.fields = f.vertex_fields;
+  layout.cell_fields = f.cell_fields;
   // Names go to <stem>.sol.fields.txt, unless they are the defaults a reader would give anyway.
-  if (default_field_names(m)) {
-    commit_all({&sol, &out});
-    remove_stale({stem + ".sol.gz", names_path});
+  if (default_field_names(layout)) {
+    commit_all({&*f.sol, &*f.mesh});
+    remove_stale({f.stem + ".sol.gz", names_path});
     return;
   }
   AtomicFile names(names_path);
-  names.put(fields_file_text(m));
-  commit_all({&sol, &names, &out});
-  remove_stale({stem + ".sol.gz"});
+  names.put(fields_file_text(layout));
+  commit_all({&*f.sol, &names, &*f.mesh});
+  remove_stale({f.stem + ".sol.gz"});
 }
 
-}  // namespace topotet::io
+}  // namespace topotet

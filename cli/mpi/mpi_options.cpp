@@ -28,6 +28,9 @@ constexpr Unavailable kUnavailable[] = {
     {"--no-field-bounds", "it belongs to --hierarchy"},
     {"--levels-error", "it belongs to --hierarchy"},
     {"--progress", "the ranks draw no progress; the report lists every pass at the end"},
+    {"--memory-limit", "out of core is topotet simplify --memory-limit (one process); each rank holds its part"},
+    {"--scratch", "it belongs to --memory-limit"},
+    {"--pieces", "it belongs to --memory-limit"},
     {"--progress-interval", "the ranks draw no progress; the report lists every pass at the end"},
 };
 

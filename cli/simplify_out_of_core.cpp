@@ -1,0 +1,70 @@
+// topotet simplify IN -o OUT --memory-limit SIZE: the out-of-core run (topotet/out_of_core.h).
+// The in-core pipeline reads IN whole, measures the output against it and reports; here IN is
+// never whole in memory, so the report gives the counts, times, levels and the measured peak, and
+// points at `topotet check IN OUT` for the topology verdict (--fast at large sizes), which needs
+// both meshes in memory.
+#include <cstdio>
+
+#include "common.h"
+#include "simplify_options.h"
+#include "topotet/error.h"
+#include "topotet/out_of_core.h"
+#include "topotet/threads.h"
+
+namespace topotet::cli {
+
+int run_simplify_out_of_core(const SimplifyArgs& args) {
+  if (args.input == "-" || args.output == "-")
+    throw InputError("--memory-limit: the input and the output must be files (the input is read twice: the mesh, "
+                     "then its .sol)");
+  check_output_format(args.output);
+  OutOfCoreOptions ooc;
+  if (!args.memory_limit.empty()) ooc.memory_limit_bytes = parse_memory_size(args.memory_limit);
+  ooc.scratch_parent = args.scratch;
+  ooc.pieces = args.pieces;
+  ooc.cell_remap.extensive = args.extensive;
+  ooc.cell_remap.categorical = args.categorical;
+  if (verbosity() >= Verbosity::kVerbose) ooc.log = [](const std::string& line) { print_note(line); };
+  const SimplifyOptions options = engine_options(args);
+  OutOfCoreReport r;
+  run_with_thread_limit(options.num_threads, [&] { r = simplify_out_of_core(args.input, args.output, options, ooc); });
+  const Report& rep = r.report;
+  std::FILE* out = report_stream();
+  if (out != nullptr) {
+    std::fprintf(out, "out of core  %s -> %s\n", args.input.c_str(), args.output.c_str());
+    std::fprintf(out, "vertices     %s -> %s (%.1f%%)\n", format_count(rep.vertices_before).c_str(),
+                 format_count(rep.vertices_after).c_str(),
+                 rep.vertices_before ? 100.0 * static_cast<double>(rep.vertices_after) / static_cast<double>(rep.vertices_before) : 0.0);
+    std::fprintf(out, "tets         %s -> %s\n", format_count(rep.tets_before).c_str(), format_count(rep.tets_after).c_str());
+    std::fprintf(out, "pieces       %u (at most %s tets each), %u left at the end\n", r.pieces,
+                 format_count(r.piece_tet_limit).c_str(), r.output_pieces);
+    for (std::size_t l = 0; l < r.levels.size(); ++l) {
+      const OutOfCoreLevel& lv = r.levels[l];
+      std::fprintf(out, "  level %zu    %u pieces run (largest %s tets)%s, tolerance %s, %s vertices after, %s\n", l,
+                   lv.pieces, format_count(lv.largest_piece_tets).c_str(),
+                   lv.unmerged ? (", " + std::to_string(lv.unmerged) + " pairs left apart").c_str() : "",
+                   format_number(lv.tolerance).c_str(), format_count(lv.vertices_after).c_str(),
+                   format_seconds(lv.seconds).c_str());
+    }
+    const double simplify_seconds = rep.seconds - r.cut_seconds - r.write_seconds;
+    std::fprintf(out, "time         %s (cut %s, simplify %s, write %s), %s collapses/s\n",
+                 format_seconds(rep.seconds).c_str(), format_seconds(r.cut_seconds).c_str(),
+                 format_seconds(simplify_seconds).c_str(), format_seconds(r.write_seconds).c_str(),
+                 format_count(static_cast<std::uint64_t>(rep.collapses / std::max(rep.seconds, 1e-9))).c_str());
+    std::fprintf(out, "memory       peak %s (%.0f bytes/input tet)%s; scratch folder peak %s\n",
+                 format_bytes(r.peak_rss_bytes).c_str(),
+                 rep.tets_before ? static_cast<double>(r.peak_rss_bytes) / static_cast<double>(rep.tets_before) : 0.0,
+                 ooc.memory_limit_bytes ? (", limit " + format_bytes(ooc.memory_limit_bytes)).c_str() : "",
+                 format_bytes(r.scratch_peak_bytes).c_str());
+    std::fprintf(out, "tolerance    %s (mesh units), shared by the levels\n", format_number(rep.tolerance).c_str());
+    std::fprintf(out, "topology     not checked in this run (the input is never whole in memory): topotet check %s %s%s\n",
+                 args.input.c_str(), args.output.c_str(), rep.tets_before > 2'000'000 ? " --fast" : "");
+    if (rep.status != Status::kOk) std::fprintf(out, "status       %s\n", rep.message.c_str());
+  }
+  if (ooc.memory_limit_bytes != 0 && r.peak_rss_bytes > ooc.memory_limit_bytes)
+    print_warning(args.output, "the peak memory " + format_bytes(r.peak_rss_bytes) + " went over the limit " +
+                                   format_bytes(ooc.memory_limit_bytes));
+  return kExitOk;
+}
+
+}  // namespace topotet::cli

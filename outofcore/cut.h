@@ -1,0 +1,61 @@
+// Step 1 of an out-of-core run: the input, streamed once, cut into spatial pieces.
+//
+//   mesh pass   stream_medit (io/medit_stream.h): vertex positions and refs kept (28 bytes a
+//               vertex: the only part of the input held whole), each tet spilled to the scratch
+//               folder with the Morton code of its centroid, counted in a histogram of 2^18 bins
+//               of those codes; listed triangles, edges, corners and ridges kept (surfaces, not
+//               volumes: they grow like the boundary);
+//   .sol pass   the vertex and tet fields, spilled in file order (SolStream);
+//   split       the Morton bins cut into `pieces` ranges of about equal tet counts: Morton order
+//               keeps a range spatially compact, and neighbouring ranges are neighbours in space,
+//               which is what the merges pair (2i with 2i + 1);
+//   distribute  each tet to its range's bucket file;
+//   build       each bucket becomes a piece (piece.h): its vertices with their fields, and every
+//               listed triangle (edge) that is a face (edge) of one of its tets; corners and
+//               required vertices among its vertices. A listed triangle or edge that no piece
+//               holds is not a face (edge) of any tet: the input error read_mesh would give.
+// The number of pieces is chosen by the caller from the counts (choose_pieces), between the mesh
+// pass and the split, so that it depends on the input and the limit only (determinism).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "scratch.h"
+#include "topotet/cell_fields.h"
+#include "topotet/mesh_data.h"
+#include "topotet/simplify.h"
+
+namespace topotet::ooc {
+
+struct InputCounts {
+  std::uint64_t vertices = 0, tets = 0, triangles = 0, segments = 0;
+  int vertex_stride = 0, cell_stride = 0;  // field values per vertex, per tet
+};
+
+struct CutResult {
+  InputCounts counts;
+  std::uint32_t pieces = 0;
+  std::vector<std::uint64_t> piece_tets;  // [piece]
+  // [global vertex] how many pieces hold it (1 = inside one piece; more = on a border).
+  std::vector<std::uint8_t> holders;
+  CostUnits units;      // the whole input's (cost_shares: every piece's costs in the same units)
+  double diagonal = 0;  // of the bounding box
+  std::vector<VertexField> vertex_fields;  // layouts (no values)
+  std::vector<CellField> cell_fields;
+};
+
+// on_vertex_count(n) runs as soon as the vertex count is read (before any work: the memory check).
+// choose_pieces(counts) -> the number of pieces (a power of two <= kMaxPieces), called once the
+// mesh pass has counted the input; it may throw (a limit too small for this input). `log` gets
+// one line per step (may be empty).
+CutResult cut_input(const std::string& input, ScratchFolder& scratch,
+                    const std::function<std::uint32_t(const InputCounts&)>& choose_pieces,
+                    const std::function<void(const std::string&)>& log,
+                    const std::function<void(std::uint64_t vertices)>& on_vertex_count,
+                    const CellRemapOptions& cell_kinds);  // the kinds of the cell fields (--extensive...)
+
+}  // namespace topotet::ooc

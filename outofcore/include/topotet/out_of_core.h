@@ -1,0 +1,88 @@
+// Out-of-core simplification (paper 002; issue #25): a mesh larger than the memory it may use is
+// streamed from its file, cut into spatial pieces kept in a scratch folder, each piece simplified
+// with its border frozen, and neighbouring pieces merged pairwise, level by level, so that their
+// former borders are simplified in turn, until one piece is left or the limit forbids a merge.
+// Only one piece (or one merged pair) is in memory at a time; the output is written from the
+// pieces. `topotet simplify IN -o OUT --memory-limit 2G` runs it.
+//
+// What an in-core run guarantees still holds, piece by piece and so for the whole:
+//   - topology of the mesh and of every substructure: every collapse is made in a piece whose
+//     border vertices are frozen (no collapse touches them, not even as the end that stays), so
+//     the star of both ends is inside the piece and the piece's link conditions are the whole
+//     mesh's (the argument topotet::mpi rests on, topotet/mpi.h);
+//   - the geometric tolerance H: level l of the hierarchy is given its own tolerance h_l, checked
+//     against the surfaces as that level received them, with h_0 + h_1 + ... + h_L = H, so by the
+//     triangle inequality every point of the output's surfaces is within H of the input's of its
+//     label and the other way round (h_0 = H / 2, the rest shared equally by the merge levels);
+//   - quality floors (min_quality, min_dihedral: relative to the tets replaced, as in core);
+//   - determinism: the pieces depend on the input and the limit only, never on a measurement, and
+//     each piece's run is the parallel engine's, identical for every thread count.
+// Not available out of core (refused with kInvalidInput-like InputError): field error bounds
+// (max_field_error*, track_field_bounds: a bound is kept per tet of one run and does not compose
+// across levels), isosurfaces (embed them in core first), hierarchies.
+//
+// Memory. The pieces' size comes from the limit by a model of bytes per tet and per vertex
+// (outofcore/memory_budget.h); a limit below what the model needs for this input is refused before
+// any work, with the limit that would do. The report gives the measured peak (VmHWM).
+//
+// Input: MEDIT .mesh / .mesh.gz (+ .sol), streamed (io/medit_stream.h). Output: any format when the
+// pieces merged into one (it is then in memory and goes through write_mesh); MEDIT .mesh written
+// from the pieces, streaming, when the limit stopped the merges before (then the borders between
+// the remaining pieces kept their vertices).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "topotet/cell_fields.h"
+#include "topotet/simplify.h"
+
+namespace topotet {
+
+struct OutOfCoreOptions {
+  std::uint64_t memory_limit_bytes = 0;  // > 0: the peak resident memory to stay under
+  std::string scratch_parent;            // where the scratch folder goes; empty = the output's folder
+  // Cut into exactly this many pieces (a power of two, <= 4096) whatever the limit (tests,
+  // benchmarks); 0 = from the limit.
+  std::uint32_t pieces = 0;
+  std::function<void(const std::string&)> log;  // one line per step; may be empty
+  // How cell fields are carried (topotet/cell_fields.h: extensive sums conserved, categorical
+  // labels by largest overlap, the rest volume-averaged), remapped piece by piece at every level.
+  CellRemapOptions cell_remap;
+};
+
+struct OutOfCoreLevel {
+  std::uint32_t pieces = 0;             // pieces simplified at this level
+  std::uint32_t unmerged = 0;           // pairs left apart because together they would not fit
+  std::uint64_t largest_piece_tets = 0;  // tets of the largest piece simplified
+  std::uint64_t vertices_after = 0;      // of the whole mesh
+  std::uint64_t collapses = 0;
+  double tolerance = 0.0;  // h_l
+  double seconds = 0.0;
+};
+
+struct OutOfCoreReport {
+  Report report;  // counts summed over the pieces' runs; status, message, tolerance H, seconds
+  std::uint32_t pieces = 0;            // after the cut
+  std::uint32_t output_pieces = 0;     // left at the end (1 unless the limit stopped the merges)
+  std::uint64_t piece_tet_limit = 0;   // the model's largest piece
+  std::vector<OutOfCoreLevel> levels;  // level 0 = the cut's pieces
+  std::uint64_t peak_rss_bytes = 0;    // VmHWM at the end
+  std::uint64_t scratch_peak_bytes = 0;
+  double cut_seconds = 0.0, write_seconds = 0.0;
+};
+
+// Throws InputError for bad input, a limit too small, an option not available out of core, or a
+// scratch folder that fills up (the message names it). The output appears only when complete.
+OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string& output,
+                                     const SimplifyOptions& options, const OutOfCoreOptions& ooc);
+
+// Async-signal-safe: removes the scratch folders of runs in progress (topotet's SIGINT handler).
+void remove_out_of_core_scratch() noexcept;
+
+// "2G", "256M", "512k", "1.5G", "1073741824" (bytes; binary units); throws InputError otherwise.
+std::uint64_t parse_memory_size(const std::string& text);
+
+}  // namespace topotet

@@ -1,0 +1,79 @@
+#include "memory_budget.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+
+#include "cut.h"
+#include "topotet/error.h"
+
+namespace topotet::ooc {
+
+namespace {
+
+std::uint64_t status_field(const char* key) {
+  std::ifstream status("/proc/self/status");
+  std::string word;
+  while (status >> word)
+    if (word == key) {
+      std::uint64_t kb = 0;
+      status >> kb;
+      return kb * 1024;
+    }
+  return 0;
+}
+
+}  // namespace
+
+std::uint64_t resident_bytes() { return status_field("VmRSS:"); }
+std::uint64_t peak_resident_bytes() { return status_field("VmHWM:"); }
+
+std::string format_bytes(std::uint64_t bytes) {
+  char buf[64];
+  if (bytes >= (1ull << 30))
+    std::snprintf(buf, sizeof buf, "%.2f GiB", static_cast<double>(bytes) / (1ull << 30));
+  else
+    std::snprintf(buf, sizeof buf, "%.0f MiB", static_cast<double>(bytes) / (1ull << 20));
+  return buf;
+}
+
+std::uint64_t budget_baseline(std::uint64_t rss) {
+  return std::max<std::uint64_t>(1, (rss + kBaselineStep - 1) / kBaselineStep) * kBaselineStep;
+}
+
+std::uint64_t MemoryBudget::usable() const {
+  const auto after_headroom = static_cast<std::uint64_t>(static_cast<double>(limit) * (1.0 - kHeadroom));
+  return after_headroom > baseline ? after_headroom - baseline : 0;
+}
+
+void MemoryBudget::check_vertices(std::uint64_t vertices, const std::string& input) const {
+  const std::uint64_t cut = vertices * kCutBytesPerVertex + kMinPieceTets * kBytesPerPieceTet / 8;
+  if (cut > usable()) {
+    const auto needed = static_cast<std::uint64_t>(static_cast<double>(baseline + cut) / (1.0 - kHeadroom)) + 1;
+    throw InputError(input + ": --memory-limit " + format_bytes(limit) + " is below what cutting " +
+                     std::to_string(vertices) + " vertices out of core needs: at least " + format_bytes(needed) +
+                     " (the process itself holds " + format_bytes(baseline) + ")");
+  }
+}
+
+std::uint64_t MemoryBudget::piece_tets(const InputCounts& counts) const {
+  // The cut phase and the levels do not overlap: a piece must fit beside what each holds. A piece
+  // built during the cut costs its arrays only (~1/8 of a simplification's bytes per tet).
+  const std::uint64_t cut_held = counts.vertices * kCutBytesPerVertex + counts.triangles * 16 + counts.segments * 12;
+  const std::uint64_t level_held = counts.vertices * kLevelBytesPerVertex;
+  const std::uint64_t u = usable();
+  const std::uint64_t during_cut = u > cut_held ? (u - cut_held) * 8 / kBytesPerPieceTet : 0;
+  const std::uint64_t during_levels = u > level_held ? (u - level_held) / kBytesPerPieceTet : 0;
+  const std::uint64_t tets = std::min(during_cut, during_levels);
+  if (tets < kMinPieceTets) {
+    const std::uint64_t need = std::max(cut_held + kMinPieceTets * kBytesPerPieceTet / 8,
+                                        level_held + kMinPieceTets * kBytesPerPieceTet);
+    const auto needed = static_cast<std::uint64_t>(static_cast<double>(baseline + need) / (1.0 - kHeadroom)) + 1;
+    throw InputError("--memory-limit " + format_bytes(limit) + " leaves room for pieces of " + std::to_string(tets) +
+                     " tets; out of core needs at least " + std::to_string(kMinPieceTets) + ": give at least " +
+                     format_bytes(needed));
+  }
+  return tets;
+}
+
+}  // namespace topotet::ooc

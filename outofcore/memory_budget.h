@@ -1,0 +1,54 @@
+// How an out-of-core run spends its memory limit, decided from counts (the pieces, and so the
+// output, must not vary from run to run as a measured RSS does).
+//
+//   baseline      the process before the run (code, libraries, oneTBB and Embree, and whatever a
+//                 calling program holds): its resident size at the start, rounded up to a multiple
+//                 of kBaselineStep, so that the few MiB it varies by between runs (and between
+//                 thread counts) do not change the piece count;
+//   cut phase     per input vertex: position and ref (28 bytes), the cut's local index (4) and
+//                 the holder count (1); per listed triangle (edge) 16 (12) bytes;
+//   levels        per input vertex: the holder count (1 byte); per piece tet: kBytesPerPieceTet,
+//                 what the engine needs to simplify a piece with the default guarantees (the
+//                 model, the tolerance's reference and coverage, the piece's own arrays in and
+//                 out; docs/performance.md "Out of core" has the measurements it comes from);
+//   headroom      kHeadroom of the limit for the allocator's slack and the I/O buffers.
+// A limit that leaves fewer than kMinPieceTets per piece is refused before any work, with the
+// smallest limit that would do.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace topotet::ooc {
+
+struct InputCounts;
+
+inline constexpr std::uint64_t kCutBytesPerVertex = 33;
+inline constexpr std::uint64_t kLevelBytesPerVertex = 1;
+inline constexpr std::uint64_t kBytesPerPieceTet = 320;
+inline constexpr std::uint64_t kMinPieceTets = 20000;
+inline constexpr double kHeadroom = 0.15;
+inline constexpr std::uint64_t kBaselineStep = 64ull << 20;
+
+// The resident size `rss` as the budget counts it: rounded up to kBaselineStep (at least one step).
+std::uint64_t budget_baseline(std::uint64_t rss);
+
+struct MemoryBudget {
+  std::uint64_t limit = 0;     // bytes
+  std::uint64_t baseline = 0;  // bytes (resident at the start)
+
+  // The most tets a piece may have once the input's counts are known; throws InputError with the
+  // limit that would be needed when it is below kMinPieceTets.
+  std::uint64_t piece_tets(const InputCounts& counts) const;
+  // The first check, as soon as the vertex count is known (the cut holds them): throws likewise.
+  void check_vertices(std::uint64_t vertices, const std::string& input) const;
+  std::uint64_t usable() const;
+};
+
+// Resident bytes now (VmRSS) and at the peak so far (VmHWM), from /proc/self/status; 0 if unknown.
+std::uint64_t resident_bytes();
+std::uint64_t peak_resident_bytes();
+
+std::string format_bytes(std::uint64_t bytes);  // "1.50 GiB", "256 MiB"
+
+}  // namespace topotet::ooc

@@ -1,0 +1,200 @@
+#include "piece.h"
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+#include <utility>
+
+#include "scratch.h"
+#include "topotet/error.h"
+
+namespace topotet::ooc {
+
+namespace {
+
+constexpr std::uint64_t kMagic = 0x31656365'6970746fULL;  // "otpiece1"
+
+template <class T>
+void put_vector(ScratchWriter& out, const std::vector<T>& v) {
+  out.put<std::uint64_t>(v.size());
+  out.write(v.data(), v.size() * sizeof(T));
+}
+
+template <class T>
+void get_vector(ScratchReader& in, std::vector<T>& v) {
+  v.resize(in.get<std::uint64_t>());
+  in.read(v.data(), v.size() * sizeof(T));
+}
+
+void put_string(ScratchWriter& out, const std::string& s) {
+  out.put<std::uint64_t>(s.size());
+  out.write(s.data(), s.size());
+}
+
+std::string get_string(ScratchReader& in) {
+  std::string s(in.get<std::uint64_t>(), '\0');
+  in.read(s.data(), s.size());
+  return s;
+}
+
+}  // namespace
+
+void save_piece(const std::string& path, const Piece& piece) {
+  const MeshData& m = piece.mesh;
+  ScratchWriter out(path);
+  out.put(kMagic);
+  put_vector(out, piece.global_ids);
+  put_vector(out, m.positions);
+  put_vector(out, m.vertex_refs);
+  put_vector(out, m.tets);
+  put_vector(out, m.tet_material);
+  put_vector(out, m.triangles);
+  put_vector(out, m.segments);
+  put_vector(out, m.ridges);
+  put_vector(out, m.corners);
+  put_vector(out, m.required_vertices);
+  out.put<std::uint64_t>(m.fields.size());
+  for (const VertexField& f : m.fields) {
+    put_string(out, f.name);
+    out.put<std::int32_t>(f.components);
+    put_vector(out, f.values);
+  }
+  out.put<std::uint64_t>(m.cell_fields.size());
+  for (const CellField& f : m.cell_fields) {
+    put_string(out, f.name);
+    out.put<std::int32_t>(f.components);
+    out.put<std::uint8_t>(static_cast<std::uint8_t>(f.kind));
+    put_vector(out, f.values);
+  }
+  out.close();
+}
+
+Piece load_piece(const std::string& path) {
+  Piece piece;
+  MeshData& m = piece.mesh;
+  ScratchReader in(path);
+  if (in.get<std::uint64_t>() != kMagic) throw InputError("scratch file " + path + ": not a piece of this run");
+  get_vector(in, piece.global_ids);
+  get_vector(in, m.positions);
+  get_vector(in, m.vertex_refs);
+  get_vector(in, m.tets);
+  get_vector(in, m.tet_material);
+  get_vector(in, m.triangles);
+  get_vector(in, m.segments);
+  get_vector(in, m.ridges);
+  get_vector(in, m.corners);
+  get_vector(in, m.required_vertices);
+  m.fields.resize(in.get<std::uint64_t>());
+  for (VertexField& f : m.fields) {
+    f.name = get_string(in);
+    f.components = in.get<std::int32_t>();
+    get_vector(in, f.values);
+  }
+  m.cell_fields.resize(in.get<std::uint64_t>());
+  for (CellField& f : m.cell_fields) {
+    f.name = get_string(in);
+    f.components = in.get<std::int32_t>();
+    f.kind = static_cast<CellFieldKind>(in.get<std::uint8_t>());
+    get_vector(in, f.values);
+  }
+  return piece;
+}
+
+namespace {
+
+// Sorted-vertex keys, so that the same triangle (edge) listed by both pieces is found whatever
+// its orientation; the ref is part of the key (two listings with different refs are two entries).
+std::array<GlobalId, 4> triangle_key(const Triangle& t, const std::vector<GlobalId>& ids) {
+  std::array<GlobalId, 3> v = {ids[t.v[0]], ids[t.v[1]], ids[t.v[2]]};
+  std::sort(v.begin(), v.end());
+  return {v[0], v[1], v[2], static_cast<GlobalId>(t.ref)};
+}
+
+std::array<GlobalId, 3> segment_key(const Segment& s, const std::vector<GlobalId>& ids) {
+  return {std::min(ids[s.v[0]], ids[s.v[1]]), std::max(ids[s.v[0]], ids[s.v[1]]), static_cast<GlobalId>(s.ref)};
+}
+
+}  // namespace
+
+Piece merge_pieces(Piece a, Piece b) {
+  MeshData& m = a.mesh;
+  const MeshData& n = b.mesh;
+  if (m.fields.size() != n.fields.size() || m.cell_fields.size() != n.cell_fields.size())
+    throw std::logic_error("merge_pieces: the pieces' field layouts differ");
+  // b's vertex -> merged vertex: a's own when a has it (binary search in a's sorted ids).
+  std::vector<std::pair<GlobalId, VertId>> a_ids(a.global_ids.size());
+  for (VertId v = 0; v < a.global_ids.size(); ++v) a_ids[v] = {a.global_ids[v], v};
+  std::sort(a_ids.begin(), a_ids.end());
+  const std::size_t a_vertices = m.positions.size();
+  std::vector<VertId> map(n.positions.size());
+  std::vector<VertId> added;  // b's vertices that a lacks, in b's order
+  for (VertId v = 0; v < n.positions.size(); ++v) {
+    const auto it = std::lower_bound(a_ids.begin(), a_ids.end(), std::pair<GlobalId, VertId>{b.global_ids[v], 0});
+    if (it != a_ids.end() && it->first == b.global_ids[v]) {
+      map[v] = it->second;
+    } else {
+      map[v] = static_cast<VertId>(a_vertices + added.size());
+      added.push_back(v);
+    }
+  }
+  a_ids = {};
+  const bool refs = !m.vertex_refs.empty() || !n.vertex_refs.empty();
+  if (refs) m.vertex_refs.resize(a_vertices, 0);
+  for (VertId v : added) {
+    m.positions.push_back(n.positions[v]);
+    a.global_ids.push_back(b.global_ids[v]);
+    if (refs) m.vertex_refs.push_back(n.vertex_refs.empty() ? 0 : n.vertex_refs[v]);
+  }
+  for (std::size_t f = 0; f < m.fields.size(); ++f) {
+    const int c = m.fields[f].components;
+    for (VertId v : added)
+      for (int k = 0; k < c; ++k) m.fields[f].values.push_back(n.fields[f].values[std::size_t{v} * c + k]);
+  }
+  for (const auto& t : n.tets) m.tets.push_back({map[t[0]], map[t[1]], map[t[2]], map[t[3]]});
+  m.tet_material.insert(m.tet_material.end(), n.tet_material.begin(), n.tet_material.end());
+  for (std::size_t f = 0; f < m.cell_fields.size(); ++f)
+    m.cell_fields[f].values.insert(m.cell_fields[f].values.end(), n.cell_fields[f].values.begin(),
+                                   n.cell_fields[f].values.end());
+
+  // Listed triangles and edges on the common border are in both pieces: once.
+  {
+    std::vector<std::array<GlobalId, 4>> keys;
+    keys.reserve(m.triangles.size());
+    for (const Triangle& t : m.triangles) keys.push_back(triangle_key(t, a.global_ids));
+    std::sort(keys.begin(), keys.end());
+    for (const Triangle& t : n.triangles)
+      if (!std::binary_search(keys.begin(), keys.end(), triangle_key(t, b.global_ids)))
+        m.triangles.push_back({{map[t.v[0]], map[t.v[1]], map[t.v[2]]}, t.ref});
+  }
+  {
+    std::vector<std::pair<std::array<GlobalId, 3>, std::uint32_t>> keys;  // key, a's segment
+    for (std::uint32_t s = 0; s < m.segments.size(); ++s) keys.push_back({segment_key(m.segments[s], a.global_ids), s});
+    std::sort(keys.begin(), keys.end());
+    std::vector<std::uint32_t> segment_map(n.segments.size());  // b's edge -> merged edge (ridges)
+    for (std::uint32_t s = 0; s < n.segments.size(); ++s) {
+      const auto key = segment_key(n.segments[s], b.global_ids);
+      const auto it = std::lower_bound(keys.begin(), keys.end(), std::pair<std::array<GlobalId, 3>, std::uint32_t>{key, 0});
+      if (it != keys.end() && it->first == key) {
+        segment_map[s] = it->second;
+      } else {
+        segment_map[s] = static_cast<std::uint32_t>(m.segments.size());
+        m.segments.push_back({{map[n.segments[s].v[0]], map[n.segments[s].v[1]]}, n.segments[s].ref});
+      }
+    }
+    std::vector<std::uint32_t> ridges = m.ridges;
+    for (std::uint32_t r : n.ridges) ridges.push_back(segment_map[r]);
+    std::sort(ridges.begin(), ridges.end());
+    ridges.erase(std::unique(ridges.begin(), ridges.end()), ridges.end());
+    m.ridges = std::move(ridges);
+  }
+  const auto unite = [&](std::vector<VertId>& mine, const std::vector<VertId>& theirs) {
+    for (VertId v : theirs) mine.push_back(map[v]);
+    std::sort(mine.begin(), mine.end());
+    mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
+  };
+  unite(m.corners, n.corners);
+  unite(m.required_vertices, n.required_vertices);
+  return a;
+}
+
+}  // namespace topotet::ooc

@@ -1,0 +1,36 @@
+// A piece of an out-of-core run: a part of the mesh (whole tets, with the listed triangles, edges,
+// corners and required vertices among its vertices) in its own numbering, plus each vertex's
+// global id (its index in the input, which a vertex keeps through every collapse: the surviving
+// end of a collapse keeps its id). Global ids are how pieces find their common vertices: the
+// vertices a piece shares with another are its border, frozen while the pieces are apart.
+//
+// Pieces live in the scratch folder between levels (save_piece / load_piece: a raw binary dump,
+// read back only by the same run) and two neighbours become one (merge_pieces) at each level of
+// paper 002's binary hierarchy.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "topotet/mesh_data.h"
+
+namespace topotet::ooc {
+
+using GlobalId = std::uint32_t;
+
+struct Piece {
+  MeshData mesh;                    // group_names are the run's, not a piece's: left empty
+  std::vector<GlobalId> global_ids;  // [vertex] its index in the input
+};
+
+void save_piece(const std::string& path, const Piece& piece);  // throws InputError (disk full...)
+Piece load_piece(const std::string& path);
+
+// The union of a and b: common vertices (same global id) once, a's vertices first in a's order,
+// then b's new ones; tets of both (a piece's tets are its own); triangles, edges, corners and
+// required vertices that both list (those on the common border) once, a's copy first. The field
+// layouts must agree (they come from one input).
+Piece merge_pieces(Piece a, Piece b);
+
+}  // namespace topotet::ooc

@@ -1,0 +1,173 @@
+#include "scratch.h"
+
+#include <stdlib.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <climits>
+#include <cstring>
+
+#include "topotet/error.h"
+
+namespace topotet::ooc {
+
+namespace {
+
+constexpr const char* kFixedNames[] = {"tets.bin", "vertex-fields.bin", "tet-fields.bin"};
+
+// Live scratch folders, for the signal handler: fixed storage, published with `ready` (release),
+// read by the handler only when published (acquire), as io's registry of temporary files does.
+constexpr int kSlots = 8;
+struct Registry {
+  std::atomic<bool> taken[kSlots];
+  std::atomic<bool> ready[kSlots];
+  char paths[kSlots][PATH_MAX];
+};
+Registry g_registry;
+
+int register_folder(const std::string& path) {
+  if (path.size() + 32 >= PATH_MAX) return -1;  // only the signal cleanup misses it
+  for (int i = 0; i < kSlots; ++i) {
+    bool expected = false;
+    if (!g_registry.taken[i].compare_exchange_strong(expected, true, std::memory_order_acquire)) continue;
+    std::memcpy(g_registry.paths[i], path.c_str(), path.size() + 1);
+    g_registry.ready[i].store(true, std::memory_order_release);
+    return i;
+  }
+  return -1;
+}
+
+void unregister_folder(int slot) {
+  if (slot < 0) return;
+  g_registry.ready[slot].store(false, std::memory_order_release);
+  g_registry.taken[slot].store(false, std::memory_order_release);
+}
+
+// "<folder>/<prefix><n>" into buf, without allocating (the handler's only formatting).
+void format_numbered(char* buf, const char* folder, const char* prefix, std::uint32_t n) {
+  std::size_t len = std::strlen(folder);
+  std::memcpy(buf, folder, len);
+  buf[len++] = '/';
+  for (const char* p = prefix; *p; ++p) buf[len++] = *p;
+  char digits[12];
+  int d = 0;
+  do {
+    digits[d++] = static_cast<char>('0' + n % 10);
+    n /= 10;
+  } while (n != 0);
+  while (d > 0) buf[len++] = digits[--d];
+  buf[len] = '\0';
+}
+
+void remove_folder_contents(const char* folder) noexcept {
+  char buf[PATH_MAX];
+  for (std::uint32_t i = 0; i < kMaxPieces; ++i) {
+    format_numbered(buf, folder, "piece-", i);
+    ::unlink(buf);
+    format_numbered(buf, folder, "bucket-", i);
+    ::unlink(buf);
+  }
+  for (const char* name : kFixedNames) {
+    const std::size_t len = std::strlen(folder);
+    std::memcpy(buf, folder, len);
+    buf[len] = '/';
+    std::strcpy(buf + len + 1, name);
+    ::unlink(buf);
+  }
+  ::rmdir(folder);
+}
+
+std::string errno_text() { return std::strerror(errno); }
+
+}  // namespace
+
+ScratchFolder::ScratchFolder(const std::string& parent) {
+  std::string templ = (parent.empty() ? std::string(".") : parent) + "/.topotet-scratch-XXXXXX";
+  if (::mkdtemp(templ.data()) == nullptr)
+    throw InputError("cannot create a scratch folder in " + (parent.empty() ? std::string(".") : parent) + ": " +
+                     errno_text() + " (choose another with --scratch DIR)");
+  path_ = templ;
+  slot_ = register_folder(path_);
+}
+
+ScratchFolder::~ScratchFolder() {
+  remove_folder_contents(path_.c_str());
+  unregister_folder(slot_);
+}
+
+std::string ScratchFolder::piece_path(std::uint32_t piece) const { return path_ + "/piece-" + std::to_string(piece); }
+std::string ScratchFolder::bucket_path(std::uint32_t bucket) const {
+  return path_ + "/bucket-" + std::to_string(bucket);
+}
+std::string ScratchFolder::file_path(const char* name) const {
+  for (const char* fixed : kFixedNames)
+    if (std::strcmp(fixed, name) == 0) return path_ + "/" + name;
+  throw std::logic_error(std::string("scratch file name not in the fixed set: ") + name);
+}
+
+ScratchWriter::ScratchWriter(const std::string& path) : path_(path) {
+  file_ = std::fopen(path.c_str(), "wb");
+  if (file_ == nullptr) fail("cannot create");
+  std::setvbuf(file_, nullptr, _IOFBF, 1 << 16);
+}
+
+ScratchWriter::~ScratchWriter() {
+  if (file_ != nullptr) std::fclose(file_);
+}
+
+void ScratchWriter::fail(const char* what) const {
+  std::string why = errno_text();
+  if (errno == ENOSPC) why = "no space left on the device (choose another folder with --scratch DIR)";
+  if (errno == EFBIG) why = "file size limit exceeded (ulimit -f)";
+  const std::string::size_type slash = path_.rfind('/');
+  throw InputError("scratch folder " + path_.substr(0, slash) + ": " + what + " " + path_.substr(slash + 1) + ": " + why);
+}
+
+void ScratchWriter::write(const void* data, std::size_t bytes) {
+  if (bytes == 0) return;
+  if (std::fwrite(data, 1, bytes, file_) != bytes) fail("cannot write");
+  bytes_ += bytes;
+}
+
+void ScratchWriter::close() {
+  if (file_ == nullptr) return;
+  const bool flushed = std::fflush(file_) == 0;
+  const int saved = errno;
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (!flushed || !closed) {
+    errno = flushed ? errno : saved;
+    fail("cannot write");
+  }
+}
+
+ScratchReader::ScratchReader(const std::string& path) : path_(path) {
+  file_ = std::fopen(path.c_str(), "rb");
+  if (file_ == nullptr) throw InputError("scratch file " + path + ": cannot open: " + errno_text());
+  std::setvbuf(file_, nullptr, _IOFBF, 1 << 16);
+}
+
+ScratchReader::~ScratchReader() {
+  if (file_ != nullptr) std::fclose(file_);
+}
+
+void ScratchReader::read(void* data, std::size_t bytes) {
+  if (bytes != 0 && std::fread(data, 1, bytes, file_) != bytes)
+    throw InputError("scratch file " + path_ + ": truncated (was it changed while the run went on?)");
+}
+
+bool ScratchReader::try_read(void* data, std::size_t bytes) {
+  const std::size_t got = std::fread(data, 1, bytes, file_);
+  if (got == 0 && std::feof(file_)) return false;
+  if (got != bytes) throw InputError("scratch file " + path_ + ": truncated (was it changed while the run went on?)");
+  return true;
+}
+
+void remove_scratch_folders() noexcept {
+  for (int i = 0; i < kSlots; ++i)
+    if (g_registry.ready[i].load(std::memory_order_acquire)) remove_folder_contents(g_registry.paths[i]);
+}
+
+}  // namespace topotet::ooc

@@ -1,0 +1,443 @@
+// simplify_out_of_core: the levels of paper 002's binary hierarchy (topotet/out_of_core.h).
+//
+//   cut the input into P pieces (cut.h), P from the memory limit (memory_budget.h)
+//   level 0: every piece simplified with its border frozen, removing its share of the interior
+//   level l = 1, 2, ...: pieces 2i and 2i + 1 (Morton neighbours) merged, when together they fit,
+//            and the merged piece simplified: its former common border is interior now
+//   until one piece is left, or no pair fits; then the output is written from what is left.
+// Shares: the run removes the fraction f = (N - target) / N of the vertices; a piece at level 0
+// removes f of its interior vertices, a merged piece f of the vertices its merge made interior,
+// plus its part (by tets) of what earlier levels fell short of; the last piece goes to the target.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <set>
+#include <filesystem>
+
+#include "cut.h"
+#include "entry_points.h"
+#include "memory_budget.h"
+#include "mesh/mesh_model.h"
+#include "piece.h"
+#include "topotet/cell_fields.h"
+#include "scratch.h"
+#include "topotet/error.h"
+#include "topotet/io.h"
+#include "topotet/medit_stream.h"
+#include "topotet/out_of_core.h"
+
+namespace topotet {
+
+namespace {
+
+using namespace ooc;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+void refuse_unsupported(const SimplifyOptions& o) {
+  if (o.max_field_error > 0.0 || o.max_field_error_rel > 0.0 || o.track_field_bounds)
+    throw InputError(
+        "field error bounds are not available out of core (a bound is kept per tet within one run and does not "
+        "compose across the levels of pieces): drop --max-field-error / --field-bounds or --memory-limit");
+  if (!o.isosurfaces.empty())
+    throw InputError("isosurfaces are not available out of core: embed them in core first (topotet simplify "
+                     "--isosurface at --ratio 1), then simplify that mesh out of core");
+  if (!(o.target_vertex_ratio > 0.0 && o.target_vertex_ratio <= 1.0))
+    throw InputError("target_vertex_ratio must be in (0, 1]");
+}
+
+struct PieceSlot {
+  std::uint32_t file = 0;  // piece_path(file)
+  std::uint64_t tets = 0;
+};
+
+// What one piece's run changed, for the totals.
+struct PieceRun {
+  Report report;
+  std::uint64_t removed = 0;
+};
+
+// Simplifies `piece` with the vertices other pieces hold frozen, removing at most `remove`.
+// Cell fields are not in the engine's model: they are remapped from the piece as it was onto the
+// simplified piece (topotet/cell_fields.h; exact overlaps: the piece's region is the same before and
+// after, its border frozen), so an extensive array's sum is conserved level after level.
+PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, SimplifyOptions options,
+                        std::uint64_t remove, const CellRemapOptions& cell_remap) {
+  PieceRun run;
+  MeshData& data = piece.mesh;
+  const std::size_t before = data.positions.size();
+  if (remove == 0) return run;
+  // The vertex refs carry each vertex's index through the engine (mpi/local_pass.cpp does the same).
+  std::vector<std::int32_t> user_refs = std::move(data.vertex_refs);
+  data.vertex_refs.resize(before);
+  std::iota(data.vertex_refs.begin(), data.vertex_refs.end(), 0);
+  MeshModel model = build_mesh_model(data);
+  MeshData cells_before;
+  if (!data.cell_fields.empty()) {
+    cells_before.positions = std::move(data.positions);
+    cells_before.tets = std::move(data.tets);
+    cells_before.tet_material = std::move(data.tet_material);
+    cells_before.cell_fields = std::move(data.cell_fields);
+  }
+  data = MeshData{};
+  for (VertId v = 0; v < before; ++v)
+    if (holders[piece.global_ids[v]] >= 2) model.vertex_states[v] |= vertex_state::kFrozen | vertex_state::kPinned;
+  options.target_vertices = std::max<std::uint64_t>(before - std::min<std::uint64_t>(remove, before), 1);
+  run.report = simplify(model, options);
+  if (run.report.status == Status::kInvalidInput || run.report.status == Status::kInternalError ||
+      run.report.status == Status::kOutOfMemory || run.report.status == Status::kCancelled)
+    throw InputError("out-of-core piece: " + run.report.message);
+  MeshData out = model.to_mesh_data();
+  model = MeshModel{};
+  if (!cells_before.cell_fields.empty()) remap_cell_fields(cells_before, out, cell_remap);
+  std::vector<GlobalId> ids(out.positions.size());
+  for (VertId o = 0; o < out.positions.size(); ++o) ids[o] = piece.global_ids[out.vertex_refs[o]];
+  if (user_refs.empty()) {
+    out.vertex_refs.clear();
+  } else {
+    for (VertId o = 0; o < out.positions.size(); ++o) out.vertex_refs[o] = user_refs[out.vertex_refs[o]];
+  }
+  out.group_names.clear();
+  run.removed = before - out.positions.size();
+  piece.mesh = std::move(out);
+  piece.global_ids = std::move(ids);
+  return run;
+}
+
+void add_counts(Report& total, const Report& r) {
+  total.collapses += r.collapses;
+  total.evaluations += r.evaluations;
+  total.legality_checks += r.legality_checks;
+  for (std::size_t k = 0; k < total.rejected.size(); ++k) total.rejected[k] += r.rejected[k];
+  total.rounds += r.rounds;
+  total.feature_edges += r.feature_edges;
+  total.feature_corners += r.feature_corners;
+  total.max_cost = std::max(total.max_cost, r.max_cost);
+  total.tolerance_limited = total.tolerance_limited || r.tolerance_limited;
+  for (std::size_t k = 0; k < total.phase_seconds.size(); ++k) total.phase_seconds[k] += r.phase_seconds[k];
+}
+
+std::uint64_t folder_bytes(const std::string& folder) {
+  std::uint64_t total = 0;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(folder, ec))
+    if (e.is_regular_file(ec)) total += e.file_size(ec);
+  return total;
+}
+
+// The output written from several pieces, MEDIT, streaming: each vertex once (from the first
+// piece that holds it), every tet, listed triangles and edges on the borders once.
+void write_pieces(const std::string& output, const ScratchFolder& scratch, const std::vector<PieceSlot>& slots,
+                  std::uint64_t input_vertices, const CutResult& cut) {
+  if (format_from_path(output) != MeshFormat::kMedit)
+    throw InputError(output + ": the memory limit kept " + std::to_string(slots.size()) +
+                     " pieces apart, and several pieces are written as MEDIT (.mesh) only: give a .mesh output "
+                     "or a larger --memory-limit");
+  std::vector<VertId> out_index(input_vertices, kInvalid);
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> owned(slots.size());  // [slot] out ids it assigns
+  std::uint64_t vertices = 0, tets = 0;
+  std::set<std::array<VertId, 4>> triangle_keys;
+  std::set<std::array<VertId, 3>> segment_keys;
+  std::vector<Triangle> triangles;
+  std::vector<Segment> segments;
+  std::vector<std::uint32_t> ridges;
+  std::set<VertId> corners, required;
+  for (std::size_t s = 0; s < slots.size(); ++s) {
+    const Piece piece = load_piece(scratch.piece_path(slots[s].file));
+    owned[s].first = vertices;
+    std::vector<VertId> map(piece.global_ids.size());
+    for (VertId v = 0; v < piece.global_ids.size(); ++v) {
+      VertId& o = out_index[piece.global_ids[v]];
+      if (o == kInvalid) o = static_cast<VertId>(vertices++);
+      map[v] = o;
+    }
+    owned[s].second = vertices;
+    tets += piece.mesh.tets.size();
+    for (const Triangle& t : piece.mesh.triangles) {
+      Triangle o{{map[t.v[0]], map[t.v[1]], map[t.v[2]]}, t.ref};
+      std::array<VertId, 4> key = {o.v[0], o.v[1], o.v[2], static_cast<VertId>(t.ref)};
+      std::sort(key.begin(), key.begin() + 3);
+      if (triangle_keys.insert(key).second) triangles.push_back(o);
+    }
+    std::vector<std::uint32_t> segment_out(piece.mesh.segments.size());
+    for (std::size_t i = 0; i < piece.mesh.segments.size(); ++i) {
+      const Segment& g = piece.mesh.segments[i];
+      Segment o{{map[g.v[0]], map[g.v[1]]}, g.ref};
+      const std::array<VertId, 3> key = {std::min(o.v[0], o.v[1]), std::max(o.v[0], o.v[1]), static_cast<VertId>(g.ref)};
+      if (segment_keys.insert(key).second) {
+        segment_out[i] = static_cast<std::uint32_t>(segments.size());
+        segments.push_back(o);
+        if (std::binary_search(piece.mesh.ridges.begin(), piece.mesh.ridges.end(), static_cast<std::uint32_t>(i)))
+          ridges.push_back(segment_out[i]);
+      }
+    }
+    for (VertId v : piece.mesh.corners) corners.insert(map[v]);
+    for (VertId v : piece.mesh.required_vertices) required.insert(map[v]);
+  }
+  MeditStreamWriter writer(output, cut.vertex_fields, cut.cell_fields);
+  writer.begin_vertices(vertices);
+  const int vstride = cut.counts.vertex_stride, cstride = cut.counts.cell_stride;
+  std::vector<double> values(std::max(vstride, cstride));
+  for (std::size_t s = 0; s < slots.size(); ++s) {
+    const Piece piece = load_piece(scratch.piece_path(slots[s].file));
+    for (VertId v = 0; v < piece.global_ids.size(); ++v) {
+      const VertId o = out_index[piece.global_ids[v]];
+      if (o < owned[s].first || o >= owned[s].second) continue;
+      for (std::size_t f = 0, at = 0; f < piece.mesh.fields.size(); ++f) {
+        const int c = piece.mesh.fields[f].components;
+        for (int k = 0; k < c; ++k) values[at++] = piece.mesh.fields[f].values[std::size_t{v} * c + k];
+      }
+      writer.vertex(piece.mesh.positions[v], piece.mesh.vertex_refs.empty() ? 0 : piece.mesh.vertex_refs[v],
+                    vstride > 0 ? values.data() : nullptr);
+    }
+  }
+  writer.begin_tets(tets);
+  for (std::size_t s = 0; s < slots.size(); ++s) {
+    const Piece piece = load_piece(scratch.piece_path(slots[s].file));
+    for (std::size_t t = 0; t < piece.mesh.tets.size(); ++t) {
+      const auto& tv = piece.mesh.tets[t];
+      for (std::size_t f = 0, at = 0; f < piece.mesh.cell_fields.size(); ++f) {
+        const int c = piece.mesh.cell_fields[f].components;
+        for (int k = 0; k < c; ++k) values[at++] = piece.mesh.cell_fields[f].values[t * c + k];
+      }
+      writer.tet({out_index[piece.global_ids[tv[0]]], out_index[piece.global_ids[tv[1]]],
+                  out_index[piece.global_ids[tv[2]]], out_index[piece.global_ids[tv[3]]]},
+                 piece.mesh.tet_material[t], cstride > 0 ? values.data() : nullptr);
+    }
+  }
+  writer.begin_triangles(triangles.size());
+  for (const Triangle& t : triangles) writer.triangle(t);
+  writer.begin_segments(segments.size());
+  for (const Segment& s : segments) writer.segment(s);
+  writer.begin_ridges(ridges.size());
+  for (std::uint32_t r : ridges) writer.ridge(r);
+  writer.begin_corners(corners.size());
+  for (VertId v : corners) writer.corner(v);
+  writer.begin_required_vertices(required.size());
+  for (VertId v : required) writer.required_vertex(v);
+  writer.commit();
+}
+
+std::string parent_folder(const std::string& path) {
+  const std::filesystem::path p(path);
+  const std::filesystem::path parent = p.parent_path();
+  return parent.empty() ? std::string(".") : parent.string();
+}
+
+}  // namespace
+
+OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string& output,
+                                     const SimplifyOptions& options, const OutOfCoreOptions& ooc) {
+  const auto start = Clock::now();
+  refuse_unsupported(options);
+  if (ooc.memory_limit_bytes == 0 && ooc.pieces == 0)
+    throw InputError("out of core needs a memory limit (--memory-limit) or a piece count");
+  if (ooc.pieces != 0 && (ooc.pieces > kMaxPieces || (ooc.pieces & (ooc.pieces - 1)) != 0))
+    throw InputError("the piece count must be a power of two up to " + std::to_string(kMaxPieces));
+  const auto say = [&](const std::string& s) {
+    if (ooc.log) ooc.log(s);
+  };
+  OutOfCoreReport result;
+  Report& report = result.report;
+  MemoryBudget budget;
+  budget.limit = ooc.memory_limit_bytes;
+  budget.baseline = budget_baseline(resident_bytes());
+  const bool limited = budget.limit > 0;
+
+  ScratchFolder scratch(ooc.scratch_parent.empty() ? parent_folder(output) : ooc.scratch_parent);
+  say("scratch folder " + scratch.path());
+  std::uint64_t piece_limit = 0;
+  const auto choose = [&](const InputCounts& counts) -> std::uint32_t {
+    piece_limit = limited ? budget.piece_tets(counts) : counts.tets;
+    if (ooc.pieces != 0) return ooc.pieces;
+    std::uint32_t pieces = 1;
+    while (pieces < kMaxPieces && counts.tets > pieces * piece_limit) pieces *= 2;
+    if (counts.tets > pieces * piece_limit)
+      throw InputError("--memory-limit " + format_bytes(budget.limit) + " would need more than " +
+                       std::to_string(kMaxPieces) + " pieces for " + std::to_string(counts.tets) + " tets");
+    return pieces;
+  };
+  const auto on_vertices = [&](std::uint64_t vertices) {
+    if (limited) budget.check_vertices(vertices, input);
+  };
+  const auto cut_start = Clock::now();
+  CutResult cut = cut_input(input, scratch, choose, ooc.log, on_vertices, ooc.cell_remap);
+  result.cut_seconds = since(cut_start);
+  result.pieces = cut.pieces;
+  result.piece_tet_limit = piece_limit;
+  result.scratch_peak_bytes = folder_bytes(scratch.path());
+  say("cut into " + std::to_string(cut.pieces) + " pieces (at most " + std::to_string(piece_limit) + " tets each) in " +
+      std::to_string(result.cut_seconds) + " s");
+
+  std::vector<std::uint8_t>& holders = cut.holders;
+  std::uint64_t input_vertices = 0;
+  for (std::uint8_t h : holders) input_vertices += h != 0;
+  report.vertices_before = input_vertices;
+  report.tets_before = cut.counts.tets;
+  const std::uint64_t target = std::max<std::uint64_t>(
+      4, options.target_vertices != 0
+             ? options.target_vertices
+             : static_cast<std::uint64_t>(std::llround(options.target_vertex_ratio * static_cast<double>(input_vertices))));
+  const double fraction =
+      input_vertices > target ? static_cast<double>(input_vertices - target) / static_cast<double>(input_vertices) : 0.0;
+  // Tolerance H shared by the levels (topotet/out_of_core.h): h_0 = H / 2, the merges H / (2 L).
+  const double H = options.tolerance > 0.0 ? options.tolerance : options.tolerance_rel * cut.diagonal;
+  report.tolerance = H;
+  int merge_levels = 0;
+  while ((1u << merge_levels) < cut.pieces) ++merge_levels;
+  const auto level_tolerance = [&](int level) {
+    if (merge_levels == 0) return H;
+    return level == 0 ? H / 2 : H / (2 * merge_levels);
+  };
+  SimplifyOptions base = options;
+  base.cost_units = &cut.units;
+  base.target_vertex_ratio = 1.0;
+
+  std::vector<PieceSlot> slots(cut.pieces);
+  for (std::uint32_t p = 0; p < cut.pieces; ++p) slots[p] = {p, cut.piece_tets[p]};
+  std::uint64_t live = input_vertices;
+  double planned = 0.0;  // vertices the shares asked for so far
+  std::uint64_t removed_total = 0;
+
+  // At most merge_levels merges: their tolerances add up to H / 2 (a pair left apart stays apart).
+  for (int level = 0; level <= merge_levels; ++level) {
+    const auto level_start = Clock::now();
+    OutOfCoreLevel stats;
+    stats.tolerance = level_tolerance(level);
+    SimplifyOptions o = base;
+    o.tolerance = stats.tolerance;
+    o.tolerance_rel = 0.0;
+    if (H == 0.0) o.tolerance = 0.0;
+    // The steps of this level: at level 0 every piece is run; later, each merged pair (a, b) is
+    // run and a piece left apart (or the odd one out) is carried unchanged (a = b = -1).
+    struct Step {
+      PieceSlot slot;
+      int a = -1, b = -1;
+    };
+    std::vector<Step> steps;
+    if (level == 0) {
+      for (std::size_t i = 0; i < slots.size(); ++i) steps.push_back({slots[i], static_cast<int>(i), -1});
+    } else {
+      bool merged_any = false;
+      for (std::size_t i = 0; i < slots.size(); i += 2) {
+        if (i + 1 == slots.size()) {
+          steps.push_back({slots[i]});
+        } else if (limited && slots[i].tets + slots[i + 1].tets > piece_limit) {
+          ++stats.unmerged;
+          steps.push_back({slots[i]});
+          steps.push_back({slots[i + 1]});
+        } else {
+          steps.push_back({{slots[i].file, slots[i].tets + slots[i + 1].tets}, static_cast<int>(i), static_cast<int>(i + 1)});
+          merged_any = true;
+        }
+      }
+      if (!merged_any) break;
+    }
+    const bool last = steps.size() == 1;
+    std::uint64_t level_tets = 0;
+    for (const Step& s : steps) level_tets += s.slot.tets;
+    const double deficit = std::max(0.0, planned - static_cast<double>(removed_total));
+    std::vector<PieceSlot> next;
+    for (Step& step : steps) {
+      PieceSlot& slot = step.slot;
+      if (step.a < 0) {
+        next.push_back(slot);
+        continue;
+      }
+      Piece piece;
+      std::uint64_t made_interior = 0;
+      if (step.b < 0) {
+        piece = load_piece(scratch.piece_path(slot.file));
+        for (GlobalId g : piece.global_ids) made_interior += holders[g] == 1;
+      } else {
+        Piece a = load_piece(scratch.piece_path(slots[step.a].file));
+        Piece b = load_piece(scratch.piece_path(slots[step.b].file));
+        ::unlink(scratch.piece_path(slots[step.b].file).c_str());
+        // Vertices both hold lose a holder; those left with one are interior now.
+        std::vector<GlobalId> sa = a.global_ids, sb = b.global_ids, common;
+        std::sort(sa.begin(), sa.end());
+        std::sort(sb.begin(), sb.end());
+        std::set_intersection(sa.begin(), sa.end(), sb.begin(), sb.end(), std::back_inserter(common));
+        for (GlobalId g : common) made_interior += --holders[g] == 1;
+        piece = merge_pieces(std::move(a), std::move(b));
+      }
+      double share = fraction * static_cast<double>(made_interior);
+      if (level > 0) share += deficit * static_cast<double>(slot.tets) / static_cast<double>(std::max<std::uint64_t>(level_tets, 1));
+      planned += fraction * static_cast<double>(made_interior);
+      std::uint64_t remove = static_cast<std::uint64_t>(std::llround(share));
+      if (last) remove = live > target ? live - target : 0;
+      stats.largest_piece_tets = std::max<std::uint64_t>(stats.largest_piece_tets, piece.mesh.tets.size());
+      const PieceRun run = simplify_piece(piece, holders, o, remove, ooc.cell_remap);
+      add_counts(report, run.report);
+      stats.collapses += run.report.collapses;
+      removed_total += run.removed;
+      live -= run.removed;
+      slot.tets = piece.mesh.tets.size();
+      save_piece(scratch.piece_path(slot.file), piece);
+      next.push_back(slot);
+      ++stats.pieces;
+      result.scratch_peak_bytes = std::max(result.scratch_peak_bytes, folder_bytes(scratch.path()));
+    }
+    stats.vertices_after = live;
+    stats.seconds = since(level_start);
+    say("level " + std::to_string(level) + ": " + std::to_string(stats.pieces) + " pieces simplified (largest " +
+        std::to_string(stats.largest_piece_tets) + " tets), " + std::to_string(live) + " vertices, tolerance " +
+        std::to_string(stats.tolerance) + ", " + std::to_string(stats.seconds) + " s");
+    result.levels.push_back(stats);
+    slots = std::move(next);
+    if (slots.size() == 1) break;
+  }
+
+  const auto write_start = Clock::now();
+  result.output_pieces = static_cast<std::uint32_t>(slots.size());
+  std::uint64_t out_tets = 0;
+  if (slots.size() == 1) {
+    Piece piece = load_piece(scratch.piece_path(slots[0].file));
+    out_tets = piece.mesh.tets.size();
+    write_mesh(output, piece.mesh);
+  } else {
+    for (const PieceSlot& s : slots) out_tets += s.tets;
+    write_pieces(output, scratch, slots, holders.size(), cut);
+  }
+  result.write_seconds = since(write_start);
+  report.vertices_after = live;
+  report.tets_after = out_tets;
+  report.status = live <= target ? Status::kOk : Status::kStoppedEarly;
+  if (report.status == Status::kStoppedEarly)
+    report.message = "stopped at " + std::to_string(live) + " vertices (target " + std::to_string(target) + ")" +
+                     (slots.size() > 1 ? ": the memory limit kept " + std::to_string(slots.size()) +
+                                             " pieces apart, their common borders frozen"
+                                       : ": no legal collapse left");
+  report.seconds = since(start);
+  result.peak_rss_bytes = peak_resident_bytes();
+  return result;
+}
+
+void remove_out_of_core_scratch() noexcept { ooc::remove_scratch_folders(); }
+
+std::uint64_t parse_memory_size(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  std::string unit = text.substr(used);
+  for (char& c : unit) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  if (!unit.empty() && unit.back() == 'B') unit.pop_back();
+  if (unit.size() == 2 && unit[1] == 'I') unit.pop_back();  // "GiB"
+  double scale = 1.0;
+  if (unit == "K") scale = 1024.0;
+  else if (unit == "M") scale = 1024.0 * 1024;
+  else if (unit == "G") scale = 1024.0 * 1024 * 1024;
+  else if (unit == "T") scale = 1024.0 * 1024 * 1024 * 1024;
+  else if (!unit.empty()) used = 0;
+  if (used == 0 || !(value > 0.0) || !std::isfinite(value * scale) || value * scale > 9e18)
+    throw InputError("memory size '" + text + "': expected a positive number with an optional unit K, M, G or T (e.g. 2G, 256M)");
+  return static_cast<std::uint64_t>(value * scale);
+}
+
+}  // namespace topotet

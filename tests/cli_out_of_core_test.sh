@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# topotet simplify --memory-limit / --pieces (out of core) through the command-line tool: a run
+# passes `topotet check`; SIGINT midway leaves no scratch folder and no output; a scratch folder
+# that fills up (a file-size ulimit) is one clear error and leaves nothing; options out of core
+# cannot honour are refused before any work. Meshes of ~100k tets at most (a few seconds).
+#   usage: bash tests/cli_out_of_core_test.sh path/to/topotet
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+
+topotet=$(realpath "${1:?usage: cli_out_of_core_test.sh path/to/topotet}")
+work=$(mktemp -d "${TMPDIR:-/tmp}/topotet_cli_ooc.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+source "$here/cli_harness.sh"
+
+expect_error() {
+  local name=$1 pattern=$2
+  shift 2
+  expect 2 "$name" "$@"
+  if [[ $(wc -l <"$name.err") == 1 ]] && grep -q "^topotet: error: .*$pattern" "$name.err"; then
+    pass "$name: one error line with '$pattern'"
+  else
+    fail "$name: stderr is not one 'topotet: error:' line with '$pattern':"
+    sed 's/^/        /' "$name.err" | head -n 10
+  fi
+}
+# no_litter NAME: the folder holds nothing the run left behind (scratch folder, temporary outputs).
+no_litter() {
+  if ls -A | grep -q -e '^\.topotet-scratch' -e '\.tmp-'; then
+    fail "$1: left $(ls -A | grep -e '^\.topotet-scratch' -e '\.tmp-' | head -n 3 | tr '\n' ' ')"
+  else
+    pass "$1: no scratch folder or temporary file left"
+  fi
+}
+
+"$topotet" generate cube-sphere --tets 30000 -o small.mesh -q
+"$topotet" generate cube-sphere --tets 400000 -o big.mesh -q
+
+expect 0 run -- "$topotet" simplify small.mesh -o out.mesh --pieces 8 --ratio 0.2
+if grep -q "pieces       8" run.out && grep -q "topotet check" run.out; then pass "run: report gives the pieces and the check"; else fail "run: report"; cat run.out; fi
+expect 0 check -- "$topotet" check small.mesh out.mesh
+no_litter run
+
+# SIGINT midway: the run is killed while pieces are on disk. (Job control on: a background job of
+# a non-interactive shell would otherwise start with SIGINT ignored, and topotet keeps it so.)
+rm -f out.mesh out.sol
+set -m
+"$topotet" simplify big.mesh -o big_out.mesh --pieces 16 --ratio 0.1 --threads 1 >sigint.out 2>sigint.err &
+pid=$!
+set +m
+for _ in $(seq 1 200); do
+  if ls -A | grep -q '^\.topotet-scratch' && ls .topotet-scratch-*/piece-* >/dev/null 2>&1; then break; fi
+  sleep 0.05
+done
+kill -INT "$pid"
+code=0
+wait "$pid" || code=$?
+if [[ $code == 130 ]]; then pass "sigint: exit 130"; else fail "sigint: exit $code"; fi
+if [[ ! -e big_out.mesh ]]; then pass "sigint: no output"; else fail "sigint: an output was left"; fi
+no_litter sigint
+
+# A scratch folder that fills up: a file-size limit (the shell's ulimit -f, in 1 KiB blocks here).
+expect_error full_disk "scratch folder.*file size limit" -- bash -c "ulimit -f 2000; trap '' XFSZ; exec '$topotet' simplify big.mesh -o full.mesh --pieces 4"
+[[ ! -e full.mesh ]] && pass "full_disk: no output" || fail "full_disk: an output was left"
+no_litter full_disk
+
+# Refused before any work.
+expect_error tiny_limit "memory-limit.*at least" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit 4M
+expect_error bad_size "memory size 'lots'" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit lots
+expect_error bounds "excludes" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit 1G --field-bounds
+no_litter refused
+
+echo "$passed passed, $failed failed"
+[[ $failed == 0 ]]

@@ -1,0 +1,285 @@
+// Out-of-core simplification (topotet/out_of_core.h): small meshes cut into many pieces (forced
+// with OutOfCoreOptions::pieces, or by a tiny memory limit) come out with the topology of the
+// input and of every substructure (surfaces, interfaces, polylines crossing many piece borders,
+// and a surface and a polyline lying in a grid plane that piece borders follow), within the
+// tolerance, identical for 1 and 2 threads; bad input and limits that cannot work are clear
+// errors, and the scratch folder never outlives the run.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "topotet/error.h"
+#include "topotet/generate.h"
+#include "topotet/io.h"
+#include "topotet/metrics/surface_distance.h"
+#include "topotet/metrics/topology.h"
+#include "topotet/out_of_core.h"
+#include "topotet/threads.h"
+
+namespace topotet {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Folder {
+  fs::path path;
+  explicit Folder(const std::string& name) : path(fs::temp_directory_path() / ("topotet-ooc-" + name)) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~Folder() { fs::remove_all(path); }
+  std::string operator/(const std::string& file) const { return (path / file).string(); }
+  // Nothing but the files named: no scratch folder, no temporary output left.
+  std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+};
+
+MeshData generated(const std::string& family, std::uint64_t tets) {
+  GenerateOptions g;
+  g.family = family;
+  g.target_tets = tets;
+  return generate_mesh(g);
+}
+
+// A listed surface and a polyline in the grid plane x = (the vertex x nearest the middle): the
+// Morton cut's first split is a plane of constant x, and on a Freudenthal grid pieces follow grid
+// planes, so these lie in piece borders (their vertices frozen until the last merges).
+void plant_in_mid_plane(MeshData& m) {
+  std::vector<double> xs;
+  for (const auto& p : m.positions) xs.push_back(p[0]);
+  std::sort(xs.begin(), xs.end());
+  const double x = xs[xs.size() / 2];
+  const auto on = [&](VertId v) { return m.positions[v][0] == x; };
+  std::int32_t ref = 0;
+  for (const Triangle& t : m.triangles) ref = std::max(ref, t.ref);
+  for (const Segment& s : m.segments) ref = std::max(ref, s.ref);
+  std::vector<std::array<VertId, 3>> faces;
+  for (const auto& t : m.tets)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<VertId, 3> f;
+      for (int k = 0, j = 0; k < 4; ++k)
+        if (k != skip) f[j++] = t[k];
+      if (on(f[0]) && on(f[1]) && on(f[2])) {
+        std::sort(f.begin(), f.end());
+        faces.push_back(f);
+      }
+    }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  // A disc of the plane (faces near its centre), so that its rim is a curve inside the border.
+  double cy = 0, cz = 0;
+  for (const auto& p : m.positions) cy += p[1], cz += p[2];
+  cy /= m.positions.size();
+  cz /= m.positions.size();
+  double span = 0;
+  for (const auto& p : m.positions) span = std::max(span, std::abs(p[1] - cy));
+  for (const auto& f : faces) {
+    double y = 0, z = 0;
+    for (VertId v : f) y += m.positions[v][1] / 3, z += m.positions[v][2] / 3;
+    if ((y - cy) * (y - cy) + (z - cz) * (z - cz) < 0.16 * span * span) m.triangles.push_back({f, ref + 1});
+  }
+  ASSERT_GT(m.triangles.size(), 0u);
+}
+
+// What the budget counts for the process itself: its resident size rounded up to 64 MiB
+// (outofcore/memory_budget.h, kBaselineStep).
+std::uint64_t budget_baseline_now() {
+  constexpr std::uint64_t step = 64ull << 20;
+  std::uint64_t rss = 0;
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key)
+    if (key == "VmRSS:") {
+      std::uint64_t kb = 0;
+      status >> kb;
+      rss = kb * 1024;
+      break;
+    }
+  return std::max<std::uint64_t>(1, (rss + step - 1) / step) * step;
+}
+
+struct Outcome {
+  OutOfCoreReport report;
+  MeshData output;
+  std::string bytes;
+};
+
+Outcome run(const MeshData& input, const Folder& folder, std::uint32_t pieces, double ratio, int threads,
+        std::uint64_t limit = 0) {
+  const std::string in = folder / "in.mesh", out = folder / "out.mesh";
+  write_mesh(in, input);
+  SimplifyOptions options;
+  options.target_vertex_ratio = ratio;
+  options.num_threads = threads;
+  OutOfCoreOptions ooc;
+  ooc.pieces = pieces;
+  ooc.memory_limit_bytes = limit;
+  Outcome r;
+  r.report = simplify_out_of_core(in, out, options, ooc);
+  r.output = read_mesh(out);
+  std::ifstream f(out, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  r.bytes = ss.str();
+  return r;
+}
+
+void expect_same_topology(const MeshData& input, const MeshData& output) {
+  const auto before = compute_topology(input);
+  const auto after = compute_topology(output);
+  std::string differences;
+  EXPECT_TRUE(same_topology(before, after, &differences)) << differences;
+  EXPECT_EQ(after.inverted_tet_count, 0u);
+  EXPECT_EQ(after.degenerate_tet_count, 0u);
+}
+
+class OutOfCore : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(OutOfCore, ManyPiecesKeepTheTopologyAndTheTolerance) {
+  MeshData input = generated(GetParam(), 24000);
+  plant_in_mid_plane(input);
+  Folder folder("topology-" + GetParam());
+  const Outcome r = run(input, folder, 16, 0.2, 2);
+  EXPECT_EQ(r.report.pieces, 16u);
+  EXPECT_EQ(r.report.output_pieces, 1u);
+  EXPECT_EQ(r.report.levels.size(), 5u);  // level 0 and four merge levels
+  EXPECT_EQ(r.report.report.vertices_before, input.vertex_count());
+  EXPECT_EQ(r.output.vertex_count(), r.report.report.vertices_after);
+  EXPECT_LE(r.output.vertex_count(), static_cast<std::size_t>(0.3 * input.vertex_count()));
+  expect_same_topology(input, r.output);
+  // Both directions of the distance between the surfaces, per label, within H (sampled: up to
+  // its sampling error).
+  const SurfaceDistance d = surface_distance(input, r.output);
+  EXPECT_EQ(d.unmatched_labels, 0u);
+  EXPECT_LE(d.hausdorff, r.report.report.tolerance * (1 + 1e-9) + d.sampling_error);
+  EXPECT_GT(r.report.report.tolerance, 0.0);
+  for (const std::string& e : folder.entries()) {
+    EXPECT_EQ(e.find(".topotet-scratch"), std::string::npos) << e;
+    EXPECT_EQ(e.find(".tmp-"), std::string::npos) << e;
+  }
+}
+
+// The linked tori: two interlocked rings (b1 of each, and their linking) across many pieces.
+TEST(OutOfCoreLinkedTori, InterlockedRingsAcrossManyPieces) {
+  const MeshData input = generated("linked-tori", 40000);
+  Folder folder("tori");
+  const Outcome r = run(input, folder, 32, 0.2, 2);
+  EXPECT_EQ(r.report.pieces, 32u);
+  expect_same_topology(input, r.output);
+}
+
+INSTANTIATE_TEST_SUITE_P(Families, OutOfCore, ::testing::Values("cube-sphere", "slab", "polycrystal"),
+                         [](const auto& p) {
+                           std::string s = p.param;
+                           for (char& c : s)
+                             if (c == '-') c = '_';
+                           return s;
+                         });
+
+TEST(OutOfCoreDeterminism, SameBytesForOneAndTwoThreadsAndForEveryRun) {
+  const MeshData input = generated("cube-sphere", 20000);
+  Folder a("det-a"), b("det-b"), c("det-c");
+  const Outcome one = run(input, a, 8, 0.15, 1);
+  const Outcome two = run(input, b, 8, 0.15, 2);
+  const Outcome again = run(input, c, 8, 0.15, 2);
+  EXPECT_EQ(one.bytes, two.bytes);
+  EXPECT_EQ(two.bytes, again.bytes);
+}
+
+TEST(OutOfCoreFields, FieldsAndCellFieldsTravelWithTheirVertices) {
+  MeshData input = generated("cube-sphere", 12000);
+  CellField cells{"cellsol0", 1, CellFieldKind::kIntensive, {}};
+  for (std::size_t t = 0; t < input.tet_count(); ++t) cells.values.push_back(input.tet_material[t] * 10.0);
+  input.cell_fields.push_back(cells);
+  Folder folder("fields");
+  const Outcome r = run(input, folder, 8, 0.3, 2);
+  ASSERT_EQ(r.output.fields.size(), input.fields.size());
+  ASSERT_EQ(r.output.cell_fields.size(), 1u);
+  // The field is kept at surviving vertices where nothing moved: every value stays in the input's range.
+  double lo = 1e300, hi = -1e300;
+  for (double v : input.fields[0].values) lo = std::min(lo, v), hi = std::max(hi, v);
+  for (double v : r.output.fields[0].values) {
+    EXPECT_GE(v, lo - 1e-9 * (hi - lo));
+    EXPECT_LE(v, hi + 1e-9 * (hi - lo));
+  }
+  // A value constant per material stays that constant.
+  for (std::size_t t = 0; t < r.output.tet_count(); ++t)
+    EXPECT_NEAR(r.output.cell_fields[0].values[t], r.output.tet_material[t] * 10.0, 1e-9);
+}
+
+TEST(OutOfCoreLimit, ATinyLimitCutsIntoPiecesAndOneTooSmallIsRefusedBeforeAnyWork) {
+  const MeshData input = generated("cube-sphere", 60000);
+  Folder folder("limit");
+  const std::string in = folder / "in.mesh", out = folder / "out.mesh";
+  write_mesh(in, input);
+  OutOfCoreOptions ooc;
+  ooc.memory_limit_bytes = 1024 * 1024;  // 1 MiB: below the process itself
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.2;
+  try {
+    simplify_out_of_core(in, out, options, ooc);
+    FAIL() << "a 1 MiB limit was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--memory-limit"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("at least"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(out));
+  for (const std::string& e : folder.entries()) EXPECT_EQ(e.find(".topotet-scratch"), std::string::npos) << e;
+  // Room for pieces of about 25,000 tets beside what the process holds: several pieces, merged
+  // back into one (the output at 20% is small), the topology kept.
+  ooc.memory_limit_bytes =
+      static_cast<std::uint64_t>((budget_baseline_now() + 25000.0 * 320 + 2.0 * input.vertex_count()) / 0.85);
+  const OutOfCoreReport r = simplify_out_of_core(in, out, options, ooc);
+  EXPECT_GE(r.pieces, 2u);
+  EXPECT_LE(r.piece_tet_limit, 30000u);
+  expect_same_topology(input, read_mesh(out));
+}
+
+TEST(OutOfCoreErrors, BadInputAndOptionsAreClearErrorsAndLeaveNothing) {
+  MeshData input = generated("cube-sphere", 5000);
+  Folder folder("errors");
+  const std::string in = folder / "in.mesh", out = folder / "out.mesh";
+  OutOfCoreOptions ooc;
+  ooc.pieces = 4;
+  const auto message = [&](const SimplifyOptions& options) -> std::string {
+    try {
+      simplify_out_of_core(in, out, options, ooc);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  // A listed triangle that is no face of a tet.
+  MeshData bad = input;
+  bad.triangles.push_back({{bad.tets[0][0], bad.tets[100][1], bad.tets[200][2]}, 77});
+  write_mesh(in, bad);
+  EXPECT_NE(message({}).find("is not a face of any tet"), std::string::npos) << message({});
+  // Options an out-of-core run cannot honour.
+  write_mesh(in, input);
+  SimplifyOptions bounds;
+  bounds.max_field_error_rel = 0.01;
+  EXPECT_NE(message(bounds).find("field error bounds"), std::string::npos);
+  // A truncated file names itself.
+  {
+    std::ifstream f(in, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(f)), {});
+    std::ofstream(in, std::ios::binary) << text.substr(0, text.size() / 2);
+  }
+  EXPECT_NE(message({}).find("in.mesh"), std::string::npos) << message({});
+  EXPECT_FALSE(fs::exists(out));
+  for (const std::string& e : folder.entries()) EXPECT_EQ(e.find(".topotet-scratch"), std::string::npos) << e;
+  EXPECT_THROW(parse_memory_size("lots"), InputError);
+  EXPECT_EQ(parse_memory_size("2G"), 2ull << 30);
+  EXPECT_EQ(parse_memory_size("256M"), 256ull << 20);
+  EXPECT_EQ(parse_memory_size("1.5GiB"), 3ull << 29);
+}
+
+}  // namespace
+}  // namespace topotet
