@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <random>
 
+#include "io/signal_safe_paths.h"
 #include "topotet/error.h"
 #include "topotet/io.h"
 
@@ -33,35 +34,8 @@ std::string random_suffix() {
   return s;
 }
 
-// Temporary files in progress, for remove_temporary_files() in a signal handler. Fixed storage
-// (a handler may not allocate, and must never read freed memory): a slot's path is written, then
-// published with `ready` (release); the handler reads only published slots (acquire).
-constexpr int kRegistrySlots = 64;
-struct TempRegistry {
-  std::atomic<bool> taken[kRegistrySlots];
-  std::atomic<bool> ready[kRegistrySlots];
-  char paths[kRegistrySlots][PATH_MAX];
-};
-TempRegistry g_registry;  // zero-initialised (static storage): every slot free
-static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs lock-free flags");
-
-int register_temp(const std::string& path) {
-  if (path.size() >= PATH_MAX) return -1;  // not registered: only the signal cleanup misses it
-  for (int i = 0; i < kRegistrySlots; ++i) {
-    bool expected = false;
-    if (!g_registry.taken[i].compare_exchange_strong(expected, true, std::memory_order_acquire)) continue;
-    std::memcpy(g_registry.paths[i], path.c_str(), path.size() + 1);
-    g_registry.ready[i].store(true, std::memory_order_release);
-    return i;
-  }
-  return -1;
-}
-
-void unregister_temp(int slot) {
-  if (slot < 0) return;
-  g_registry.ready[slot].store(false, std::memory_order_release);
-  g_registry.taken[slot].store(false, std::memory_order_release);
-}
+// Temporary files in progress, for remove_temporary_files() in a signal handler.
+SignalSafePaths<64> g_temporaries;
 
 bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
 
@@ -133,20 +107,20 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     }
   }
   if (fd_ < 0) throw InputError(path_ + ": cannot create a unique temporary file");
-  registry_slot_ = register_temp(temp_path_);
+  registry_slot_ = g_temporaries.add(temp_path_);
   buf_.resize(kBufferSize);
 }
 
 AtomicFile::~AtomicFile() {
   if (fd_ >= 0) ::close(fd_);
   if (!committed_) remove_temp();
-  unregister_temp(registry_slot_);
+  g_temporaries.remove(registry_slot_);
 }
 
 void AtomicFile::remove_temp() noexcept {
   if (!temp_path_.empty()) ::unlink(temp_path_.c_str());
   temp_path_.clear();
-  unregister_temp(registry_slot_);
+  g_temporaries.remove(registry_slot_);
   registry_slot_ = -1;
 }
 
@@ -211,7 +185,7 @@ void AtomicFile::commit() {
     throw InputError(path_ + ": cannot replace file: " + ec.message());
   }
   temp_path_.clear();
-  unregister_temp(registry_slot_);
+  g_temporaries.remove(registry_slot_);
   registry_slot_ = -1;
   committed_ = true;
 }
@@ -232,8 +206,7 @@ void commit_all(std::initializer_list<AtomicFile*> files) {
 namespace topotet {
 
 void remove_temporary_files() noexcept {
-  for (int i = 0; i < io::kRegistrySlots; ++i)
-    if (io::g_registry.ready[i].load(std::memory_order_acquire)) ::unlink(io::g_registry.paths[i]);
+  io::g_temporaries.for_each([](const char* path) { ::unlink(path); });
 }
 
 void write_text_file(const std::string& path, std::string_view text) {

@@ -9,6 +9,7 @@
 #include <climits>
 #include <cstring>
 
+#include "io/signal_safe_paths.h"
 #include "topotet/error.h"
 
 namespace topotet::ooc {
@@ -17,33 +18,9 @@ namespace {
 
 constexpr const char* kFixedNames[] = {"tets.bin", "vertex-fields.bin", "tet-fields.bin"};
 
-// Live scratch folders, for the signal handler: fixed storage, published with `ready` (release),
-// read by the handler only when published (acquire), as io's registry of temporary files does.
-constexpr int kSlots = 8;
-struct Registry {
-  std::atomic<bool> taken[kSlots];
-  std::atomic<bool> ready[kSlots];
-  char paths[kSlots][PATH_MAX];
-};
-Registry g_registry;
-
-int register_folder(const std::string& path) {
-  if (path.size() + 32 >= PATH_MAX) return -1;  // only the signal cleanup misses it
-  for (int i = 0; i < kSlots; ++i) {
-    bool expected = false;
-    if (!g_registry.taken[i].compare_exchange_strong(expected, true, std::memory_order_acquire)) continue;
-    std::memcpy(g_registry.paths[i], path.c_str(), path.size() + 1);
-    g_registry.ready[i].store(true, std::memory_order_release);
-    return i;
-  }
-  return -1;
-}
-
-void unregister_folder(int slot) {
-  if (slot < 0) return;
-  g_registry.ready[slot].store(false, std::memory_order_release);
-  g_registry.taken[slot].store(false, std::memory_order_release);
-}
+// Live scratch folders, for remove_scratch_folders() in a signal handler; 32 bytes are kept for
+// the names the handler appends.
+io::SignalSafePaths<8> g_folders;
 
 // "<folder>/<prefix><n>" into buf, without allocating (the handler's only formatting).
 void format_numbered(char* buf, const char* folder, const char* prefix, std::uint32_t n) {
@@ -89,12 +66,12 @@ ScratchFolder::ScratchFolder(const std::string& parent) {
     throw InputError("cannot create a scratch folder in " + (parent.empty() ? std::string(".") : parent) + ": " +
                      errno_text() + " (choose another with --scratch DIR)");
   path_ = templ;
-  slot_ = register_folder(path_);
+  slot_ = g_folders.add(path_, 32);
 }
 
 ScratchFolder::~ScratchFolder() {
   remove_folder_contents(path_.c_str());
-  unregister_folder(slot_);
+  g_folders.remove(slot_);
 }
 
 std::string ScratchFolder::piece_path(std::uint32_t piece) const { return path_ + "/piece-" + std::to_string(piece); }
@@ -166,8 +143,7 @@ bool ScratchReader::try_read(void* data, std::size_t bytes) {
 }
 
 void remove_scratch_folders() noexcept {
-  for (int i = 0; i < kSlots; ++i)
-    if (g_registry.ready[i].load(std::memory_order_acquire)) remove_folder_contents(g_registry.paths[i]);
+  g_folders.for_each([](const char* path) { remove_folder_contents(path); });
 }
 
 }  // namespace topotet::ooc

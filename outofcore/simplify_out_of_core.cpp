@@ -5,9 +5,15 @@
 //   level l = 1, 2, ...: pieces 2i and 2i + 1 (Morton neighbours) merged, when together they fit,
 //            and the merged piece simplified: its former common border is interior now
 //   until one piece is left, or no pair fits; then the output is written from what is left.
-// Shares: the run removes the fraction f = (N - target) / N of the vertices; a piece at level 0
-// removes f of its interior vertices, a merged piece f of the vertices its merge made interior,
-// plus its part (by tets) of what earlier levels fell short of; the last piece goes to the target.
+// How much each level removes: a piece's region is the vertices of the input it alone holds (its
+// interior at level 0; a merge adds the two regions and the border they shared). Level l keeps
+// d_l of its region's vertices: d_l = max(r, 3/8 * fill / 2^l), r the asked ratio, fill how much
+// larger than the cut's pieces a piece may be (1 with --pieces), so that a merged pair still fits,
+// and the last piece goes to the target. The work is spread over the levels instead of done at
+// level 0: a level-0 piece sees only its own part of the mesh, so cutting it straight to r would
+// spend its vertices by its local ranking of the collapses, not the whole mesh's; each merge
+// widens the ranking, and the last, over the whole mesh, chooses the final collapses as in core.
+// A level that can merge no pair (the limit) ends the merges: every piece left then goes to r.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -51,6 +57,7 @@ void refuse_unsupported(const SimplifyOptions& o) {
 struct PieceSlot {
   std::uint32_t file = 0;  // piece_path(file)
   std::uint64_t tets = 0;
+  std::uint64_t region = 0;  // input vertices that this piece alone holds (see the top)
 };
 
 // What one piece's run changed, for the totals.
@@ -280,8 +287,6 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
       4, options.target_vertices != 0
              ? options.target_vertices
              : static_cast<std::uint64_t>(std::llround(options.target_vertex_ratio * static_cast<double>(input_vertices))));
-  const double fraction =
-      input_vertices > target ? static_cast<double>(input_vertices - target) / static_cast<double>(input_vertices) : 0.0;
   // Tolerance H shared by the levels (topotet/out_of_core.h): h_0 = H / 2, the merges H / (2 L).
   const double H = options.tolerance > 0.0 ? options.tolerance : options.tolerance_rel * cut.diagonal;
   report.tolerance = H;
@@ -296,12 +301,19 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   base.target_vertex_ratio = 1.0;
 
   std::vector<PieceSlot> slots(cut.pieces);
-  for (std::uint32_t p = 0; p < cut.pieces; ++p) slots[p] = {p, cut.piece_tets[p]};
+  std::uint64_t largest_cut_piece = 1;
+  for (std::uint32_t p = 0; p < cut.pieces; ++p) {
+    slots[p] = {p, cut.piece_tets[p], 0};
+    largest_cut_piece = std::max(largest_cut_piece, cut.piece_tets[p]);
+  }
   std::uint64_t live = input_vertices;
-  double planned = 0.0;  // vertices the shares asked for so far
-  std::uint64_t removed_total = 0;
+  const double ratio = static_cast<double>(target) / static_cast<double>(std::max<std::uint64_t>(input_vertices, 1));
+  const double fill =
+      limited && ooc.pieces == 0 ? std::max(1.0, static_cast<double>(piece_limit) / static_cast<double>(largest_cut_piece)) : 1.0;
+  const auto kept_fraction = [&](int level) { return std::clamp(0.375 * fill / std::ldexp(1.0, level), ratio, 1.0); };
+  bool finishing = false;  // no pair could merge: the pieces left go to the ratio
 
-  // At most merge_levels merges: their tolerances add up to H / 2 (a pair left apart stays apart).
+  // At most merge_levels merges, or fewer and the finishing level: their tolerances add up to H / 2.
   for (int level = 0; level <= merge_levels; ++level) {
     const auto level_start = Clock::now();
     OutOfCoreLevel stats;
@@ -321,24 +333,28 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
       for (std::size_t i = 0; i < slots.size(); ++i) steps.push_back({slots[i], static_cast<int>(i), -1});
     } else {
       bool merged_any = false;
+      // At the last merge level a piece that is not merged is still simplified, to the ratio.
+      const bool simplify_alone = level == merge_levels;
       for (std::size_t i = 0; i < slots.size(); i += 2) {
         if (i + 1 == slots.size()) {
-          steps.push_back({slots[i]});
+          steps.push_back({slots[i], simplify_alone ? static_cast<int>(i) : -1});
         } else if (limited && slots[i].tets + slots[i + 1].tets > piece_limit) {
           ++stats.unmerged;
-          steps.push_back({slots[i]});
-          steps.push_back({slots[i + 1]});
+          steps.push_back({slots[i], simplify_alone ? static_cast<int>(i) : -1});
+          steps.push_back({slots[i + 1], simplify_alone ? static_cast<int>(i + 1) : -1});
         } else {
           steps.push_back({{slots[i].file, slots[i].tets + slots[i + 1].tets}, static_cast<int>(i), static_cast<int>(i + 1)});
           merged_any = true;
         }
       }
-      if (!merged_any) break;
+      if (!merged_any) {
+        finishing = true;
+        steps.clear();
+        for (std::size_t i = 0; i < slots.size(); ++i) steps.push_back({slots[i], static_cast<int>(i), -1});
+      }
     }
     const bool last = steps.size() == 1;
-    std::uint64_t level_tets = 0;
-    for (const Step& s : steps) level_tets += s.slot.tets;
-    const double deficit = std::max(0.0, planned - static_cast<double>(removed_total));
+    const double kept = finishing || level == merge_levels ? ratio : kept_fraction(level);
     std::vector<PieceSlot> next;
     for (Step& step : steps) {
       PieceSlot& slot = step.slot;
@@ -350,7 +366,8 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
       std::uint64_t made_interior = 0;
       if (step.b < 0) {
         piece = load_piece(scratch.piece_path(slot.file));
-        for (GlobalId g : piece.global_ids) made_interior += holders[g] == 1;
+        if (level == 0)
+          for (GlobalId g : piece.global_ids) slot.region += holders[g] == 1;
       } else {
         Piece a = load_piece(scratch.piece_path(slots[step.a].file));
         Piece b = load_piece(scratch.piece_path(slots[step.b].file));
@@ -362,17 +379,17 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
         std::set_intersection(sa.begin(), sa.end(), sb.begin(), sb.end(), std::back_inserter(common));
         for (GlobalId g : common) made_interior += --holders[g] == 1;
         piece = merge_pieces(std::move(a), std::move(b));
+        slot.region = slots[step.a].region + slots[step.b].region + made_interior;
       }
-      double share = fraction * static_cast<double>(made_interior);
-      if (level > 0) share += deficit * static_cast<double>(slot.tets) / static_cast<double>(std::max<std::uint64_t>(level_tets, 1));
-      planned += fraction * static_cast<double>(made_interior);
-      std::uint64_t remove = static_cast<std::uint64_t>(std::llround(share));
+      std::uint64_t interior = 0;
+      for (GlobalId g : piece.global_ids) interior += holders[g] == 1;
+      const auto keep = static_cast<std::uint64_t>(std::llround(kept * static_cast<double>(slot.region)));
+      std::uint64_t remove = interior > keep ? interior - keep : 0;
       if (last) remove = live > target ? live - target : 0;
       stats.largest_piece_tets = std::max<std::uint64_t>(stats.largest_piece_tets, piece.mesh.tets.size());
       const PieceRun run = simplify_piece(piece, holders, o, remove, ooc.cell_remap);
       add_counts(report, run.report);
       stats.collapses += run.report.collapses;
-      removed_total += run.removed;
       live -= run.removed;
       slot.tets = piece.mesh.tets.size();
       save_piece(scratch.piece_path(slot.file), piece);
@@ -387,7 +404,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
         std::to_string(stats.tolerance) + ", " + std::to_string(stats.seconds) + " s");
     result.levels.push_back(stats);
     slots = std::move(next);
-    if (slots.size() == 1) break;
+    if (slots.size() == 1 || finishing) break;
   }
 
   const auto write_start = Clock::now();

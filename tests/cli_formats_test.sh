@@ -12,26 +12,8 @@ work=$(mktemp -d "${TMPDIR:-/tmp}/topotet_cli_formats.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 
-# pass, fail, expect and the counters.
+# pass, fail, expect, expect_error, contains and the counters.
 source "$here/cli_harness.sh"
-
-# expect_error NAME PATTERN -- COMMAND...: exit 2, one 'topotet: error:' line matching PATTERN.
-expect_error() {
-  local name=$1 pattern=$2
-  shift 2
-  expect 2 "$name" "$@"
-  if [[ $(wc -l <"$name.err") == 1 ]] && grep -q "^topotet: error: .*$pattern" "$name.err"; then
-    pass "$name: one error line with '$pattern'"
-  else
-    fail "$name: stderr is not one 'topotet: error:' line with '$pattern':"
-    sed 's/^/        /' "$name.err" | head -n 10
-  fi
-}
-
-# contains NAME FILE PATTERN: FILE has a line matching PATTERN.
-contains() {
-  if grep -q -- "$3" "$2"; then pass "$1"; else fail "$1: no '$3' in $2"; sed 's/^/        /' "$2" | head -n 10; fi
-}
 
 # ref_count FILE.mesh REF: number of MEDIT triangles with that ref.
 ref_count() {

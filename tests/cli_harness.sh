@@ -1,4 +1,5 @@
-# Shared by the command-line tests (sourced, not run): counters, pass/fail lines and `expect`.
+# Shared by the command-line tests (sourced, not run): counters, pass/fail lines, `expect`,
+# `expect_error` and `contains`.
 # The sourcing script sets `set -euo pipefail`, works in its own temporary folder and ends with
 #   echo "$passed passed, $failed failed"; [[ $failed == 0 ]]
 passed=0
@@ -18,4 +19,23 @@ expect() {
     fail "$name: exit $got, expected $want"
     sed 's/^/        /' "$name.out" "$name.err" | tail -n 20
   fi
+}
+
+# expect_error NAME PATTERN -- COMMAND...: exit 2 and exactly one stderr line,
+# 'topotet: error: ...' matching PATTERN.
+expect_error() {
+  local name=$1 pattern=$2
+  shift 2
+  expect 2 "$name" "$@"
+  if [[ $(wc -l <"$name.err") == 1 ]] && grep -q "^topotet: error: .*$pattern" "$name.err"; then
+    pass "$name: one error line with '$pattern'"
+  else
+    fail "$name: stderr is not one 'topotet: error:' line with '$pattern':"
+    sed 's/^/        /' "$name.err" | head -n 10
+  fi
+}
+
+# contains NAME FILE PATTERN: FILE has a line matching PATTERN.
+contains() {
+  if grep -q -- "$3" "$2"; then pass "$1"; else fail "$1: no '$3' in $2"; sed 's/^/        /' "$2" | head -n 10; fi
 }

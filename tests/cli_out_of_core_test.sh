@@ -13,17 +13,6 @@ trap 'rm -rf "$work"' EXIT
 cd "$work"
 source "$here/cli_harness.sh"
 
-expect_error() {
-  local name=$1 pattern=$2
-  shift 2
-  expect 2 "$name" "$@"
-  if [[ $(wc -l <"$name.err") == 1 ]] && grep -q "^topotet: error: .*$pattern" "$name.err"; then
-    pass "$name: one error line with '$pattern'"
-  else
-    fail "$name: stderr is not one 'topotet: error:' line with '$pattern':"
-    sed 's/^/        /' "$name.err" | head -n 10
-  fi
-}
 # no_litter NAME: the folder holds nothing the run left behind (scratch folder, temporary outputs).
 no_litter() {
   if ls -A | grep -q -e '^\.topotet-scratch' -e '\.tmp-'; then

@@ -11,11 +11,11 @@ work=$(mktemp -d "${TMPDIR:-/tmp}/topotet_cli_test.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 
-# pass, fail, expect and the counters.
+# pass, fail, expect, expect_error, contains and the counters.
 source "$here/cli_harness.sh"
 
-# expect_error NAME -- COMMAND...: exit 2 and exactly one line on stderr, 'topotet: error: ...'.
-expect_error() {
+# expect_any_error NAME -- COMMAND...: exit 2 and exactly one line on stderr, 'topotet: error: ...'.
+expect_any_error() {
   local name=$1
   shift
   expect 2 "$name" "$@"
@@ -176,7 +176,7 @@ expect 0 info_verbose -- "$topotet" info in.mesh -v --json info_v.json
 grep -q 'material 2 ' info_verbose.out && json_ok info_v.json input &&
   python3 -c 'import json; assert "topology_report" in json.load(open("info_v.json"))["input"]' &&
   pass "info -v prints every complex's Betti numbers" || fail "info -v has no topology table"
-expect_error quiet_and_verbose -- "$topotet" info in.mesh -q -v
+expect_any_error quiet_and_verbose -- "$topotet" info in.mesh -q -v
 
 # --- the defaults of issue #12: sharp features and a tolerance; both can be turned off ---
 if grep -q '^features .* sharp edges' info.out; then pass "info prints the sharp features"; else fail "info prints no features"; fi
@@ -206,26 +206,26 @@ sys.exit(0 if ok else 1)' fb.json && grep -q '^bounds .*field error bound' simpl
 else
   fail "--max-field-error-rel: bound above E, measured above the bound, or not reported"
 fi
-expect_error field_bounds_with_levels -- "$topotet" simplify in.mesh -o lv.mesh --levels 0.5,0.3 --max-field-error 1
+expect_any_error field_bounds_with_levels -- "$topotet" simplify in.mesh -o lv.mesh --levels 0.5,0.3 --max-field-error 1
 expect 0 simplify_feature_ref -- "$topotet" simplify in.mesh -o fr.mesh --ratio 0.3 --feature-ref 99
 expect 0 convert_features -- "$topotet" convert in.mesh feat.mesh --features 99
 if grep -q ' 99$' feat.mesh && grep -q ' 99$' fr.mesh; then pass "feature edges written with their ref"; else fail "no feature edges with ref 99"; fi
-expect_error bad_feature_angle -- "$topotet" simplify in.mesh -o never.mesh --feature-angle 200
+expect_any_error bad_feature_angle -- "$topotet" simplify in.mesh -o never.mesh --feature-angle 200
 
 # --- bad input and usage: exit 2, one line ---
 head -c 4000 in.mesh >truncated.mesh
-expect_error truncated_info -- "$topotet" info truncated.mesh
-expect_error truncated_simplify -- "$topotet" simplify truncated.mesh -o never.mesh
-expect_error missing_file -- "$topotet" simplify no_such_file.mesh -o never.mesh
-expect_error bad_option -- "$topotet" simplify in.mesh -o never.mesh --no-such-option
-expect_error bad_ratio -- "$topotet" simplify in.mesh -o never.mesh --ratio 7
-expect_error bad_field_weight_name -- "$topotet" simplify in.mesh -o never.mesh --field-weight no_such_field=2
-expect_error bad_field_weight_syntax -- "$topotet" simplify in.mesh -o never.mesh --field-weight f
+expect_any_error truncated_info -- "$topotet" info truncated.mesh
+expect_any_error truncated_simplify -- "$topotet" simplify truncated.mesh -o never.mesh
+expect_any_error missing_file -- "$topotet" simplify no_such_file.mesh -o never.mesh
+expect_any_error bad_option -- "$topotet" simplify in.mesh -o never.mesh --no-such-option
+expect_any_error bad_ratio -- "$topotet" simplify in.mesh -o never.mesh --ratio 7
+expect_any_error bad_field_weight_name -- "$topotet" simplify in.mesh -o never.mesh --field-weight no_such_field=2
+expect_any_error bad_field_weight_syntax -- "$topotet" simplify in.mesh -o never.mesh --field-weight f
 expect 0 simplify_field_weight -- "$topotet" simplify in.mesh -o fw.mesh --ratio 0.3 --no-verify --field-weight f=0.5 --report fw.json
 if tr -d ' \n' <fw.json | grep -q '"field_weights":{"f":0.5}'; then pass "the report lists the field weights"; else fail "no field_weights in the report"; fi
-expect_error bad_extension -- "$topotet" convert in.mesh never.xyz
-expect_error bad_family -- "$topotet" generate no-such-family --tets 20000 -o never.mesh
-expect_error no_command -- "$topotet"
+expect_any_error bad_extension -- "$topotet" convert in.mesh never.xyz
+expect_any_error bad_family -- "$topotet" generate no-such-family --tets 20000 -o never.mesh
+expect_any_error no_command -- "$topotet"
 [[ ! -e never.mesh ]] && pass "nothing written on error" || fail "never.mesh was written"
 
 # --- a failed check: two different meshes ---
@@ -243,7 +243,7 @@ fi
 if ! grep -q '% after' progress_lines.out; then pass "progress lines: none on stdout"; else fail "progress lines on stdout"; fi
 expect 0 progress_auto -- "$topotet" simplify in.mesh -o pa.mesh --ratio 0.1 --threads 1 --no-metrics
 if ! grep -q '% after\|\[#' progress_auto.err; then pass "progress auto: silent without a terminal"; else fail "progress auto drew without a terminal"; fi
-expect_error progress_bad -- "$topotet" simplify in.mesh -o pb.mesh --progress sometimes
+expect_any_error progress_bad -- "$topotet" simplify in.mesh -o pb.mesh --progress sometimes
 
 # --- the collapse hierarchy (issue #16): one run, any level, checked against the original ---
 expect 0 simplify_hierarchy -- "$topotet" simplify in.mesh -o hbase.mesh --ratio 0.1 --threads 2 --no-metrics --hierarchy h.tth
@@ -274,12 +274,12 @@ if [[ -s hl_1e-06.mesh && -s hl_0.0001.mesh ]] && [[ $(grep -c PASS extract_leve
 else
   fail "extract --levels-error: $(ls hl_* 2>&1) $(cat extract_levels.out)"
 fi
-expect_error extract_no_level -- "$topotet" extract h.tth -o x.mesh
-expect_error extract_bad_voi -- "$topotet" extract h.tth -o x.mesh --voi cube:1,2,3
+expect_any_error extract_no_level -- "$topotet" extract h.tth -o x.mesh
+expect_any_error extract_bad_voi -- "$topotet" extract h.tth -o x.mesh --voi cube:1,2,3
 head -c 100 h.tth > short.tth
-expect_error extract_truncated -- "$topotet" extract short.tth -o x.mesh --vertices 10
+expect_any_error extract_truncated -- "$topotet" extract short.tth -o x.mesh --vertices 10
 if grep -q 'short.tth: byte [0-9]*: truncated' extract_truncated.err; then pass "truncated .tth: file and offset named"; else fail "truncated .tth: $(cat extract_truncated.err)"; fi
-expect_error extract_not_tth -- "$topotet" extract in.mesh -o x.mesh --vertices 10
+expect_any_error extract_not_tth -- "$topotet" extract in.mesh -o x.mesh --vertices 10
 
 # --- no temporary file left behind ---
 leftovers=$(find . -name '*.tmp*' | sort)

@@ -14,20 +14,6 @@ cd "$work"
 
 source "$here/cli_harness.sh"
 
-expect_error() {
-  local name=$1 pattern=$2
-  shift 2
-  expect 2 "$name" "$@"
-  if [[ $(wc -l <"$name.err") == 1 ]] && grep -q "^topotet: error: .*$pattern" "$name.err"; then
-    pass "$name: one error line with '$pattern'"
-  else
-    fail "$name: stderr is not one 'topotet: error:' line with '$pattern':"
-    sed 's/^/        /' "$name.err" | head -n 10
-  fi
-}
-contains() {
-  if grep -q -- "$3" "$2"; then pass "$1"; else fail "$1: no '$3' in $2"; sed 's/^/        /' "$2" | head -n 10; fi
-}
 quiet_stderr() {
   if [[ ! -s $2.err ]]; then pass "$1: nothing on stderr"; else fail "$1: stderr:"; sed 's/^/        /' "$2.err" | head; fi
 }

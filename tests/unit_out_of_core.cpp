@@ -14,9 +14,11 @@
 #include "topotet/error.h"
 #include "topotet/generate.h"
 #include "topotet/io.h"
+#include "topotet/metrics/field_error.h"
 #include "topotet/metrics/surface_distance.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/out_of_core.h"
+#include "topotet/simplify.h"
 #include "topotet/threads.h"
 
 namespace topotet {
@@ -152,7 +154,13 @@ TEST_P(OutOfCore, ManyPiecesKeepTheTopologyAndTheTolerance) {
   EXPECT_EQ(r.report.levels.size(), 5u);  // level 0 and four merge levels
   EXPECT_EQ(r.report.report.vertices_before, input.vertex_count());
   EXPECT_EQ(r.output.vertex_count(), r.report.report.vertices_after);
-  EXPECT_LE(r.output.vertex_count(), static_cast<std::size_t>(0.3 * input.vertex_count()));
+  // It gets as far as an in-core run (polycrystal: both stop early, its grain junctions pinned).
+  TetMesh whole = build_tet_mesh(input);
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.2;
+  simplify(whole, options);
+  EXPECT_LE(r.output.vertex_count(), std::max<std::size_t>(static_cast<std::size_t>(0.2 * input.vertex_count()) + 1,
+                                                           static_cast<std::size_t>(1.1 * whole.to_mesh_data().vertex_count())));
   expect_same_topology(input, r.output);
   // Both directions of the distance between the surfaces, per label, within H (sampled: up to
   // its sampling error).
@@ -202,13 +210,18 @@ TEST(OutOfCoreFields, FieldsAndCellFieldsTravelWithTheirVertices) {
   const Outcome r = run(input, folder, 8, 0.3, 2);
   ASSERT_EQ(r.output.fields.size(), input.fields.size());
   ASSERT_EQ(r.output.cell_fields.size(), 1u);
-  // The field is kept at surviving vertices where nothing moved: every value stays in the input's range.
-  double lo = 1e300, hi = -1e300;
-  for (double v : input.fields[0].values) lo = std::min(lo, v), hi = std::max(hi, v);
-  for (double v : r.output.fields[0].values) {
-    EXPECT_GE(v, lo - 1e-9 * (hi - lo));
-    EXPECT_LE(v, hi + 1e-9 * (hi - lo));
-  }
+  // Each vertex keeps its own field values through the pieces, the merges and the output: the
+  // field error (measured at every vertex of both meshes, metrics/) is that of an in-core run to
+  // the same count, within a factor (the levels restart the quadrics: docs/performance.md, "Out of
+  // core"); values landing on the wrong vertices would multiply it.
+  TetMesh whole = build_tet_mesh(input);
+  SimplifyOptions options;
+  options.target_vertices = r.output.vertex_count();
+  simplify(whole, options);
+  const double in_core = compare_fields(input, whole.to_mesh_data()).worst_rms_rel;
+  const double out_of_core = compare_fields(input, r.output).worst_rms_rel;
+  EXPECT_GT(in_core, 0.0);
+  EXPECT_LE(out_of_core, 2.0 * in_core) << "in core " << in_core;
   // A value constant per material stays that constant.
   for (std::size_t t = 0; t < r.output.tet_count(); ++t)
     EXPECT_NEAR(r.output.cell_fields[0].values[t], r.output.tet_material[t] * 10.0, 1e-9);
