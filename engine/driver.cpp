@@ -137,9 +137,23 @@ void resolve_vertex_map(const MeshModel& mesh, std::size_t input_count, const st
 
 // `log` (simplify_with_hierarchy) records the collapses in the renumbered ids; new2old_out then
 // receives the renumbering.
-Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vector<VertId>* vertex_map,
+Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<VertId>* vertex_map,
                      detail::CollapseLog* log = nullptr, std::vector<VertId>* new2old_out = nullptr) noexcept {
   Report report;
+  // The run's options: the caller's, with the carried quadrics in the renumbered vertex order
+  // (quadrics_in, set below) and quadrics_out filled here at the end, not by the engines.
+  SimplifyOptions options;
+  std::vector<double> quadrics_in;
+  try {
+    options = given;
+  } catch (const std::bad_alloc&) {
+    report.status = Status::kOutOfMemory;
+    report.message = "out of memory";
+    return report;
+  }
+  options.quadrics_in = nullptr;
+  options.quadrics_out = nullptr;
+  if (given.quadrics_out != nullptr) given.quadrics_out->clear();
   const auto start = std::chrono::steady_clock::now();
   const std::size_t input_vertex_count = mesh.vertex_capacity();
   std::vector<VertId> new2old;  // reorder_for_locality's renumbering, kept for the vertex map and the log
@@ -161,8 +175,22 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
     target = std::max<std::uint64_t>(target, 4);
     parallel::run_with_threads(options.num_threads, [&] {
       // Neighbours in space become neighbours in memory: every phase walks stars (reorder.h).
-      reorder_for_locality(mesh, vertex_map != nullptr || log != nullptr ? &new2old : nullptr);
+      reorder_for_locality(mesh, vertex_map != nullptr || log != nullptr || given.quadrics_in != nullptr ? &new2old : nullptr);
       if (new2old_out != nullptr) *new2old_out = new2old;
+      if (given.quadrics_in != nullptr) {
+        // Per vertex in the caller's order -> per vertex in the renumbered order; a wrong count is
+        // left for CostModel to refuse.
+        const std::size_t nv = mesh.vertex_capacity();
+        const std::size_t qs = input_vertex_count > 0 ? given.quadrics_in->size() / input_vertex_count : 0;
+        if (qs > 0 && qs * input_vertex_count == given.quadrics_in->size() && new2old.size() == nv) {
+          quadrics_in.resize(given.quadrics_in->size());
+          for (std::size_t v = 0; v < nv; ++v)
+            std::copy_n(given.quadrics_in->data() + static_cast<std::size_t>(new2old[v]) * qs, qs, quadrics_in.data() + v * qs);
+          options.quadrics_in = &quadrics_in;
+        } else {
+          options.quadrics_in = given.quadrics_in;
+        }
+      }
       if (vertex_map != nullptr) mesh.merged_into.assign(mesh.vertex_capacity(), kInvalid);
       // Before the cost model and the tolerance reference are built: both see the features as
       // polylines (line quadrics; a curve label the tolerance checks).
@@ -229,6 +257,13 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& options, std::vecto
         if (samples != nullptr) samples->index(mesh);
         if (log == nullptr) optimize_after_collapses(mesh, options, cost, bounds.get(), samples.get(), report);
         samples.reset();
+        if (given.quadrics_out != nullptr) {
+          // In the order compact() keeps: the live vertices by id.
+          const auto qs = static_cast<std::size_t>(cost.quadric_doubles());
+          given.quadrics_out->reserve(mesh.live_vertex_count() * qs);
+          for (VertId v = 0; v < mesh.vertex_capacity(); ++v)
+            if (!mesh.is_dead_vertex(v)) given.quadrics_out->insert(given.quadrics_out->end(), cost.quadric_of(v), cost.quadric_of(v) + qs);
+        }
       };
       if (options.engine == Engine::kSequential)
         detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report, log, finish);

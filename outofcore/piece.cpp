@@ -12,7 +12,7 @@ namespace topotet::ooc {
 
 namespace {
 
-constexpr std::uint64_t kMagic = 0x31656365'6970746fULL;  // "otpiece1"
+constexpr std::uint64_t kMagic = 0x32656365'6970746fULL;  // "otpiece2"
 
 template <class T>
 void put_vector(ScratchWriter& out, const std::vector<T>& v) {
@@ -66,6 +66,8 @@ void save_piece(const std::string& path, const Piece& piece) {
     out.put<std::uint8_t>(static_cast<std::uint8_t>(f.kind));
     put_vector(out, f.values);
   }
+  out.put<std::uint32_t>(piece.quadric_doubles);
+  put_vector(out, piece.quadrics);
   out.close();
 }
 
@@ -97,6 +99,8 @@ Piece load_piece(const std::string& path) {
     f.kind = static_cast<CellFieldKind>(in.get<std::uint8_t>());
     get_vector(in, f.values);
   }
+  piece.quadric_doubles = in.get<std::uint32_t>();
+  get_vector(in, piece.quadrics);
   return piece;
 }
 
@@ -121,6 +125,12 @@ Piece merge_pieces(Piece a, Piece b) {
   const MeshData& n = b.mesh;
   if (m.fields.size() != n.fields.size() || m.cell_fields.size() != n.cell_fields.size())
     throw std::logic_error("merge_pieces: the pieces' field layouts differ");
+  const std::size_t qs = a.quadric_doubles;
+  const bool quadrics = !a.quadrics.empty() && !b.quadrics.empty() && qs == b.quadric_doubles;
+  if (!quadrics) {  // one piece was never run (nothing to remove): the merged piece builds its own
+    a.quadrics.clear();
+    a.quadric_doubles = 0;
+  }
   // b's vertex -> merged vertex: a's own when a has it (binary search in a's sorted ids).
   std::vector<std::pair<GlobalId, VertId>> a_ids(a.global_ids.size());
   for (VertId v = 0; v < a.global_ids.size(); ++v) a_ids[v] = {a.global_ids[v], v};
@@ -132,6 +142,8 @@ Piece merge_pieces(Piece a, Piece b) {
     const auto it = std::lower_bound(a_ids.begin(), a_ids.end(), std::pair<GlobalId, VertId>{b.global_ids[v], 0});
     if (it != a_ids.end() && it->first == b.global_ids[v]) {
       map[v] = it->second;
+      if (quadrics)
+        for (std::size_t k = 0; k < qs; ++k) a.quadrics[it->second * qs + k] += b.quadrics[v * qs + k];
     } else {
       map[v] = static_cast<VertId>(a_vertices + added.size());
       added.push_back(v);
@@ -144,6 +156,7 @@ Piece merge_pieces(Piece a, Piece b) {
     m.positions.push_back(n.positions[v]);
     a.global_ids.push_back(b.global_ids[v]);
     if (refs) m.vertex_refs.push_back(n.vertex_refs.empty() ? 0 : n.vertex_refs[v]);
+    if (quadrics) a.quadrics.insert(a.quadrics.end(), b.quadrics.begin() + v * qs, b.quadrics.begin() + (v + 1) * qs);
   }
   for (std::size_t f = 0; f < m.fields.size(); ++f) {
     const int c = m.fields[f].components;

@@ -22,6 +22,12 @@ using GlobalId = std::uint32_t;
 struct Piece {
   MeshData mesh;                    // group_names are the run's, not a piece's: left empty
   std::vector<GlobalId> global_ids;  // [vertex] its index in the input
+  // [vertex] its quadric (quadric_doubles values each) as the last run on the piece left it
+  // (SimplifyOptions::quadrics_out), so that the next level ranks collapses by the error against
+  // the input, as one run would; empty before the first run. A vertex two pieces share has a part
+  // in each (from each piece's tets): a merge adds them.
+  std::vector<double> quadrics;
+  std::uint32_t quadric_doubles = 0;
 };
 
 void save_piece(const std::string& path, const Piece& piece);  // throws InputError (disk full...)
@@ -29,8 +35,9 @@ Piece load_piece(const std::string& path);
 
 // The union of a and b: common vertices (same global id) once, a's vertices first in a's order,
 // then b's new ones; tets of both (a piece's tets are its own); triangles, edges, corners and
-// required vertices that both list (those on the common border) once, a's copy first. The field
-// layouts must agree (they come from one input).
+// required vertices that both list (those on the common border) once, a's copy first; the
+// quadrics of common vertices added. The field layouts must agree (they come from one input), and
+// so must the quadrics' (both or neither).
 Piece merge_pieces(Piece a, Piece b);
 
 }  // namespace topotet::ooc

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <set>
 #include <filesystem>
@@ -75,7 +76,9 @@ PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, 
   PieceRun run;
   MeshData& data = piece.mesh;
   const std::size_t before = data.positions.size();
-  if (remove == 0) return run;
+  // A piece with quadrics and nothing to remove is left as it is; one without is run all the same
+  // (no collapse), for its quadrics.
+  if (remove == 0 && !piece.quadrics.empty()) return run;
   // The vertex refs carry each vertex's index through the engine (mpi/local_pass.cpp does the same).
   std::vector<std::int32_t> user_refs = std::move(data.vertex_refs);
   data.vertex_refs.resize(before);
@@ -92,6 +95,9 @@ PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, 
   for (VertId v = 0; v < before; ++v)
     if (holders[piece.global_ids[v]] >= 2) model.vertex_states[v] |= vertex_state::kFrozen | vertex_state::kPinned;
   options.target_vertices = std::max<std::uint64_t>(before - std::min<std::uint64_t>(remove, before), 1);
+  std::vector<double> quadrics_out;
+  options.quadrics_in = piece.quadrics.empty() ? nullptr : &piece.quadrics;
+  options.quadrics_out = &quadrics_out;
   run.report = simplify(model, options);
   if (run.report.status == Status::kInvalidInput || run.report.status == Status::kInternalError ||
       run.report.status == Status::kOutOfMemory || run.report.status == Status::kCancelled)
@@ -108,6 +114,14 @@ PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, 
   }
   out.group_names.clear();
   run.removed = before - out.positions.size();
+  piece.quadric_doubles = out.positions.empty() ? 0 : static_cast<std::uint32_t>(quadrics_out.size() / out.positions.size());
+  if (piece.quadric_doubles * out.positions.size() != quadrics_out.size()) piece.quadric_doubles = 0;
+  piece.quadrics = piece.quadric_doubles != 0 ? std::move(quadrics_out) : std::vector<double>{};
+  // A border vertex's quadric holds the piece's border faces as if they were the mesh's boundary
+  // (plane quadrics of a surface that is not there): the next level builds it anew from its star
+  // then (NaN: simplify.h). Frozen, it has absorbed no other vertex, so nothing else is lost.
+  for (VertId o = 0; o < ids.size() && piece.quadric_doubles != 0; ++o)
+    if (holders[ids[o]] >= 2) piece.quadrics[std::size_t{o} * piece.quadric_doubles] = std::numeric_limits<double>::quiet_NaN();
   piece.mesh = std::move(out);
   piece.global_ids = std::move(ids);
   return run;

@@ -63,15 +63,16 @@ TEST(CapiOptions, DefaultsAreTheLibrarys) {
   EXPECT_EQ(static_cast<int>(topotet::CellFieldKind::kExtensive), TOPOTET_CELL_EXTENSIVE);
 }
 
-// SimplifyOptions' 23 fields: 21 reach C, 19 as options of their own and three as pairs or
+// SimplifyOptions' 25 fields: 21 reach C, 19 as options of their own and three as pairs or
 // triples (field_weights: field_weight_count, _names, _weights; on_progress: progress,
 // progress_user_data), isosurfaces through topotet_mesh_embed_isosurfaces (the handle remembers
-// them); 2 are the C++ engine's own:
-//   round_log  - per-round diagnostics for bench_simplify and `topotet simplify -vv`
-//   cost_units - the MPI driver's shared cost units (topotet::mpi)
+// them); 4 are the C++ engine's own:
+//   round_log    - per-round diagnostics for bench_simplify and `topotet simplify -vv`
+//   cost_units   - the shared cost units of runs in parts (topotet::mpi, out of core)
+//   quadrics_in, quadrics_out - the quadrics carried between the levels of an out-of-core run
 TEST(CapiOptions, FieldCountIsKnown) {
   constexpr std::size_t in_c = 21;        // every other field
-  constexpr std::size_t engine_only = 2;  // round_log, cost_units
+  constexpr std::size_t engine_only = 4;  // round_log, cost_units, quadrics_in, quadrics_out
   EXPECT_EQ(field_count<topotet::SimplifyOptions>(), in_c + engine_only)
       << "SimplifyOptions changed: add the field to topotet_options (capi/include/topotet/topotet_c.h, at the end), "
          "topotet_options_init, topotet_simplify, the Fortran type (fortran/topotet.f90) and this test";

@@ -7,6 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -292,6 +295,76 @@ TEST(OutOfCoreErrors, BadInputAndOptionsAreClearErrorsAndLeaveNothing) {
   EXPECT_EQ(parse_memory_size("2G"), 2ull << 30);
   EXPECT_EQ(parse_memory_size("256M"), 256ull << 20);
   EXPECT_EQ(parse_memory_size("1.5GiB"), 3ull << 29);
+}
+
+}  // namespace
+}  // namespace topotet
+
+namespace topotet {
+namespace {
+
+// The whole mesh's cost units, as the cut computes them.
+CostUnits units_of(const MeshData& m) {
+  CostUnits u;
+  std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (const auto& p : m.positions)
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+  for (int k = 0; k < 3; ++k) u.origin[k] = lo[k];
+  u.diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  double volume = 0.0;
+  for (const auto& t : m.tets) {
+    const auto& a = m.positions[t[0]];
+    double e[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) e[i][k] = m.positions[t[i + 1]][k] - a[k];
+    volume += std::fabs(e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+                        e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) / 6.0;
+  }
+  u.mean_tet_volume = volume / static_cast<double>(m.tets.size());
+  for (const VertexField& f : m.fields)
+    for (int c = 0; c < f.components; ++c) {
+      double a = 1e300, b = -1e300;
+      for (std::size_t v = 0; v < m.positions.size(); ++v) a = std::min(a, f.values[v * f.components + c]), b = std::max(b, f.values[v * f.components + c]);
+      u.field_min.push_back(a);
+      u.field_range.push_back(b - a);
+    }
+  return u;
+}
+
+TEST(CarriedQuadrics, TwoRunsWithThemActLikeOne) {
+  const MeshData input = generated("cube-sphere", 60000);
+  const CostUnits units = units_of(input);
+  SimplifyOptions options;
+  options.cost_units = &units;
+  options.tolerance_rel = 0.0;
+  const std::size_t target = input.vertex_count() / 20;
+  const auto rms = [&](const TetMesh& m) { return compare_fields(input, m.to_mesh_data()).worst_rms_rel; };
+
+  TetMesh one = build_tet_mesh(input);
+  SimplifyOptions o1 = options;
+  o1.target_vertices = target;
+  ASSERT_EQ(simplify(one, o1).status, Status::kOk);
+
+  const auto two_runs = [&](bool carry) {
+    TetMesh m = build_tet_mesh(input);
+    std::vector<double> quadrics;
+    SimplifyOptions first = options;
+    first.target_vertices = input.vertex_count() * 3 / 8;
+    first.quadrics_out = &quadrics;
+    EXPECT_EQ(simplify(m, first).status, Status::kOk);
+    EXPECT_EQ(quadrics.size() % m.to_mesh_data().vertex_count(), 0u);
+    EXPECT_GT(quadrics.size(), 0u);
+    TetMesh again = build_tet_mesh(m.to_mesh_data());
+    SimplifyOptions second = options;
+    second.target_vertices = target;
+    if (carry) second.quadrics_in = &quadrics;
+    EXPECT_EQ(simplify(again, second).status, Status::kOk);
+    return rms(again);
+  };
+  const double fresh = two_runs(false), carried = two_runs(true), whole = rms(one);
+  std::printf("one run %.5f, two runs %.5f, two runs carrying the quadrics %.5f\n", whole, fresh, carried);
+  EXPECT_LE(carried, fresh);
+  EXPECT_LE(carried, 1.05 * whole);
 }
 
 }  // namespace

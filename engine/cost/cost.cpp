@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include <glm/geometric.hpp>
 
@@ -228,6 +229,20 @@ CostModel::CostModel(const MeshModel& mesh, const SimplifyOptions& options, cons
       }
     }
   });
+  // A pass of a run in passes starts from the quadrics the last pass ended with (simplify.h),
+  // indexed like this mesh's vertices, but for those marked NaN, built above from this mesh; the
+  // orders and curvature flags above are this mesh's.
+  if (options.quadrics_in != nullptr) {
+    const std::size_t qs = static_cast<std::size_t>(quadric_size(n_));
+    if (options.quadrics_in->size() != nv * qs)
+      throw std::invalid_argument("quadrics_in holds " + std::to_string(options.quadrics_in->size()) +
+                                  " values, not " + std::to_string(qs) + " for each of " + std::to_string(nv) + " vertices");
+    for (std::size_t v = 0; v < nv; ++v) {
+      const double* carried = options.quadrics_in->data() + v * qs;
+      if (!mesh.is_dead_vertex(static_cast<VertId>(v)) && !std::isnan(carried[0]))
+        std::copy_n(carried, qs, quadric(static_cast<VertId>(v)));
+    }
+  }
 }
 
 void CostModel::normalise(const MeshModel& mesh, VertId v, double* x) const {

@@ -208,6 +208,10 @@ class CostModel {
 
   std::size_t memory_bytes() const;
 
+  // v's quadric (quadric_doubles() values), for SimplifyOptions::quadrics_out.
+  int quadric_doubles() const { return quadric_size(n_); }
+  const double* quadric_of(VertId v) const { return quadric(v); }
+
  private:
   // kN > 0: the quadric dimension n_ fixed at compile time; 0: read at run time.
   template <int kN>

@@ -188,6 +188,18 @@ struct SimplifyOptions {
   // Non-null: normalise costs in these units instead of the mesh's own (CostUnits above); field
   // vectors must have field_stride() entries, else the call returns kInvalidInput.
   const CostUnits* cost_units = nullptr;
+  // Runs in passes (out of core, topotet/out_of_core.h: the levels of pieces) keep the collapses'
+  // error memory from one pass to the next: each vertex's quadric sums those of the original
+  // vertices merged into it, and a pass that rebuilt them from its own, already simplified input
+  // would measure its errors against that input, not the original (on the cube-sphere, four
+  // passes instead of one cost +41% field RMS). quadrics_out, when set, receives the quadrics of
+  // the output's vertices, in its order, the same number of doubles each (left empty when the run
+  // fails); quadrics_in, when set, gives those of the mesh passed, in its vertex order, and the
+  // run starts from them instead of building them (another count: kInternalError), except for the
+  // vertices whose first value is NaN, built from the mesh. Meaningful only with the same
+  // cost_units, fields and weights in every pass.
+  const std::vector<double>* quadrics_in = nullptr;
+  std::vector<double>* quadrics_out = nullptr;
   // Isosurfaces embedded by embed_isosurfaces (topotet/isosurface.h; pass its report's levels):
   // every vertex of a triangle listed with a level's ref keeps that field component at exactly
   // the level, through every collapse (engine/cost/field_pins.h). Their topology and position are
