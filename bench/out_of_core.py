@@ -110,6 +110,8 @@ def main():
                 times.append(s)
                 peaks.append(rss)
                 report = parse_report(text)
+                with open(os.path.join(a.work, f"report_{tag}.txt"), "w") as f:
+                    f.write(text)
             row = {"tets": n, "mode": name, "limit": lim, "seconds_median": statistics.median(times),
                    "seconds": times, "peak_bytes_max": max(peaks), "bytes_per_tet": max(peaks) / n}
             row.update(report)

@@ -13,11 +13,47 @@
 
 namespace topotet::cli {
 
+namespace {
+
+// The report as JSON (--json): what the text gives, in numbers.
+Json json_report(const SimplifyArgs& args, const OutOfCoreOptions& ooc, const OutOfCoreReport& r) {
+  const Report& rep = r.report;
+  Json levels = Json::array();
+  for (const OutOfCoreLevel& lv : r.levels)
+    levels.push_back({{"pieces", lv.pieces},
+                      {"pairs_left_apart", lv.unmerged},
+                      {"largest_piece_tets", lv.largest_piece_tets},
+                      {"vertices_after", lv.vertices_after},
+                      {"collapses", lv.collapses},
+                      {"tolerance", lv.tolerance},
+                      {"seconds", lv.seconds}});
+  return Json{{"input", args.input},
+              {"output", args.output},
+              {"mode", "out of core"},
+              {"status", rep.status == Status::kOk ? "ok" : "stopped early"},
+              {"message", rep.message},
+              {"vertices", {{"before", rep.vertices_before}, {"after", rep.vertices_after}}},
+              {"tets", {{"before", rep.tets_before}, {"after", rep.tets_after}}},
+              {"collapses", rep.collapses},
+              {"pieces", {{"cut", r.pieces}, {"left", r.output_pieces}, {"tet_limit", r.piece_tet_limit}}},
+              {"levels", levels},
+              {"seconds", {{"total", rep.seconds}, {"cut", r.cut_seconds}, {"write", r.write_seconds}}},
+              {"memory", {{"limit_bytes", ooc.memory_limit_bytes},
+                          {"peak_rss_bytes", r.peak_rss_bytes},
+                          {"scratch_peak_bytes", r.scratch_peak_bytes}}},
+              {"tolerance", rep.tolerance},
+              {"topology", "not checked: topotet check IN OUT"}};
+}
+
+}  // namespace
+
 int run_simplify_out_of_core(const SimplifyArgs& args) {
   if (args.input == "-" || args.output == "-")
     throw InputError("--memory-limit: the input and the output must be files (the input is read twice: the mesh, "
                      "then its .sol)");
   check_output_format(args.output);
+  if (args.report == "-") send_report_to_stderr();
+  check_output_folder(args.report);
   OutOfCoreOptions ooc;
   if (!args.memory_limit.empty()) ooc.memory_limit_bytes = parse_memory_size(args.memory_limit);
   ooc.scratch_parent = args.scratch;
@@ -61,6 +97,7 @@ int run_simplify_out_of_core(const SimplifyArgs& args) {
                  args.input.c_str(), args.output.c_str(), rep.tets_before > 2'000'000 ? " --fast" : "");
     if (rep.status != Status::kOk) std::fprintf(out, "status       %s\n", rep.message.c_str());
   }
+  if (!args.report.empty()) write_json_atomically(args.report, json_report(args, ooc, r));
   if (ooc.memory_limit_bytes != 0 && r.peak_rss_bytes > ooc.memory_limit_bytes)
     print_warning(args.output, "the peak memory " + format_bytes(r.peak_rss_bytes) + " went over the limit " +
                                    format_bytes(ooc.memory_limit_bytes));

@@ -41,6 +41,12 @@ std::uint64_t budget_baseline(std::uint64_t rss) {
   return std::max<std::uint64_t>(1, (rss + kBaselineStep - 1) / kBaselineStep) * kBaselineStep;
 }
 
+std::uint64_t bytes_per_piece_tet(const InputCounts& counts) {
+  const std::uint64_t n = 3 + static_cast<std::uint64_t>(std::max(counts.vertex_stride, 0));
+  const std::uint64_t quadric_bytes = 8 * (n * (n + 1) / 2 + n + 1);
+  return kBytesPerPieceTet + (3 * quadric_bytes + kTetsPerVertex - 1) / kTetsPerVertex;
+}
+
 std::uint64_t MemoryBudget::usable() const {
   const auto after_headroom = static_cast<std::uint64_t>(static_cast<double>(limit) * (1.0 - kHeadroom));
   return after_headroom > baseline ? after_headroom - baseline : 0;
@@ -62,12 +68,13 @@ std::uint64_t MemoryBudget::piece_tets(const InputCounts& counts) const {
   const std::uint64_t cut_held = counts.vertices * kCutBytesPerVertex + counts.triangles * 16 + counts.segments * 12;
   const std::uint64_t level_held = counts.vertices * kLevelBytesPerVertex;
   const std::uint64_t u = usable();
+  const std::uint64_t per_tet = bytes_per_piece_tet(counts);
   const std::uint64_t during_cut = u > cut_held ? (u - cut_held) * 8 / kBytesPerPieceTet : 0;
-  const std::uint64_t during_levels = u > level_held ? (u - level_held) / kBytesPerPieceTet : 0;
+  const std::uint64_t during_levels = u > level_held ? (u - level_held) / per_tet : 0;
   const std::uint64_t tets = std::min(during_cut, during_levels);
   if (tets < kMinPieceTets) {
     const std::uint64_t need = std::max(cut_held + kMinPieceTets * kBytesPerPieceTet / 8,
-                                        level_held + kMinPieceTets * kBytesPerPieceTet);
+                                        level_held + kMinPieceTets * per_tet);
     const auto needed = static_cast<std::uint64_t>(static_cast<double>(baseline + need) / (1.0 - kHeadroom)) + 1;
     throw InputError("--memory-limit " + format_bytes(limit) + " leaves room for pieces of " + std::to_string(tets) +
                      " tets; out of core needs at least " + std::to_string(kMinPieceTets) + ": give at least " +

@@ -10,7 +10,10 @@
 //   levels        per input vertex: the holder count (1 byte); per piece tet: kBytesPerPieceTet,
 //                 what the engine needs to simplify a piece with the default guarantees (the
 //                 model, the tolerance's reference and coverage, the piece's own arrays in and
-//                 out; docs/performance.md "Out of core" has the measurements it comes from);
+//                 out; docs/performance.md "Out of core" has the measurements it comes from),
+//                 plus the carried quadrics: three copies (the piece's, the engine's renumbered
+//                 input, its output) of quadric_size(3 + vertex field components) doubles per
+//                 vertex, at most one vertex per kTetsPerVertex tets;
 //   headroom      kHeadroom of the limit for the allocator's slack and the I/O buffers.
 // A limit that leaves fewer than kMinPieceTets per piece is refused before any work, with the
 // smallest limit that would do.
@@ -26,6 +29,7 @@ struct InputCounts;
 inline constexpr std::uint64_t kCutBytesPerVertex = 33;
 inline constexpr std::uint64_t kLevelBytesPerVertex = 1;
 inline constexpr std::uint64_t kBytesPerPieceTet = 320;
+inline constexpr std::uint64_t kTetsPerVertex = 4;  // a tet mesh has ~5-6; fewer is conservative
 inline constexpr std::uint64_t kMinPieceTets = 20000;
 inline constexpr double kHeadroom = 0.15;
 inline constexpr std::uint64_t kBaselineStep = 64ull << 20;
@@ -50,5 +54,8 @@ std::uint64_t resident_bytes();
 std::uint64_t peak_resident_bytes();
 
 std::string format_bytes(std::uint64_t bytes);  // "1.50 GiB", "256 MiB"
+
+// kBytesPerPieceTet and the carried quadrics' share per tet, for this input's fields.
+std::uint64_t bytes_per_piece_tet(const InputCounts& counts);
 
 }  // namespace topotet::ooc

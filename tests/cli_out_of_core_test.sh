@@ -25,8 +25,16 @@ no_litter() {
 "$topotet" generate cube-sphere --tets 30000 -o small.mesh -q
 "$topotet" generate cube-sphere --tets 400000 -o big.mesh -q
 
-expect 0 run -- "$topotet" simplify small.mesh -o out.mesh --pieces 8 --ratio 0.2
+expect 0 run -- "$topotet" simplify small.mesh -o out.mesh --pieces 8 --ratio 0.2 --json run.json
 if grep -q "pieces       8" run.out && grep -q "topotet check" run.out; then pass "run: report gives the pieces and the check"; else fail "run: report"; cat run.out; fi
+# The JSON report: the same counts, one entry per level (level 0 and three merges of 8 pieces).
+if python3 -c '
+import json, sys
+j = json.load(open("run.json"))
+assert j["mode"] == "out of core" and j["pieces"]["cut"] == 8 and j["pieces"]["left"] == 1, j["pieces"]
+assert len(j["levels"]) == 4 and j["levels"][-1]["vertices_after"] == j["vertices"]["after"], j["levels"]
+assert 0 < j["vertices"]["after"] < j["vertices"]["before"] and j["memory"]["peak_rss_bytes"] > 0
+' 2>run_json.err; then pass "run: --json report"; else fail "run: --json report"; cat run_json.err; fi
 expect 0 check -- "$topotet" check small.mesh out.mesh
 no_litter run
 

@@ -14,6 +14,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "outofcore/cut.h"
+#include "outofcore/memory_budget.h"
 #include "topotet/error.h"
 #include "topotet/generate.h"
 #include "topotet/io.h"
@@ -93,22 +95,6 @@ void plant_in_mid_plane(MeshData& m) {
   ASSERT_GT(m.triangles.size(), 0u);
 }
 
-// What the budget counts for the process itself: its resident size rounded up to 64 MiB
-// (outofcore/memory_budget.h, kBaselineStep).
-std::uint64_t budget_baseline_now() {
-  constexpr std::uint64_t step = 64ull << 20;
-  std::uint64_t rss = 0;
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key)
-    if (key == "VmRSS:") {
-      std::uint64_t kb = 0;
-      status >> kb;
-      rss = kb * 1024;
-      break;
-    }
-  return std::max<std::uint64_t>(1, (rss + step - 1) / step) * step;
-}
 
 struct Outcome {
   OutOfCoreReport report;
@@ -248,10 +234,15 @@ TEST(OutOfCoreLimit, ATinyLimitCutsIntoPiecesAndOneTooSmallIsRefusedBeforeAnyWor
   }
   EXPECT_FALSE(fs::exists(out));
   for (const std::string& e : folder.entries()) EXPECT_EQ(e.find(".topotet-scratch"), std::string::npos) << e;
+  ooc::InputCounts counts;
+  counts.vertex_stride = 1;  // the generated field
   // Room for pieces of about 25,000 tets beside what the process holds: several pieces, merged
   // back into one (the output at 20% is small), the topology kept.
   ooc.memory_limit_bytes =
-      static_cast<std::uint64_t>((budget_baseline_now() + 25000.0 * 320 + 2.0 * input.vertex_count()) / 0.85);
+      static_cast<std::uint64_t>((static_cast<double>(ooc::budget_baseline(ooc::resident_bytes())) +
+                                  25000.0 * static_cast<double>(ooc::bytes_per_piece_tet(counts)) +
+                                  2.0 * static_cast<double>(input.vertex_count())) /
+                                 (1.0 - ooc::kHeadroom));
   const OutOfCoreReport r = simplify_out_of_core(in, out, options, ooc);
   EXPECT_GE(r.pieces, 2u);
   EXPECT_LE(r.piece_tet_limit, 30000u);

@@ -15,8 +15,14 @@
 //     triangle inequality every point of the output's surfaces is within H of the input's of its
 //     label and the other way round (h_0 = H / 2, the rest shared equally by the merge levels);
 //   - quality floors (min_quality, min_dihedral: relative to the tets replaced, as in core);
-//   - determinism: the pieces depend on the input and the limit only, never on a measurement, and
-//     each piece's run is the parallel engine's, identical for every thread count.
+//   - determinism: the pieces depend on the input, the limit and the process's resident size at
+//     the start rounded up to 64 MiB (outofcore/memory_budget.h), never on timing, and each
+//     piece's run is the parallel engine's, identical for every thread count.
+// The levels share the work (level l keeps a fraction of its pieces' vertices that halves from
+// level to level, so that a merged pair still fits; the last piece goes to the target), and each
+// vertex's quadric travels with its piece (SimplifyOptions::quadrics_in/_out), so every level ranks
+// collapses by their error against the input, as one run would: on the cube-sphere the field
+// error is an in-core run's (docs/performance.md, "Out of core").
 // Not available out of core (refused with kInvalidInput-like InputError): field error bounds
 // (max_field_error*, track_field_bounds: a bound is kept per tet of one run and does not compose
 // across levels), isosurfaces (embed them in core first), hierarchies.
