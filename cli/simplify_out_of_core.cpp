@@ -76,8 +76,8 @@ int run_simplify_out_of_core(const SimplifyArgs& args) {
                  format_count(r.piece_tet_limit).c_str(), r.output_pieces);
     for (std::size_t l = 0; l < r.levels.size(); ++l) {
       const OutOfCoreLevel& lv = r.levels[l];
-      std::fprintf(out, "  level %zu    %u pieces run (largest %s tets)%s, tolerance %s, %s vertices after, %s\n", l,
-                   lv.pieces, format_count(lv.largest_piece_tets).c_str(),
+      std::fprintf(out, "  level %zu    %u piece%s run (largest %s tets)%s, tolerance %s, %s vertices after, %s\n", l,
+                   lv.pieces, lv.pieces == 1 ? "" : "s", format_count(lv.largest_piece_tets).c_str(),
                    lv.unmerged ? (", " + std::to_string(lv.unmerged) + " pairs left apart").c_str() : "",
                    format_number(lv.tolerance).c_str(), format_count(lv.vertices_after).c_str(),
                    format_seconds(lv.seconds).c_str());

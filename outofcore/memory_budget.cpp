@@ -58,7 +58,7 @@ void MemoryBudget::check_vertices(std::uint64_t vertices, const std::string& inp
     const auto needed = static_cast<std::uint64_t>(static_cast<double>(baseline + cut) / (1.0 - kHeadroom)) + 1;
     throw InputError(input + ": --memory-limit " + format_bytes(limit) + " is below what cutting " +
                      std::to_string(vertices) + " vertices out of core needs: at least " + format_bytes(needed) +
-                     " (the process itself holds " + format_bytes(baseline) + ")");
+                     " (" + format_bytes(baseline) + " of it counted for the process itself)");
   }
 }
 

@@ -20,14 +20,14 @@ FLOORS = [
     ["engine"],  # the drivers
     ["io", "generate"],
     ["metrics"],
-    ["capi", "python", "mpi"],
+    ["capi", "python", "mpi", "outofcore"],  # outofcore/: meshes larger than memory, on the drivers and io
     ["cli", "paraview"],  # paraview/: the ParaView plugin, built in a tree of its own (docs/paraview.md)
     ["bench", "tests", "examples"],
 ]
 rank = {folder: i for i, floor in enumerate(FLOORS) for folder in floor}
 # Where a quoted include is looked up, in order (the include directories the build gives).
 SEARCH = ["", "engine", "engine/include", "io/include", "io/vtk/include", "generate/include", "metrics/include",
-          "capi/include", "mpi/include", "mpi", "paraview/filter"]  # mpi: topotet-mpi sees exchange.h
+          "capi/include", "mpi/include", "mpi", "outofcore/include", "paraview/filter"]  # mpi: topotet-mpi sees exchange.h
 
 
 def folder_of(path):
