@@ -335,6 +335,19 @@ Report detail::simplify_recorded(MeshModel& mesh, const SimplifyOptions& options
 
 Report simplify(MeshModel& mesh, const SimplifyOptions& options) noexcept { return simplify_impl(mesh, options, nullptr); }
 
+void add_run_counts(Report& total, const Report& part) {
+  total.collapses += part.collapses;
+  total.evaluations += part.evaluations;
+  total.legality_checks += part.legality_checks;
+  for (std::size_t k = 0; k < total.rejected.size(); ++k) total.rejected[k] += part.rejected[k];
+  total.rounds += part.rounds;
+  total.feature_edges += part.feature_edges;
+  total.feature_corners += part.feature_corners;
+  total.max_cost = std::max(total.max_cost, part.max_cost);
+  total.tolerance_limited = total.tolerance_limited || part.tolerance_limited;
+  for (std::size_t k = 0; k < total.phase_seconds.size(); ++k) total.phase_seconds[k] += part.phase_seconds[k];
+}
+
 Report simplify(MeshModel& mesh, const SimplifyOptions& options, std::vector<VertId>& vertex_map) noexcept {
   return simplify_impl(mesh, options, &vertex_map);
 }

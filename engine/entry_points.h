@@ -18,4 +18,9 @@ Report simplify(MeshModel& mesh, const SimplifyOptions& options = {}) noexcept;
 Report simplify(MeshModel& mesh, const SimplifyOptions& options, std::vector<VertId>& vertex_map) noexcept;
 Report simplify_with_hierarchy(MeshModel& mesh, const SimplifyOptions& options, Hierarchy& hierarchy) noexcept;
 
+// Adds the work of one part's run to a run made of parts (topotet::mpi's passes and ranks, the
+// levels and pieces out of core): collapses, evaluations, checks, refusals, rounds, features, the
+// largest cost, phase times; tolerance_limited if any part was.
+void add_run_counts(Report& total, const Report& part);
+
 }  // namespace topotet

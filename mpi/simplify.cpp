@@ -12,6 +12,7 @@
 
 #include "cost_shares.h"
 #include "directory.h"
+#include "entry_points.h"
 #include "exchange.h"
 #include "local_pass.h"
 #include "migrate.h"
@@ -92,18 +93,6 @@ std::uint64_t share_of(MPI_Comm comm, std::uint64_t removable, std::uint64_t rem
         ++given;
       }
   return share[me];
-}
-
-void add_counts(Report& total, const Report& r) {
-  total.collapses += r.collapses;
-  total.evaluations += r.evaluations;
-  total.legality_checks += r.legality_checks;
-  for (std::size_t k = 0; k < total.rejected.size(); ++k) total.rejected[k] += r.rejected[k];
-  total.rounds += r.rounds;
-  total.feature_edges += r.feature_edges;
-  total.feature_corners += r.feature_corners;
-  total.max_cost = std::max(total.max_cost, r.max_cost);
-  for (std::size_t k = 0; k < total.phase_seconds.size(); ++k) total.phase_seconds[k] += r.phase_seconds[k];
 }
 
 // Counters summed over ranks, seconds and costs the largest.
@@ -217,7 +206,7 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
     }
     detail::agree_or_throw(comm, error.empty(), error);
     stats.simplify_seconds = max_over_ranks(comm, since(simplify_start));
-    add_counts(report, lp.report);
+    add_run_counts(report, lp.report);
     detail::apply_merges(comm, lp.merges, result.vertex_map, &bytes);
     for (std::size_t v = 0; v < marks.size(); ++v)
       marks[v] = sharing.shared[v] ? detail::kFrozenLastPass | detail::kFrozenOnce : marks[v] & detail::kFrozenOnce;

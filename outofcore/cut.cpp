@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 
+#include "mesh/morton.h"
 #include "piece.h"
 #include "topotet/cell_fields.h"
 #include "topotet/error.h"
@@ -22,17 +23,6 @@ namespace topotet::ooc {
 namespace {
 
 constexpr int kBinBits = 18;
-
-// Spread the low 21 bits of x to every third bit.
-std::uint64_t spread3(std::uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
-  return x;
-}
 
 struct TetRecord {
   std::array<VertId, 4> v;
@@ -105,7 +95,7 @@ class MeshPass final : public MeditVisitor {
       const double x = (centre - lo[k]) * scale_[k];
       q[k] = static_cast<std::uint64_t>(std::clamp(x, 0.0, double((1u << 21) - 1)));
     }
-    code = spread3(q[0]) << 2 | spread3(q[1]) << 1 | spread3(q[2]);
+    code = morton_code(q[2], q[1], q[0]);  // the first axis in the highest bit of each triple
     const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
     const double e3[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};

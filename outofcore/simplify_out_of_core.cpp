@@ -14,6 +14,10 @@
 // spend its vertices by its local ranking of the collapses, not the whole mesh's; each merge
 // widens the ranking, and the last, over the whole mesh, chooses the final collapses as in core.
 // A level that can merge no pair (the limit) ends the merges: every piece left then goes to r.
+// The ranking stays the whole run's because each vertex's quadric travels with its piece from
+// level to level (Piece::quadrics, SimplifyOptions::quadrics_in/_out): a level that rebuilt them
+// from its already simplified input would measure errors against that input, not the original
+// (measured: +32% field RMS at 16 pieces on the cube-sphere, +2% with them; docs/performance.md).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -125,19 +129,6 @@ PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, 
   piece.mesh = std::move(out);
   piece.global_ids = std::move(ids);
   return run;
-}
-
-void add_counts(Report& total, const Report& r) {
-  total.collapses += r.collapses;
-  total.evaluations += r.evaluations;
-  total.legality_checks += r.legality_checks;
-  for (std::size_t k = 0; k < total.rejected.size(); ++k) total.rejected[k] += r.rejected[k];
-  total.rounds += r.rounds;
-  total.feature_edges += r.feature_edges;
-  total.feature_corners += r.feature_corners;
-  total.max_cost = std::max(total.max_cost, r.max_cost);
-  total.tolerance_limited = total.tolerance_limited || r.tolerance_limited;
-  for (std::size_t k = 0; k < total.phase_seconds.size(); ++k) total.phase_seconds[k] += r.phase_seconds[k];
 }
 
 std::uint64_t folder_bytes(const std::string& folder) {
@@ -253,6 +244,9 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
                                      const SimplifyOptions& options, const OutOfCoreOptions& ooc) {
   const auto start = Clock::now();
   refuse_unsupported(options);
+  if (format_from_path(input) != MeshFormat::kMedit)
+    throw InputError(input + ": out of core streams MEDIT (.mesh, .mesh.gz) only: convert it first (topotet convert " +
+                     input + " in.mesh), or run in core without --memory-limit");
   if (ooc.memory_limit_bytes == 0 && ooc.pieces == 0)
     throw InputError("out of core needs a memory limit (--memory-limit) or a piece count");
   if (ooc.pieces != 0 && (ooc.pieces > kMaxPieces || (ooc.pieces & (ooc.pieces - 1)) != 0))
@@ -402,7 +396,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
       if (last) remove = live > target ? live - target : 0;
       stats.largest_piece_tets = std::max<std::uint64_t>(stats.largest_piece_tets, piece.mesh.tets.size());
       const PieceRun run = simplify_piece(piece, holders, o, remove, ooc.cell_remap);
-      add_counts(report, run.report);
+      add_run_counts(report, run.report);
       stats.collapses += run.report.collapses;
       live -= run.removed;
       slot.tets = piece.mesh.tets.size();

@@ -64,6 +64,8 @@ no_litter full_disk
 # Refused before any work.
 expect_error tiny_limit "memory-limit.*at least" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit 4M
 expect_error bad_size "memory size 'lots'" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit lots
+"$topotet" convert small.mesh small.msh -q
+expect_error not_medit "streams MEDIT .* only: convert it first" -- "$topotet" simplify small.msh -o x.mesh --memory-limit 1G
 expect_error bounds "excludes" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit 1G --field-bounds
 no_litter refused
 

@@ -8,22 +8,12 @@
 
 #include <glm/common.hpp>
 
+#include "mesh/morton.h"
 #include "parallel/filter.h"
 #include "parallel/for_range.h"
 
 namespace topotet {
 namespace {
-
-// The low 21 bits of x, spread to every third bit.
-std::uint64_t spread_bits(std::uint32_t x) {
-  std::uint64_t v = x & 0x1FFFFFu;
-  v = (v | v << 32) & 0x1F00000000FFFFull;
-  v = (v | v << 16) & 0x1F0000FF0000FFull;
-  v = (v | v << 8) & 0x100F00F00F00F00Full;
-  v = (v | v << 4) & 0x10C30C30C30C30C3ull;
-  v = (v | v << 2) & 0x1249249249249249ull;
-  return v;
-}
 
 // Points of the bounding box quantised to 21 bits per axis, interleaved.
 class MortonFrame {
@@ -42,7 +32,7 @@ class MortonFrame {
   std::uint64_t key(const glm::dvec3& p) const {
     const glm::dvec3 q = (p - lo_) * scale_;
     const auto cell = [](double x) { return static_cast<std::uint32_t>(std::clamp(x, 0.0, double((1u << 21) - 1))); };
-    return spread_bits(cell(q.x)) | spread_bits(cell(q.y)) << 1 | spread_bits(cell(q.z)) << 2;
+    return morton_code(cell(q.x), cell(q.y), cell(q.z));
   }
 
  private:
