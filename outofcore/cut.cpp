@@ -54,7 +54,7 @@ class MeshPass final : public MeditVisitor {
   }
   void tet(const std::array<VertId, 4>& v, std::int32_t material) override {
     std::uint64_t code = 0;
-    glm_centroid(v, code);
+    code_and_volume(v, code);
     TetRecord r{v, material, static_cast<std::uint32_t>(code >> (63 - kBinBits))};
     tets_.put(r);
     ++histogram[r.bin];
@@ -84,7 +84,8 @@ class MeshPass final : public MeditVisitor {
                   -std::numeric_limits<double>::infinity()};
 
  private:
-  void glm_centroid(const std::array<VertId, 4>& v, std::uint64_t& code) {
+  // The Morton code of the tet's centroid, and its volume added to the total (the cost units' mean).
+  void code_and_volume(const std::array<VertId, 4>& v, std::uint64_t& code) {
     const auto& a = positions[v[0]];
     const auto& b = positions[v[1]];
     const auto& c = positions[v[2]];

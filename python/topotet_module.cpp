@@ -35,6 +35,7 @@
 #include "topotet/hierarchy.h"
 #include "topotet/io.h"
 #include "topotet/isosurface.h"
+#include "topotet/out_of_core.h"
 #include "topotet/simplify.h"
 #include "topotet/threads.h"
 #include "topotet/version.h"
@@ -315,6 +316,13 @@ py::object stop_dict(const topotet::StopDiagnosis& s) {
   return d;
 }
 
+topotet::Optimize optimize_of(const std::string& name) {
+  if (name == "none") return topotet::Optimize::kNone;
+  if (name == "light") return topotet::Optimize::kLight;
+  if (name == "full") return topotet::Optimize::kFull;
+  throw py::value_error("optimize must be 'none', 'light' or 'full', got '" + name + "'");
+}
+
 py::dict report_dict(const topotet::Report& r) {
   py::dict rejected;
   for (topotet::RejectReason reason : topotet::kRejectReasons) rejected[topotet::to_string(reason)] = r.rejected_by(reason);
@@ -438,14 +446,7 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   options.polyline_weight = polyline_weight;
   options.round_fraction = round_fraction;
   options.isosurfaces = iso_levels(isosurfaces);
-  if (optimize == "none")
-    options.optimize = topotet::Optimize::kNone;
-  else if (optimize == "light")
-    options.optimize = topotet::Optimize::kLight;
-  else if (optimize == "full")
-    options.optimize = topotet::Optimize::kFull;
-  else
-    throw py::value_error("optimize must be 'none', 'light' or 'full', got '" + optimize + "'");
+  options.optimize = optimize_of(optimize);
   // As `topotet simplify --hierarchy`: with fields, each collapse records its field error bound, so
   // that extract(max_error=...) selects by a guaranteed error, not by a cost.
   if (hierarchy && !fields.is_none()) options.track_field_bounds = true;
@@ -571,6 +572,72 @@ PYBIND11_MODULE(_core, m) {
         "categorical: a sum conserved, a label kept). hierarchy='h.tth' also records every collapse into that file (topotet.extract reads levels "
         "from it; vertex_map is then None). Returns a dict: points, tets, materials, triangles, triangle_refs, segments, segment_refs, "
         "corners, fields, cell_fields, cell_kinds, vertex_map (for every input point, the output point it merged into) and report.");
+  m.def(
+      "simplify_out_of_core",
+      [](const std::string& input, const std::string& output, const py::object& memory_limit, std::uint32_t pieces,
+         const std::string& scratch, double ratio, std::uint64_t target_vertices, double tolerance_rel,
+         double tolerance, double min_quality, double min_dihedral, double feature_angle, int threads,
+         const std::string& optimize, const std::vector<std::string>& extensive,
+         const std::vector<std::string>& categorical) {
+        topotet::OutOfCoreOptions ooc;
+        if (py::isinstance<py::str>(memory_limit)) ooc.memory_limit_bytes = topotet::parse_memory_size(memory_limit.cast<std::string>());
+        else if (!memory_limit.is_none()) ooc.memory_limit_bytes = memory_limit.cast<std::uint64_t>();
+        ooc.pieces = pieces;
+        ooc.scratch_parent = scratch;
+        ooc.cell_remap.extensive = extensive;
+        ooc.cell_remap.categorical = categorical;
+        topotet::SimplifyOptions o;
+        o.target_vertex_ratio = ratio;
+        o.target_vertices = target_vertices;
+        o.tolerance_rel = tolerance_rel;
+        o.tolerance = tolerance;
+        o.min_quality = min_quality;
+        o.min_dihedral = min_dihedral;
+        o.feature_angle = feature_angle;
+        o.num_threads = threads;
+        o.optimize = optimize_of(optimize);
+        topotet::OutOfCoreReport r;
+        {
+          py::gil_scoped_release release;
+          topotet::run_with_thread_limit(threads, [&] { r = topotet::simplify_out_of_core(input, output, o, ooc); });
+        }
+        py::dict d = report_dict(r.report);
+        py::list levels;
+        for (const topotet::OutOfCoreLevel& lv : r.levels) {
+          py::dict l;
+          l["pieces"] = lv.pieces;
+          l["pairs_left_apart"] = lv.unmerged;
+          l["largest_piece_tets"] = lv.largest_piece_tets;
+          l["vertices_after"] = lv.vertices_after;
+          l["collapses"] = lv.collapses;
+          l["tolerance"] = lv.tolerance;
+          l["seconds"] = lv.seconds;
+          levels.append(l);
+        }
+        d["pieces"] = r.pieces;
+        d["pieces_left"] = r.output_pieces;
+        d["piece_tet_limit"] = r.piece_tet_limit;
+        d["levels"] = levels;
+        d["peak_rss_bytes"] = r.peak_rss_bytes;
+        d["scratch_peak_bytes"] = r.scratch_peak_bytes;
+        d["cut_seconds"] = r.cut_seconds;
+        d["write_seconds"] = r.write_seconds;
+        return d;
+      },
+      py::arg("input"), py::arg("output"), py::kw_only(), py::arg("memory_limit") = py::none(), py::arg("pieces") = 0,
+      py::arg("scratch") = "", py::arg("ratio") = defaults.target_vertex_ratio,
+      py::arg("target_vertices") = defaults.target_vertices, py::arg("tolerance_rel") = defaults.tolerance_rel,
+      py::arg("tolerance") = defaults.tolerance, py::arg("min_quality") = defaults.min_quality,
+      py::arg("min_dihedral") = defaults.min_dihedral, py::arg("feature_angle") = defaults.feature_angle,
+      py::arg("threads") = defaults.num_threads, py::arg("optimize") = topotet::to_string(defaults.optimize),
+      py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
+      "Simplifies a MEDIT file (.mesh / .mesh.gz + .sol) larger than memory into `output`, out of core "
+      "(topotet/out_of_core.h, `topotet simplify --memory-limit`): streamed, cut into pieces in a scratch folder "
+      "(next to the output, or in `scratch`), simplified with frozen borders and merged pairwise. memory_limit: "
+      "bytes or a size such as '2G' (the peak stays under it; too small is a ValueError before any work); pieces: "
+      "exactly this many (a power of two) instead. The topology is not checked here (read both and compare, or "
+      "`topotet check IN OUT`). Returns the report dict of simplify() plus pieces, pieces_left, piece_tet_limit, "
+      "levels (one dict per level), peak_rss_bytes, scratch_peak_bytes, cut_seconds, write_seconds.");
   m.def(
       "extract",
       [](const std::string& path, std::uint64_t vertices, std::optional<double> max_error) {

@@ -19,8 +19,8 @@ FLOORS = [
     ["engine/cost", "engine/features"],
     ["engine"],  # the drivers
     ["io", "generate"],
-    ["metrics"],
-    ["capi", "python", "mpi", "outofcore"],  # outofcore/: meshes larger than memory, on the drivers and io
+    ["metrics", "outofcore"],  # outofcore/: meshes larger than memory, on the drivers and io
+    ["capi", "python", "mpi"],
     ["cli", "paraview"],  # paraview/: the ParaView plugin, built in a tree of its own (docs/paraview.md)
     ["bench", "tests", "examples"],
 ]

@@ -232,5 +232,33 @@ try:
     check(False, "no error for an unknown isosurface field")
 except ValueError as e:
     check("nope" in str(e), f"message {e!r}")
+# Out of core from a file: 4 pieces merged back into one, the same topology as an in-core run's
+# output (the same counts of vertices and tets per material), the report's levels; a bad size and
+# a non-MEDIT input are ValueErrors.
+with tempfile.TemporaryDirectory() as d:
+    big_points, big_tets = grid(12)
+    topotet.write(os.path.join(d, "in.mesh"), {"points": big_points, "tets": big_tets,
+                                                "fields": {"f": big_points[:, 0] * big_points[:, 1]}})
+    rep = topotet.simplify_out_of_core(os.path.join(d, "in.mesh"), os.path.join(d, "out.mesh"), pieces=4,
+                                       ratio=0.2, threads=2)
+    check(rep["pieces"] == 4 and rep["pieces_left"] == 1 and len(rep["levels"]) == 3, f"out of core levels {rep}")
+    ooc_out = topotet.read(os.path.join(d, "out.mesh"))
+    check(len(ooc_out["points"]) == rep["vertices_after"] <= 0.2 * len(big_points) + 1, "out of core reached the ratio")
+    check(not any(n.startswith(".topotet-scratch") for n in os.listdir(d)), "scratch folder removed")
+    corners = ooc_out["points"][ooc_out["tets"]]
+    volume = np.abs(np.linalg.det(corners[:, 1:] - corners[:, :1])).sum() / 6.0
+    check(np.isclose(volume, 12.0**3, rtol=1e-9), f"out of core keeps the box's volume: {volume}")
+    for bad, needle in [({"memory_limit": "lots"}, "memory size"), ({"memory_limit": "1M"}, "memory-limit")]:
+        try:
+            topotet.simplify_out_of_core(os.path.join(d, "in.mesh"), os.path.join(d, "x.mesh"), **bad)
+            check(False, f"no error for {bad}")
+        except ValueError as e:
+            check(needle in str(e), f"message {e!r} lacks {needle!r}")
+    topotet.write(os.path.join(d, "in.msh"), {"points": big_points, "tets": big_tets})
+    try:
+        topotet.simplify_out_of_core(os.path.join(d, "in.msh"), os.path.join(d, "x.mesh"), pieces=2)
+        check(False, "no error for a .msh input")
+    except ValueError as e:
+        check("MEDIT" in str(e), f"message {e!r}")
 check(topotet.__version__.count(".") == 2, "version")
 print(f"python_test: {len(points)} -> {nv} vertices, {len(tets)} -> {len(out['tets'])} tets: pass")
