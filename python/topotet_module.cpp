@@ -323,6 +323,25 @@ topotet::Optimize optimize_of(const std::string& name) {
   throw py::value_error("optimize must be 'none', 'light' or 'full', got '" + name + "'");
 }
 
+// The options simplify() and simplify_out_of_core() both take, under the same keywords.
+topotet::SimplifyOptions run_options(double ratio, std::uint64_t target_vertices, double tolerance_rel, double tolerance,
+                                     double min_quality, double min_dihedral, double size_weight, double max_cost,
+                                     int threads, double feature_angle, const std::string& optimize) {
+  topotet::SimplifyOptions o;
+  o.target_vertex_ratio = ratio;
+  o.target_vertices = target_vertices;
+  o.tolerance_rel = tolerance_rel;
+  o.tolerance = tolerance;
+  o.min_quality = min_quality;
+  o.min_dihedral = min_dihedral;
+  o.size_weight = size_weight;
+  o.max_cost = max_cost;
+  o.num_threads = threads;
+  o.feature_angle = feature_angle;
+  o.optimize = optimize_of(optimize);
+  return o;
+}
+
 py::dict report_dict(const topotet::Report& r) {
   py::dict rejected;
   for (topotet::RejectReason reason : topotet::kRejectReasons) rejected[topotet::to_string(reason)] = r.rejected_by(reason);
@@ -428,17 +447,8 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   topotet::CellRemapOptions remap;
   remap.extensive = extensive;
   remap.categorical = categorical;
-  topotet::SimplifyOptions options;
-  options.target_vertex_ratio = ratio;
-  options.target_vertices = target_vertices;
-  options.tolerance_rel = tolerance_rel;
-  options.tolerance = tolerance;
-  options.min_quality = min_quality;
-  options.min_dihedral = min_dihedral;
-  options.size_weight = size_weight;
-  options.max_cost = max_cost;
-  options.num_threads = threads;
-  options.feature_angle = feature_angle;
+  topotet::SimplifyOptions options = run_options(ratio, target_vertices, tolerance_rel, tolerance, min_quality, min_dihedral,
+                                                  size_weight, max_cost, threads, feature_angle, optimize);
   options.field_weights = field_weights;
   options.max_field_error = max_field_error;
   options.max_field_error_rel = max_field_error_rel;
@@ -446,7 +456,6 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   options.polyline_weight = polyline_weight;
   options.round_fraction = round_fraction;
   options.isosurfaces = iso_levels(isosurfaces);
-  options.optimize = optimize_of(optimize);
   // As `topotet simplify --hierarchy`: with fields, each collapse records its field error bound, so
   // that extract(max_error=...) selects by a guaranteed error, not by a cost.
   if (hierarchy && !fields.is_none()) options.track_field_bounds = true;
@@ -576,8 +585,8 @@ PYBIND11_MODULE(_core, m) {
       "simplify_out_of_core",
       [](const std::string& input, const std::string& output, const py::object& memory_limit, std::uint32_t pieces,
          const std::string& scratch, double ratio, std::uint64_t target_vertices, double tolerance_rel,
-         double tolerance, double min_quality, double min_dihedral, double feature_angle, int threads,
-         const std::string& optimize, const std::vector<std::string>& extensive,
+         double tolerance, double min_quality, double min_dihedral, double size_weight, double max_cost,
+         double feature_angle, int threads, const std::string& optimize, const std::vector<std::string>& extensive,
          const std::vector<std::string>& categorical) {
         topotet::OutOfCoreOptions ooc;
         if (py::isinstance<py::str>(memory_limit)) ooc.memory_limit_bytes = topotet::parse_memory_size(memory_limit.cast<std::string>());
@@ -586,16 +595,8 @@ PYBIND11_MODULE(_core, m) {
         ooc.scratch_parent = scratch;
         ooc.cell_remap.extensive = extensive;
         ooc.cell_remap.categorical = categorical;
-        topotet::SimplifyOptions o;
-        o.target_vertex_ratio = ratio;
-        o.target_vertices = target_vertices;
-        o.tolerance_rel = tolerance_rel;
-        o.tolerance = tolerance;
-        o.min_quality = min_quality;
-        o.min_dihedral = min_dihedral;
-        o.feature_angle = feature_angle;
-        o.num_threads = threads;
-        o.optimize = optimize_of(optimize);
+        const topotet::SimplifyOptions o = run_options(ratio, target_vertices, tolerance_rel, tolerance, min_quality,
+                                                       min_dihedral, size_weight, max_cost, threads, feature_angle, optimize);
         topotet::OutOfCoreReport r;
         {
           py::gil_scoped_release release;
@@ -628,7 +629,8 @@ PYBIND11_MODULE(_core, m) {
       py::arg("scratch") = "", py::arg("ratio") = defaults.target_vertex_ratio,
       py::arg("target_vertices") = defaults.target_vertices, py::arg("tolerance_rel") = defaults.tolerance_rel,
       py::arg("tolerance") = defaults.tolerance, py::arg("min_quality") = defaults.min_quality,
-      py::arg("min_dihedral") = defaults.min_dihedral, py::arg("feature_angle") = defaults.feature_angle,
+      py::arg("min_dihedral") = defaults.min_dihedral, py::arg("size_weight") = defaults.size_weight,
+      py::arg("max_cost") = defaults.max_cost, py::arg("feature_angle") = defaults.feature_angle,
       py::arg("threads") = defaults.num_threads, py::arg("optimize") = topotet::to_string(defaults.optimize),
       py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
       "Simplifies a MEDIT file (.mesh / .mesh.gz + .sol) larger than memory into `output`, out of core "

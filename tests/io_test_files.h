@@ -13,8 +13,25 @@
 #include <vector>
 
 #include "topotet/error.h"
+#include "topotet/mesh_data.h"
 
 namespace topotet::test {
+
+// A small mesh with every kind of data MeshData holds.
+inline MeshData two_tets() {
+  MeshData m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+  m.tets = {{0, 1, 2, 3}, {1, 2, 3, 4}};
+  m.tet_material = {1, 2};
+  m.triangles = {{{1, 2, 3}, 9}};
+  m.segments = {{{0, 1}, -1}, {{1, 2}, 0}};
+  m.ridges = {1};
+  m.corners = {0};
+  m.required_vertices = {0, 4};
+  m.vertex_refs = {0, 3, 0, 0, 0};
+  m.fields = {{"s", 1, {0.1, 0.2, 0.3, 0.4, -0.0}}, {"t", 6, std::vector<double>(30, 1.0 / 3.0)}};
+  return m;
+}
 
 // A fresh folder, removed with everything in it at the end of the test.
 class TempDir {

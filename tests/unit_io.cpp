@@ -39,6 +39,7 @@ std::string test_data(const std::string& rel) { return std::string(TOPOTET_TEST_
   } while (0)
 
 using test::read_text;
+using test::two_tets;
 using test::TempDir;
 using test::write_text;
 
@@ -119,22 +120,6 @@ MeshData grouped_by_entity(const MeshData& m) {
     if (ridge[segs[i]]) g.ridges.push_back(static_cast<std::uint32_t>(i));
   }
   return g;
-}
-
-// A small mesh with every kind of data MeshData holds.
-MeshData two_tets() {
-  MeshData m;
-  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
-  m.tets = {{0, 1, 2, 3}, {1, 2, 3, 4}};
-  m.tet_material = {1, 2};
-  m.triangles = {{{1, 2, 3}, 9}};
-  m.segments = {{{0, 1}, -1}, {{1, 2}, 0}};
-  m.ridges = {1};
-  m.corners = {0};
-  m.required_vertices = {0, 4};
-  m.vertex_refs = {0, 3, 0, 0, 0};
-  m.fields = {{"s", 1, {0.1, 0.2, 0.3, 0.4, -0.0}}, {"t", 6, std::vector<double>(30, 1.0 / 3.0)}};
-  return m;
 }
 
 // ---------------------------------------------------------------------------------------------

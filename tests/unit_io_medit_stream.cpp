@@ -101,19 +101,10 @@ TEST(MeditStream, VisitorAndSolStreamSeeWhatReadMeshKeeps) {
   }
 }
 
-// Every section and both kinds of fields, through write_mesh (built on the stream writer).
+// Every section and both kinds of fields (test::two_tets and a cell field), through write_mesh
+// (built on the stream writer).
 MeshData every_section() {
-  MeshData m;
-  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
-  m.vertex_refs = {0, 3, 0, 0, 7};
-  m.tets = {{0, 1, 2, 3}, {1, 2, 3, 4}};
-  m.tet_material = {1, 2};
-  m.triangles = {{{1, 2, 3}, 9}};
-  m.segments = {{{0, 1}, -1}, {{1, 2}, 0}};
-  m.ridges = {1};
-  m.corners = {0};
-  m.required_vertices = {0, 4};
-  m.fields = {{"pressure", 1, {0.1, 0.2, 0.3, 0.4, -0.0}}, {"velocity", 3, std::vector<double>(15, 1.0 / 3.0)}};
+  MeshData m = test::two_tets();
   m.cell_fields = {{"conductivity", 1, CellFieldKind::kIntensive, {5.0, 6.5}}};
   return m;
 }
@@ -134,10 +125,12 @@ TEST(MeditStream, WriterByHandGivesWriteMeshBytes) {
   {
     MeditStreamWriter w(dir.file("hand.mesh"), m.fields, m.cell_fields);
     w.begin_vertices(m.positions.size());
+    std::vector<double> values;
     for (std::size_t v = 0; v < m.positions.size(); ++v) {
-      const double values[4] = {m.fields[0].values[v], m.fields[1].values[3 * v], m.fields[1].values[3 * v + 1],
-                                m.fields[1].values[3 * v + 2]};
-      w.vertex(m.positions[v], m.vertex_refs[v], values);
+      values.clear();  // every field's values of vertex v, in field order
+      for (const VertexField& f : m.fields)
+        values.insert(values.end(), f.values.begin() + v * f.components, f.values.begin() + (v + 1) * f.components);
+      w.vertex(m.positions[v], m.vertex_refs[v], values.data());
     }
     w.begin_tets(m.tets.size());
     for (std::size_t t = 0; t < m.tets.size(); ++t) w.tet(m.tets[t], m.tet_material[t], &m.cell_fields[0].values[t]);

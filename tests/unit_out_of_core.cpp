@@ -14,6 +14,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "io_test_files.h"
 #include "outofcore/cut.h"
 #include "outofcore/memory_budget.h"
 #include "topotet/error.h"
@@ -30,23 +31,6 @@ namespace topotet {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct Folder {
-  fs::path path;
-  explicit Folder(const std::string& name) : path(fs::temp_directory_path() / ("topotet-ooc-" + name)) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Folder() { fs::remove_all(path); }
-  std::string operator/(const std::string& file) const { return (path / file).string(); }
-  // Nothing but the files named: no scratch folder, no temporary output left.
-  std::vector<std::string> entries() const {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-  }
-};
 
 MeshData generated(const std::string& family, std::uint64_t tets) {
   GenerateOptions g;
@@ -102,9 +86,9 @@ struct Outcome {
   std::string bytes;
 };
 
-Outcome run(const MeshData& input, const Folder& folder, std::uint32_t pieces, double ratio, int threads,
+Outcome run(const MeshData& input, const test::TempDir& folder, std::uint32_t pieces, double ratio, int threads,
         std::uint64_t limit = 0) {
-  const std::string in = folder / "in.mesh", out = folder / "out.mesh";
+  const std::string in = folder.file("in.mesh"), out = folder.file("out.mesh");
   write_mesh(in, input);
   SimplifyOptions options;
   options.target_vertex_ratio = ratio;
@@ -136,7 +120,7 @@ class OutOfCore : public ::testing::TestWithParam<std::string> {};
 TEST_P(OutOfCore, ManyPiecesKeepTheTopologyAndTheTolerance) {
   MeshData input = generated(GetParam(), 24000);
   plant_in_mid_plane(input);
-  Folder folder("topology-" + GetParam());
+  test::TempDir folder;
   const Outcome r = run(input, folder, 16, 0.2, 2);
   EXPECT_EQ(r.report.pieces, 16u);
   EXPECT_EQ(r.report.output_pieces, 1u);
@@ -166,7 +150,7 @@ TEST_P(OutOfCore, ManyPiecesKeepTheTopologyAndTheTolerance) {
 // The linked tori: two interlocked rings (b1 of each, and their linking) across many pieces.
 TEST(OutOfCoreLinkedTori, InterlockedRingsAcrossManyPieces) {
   const MeshData input = generated("linked-tori", 40000);
-  Folder folder("tori");
+  test::TempDir folder;
   const Outcome r = run(input, folder, 32, 0.2, 2);
   EXPECT_EQ(r.report.pieces, 32u);
   expect_same_topology(input, r.output);
@@ -182,7 +166,7 @@ INSTANTIATE_TEST_SUITE_P(Families, OutOfCore, ::testing::Values("cube-sphere", "
 
 TEST(OutOfCoreDeterminism, SameBytesForOneAndTwoThreadsAndForEveryRun) {
   const MeshData input = generated("cube-sphere", 20000);
-  Folder a("det-a"), b("det-b"), c("det-c");
+  test::TempDir a, b, c;
   const Outcome one = run(input, a, 8, 0.15, 1);
   const Outcome two = run(input, b, 8, 0.15, 2);
   const Outcome again = run(input, c, 8, 0.15, 2);
@@ -195,7 +179,7 @@ TEST(OutOfCoreFields, FieldsAndCellFieldsTravelWithTheirVertices) {
   CellField cells{"cellsol0", 1, CellFieldKind::kIntensive, {}};
   for (std::size_t t = 0; t < input.tet_count(); ++t) cells.values.push_back(input.tet_material[t] * 10.0);
   input.cell_fields.push_back(cells);
-  Folder folder("fields");
+  test::TempDir folder;
   const Outcome r = run(input, folder, 8, 0.3, 2);
   ASSERT_EQ(r.output.fields.size(), input.fields.size());
   ASSERT_EQ(r.output.cell_fields.size(), 1u);
@@ -218,8 +202,8 @@ TEST(OutOfCoreFields, FieldsAndCellFieldsTravelWithTheirVertices) {
 
 TEST(OutOfCoreLimit, ATinyLimitCutsIntoPiecesAndOneTooSmallIsRefusedBeforeAnyWork) {
   const MeshData input = generated("cube-sphere", 60000);
-  Folder folder("limit");
-  const std::string in = folder / "in.mesh", out = folder / "out.mesh";
+  test::TempDir folder;
+  const std::string in = folder.file("in.mesh"), out = folder.file("out.mesh");
   write_mesh(in, input);
   OutOfCoreOptions ooc;
   ooc.memory_limit_bytes = 1024 * 1024;  // 1 MiB: below the process itself
@@ -251,8 +235,8 @@ TEST(OutOfCoreLimit, ATinyLimitCutsIntoPiecesAndOneTooSmallIsRefusedBeforeAnyWor
 
 TEST(OutOfCoreErrors, BadInputAndOptionsAreClearErrorsAndLeaveNothing) {
   MeshData input = generated("cube-sphere", 5000);
-  Folder folder("errors");
-  const std::string in = folder / "in.mesh", out = folder / "out.mesh";
+  test::TempDir folder;
+  const std::string in = folder.file("in.mesh"), out = folder.file("out.mesh");
   OutOfCoreOptions ooc;
   ooc.pieces = 4;
   const auto message = [&](const SimplifyOptions& options) -> std::string {
