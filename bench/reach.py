@@ -4,7 +4,10 @@
 For every input: `topotet simplify IN -o OUT --ratio R --threads T --json J` with every other option
 at its default, then one markdown row: the vertices asked and left, how many times the target that
 is, the stop diagnosis's dominant reason with its share of the vertices left (`reached` when the
-target was met), the pinned vertices, and the topology verdict of the output against the input.
+target was met), the pinned vertices, the tolerance H and dihedral floor that hold for the output
+(the defaults relax where they would stop the run short: SimplifyOptions::relax_tolerance,
+relax_quality), the measured Hausdorff distance (both relative to the diagonal), and the topology
+verdict of the output against the input.
 
     python3 bench/reach.py build/cli/topotet                       # families 200k + ../shared/data
     python3 bench/reach.py build/cli/topotet --only 'torus|liver' --ratios 0.1
@@ -42,7 +45,7 @@ def row(topotet, name, path, ratio, threads, work):
                           "--threads", str(threads), "--quiet", "--json", json_path],
                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if run.returncode != 0 or not os.path.exists(json_path):
-        return f"| {name} | {ratio:.0%} | failed: {run.stderr.strip()[:120]} | | | | | |"
+        return f"| {name} | {ratio:.0%} | failed: {run.stderr.strip()[:120]} | | | | | | | | |"
     report = json.load(open(json_path))
     level = report["levels"][-1]
     before, after = level["vertices_before"], level["vertices_after"]
@@ -54,8 +57,16 @@ def row(topotet, name, path, ratio, threads, work):
     else:
         reason, pinned = "reached", 0
     topology = level.get("topology") or report.get("topology") or "-"
+    # The limits as they held (relaxed by default where they would stop the run short) and the
+    # measured two-sided Hausdorff distance, both as a share of the diagonal.
+    distance = level.get("surface_distance") or {}
+    diagonal = distance.get("diagonal") or 0.0
+    h, h_asked = level.get("tolerance", 0.0), level.get("tolerance_asked", 0.0)
+    held = (f"{h / diagonal:.2%}" if diagonal and h else "off") + (f" ({h / h_asked:.0f}x)" if h_asked and h != h_asked else "")
+    floor = f"{level.get('min_dihedral_used', 0.0):.3g}"
+    hausdorff = f"{distance['hausdorff_rel']:.2%}" if "hausdorff_rel" in distance else "-"
     return (f"| {name} | {before:,} | {ratio:.0%} | {asked:,} | {after:,} ({after / before:.1%}) | {after / asked:.2f} | "
-            f"{reason} | {pinned:,} | {str(topology).lower()} |")
+            f"{reason} | {pinned:,} | {held} | {floor} | {hausdorff} | {str(topology).lower()} |")
 
 
 def main():
@@ -70,8 +81,9 @@ def main():
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
     topotet = os.path.abspath(args.topotet)
-    print("| input | vertices | asked | target | left | x target | stopped by (share of the vertices left) | pinned | topology |")
-    print("| --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | --- |")
+    print("| input | vertices | asked | target | left | x target | stopped by (share of the vertices left) | pinned | "
+          "H that holds (x asked) | min dihedral used | Hausdorff | topology |")
+    print("| --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: | --- |")
     for name, path in inputs(topotet, args.work, args.tets, args.extra):
         if args.only and not re.search(args.only, name):
             continue

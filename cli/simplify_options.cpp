@@ -53,13 +53,19 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
                        "Stop when the cheapest collapse costs more (quadric error / bbox diagonal^2; 0 = no limit)")
            ->check(number_in(0.0, kInfinity, false))
            ->capture_default_str());
-  keep(cmd->add_option("--min-quality", args.min_quality, "Reject collapses creating tets below this mean ratio")
+  const auto quality_given = [&args](const std::string&) { args.quality_given = true; };
+  const auto tolerance_given = [&args](const std::string&) { args.tolerance_given = true; };
+  keep(cmd->add_option("--min-quality", args.min_quality,
+                       "Reject collapses creating tets below this mean ratio (given: a hard limit; by default it "
+                       "halves, with --min-dihedral, where it would stop the run before its target)")
            ->check(number_in(0.0, 1.0, false))
+           ->each(quality_given)
            ->capture_default_str());
   keep(cmd->add_option("--min-dihedral", args.min_dihedral,
                        "Reject collapses and optimisation steps creating tets with a dihedral angle below this "
                        "(degrees; or above 180 minus it), unless the tets they replace were already worse; 0 = no floor")
            ->check(number_in(0.0, 60.0, false))
+           ->each(quality_given)
            ->capture_default_str());
   keep(cmd->add_option("--size-weight", args.size_weight,
                        "Weight W of the edge size in the ranking of collapses: short edges go first where the error "
@@ -75,12 +81,19 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
   auto* tolerance = keep(cmd->add_option("--tolerance", args.tolerance,
                                          "Keep boundary, interfaces, surfaces and polylines within this distance of "
                                          "the original ones (mesh units; 0 = unchecked; default: --tolerance-rel)")
-                             ->check(number_in(0.0, kInfinity, false)));
+                             ->check(number_in(0.0, kInfinity, false))
+                             ->each(tolerance_given));
   keep(cmd->add_option("--tolerance-rel", args.tolerance_rel,
-                       "The same, relative to the bounding box diagonal (0 = unchecked)")
+                       "The same, relative to the bounding box diagonal (0 = unchecked). Given (either): a hard "
+                       "limit; by default H doubles where it would stop the run before its target, and the report "
+                       "gives the H that holds")
            ->check(number_in(0.0, kInfinity, false))
            ->excludes(tolerance)
+           ->each(tolerance_given)
            ->capture_default_str());
+  keep(cmd->add_flag("--hard-limits", args.hard_limits,
+                     "Keep the default tolerance and quality floors as they are even when they stop the run before "
+                     "its target (the report then says what held the vertices left)"));
   auto* max_field_error =
       keep(cmd->add_option("--max-field-error", args.max_field_error,
                            "Refuse collapses that would let the field error at an original vertex exceed E (field "
@@ -231,6 +244,8 @@ SimplifyOptions engine_options(const SimplifyArgs& args) {
   } else {
     o.tolerance_rel = args.tolerance_rel;
   }
+  o.relax_tolerance = !args.hard_limits && !args.tolerance_given;
+  o.relax_quality = !args.hard_limits && !args.quality_given;
   o.max_field_error = args.max_field_error;
   o.max_field_error_rel = args.max_field_error_rel;
   o.track_field_bounds = args.field_bounds;
@@ -267,6 +282,12 @@ std::string options_text(const SimplifyOptions& o, const std::vector<double>& le
   s += o.tolerance > 0 ? ", tolerance " + format_number(o.tolerance)
        : o.tolerance_rel > 0 ? ", tolerance " + format_number(100.0 * o.tolerance_rel) + "% of the diagonal"
                              : std::string(", no tolerance");
+  const bool tolerance_relaxes = o.relax_tolerance && (o.tolerance > 0 || o.tolerance_rel > 0);
+  if (tolerance_relaxes || o.relax_quality)
+    s += std::string(", relaxed to reach the target: ") +
+         (tolerance_relaxes && o.relax_quality ? "tolerance and quality floors" : tolerance_relaxes ? "tolerance" : "quality floors");
+  else
+    s += ", hard limits";
   s += o.feature_angle < 180.0 ? ", feature angle " + format_number(o.feature_angle) : std::string(", no features");
   if (o.engine == Engine::kParallel) s += ", round fraction " + format_number(o.round_fraction);
   s += std::string(", optimize ") + to_string(o.optimize);

@@ -35,6 +35,11 @@ struct SimplifyArgs {
   std::string size_weight = "auto";  // --size-weight auto|W
   double tolerance = -1.0;  // < 0: not given (the relative default applies)
   double tolerance_rel = SimplifyOptions{}.tolerance_rel;
+  // A limit given on the command line holds as given; the defaults relax when they would stop the
+  // run before its target (SimplifyOptions::relax_tolerance, relax_quality); --hard-limits: neither.
+  bool tolerance_given = false;  // --tolerance or --tolerance-rel
+  bool quality_given = false;    // --min-quality or --min-dihedral
+  bool hard_limits = false;
   double max_field_error = 0.0;
   double max_field_error_rel = 0.0;
   bool field_bounds = false;

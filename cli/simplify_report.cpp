@@ -1,5 +1,6 @@
 #include "simplify_report.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -109,6 +110,14 @@ Json level_json(const LevelResult& l) {
   j["tolerance"] = r.tolerance;
   j["tolerance_setup_seconds"] = r.tolerance_setup_seconds;
   j["tolerance_limited"] = r.tolerance_limited;
+  j["tolerance_asked"] = r.tolerance_asked;
+  j["min_quality_used"] = r.min_quality_used;
+  j["min_dihedral_used"] = r.min_dihedral_used;
+  Json relaxations = Json::array();
+  for (const Relaxation& x : r.relaxations)
+    relaxations.push_back({{"limit", x.limit}, {"from", x.from}, {"to", x.to}, {"vertices_left", x.vertices_left}, {"share", x.share}});
+  j["relaxations"] = relaxations;
+  j["relax_seconds"] = r.relax_seconds;
   j["field_bounds"] = field_bounds_json(l);
   j["feature_edges"] = r.feature_edges;
   j["feature_corners"] = r.feature_corners;
@@ -364,8 +373,40 @@ void print_optimize(const SimplifyJob& job, const Report& r) {
                       format_seconds(r.optimize_seconds) + ")");
 }
 
+// The limits the run relaxed to reach its target (SimplifyOptions::relax_tolerance, relax_quality),
+// from what to what: the output's guarantees hold with the relaxed values.
+void print_relaxations(const Report& r) {
+  if (r.relaxations.empty()) return;
+  struct Span {
+    const char* limit;
+    double from, to;
+    int steps;
+  };
+  std::vector<Span> spans;  // per limit, in the order first relaxed
+  for (const Relaxation& x : r.relaxations) {
+    auto it = std::find_if(spans.begin(), spans.end(), [&](const Span& s) { return std::string(s.limit) == x.limit; });
+    if (it == spans.end()) spans.push_back({x.limit, x.from, x.to, 1});
+    else it->to = x.to, ++it->steps;
+  }
+  std::string text;
+  for (const Span& s : spans) {
+    const std::string name = std::string(s.limit) == "tolerance" ? "tolerance H" : std::string(s.limit) == "min_dihedral" ? "min dihedral" : "min quality";
+    text += (text.empty() ? "" : ", ") + name + " " + format_number(s.from) + " -> " + format_number(s.to) +
+            (std::string(s.limit) == "min_dihedral" ? " degrees" : "") + " (" + std::to_string(s.steps) +
+            (s.steps == 1 ? " step)" : " steps)");
+  }
+  row("relaxed", text + " to reach the target; the output holds its guarantees with these values (a limit given as "
+                        "an option, or --hard-limits, holds as given; choosing took " + format_seconds(r.relax_seconds) + ")");
+}
+
 void print_tolerance(const SimplifyJob& job, const Report& r) {
-  row("tolerance", format_number(r.tolerance) + (job.options.tolerance > 0 ? "" : " (" + format_number(100.0 * job.options.tolerance_rel) + "% of the diagonal)") +
+  const bool relaxed = r.tolerance != r.tolerance_asked;
+  const bool relative = job.options.tolerance <= 0 && job.options.tolerance_rel > 0;
+  const auto of_diagonal = [&](double h) {
+    return relative ? " (" + format_number(100.0 * job.options.tolerance_rel * h / r.tolerance_asked) + "% of the diagonal)" : std::string();
+  };
+  row("tolerance", format_number(r.tolerance) + of_diagonal(r.tolerance) +
+                       (relaxed ? ", relaxed from " + format_number(r.tolerance_asked) + of_diagonal(r.tolerance_asked) : "") +
                        (r.tolerance_limited ? ", may have stopped the run before the target (it refused " +
                                                   format_count(r.rejected_by(RejectReason::kTolerance)) + " collapses)"
                                             : "") +
@@ -458,6 +499,8 @@ Json options_json(const SimplifyJob& job, const SimplifyRun& run) {
           {"round_fraction", job.options.round_fraction},
           {"tolerance", job.options.tolerance},
           {"tolerance_rel", job.options.tolerance_rel},
+          {"relax_tolerance", job.options.relax_tolerance},
+          {"relax_quality", job.options.relax_quality},
           {"max_field_error", job.options.max_field_error},
           {"max_field_error_rel", job.options.max_field_error_rel},
           {"feature_angle", job.options.feature_angle},
@@ -484,6 +527,7 @@ void print_report(const SimplifyJob& job, const SimplifyRun& run) {
     if (job.options.feature_angle < 180.0) print_features(job, run);
     if (job.levels.empty() && job.options.optimize != Optimize::kNone && job.hierarchy_path.empty()) print_optimize(job, r);
     if (job.levels.empty() && r.tolerance > 0) print_tolerance(job, r);
+    if (job.levels.empty()) print_relaxations(r);
     if (job.levels.empty() && r.field_bounds) print_field_bounds(job, last);
     if (job.levels.empty() && job.metrics)
       print_surface_distance(last.distance, last.distance_seconds, /*per_label=*/verbosity() >= Verbosity::kVerbose);

@@ -19,6 +19,7 @@
 #include "mesh/special_faces.h"
 #include "optimize/optimize.h"
 #include "guarantees/surface_tolerance.h"
+#include "relax_limits.h"
 #include "stop_diagnosis.h"
 #include "topotet/features.h"
 #include "topotet/simplify.h"
@@ -196,6 +197,9 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
       // polylines (line quadrics; a curve label the tolerance checks).
       // The special faces, found once for both the features and the tolerance's reference.
       report.tolerance = options.tolerance > 0.0 ? options.tolerance : options.tolerance_rel * bounding_box_diagonal(mesh);
+      report.tolerance_asked = report.tolerance;
+      report.min_quality_used = options.min_quality;
+      report.min_dihedral_used = options.min_dihedral;
       const auto special_start = std::chrono::steady_clock::now();
       SpecialFaces special;
       if (report.tolerance > 0.0) special = find_special_faces(mesh);
@@ -251,9 +255,11 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
       // mesh's tets), then the optimisation. Not with a collapse log: a hierarchy's levels are
       // collapse sequences, and a moved vertex would make its finest level differ from the output.
       const detail::FinishStep finish = [&](CostModel& cost) {
+        // Report::stop: why, and what to change (already taken when the last relax step declined:
+        // no collapse since).
         if (report.status == Status::kStoppedEarly && report.message == "no legal collapse left" &&
-            mesh.live_vertex_count() > target)
-          detail::diagnose_stop(mesh, options, kernel, report);  // Report::stop: why, and what to change
+            mesh.live_vertex_count() > target && !report.stop.is_filled)
+          detail::diagnose_stop(mesh, options, kernel, report);
         if (samples != nullptr) samples->index(mesh);
         if (log == nullptr) optimize_after_collapses(mesh, options, cost, bounds.get(), samples.get(), report);
         samples.reset();
@@ -265,10 +271,15 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
             if (!mesh.is_dead_vertex(v)) given.quadrics_out->insert(given.quadrics_out->end(), cost.quadric_of(v), cost.quadric_of(v) + qs);
         }
       };
+      // When the tolerance or the quality floors would stop the run short, and the options let
+      // them, they relax (relax_limits.h). The engines hold `kernel` by reference.
+      detail::RelaxStep relax;
+      if (options.relax_tolerance || options.relax_quality)
+        relax = [&] { return detail::relax_limits(mesh, options, kernel, coverage.get(), target, report); };
       if (options.engine == Engine::kSequential)
-        detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report, log, finish);
+        detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report, log, finish, relax);
       else
-        detail::simplify_parallel(mesh, options, kernel, bounds.get(), target, report, log, finish);
+        detail::simplify_parallel(mesh, options, kernel, bounds.get(), target, report, log, finish, relax);
       if (bounds != nullptr) {
         report.field_bound = bounds->max_bounds(mesh);
         report.field_bound_rel = bounds->max_bound_rel(mesh);

@@ -36,17 +36,22 @@ class Progress {
 // (the stop diagnosis, then the optimisation of optimize/optimize.h, which needs the quadrics).
 using FinishStep = std::function<void(CostModel&)>;
 
+// What the driver does when no legal collapse is left before the target: relax a limit in the
+// kernel options the engine was given (relax_limits.h) and return true, and the engine takes the
+// options again, looks at every edge once more and goes on; false: the run stops there.
+using RelaxStep = std::function<bool()>;
+
 // `kernel` carries the kernel settings derived from the options (quality floor, tolerance, the
 // field bound limits); `bounds` (kernel.field_bounds, writable; nullptr = none) is updated by
 // every applied collapse. `log`, when given, records every accepted collapse (hierarchy_log.h),
 // with the field bound of its new star when `bounds` is given. `finish` (may be empty) runs at the
-// end unless the run was cancelled.
+// end unless the run was cancelled. `relax` (may be empty) is asked before the run stops early.
 void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
                          FieldBounds* bounds, std::uint64_t target_vertices, Report& report,
-                         CollapseLog* log = nullptr, const FinishStep& finish = {});
+                         CollapseLog* log = nullptr, const FinishStep& finish = {}, const RelaxStep& relax = {});
 void simplify_parallel(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
                        FieldBounds* bounds, std::uint64_t target_vertices, Report& report, CollapseLog* log = nullptr,
-                       const FinishStep& finish = {});
+                       const FinishStep& finish = {}, const RelaxStep& relax = {});
 
 // simplify() with a collapse log (topotet::simplify_with_hierarchy). new2old receives the
 // locality renumbering (reorder.h) that the log's vertex ids are in (old = the mesh as passed).

@@ -18,7 +18,8 @@
 //     5. apply (parallel over winners): collapse with the proved placement (the stencil is
 //        untouched since the verification, so the check still holds), update the quadrics, and
 //        tell the stencil's vertices that their stars changed (which of them must re-propose)
-//   stop when the target is reached or no proposal is left (after one refresh that lifts all bans)
+//   stop when the target is reached or no proposal is left (after one refresh that lifts all bans,
+//   and, when the driver relaxes a limit that held the vertices left, one more: relax_limits.h)
 //
 // Why the output is bit-identical for any thread count: every proposal and verification is a pure
 // function of the mesh at the start of its phase and of the vertex's own state; the threshold is
@@ -117,8 +118,9 @@ void stencil_of(const MeshModel& mesh, VertId a, VertId b, std::vector<VertId>& 
 class Rounds {
  public:
   Rounds(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel, FieldBounds* bounds,
-         std::uint64_t target, Report& report, CollapseLog* log)
-      : mesh_(mesh),
+         std::uint64_t target, Report& report, CollapseLog* log, const RelaxStep& relax)
+      : relax_(relax),
+        mesh_(mesh),
         bounds_(bounds),
         coverage_(kernel.coverage),
         log_(log),
@@ -163,6 +165,13 @@ class Rounds {
         if (!refreshed_since_collapse) {
           refresh();
           refreshed_since_collapse = true;
+          continue;
+        }
+        // A limit the caller lets relax held the vertices left: the driver relaxed it; every edge
+        // gets one more look under it (and if none passes, the next relaxation is asked for).
+        if (relax_ && relax_()) {
+          proposals_.kernel_changed();
+          refresh();
           continue;
         }
         report_.status = Status::kStoppedEarly;
@@ -621,6 +630,7 @@ class Rounds {
   }
 
  private:
+  const RelaxStep& relax_;
   MeshModel& mesh_;
   FieldBounds* bounds_;  // nullptr = none; each collapse updates its own stencil's bounds
   SurfaceCoverage* coverage_;  // nullptr = none; each collapse moves its own stencil's surface items
@@ -660,8 +670,8 @@ class Rounds {
 
 void simplify_parallel(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
                        FieldBounds* bounds, std::uint64_t target, Report& report, CollapseLog* log,
-                       const FinishStep& finish) {
-  Rounds rounds(mesh, options, kernel, bounds, target, report, log);
+                       const FinishStep& finish, const RelaxStep& relax) {
+  Rounds rounds(mesh, options, kernel, bounds, target, report, log, relax);
   rounds.run();
   rounds.release();
   if (finish && report.status != Status::kCancelled) finish(rounds.cost());

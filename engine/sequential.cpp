@@ -3,7 +3,8 @@
 //
 //   quadrics, orders  <- CostModel(mesh)
 //   heap              <- every edge ab with its cheapest placement cost, stamped now
-//   while live vertices > target and heap not empty:
+//   while live vertices > target and heap not empty (an empty heap is refilled with every edge
+//   when the driver relaxes a limit that held them: engines.h, relax_limits.h):
 //       pop the cheapest entry (cost, a, b, stamp)
 //       if a or b is dead, or changed after `stamp`: skip it   (a fresher entry exists)
 //       if cost > max_cost: stop
@@ -47,7 +48,7 @@ struct Entry {
 
 void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel_options,
                          FieldBounds* bounds, std::uint64_t target, Report& report, CollapseLog* log,
-                         const FinishStep& finish) {
+                         const FinishStep& finish, const RelaxStep& relax) {
   CostModel cost(mesh, options, kernel_options.surfaces);
   CollapseScratch scratch;
   CollapseCandidate cands[kMaxCandidates];
@@ -81,17 +82,29 @@ void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const 
     ++report.evaluations;
     if (cost.candidates(mesh, a, b, cands, scratch.link) > 0) heap.push({cands[0].cost, a, b, clock});
   };
-  for (VertId a = 0; a < mesh.positions.size(); ++a) {
-    if (mesh.is_dead_vertex(a)) continue;
-    mesh.neighbours(a, nbrs);
-    for (VertId b : nbrs)
-      if (b > a) push(a, b);
-  }
+  auto push_every_edge = [&] {
+    for (VertId a = 0; a < mesh.positions.size(); ++a) {
+      if (mesh.is_dead_vertex(a)) continue;
+      mesh.neighbours(a, nbrs);
+      for (VertId b : nbrs)
+        if (b > a) push(a, b);
+    }
+  };
+  push_every_edge();
 
   std::uint64_t live = mesh.live_vertex_count();
   Progress progress(options, live, target);
   std::uint64_t next_progress = 256;
-  while (live > target && !heap.empty()) {
+  while (live > target) {
+    if (heap.empty()) {
+      // A limit the caller lets relax held the edges left: the driver relaxed it (engines.h);
+      // every edge is offered once more under it.
+      if (!relax || !relax()) break;
+      for (auto& p : parked) p.fill(kInvalid);
+      std::fill(parked_overflow.begin(), parked_overflow.end(), 0);
+      push_every_edge();
+      continue;
+    }
     const Entry e = heap.top();
     heap.pop();
     if (mesh.is_dead_vertex(e.a) || mesh.is_dead_vertex(e.b) || stamp[e.a] > e.stamp || stamp[e.b] > e.stamp)

@@ -88,6 +88,9 @@ module topotet
     type(c_ptr) :: progress_user_data
     real(c_double) :: min_dihedral  ! degrees; default 5; 0 = no dihedral floor
     real(c_double) :: size_weight  ! size term in the ranking of collapses; 0 = error only; < 0 = auto (default)
+    ! 1 (default): the tolerance (H doubled) / the quality floors (halved) relax where they would stop
+    ! the run before its target, the report gives the values that hold; 0: hard limits
+    integer(c_int) :: relax_tolerance, relax_quality
   end type
 
   type, bind(c), public :: topotet_report
@@ -109,6 +112,8 @@ module topotet
     real(c_double) :: field_bound_rel
     integer(c_int64_t) :: cell_overlap_pairs, cell_nearest_new_tets, cell_nearest_original_tets
     real(c_double) :: cell_covered_volume_fraction, cell_remap_seconds
+    real(c_double) :: tolerance_asked, min_quality_used, min_dihedral_used  ! as asked / as they hold
+    integer(c_int64_t) :: relaxations  ! limits relaxed to reach the target
   end type
 
   public :: topotet_mesh_arrays_init, topotet_options_init, topotet_mesh_build, topotet_mesh_read, &

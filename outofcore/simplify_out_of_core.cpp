@@ -307,6 +307,11 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   SimplifyOptions base = options;
   base.cost_units = &cut.units;
   base.target_vertex_ratio = 1.0;
+  // The limits hold as given: a piece stops short of its level's share instead of relaxing them,
+  // since a piece's H is its level's part of the run's (the parts add up to H) and the floors
+  // would differ from piece to piece (SimplifyOptions::relax_tolerance, relax_quality).
+  base.relax_tolerance = false;
+  base.relax_quality = false;
 
   std::vector<PieceSlot> slots(cut.pieces);
   std::uint64_t largest_cut_piece = 1;

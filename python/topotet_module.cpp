@@ -366,6 +366,20 @@ py::dict report_dict(const topotet::Report& r) {
   d["phase_seconds"] = phases;
   d["max_cost"] = r.max_cost;
   d["tolerance"] = r.tolerance;
+  d["tolerance_asked"] = r.tolerance_asked;
+  d["min_quality_used"] = r.min_quality_used;
+  d["min_dihedral_used"] = r.min_dihedral_used;
+  py::list relaxations;
+  for (const topotet::Relaxation& x : r.relaxations) {
+    py::dict step;
+    step["limit"] = x.limit;
+    step["from"] = x.from;
+    step["to"] = x.to;
+    step["vertices_left"] = x.vertices_left;
+    step["share"] = x.share;
+    relaxations.append(step);
+  }
+  d["relaxations"] = relaxations;
   d["feature_edges"] = r.feature_edges;
   d["feature_corners"] = r.feature_corners;
   d["optimize_moves"] = r.optimize_moves;
@@ -428,7 +442,8 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
                   double max_field_error_rel, double boundary_weight, double polyline_weight, double round_fraction,
                   const std::optional<std::string>& hierarchy, const std::string& optimize,
                   const py::object& isosurfaces, const py::object& cell_fields, const py::object& cell_kinds,
-                  const std::vector<std::string>& extensive, const std::vector<std::string>& categorical) {
+                  const std::vector<std::string>& extensive, const std::vector<std::string>& categorical,
+                  bool relax_tolerance, bool relax_quality) {
   std::vector<py::array> keep;
   keep.reserve(4 + (fields.is_none() ? 0 : py::len(fields)));  // the views point into these arrays
   const topotet::MeshView input =
@@ -449,6 +464,8 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   remap.categorical = categorical;
   topotet::SimplifyOptions options = run_options(ratio, target_vertices, tolerance_rel, tolerance, min_quality, min_dihedral,
                                                   size_weight, max_cost, threads, feature_angle, optimize);
+  options.relax_tolerance = relax_tolerance;
+  options.relax_quality = relax_quality;
   options.field_weights = field_weights;
   options.max_field_error = max_field_error;
   options.max_field_error_rel = max_field_error_rel;
@@ -550,6 +567,8 @@ PYBIND11_MODULE(_core, m) {
         d["polyline_weight"] = defaults.polyline_weight;
         d["round_fraction"] = defaults.round_fraction;
         d["optimize"] = topotet::to_string(defaults.optimize);
+        d["relax_tolerance"] = defaults.relax_tolerance;
+        d["relax_quality"] = defaults.relax_quality;
         return d;
       },
       "The library's SimplifyOptions defaults under simplify()'s keyword names (the keywords' own defaults "
@@ -570,9 +589,12 @@ PYBIND11_MODULE(_core, m) {
         py::arg("optimize") = topotet::to_string(defaults.optimize), py::arg("isosurfaces") = py::none(),
         py::arg("cell_fields") = py::none(), py::arg("cell_kinds") = py::none(),
         py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
+        py::arg("relax_tolerance") = defaults.relax_tolerance, py::arg("relax_quality") = defaults.relax_quality,
         "Simplifies the mesh, keeping its topology and that of every substructure. The options and their "
         "defaults are topotet::SimplifyOptions': the geometric tolerance (tolerance_rel, 0.4% of the diagonal; "
-        "0 turns it off), features at feature_angle degrees (180 turns them off), field_weights {name: weight}, "
+        "0 turns it off; where it would stop the run before its target H doubles unless relax_tolerance=False, and "
+        "report['tolerance'] is the H that holds; min_quality and min_dihedral likewise halve unless "
+        "relax_quality=False), features at feature_angle degrees (180 turns them off), field_weights {name: weight}, "
         "field error limits (max_field_error in the field's units, max_field_error_rel relative to its range; "
         "0 = none), optimize ('none', 'light' or 'full': smoothing and flips after the collapses), isosurfaces (the "
         "list embed_isosurfaces returns: the vertices of those levels' triangles keep the level exactly), cell_fields "

@@ -45,7 +45,9 @@ int topotet_probe_options(const topotet_options* options, double* values, int ca
                       options->progress != NULL,
                       options->progress_user_data != NULL,
                       options->min_dihedral,
-                      options->size_weight};
+                      options->size_weight,
+                      options->relax_tolerance,
+                      options->relax_quality};
   const int n = (int)(sizeof v / sizeof v[0]);
   if (capacity < n) return -1;
   for (int i = 0; i < n; ++i) values[i] = v[i];

@@ -68,7 +68,8 @@ LoadPlugin(plugin, remote=False, ns=globals())
 reader = XMLUnstructuredGridReader(FileName=[source])
 simplify = Simplifytopologypreserving(Input=reader)  # noqa: F821 (defined by LoadPlugin)
 # The proxy's defaults are the filter's, which are the library's (paraview_filter checks those).
-for name in ("TargetRatio", "ToleranceRel", "FeatureAngle", "MinQuality", "MinDihedral", "NumberOfThreads", "Verify"):
+for name in ("TargetRatio", "ToleranceRel", "FeatureAngle", "MinQuality", "MinDihedral", "RelaxLimits", "NumberOfThreads",
+             "Verify"):
     shown = simplify.GetProperty(name).GetElement(0)
     real = simplify.GetProperty(name + "Info").GetElement(0)
     assert shown == real, (name, shown, real)

@@ -69,7 +69,12 @@ kw = dict(re.findall(r"(\w+): [^=,]+ = ('[^']*'|[-\w.]+)", signature))
 for key, value in defaults.items():
     check(key in kw, f"simplify() has no keyword {key}")
     if key in kw:
-        given = kw[key].strip("'") if isinstance(value, str) else type(value)(float(kw[key]))
+        if isinstance(value, bool):
+            given = kw[key] == "True"
+        elif isinstance(value, str):
+            given = kw[key].strip("'")
+        else:
+            given = type(value)(float(kw[key]))
         check(given == value, f"simplify({key}=...) defaults to {kw[key]}, the library to {value}")
 
 # --- meshio

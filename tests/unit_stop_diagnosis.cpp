@@ -49,6 +49,7 @@ TEST(StopDiagnosis, OnlyTheToleranceStopsIt) {
   MeshModel mesh = build_mesh_model(small_cube_sphere());
   SimplifyOptions options;
   options.tolerance_rel = 1e-5;
+  options.relax_tolerance = false;  // a hard limit: the run stops where the tolerance holds it
   options.feature_angle = 180.0;
   options.target_vertex_ratio = 0.02;
   const Report r = simplify(mesh, options);
@@ -64,6 +65,7 @@ TEST(StopDiagnosis, OnlyTheQualityFloorStopsIt) {
   options.tolerance_rel = 0.0;
   options.feature_angle = 180.0;
   options.min_quality = 0.9;
+  options.relax_quality = false;  // a hard limit
   options.target_vertex_ratio = 0.02;
   const Report r = simplify(mesh, options);
   expect_consistent(r, "quality");
@@ -80,6 +82,7 @@ TEST(StopDiagnosis, OnlyTheDihedralFloorStopsIt) {
   options.feature_angle = 180.0;
   options.min_quality = 0.0;
   options.min_dihedral = 50.0;
+  options.relax_quality = false;  // a hard limit
   options.target_vertex_ratio = 0.02;
   const Report r = simplify(mesh, options);
   expect_consistent(r, "quality");

@@ -44,9 +44,15 @@ Proposals::Proposals(const MeshModel& mesh, CostModel& cost, const CollapseOptio
       rank_cost_(mesh.vertex_capacity(), kNoCost),
       bans_(mesh.vertex_capacity()),
       changed_round_(mesh.vertex_capacity(), 0) {
+  kernel_changed();
+  if (kernel.surfaces != nullptr) verify_with_proof_.assign(mesh.vertex_capacity(), 0);
+}
+
+void Proposals::kernel_changed() {
+  verify_kernel_ = kernel_;
+  prove_kernel_ = kernel_;
   verify_kernel_.prove_tolerance = false;
   prove_kernel_.screen_tolerance = false;
-  if (kernel.surfaces != nullptr) verify_with_proof_.assign(mesh.vertex_capacity(), 0);
 }
 
 void Proposals::set(VertId a, const Proposal& p) {

@@ -63,6 +63,9 @@ class Proposals {
   bool update(VertId a, VertId u, ProposalScratch& s);
 
   // --- the kernel ---
+  // The kernel options were relaxed (SimplifyOptions::relax_tolerance, relax_quality): take them
+  // again. Verdicts kept from before stay right: a relaxed kernel accepts all it accepted.
+  void kernel_changed();
   // Verifies a's edges in cost order, from its proposal on, while they rank below `threshold`:
   // the first that passes becomes the verified proposal of round `round`; failures are banned.
   void verify(VertId a, const Ranked& threshold, std::uint32_t round, ProposalScratch& s);

@@ -112,6 +112,12 @@ class SurfaceCoverage {
   // Every original triangle held by the face it was taken from (reference.triangle_holders()).
   SurfaceCoverage(const MeshModel& mesh, const SurfaceReference& reference, double h);
   double tolerance() const { return h_; }
+  // A larger h from here on (a run relaxing its tolerance to reach its target: SimplifyOptions::
+  // relax_tolerance). Every item is within the old h of its face, so within the new one: the
+  // invariant holds as it is. Never lowered: that would need every item checked again.
+  void raise_tolerance(double h) {
+    if (h > h_) h_ = h;
+  }
   const SurfaceReference& reference() const { return reference_; }
 
   // Can every item held by a face through u or v be placed on the new faces of `stencil` (filled by

@@ -57,6 +57,7 @@ vtkTopotetSimplify::vtkTopotetSimplify() {
   this->FeatureAngle = defaults.feature_angle;
   this->MinQuality = defaults.min_quality;
   this->MinDihedral = defaults.min_dihedral;
+  this->RelaxLimits = defaults.relax_tolerance && defaults.relax_quality;
   this->MaxCost = defaults.max_cost;
   this->MaxFieldErrorRel = defaults.max_field_error_rel;
   this->Optimize = static_cast<int>(defaults.optimize);
@@ -103,6 +104,7 @@ int vtkTopotetSimplify::RequestData(vtkInformation*, vtkInformationVector** inpu
     options.feature_angle = this->FeatureAngle;
     options.min_quality = this->MinQuality;
     options.min_dihedral = this->MinDihedral;
+    options.relax_tolerance = options.relax_quality = this->RelaxLimits != 0;
     options.max_cost = this->MaxCost;
     options.max_field_error_rel = this->MaxFieldErrorRel;
     options.optimize = static_cast<topotet::Optimize>(this->Optimize);
@@ -165,6 +167,7 @@ void vtkTopotetSimplify::PrintSelf(ostream& os, vtkIndent indent) {
      << indent << "FeatureAngle: " << this->FeatureAngle << "\n"
      << indent << "MinQuality: " << this->MinQuality << "\n"
      << indent << "MinDihedral: " << this->MinDihedral << "\n"
+     << indent << "RelaxLimits: " << this->RelaxLimits << "\n"
      << indent << "MaxCost: " << this->MaxCost << "\n"
      << indent << "MaxFieldErrorRel: " << this->MaxFieldErrorRel << "\n"
      << indent << "Optimize: " << this->Optimize << "\n"

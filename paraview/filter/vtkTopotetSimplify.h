@@ -60,6 +60,12 @@ class TOPOTETFILTERS_EXPORT vtkTopotetSimplify : public vtkUnstructuredGridAlgor
   // degrees, unless the tets they replace were already worse; 0 = off (SimplifyOptions::min_dihedral).
   vtkSetMacro(MinDihedral, double);
   vtkGetMacro(MinDihedral, double);
+  // Where the default tolerance or quality floors would stop the run before its target, relax them
+  // (H doubled, floors halved) and go on; off = hard limits (SimplifyOptions::relax_tolerance and
+  // relax_quality together).
+  vtkSetMacro(RelaxLimits, vtkTypeBool);
+  vtkGetMacro(RelaxLimits, vtkTypeBool);
+  vtkBooleanMacro(RelaxLimits, vtkTypeBool);
   // Stop when the cheapest collapse costs more; 0 = no limit (SimplifyOptions::max_cost).
   vtkSetMacro(MaxCost, double);
   vtkGetMacro(MaxCost, double);
@@ -110,6 +116,7 @@ class TOPOTETFILTERS_EXPORT vtkTopotetSimplify : public vtkUnstructuredGridAlgor
   double MaxFieldErrorRel;
   int Optimize;
   vtkTypeBool Sequential;
+  vtkTypeBool RelaxLimits;
   int NumberOfThreads;
   std::string MaterialArrayName;
   vtkTypeBool TetsOnly;

@@ -1,7 +1,7 @@
 """python -m topotet: the command line's main commands on the Python package.
 
     python -m topotet simplify IN -o OUT [--ratio R | --target-vertices N] [--tolerance-rel H]
-        [--feature-angle A] [--threads T] [--optimize none|light|full] [--isosurface FIELD=V[,V...]]
+        [--feature-angle A] [--hard-limits] [--threads T] [--optimize none|light|full] [--isosurface FIELD=V[,V...]]
         [--field-weight NAME=W] [--max-field-error E] [--max-field-error-rel E]
         [--extensive NAME] [--categorical NAME] [--quiet]
     python -m topotet info IN
@@ -30,6 +30,14 @@ def _pairs(items, what):
     return out
 
 
+def _asked(report, limit):
+    """The value a relaxed limit started from (the first relaxation's), or the value used."""
+    for step in report["relaxations"]:
+        if step["limit"] == limit:
+            return f"{step['from']:.3g}"
+    return f"{report[limit + '_used']:.3g}"
+
+
 def _simplify(args):
     start = time.perf_counter()
     mesh = _core.read(args.input)
@@ -38,6 +46,10 @@ def _simplify(args):
                                              "threads", "optimize", "max_field_error", "max_field_error_rel",
                                              "min_quality", "min_dihedral", "size_weight")
                if getattr(args, k) is not None}
+    # A limit given holds as given; the defaults relax where they would stop the run before its
+    # target (SimplifyOptions::relax_tolerance, relax_quality), as `topotet simplify` does.
+    options["relax_tolerance"] = not args.hard_limits and args.tolerance is None and args.tolerance_rel is None
+    options["relax_quality"] = not args.hard_limits and args.min_quality is None and args.min_dihedral is None
     if args.field_weight:
         options["field_weights"] = {k: float(v) for k, v in _pairs(args.field_weight, "--field-weight").items()}
     if args.isosurface:
@@ -59,6 +71,10 @@ def _simplify(args):
         print(f"output    {args.output}: {len(result['points']):,} vertices ({len(result['points']) / len(mesh['points']):.1%}), "
               f"{len(result['tets']):,} tets")
         print(f"status    {report['status']}" + (f": {report['message']}" if report.get("message") else ""))
+        if report["relaxations"]:
+            print(f"relaxed   to reach the target: tolerance {report['tolerance_asked']:.3g} -> {report['tolerance']:.3g}, "
+                  f"min dihedral {_asked(report, 'min_dihedral')} -> {report['min_dihedral_used']:.3g}, "
+                  f"min quality {_asked(report, 'min_quality')} -> {report['min_quality_used']:.3g} (--hard-limits keeps them)")
         collapses = report.get("collapses", 0)
         print(f"time      {seconds:.2f} s, {collapses:,} collapses" + (f", {collapses / seconds:,.0f} collapses/s" if seconds > 0 else ""))
         if result["cell_fields"]:
@@ -95,6 +111,9 @@ def main(argv=None):
     s.add_argument("--min-quality", type=float, help=f"quality floor, mean ratio (default {d['min_quality']})")
     s.add_argument("--min-dihedral", type=float,
                    help=f"dihedral angle floor, degrees (default {d['min_dihedral']}; 0 = off)")
+    s.add_argument("--hard-limits", action="store_true",
+                   help="keep the default tolerance and quality floors even where they stop the run before its target "
+                        "(by default they relax there: H doubles, the floors halve; a limit given is always hard)")
     s.add_argument("--size-weight", type=float, help="size term in the ranking of collapses (0 = error only; default: auto, 3e-4 when no field steers the cost, else 0)")
     s.add_argument("--threads", type=int, help="threads (default: all; the output is the same for every count)")
     s.add_argument("--optimize", choices=("none", "light", "full"), help=f"after the collapses (default {d['optimize']})")

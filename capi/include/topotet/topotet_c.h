@@ -154,6 +154,9 @@ typedef struct topotet_options {
                                  replaces); default 5; 0 = no floor */
   double size_weight;         /* size term in the ranking of collapses (--size-weight); 0 = error only;
                                  negative = auto (default): 3e-4 when no field steers the cost, else 0 */
+  int relax_tolerance;        /* 1 (default): where the tolerance would stop the run before its target, H
+                                 doubles (the report gives the H that holds); 0: a hard limit */
+  int relax_quality;          /* 1 (default): the same for min_quality and min_dihedral, halved; 0: hard */
 } topotet_options;
 
 /* Same counters as topotet::Report. */
@@ -193,6 +196,10 @@ typedef struct topotet_report {
      time (not included in seconds). */
   int64_t cell_overlap_pairs, cell_nearest_new_tets, cell_nearest_original_tets;
   double cell_covered_volume_fraction, cell_remap_seconds;
+  /* The limits as asked and as they hold for the output (relax_tolerance, relax_quality), and how
+     many times the run relaxed one to reach its target. */
+  double tolerance_asked, min_quality_used, min_dihedral_used;
+  int64_t relaxations;
 } topotet_report;
 
 typedef struct topotet_mesh topotet_mesh;

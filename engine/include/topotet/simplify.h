@@ -145,6 +145,18 @@ struct SimplifyOptions {
   // (kDefaultToleranceRel, chosen in docs/performance.md "Default runs"); tolerance_rel = 0 turns it off.
   double tolerance = 0.0;
   double tolerance_rel = kDefaultToleranceRel;
+  // What a run does when the tolerance or the quality floors (min_quality, min_dihedral) would stop
+  // it before its target (issue #23: a default that stops short of what the user asked is the wrong
+  // default). true (the default): when no legal collapse is left, the limit that holds more of the
+  // vertices left (Report::stop's census) is relaxed, H doubled or both floors halved, and the run
+  // goes on, as often as needed; it never relaxes the topology, inversion, pinned vertices or a
+  // field error limit. The output then holds the guarantees with the relaxed values, which the
+  // Report gives (tolerance, min_quality_used, min_dihedral_used, relaxations): the tolerance proof
+  // covers every collapse with the H it was made under, so the whole output is within the last H.
+  // false: the limit holds as given and the run stops early (Report::stop says why). `topotet
+  // simplify` sets them false for a limit given on its command line (and --hard-limits for both).
+  bool relax_tolerance = true;
+  bool relax_quality = true;
   // Field error bounds (paper 003; engine/guarantees/field_bounds.h says exactly what is bounded): every tet
   // carries, per field component, the largest |original - simplified| over the original vertices
   // that lie in it (exact, kept through every collapse). A collapse that would give a tet a bound
@@ -235,6 +247,16 @@ struct StopDiagnosis {
   std::string suggestion;
 };
 
+// One relaxation of a limit that would have stopped the run before its target
+// (SimplifyOptions::relax_tolerance, relax_quality): which, from and to what value, with how many
+// vertices left, and the share of them it held (Report::stop's census at that point).
+struct Relaxation {
+  const char* limit = "";  // "tolerance" (H, mesh units), "min_dihedral" (degrees) or "min_quality" (mean ratio)
+  double from = 0.0, to = 0.0;
+  std::uint64_t vertices_left = 0;
+  double share = 0.0;
+};
+
 struct Report {
   Status status = Status::kOk;
   std::string message;  // empty when status == kOk
@@ -250,6 +272,12 @@ struct Report {
   double seconds = 0.0;
   double max_cost = 0.0;  // largest accepted collapse cost
   double tolerance = 0.0;                // H used (mesh units); 0 = no tolerance check
+  // The limits as asked, and as they held for the output (different when the run relaxed them to
+  // reach its target: SimplifyOptions::relax_tolerance, relax_quality), and each relaxation.
+  double tolerance_asked = 0.0;
+  double min_quality_used = 0.0, min_dihedral_used = 0.0;
+  std::vector<Relaxation> relaxations;
+  double relax_seconds = 0.0;  // the censuses that chose them (included in `seconds`)
   double tolerance_setup_seconds = 0.0;  // building the Embree scene of the original surfaces
   // Wall time per phase (evaluate, select, apply: parallel engine; compact: both, the final
   // renumbering of the live vertices and tets), seconds.

@@ -1,0 +1,28 @@
+// Relaxing the limits that would stop a run before its target (issue #23; SimplifyOptions::
+// relax_tolerance, relax_quality): the driver's RelaxStep (engines.h).
+#pragma once
+
+#include "guarantees/surface_coverage.h"
+#include "kernel/collapse.h"
+#include "mesh/mesh_model.h"
+#include "topotet/simplify.h"
+
+namespace topotet::detail {
+
+// Called when no legal collapse is left before the target. Takes the census of the vertices left
+// (diagnose_stop, into report.stop) and, if the tolerance or the quality floors hold enough of them
+// and the options let that limit relax, relaxes the one that holds more: H doubled (kernel and
+// coverage), or the dihedral and mean-ratio floors halved (to 0 once below 1/256 of the asked
+// ones). Records it in report (tolerance, min_quality_used, min_dihedral_used, relaxations),
+// clears report.stop and returns true; else leaves report.stop filled (it is the run's stop
+// diagnosis) and returns false. Deterministic: the census is (diagnose_stop).
+//
+// Why relaxing keeps the guarantees, with the relaxed values: every collapse was proved under
+// the H it was made with, which is at most the last H, and the coverage invariant (every original
+// point within H of its face) only gets looser; every tet was accepted above the floor of its time,
+// which is at least the last floor. The topology, inversion, pinned vertices and field error
+// limits are never relaxed.
+bool relax_limits(const MeshModel& mesh, const SimplifyOptions& options, CollapseOptions& kernel,
+                  SurfaceCoverage* coverage, std::uint64_t target, Report& report);
+
+}  // namespace topotet::detail

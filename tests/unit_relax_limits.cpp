@@ -1,0 +1,155 @@
+// SimplifyOptions::relax_tolerance and relax_quality (issue #23): where the tolerance or the
+// quality floors would stop a run before its target, they relax (H doubled, floors halved) and the
+// run reaches its target; the output holds its guarantees with the values the Report gives, the
+// topology is never relaxed, and the output is the same for every thread count. With relaxing off
+// the same runs stop early (unit_stop_diagnosis.cpp names why).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "entry_points.h"
+#include "mesh/mesh_model.h"
+#include "test_meshes.h"
+#include "topotet/generate.h"
+#include "topotet/metrics/quality.h"
+#include "topotet/metrics/surface_distance.h"
+#include "topotet/metrics/topology.h"
+#include "topotet/simplify.h"
+
+namespace topotet {
+namespace {
+
+MeshData cube_sphere() { return generate_mesh({"cube-sphere", 8000, 1}); }
+
+std::uint64_t target_of(const Report& r, double ratio) {
+  return static_cast<std::uint64_t>(std::llround(ratio * static_cast<double>(r.vertices_before)));
+}
+
+std::size_t relaxations_of(const Report& r, const char* limit) {
+  std::size_t n = 0;
+  for (const Relaxation& x : r.relaxations) n += std::strcmp(x.limit, limit) == 0;
+  return n;
+}
+
+void expect_same_topology(const MeshData& in, const MeshData& out) {
+  std::string differences;
+  EXPECT_TRUE(same_topology(compute_topology(in), compute_topology(out), &differences)) << differences;
+}
+
+// A tolerance far below the surfaces' jitter holds every surface vertex (StopDiagnosis.
+// OnlyTheToleranceStopsIt); relaxed, H doubles until the run gets to its target, and the measured
+// Hausdorff distance stays within the last H, which is the asked one times a power of two.
+void expect_tolerance_relaxes(Engine engine) {
+  const MeshData input = cube_sphere();
+  SimplifyOptions options;
+  options.engine = engine;
+  options.tolerance_rel = 1e-4;
+  options.feature_angle = 180.0;
+  options.target_vertex_ratio = 0.05;
+  MeshModel hard = build_mesh_model(input);
+  options.relax_tolerance = options.relax_quality = false;
+  const Report stopped = simplify(hard, options);
+  ASSERT_EQ(stopped.status, Status::kStoppedEarly);
+  EXPECT_GT(stopped.vertices_after, 2 * target_of(stopped, 0.05));
+  EXPECT_TRUE(stopped.relaxations.empty());
+  EXPECT_EQ(stopped.tolerance, stopped.tolerance_asked);
+
+  MeshModel mesh = build_mesh_model(input);
+  options.relax_tolerance = options.relax_quality = true;
+  const Report r = simplify(mesh, options);
+  ASSERT_EQ(r.status, Status::kOk) << r.message;
+  EXPECT_EQ(r.vertices_after, target_of(r, 0.05));
+  const std::size_t steps = relaxations_of(r, "tolerance");
+  ASSERT_GE(steps, 1u);
+  EXPECT_EQ(r.tolerance, std::ldexp(r.tolerance_asked, static_cast<int>(steps)));
+  EXPECT_EQ(r.relaxations.front().from, r.tolerance_asked);
+  EXPECT_EQ(r.relaxations.back().to, r.tolerance);
+  EXPECT_FALSE(r.stop.is_filled);
+  const MeshData output = mesh.to_mesh_data();
+  expect_same_topology(input, output);
+  SurfaceDistanceOptions distance_options;
+  distance_options.sample_spacing_rel = 5e-4;
+  const SurfaceDistance d = surface_distance(input, output, distance_options);
+  EXPECT_LE(d.hausdorff, r.tolerance);
+  // Relaxed only as far as needed: the H before the last step was not enough.
+  EXPECT_GT(d.hausdorff, 0.25 * r.tolerance);
+}
+
+TEST(RelaxLimits, TheToleranceDoublesUntilTheTargetParallel) { expect_tolerance_relaxes(Engine::kParallel); }
+TEST(RelaxLimits, TheToleranceDoublesUntilTheTargetSequential) { expect_tolerance_relaxes(Engine::kSequential); }
+
+// A mean-ratio floor no collapse of this mesh keeps (StopDiagnosis.OnlyTheQualityFloorStopsIt):
+// relaxed, both floors halve until the target, and no new tet is below the last floor.
+TEST(RelaxLimits, TheQualityFloorsHalveUntilTheTarget) {
+  const MeshData input = cube_sphere();
+  MeshModel mesh = build_mesh_model(input);
+  SimplifyOptions options;
+  options.tolerance_rel = 0.0;
+  options.feature_angle = 180.0;
+  options.min_quality = 0.9;
+  options.optimize = Optimize::kNone;
+  options.target_vertex_ratio = 0.05;
+  const Report r = simplify(mesh, options);
+  ASSERT_EQ(r.status, Status::kOk) << r.message;
+  EXPECT_EQ(r.vertices_after, target_of(r, 0.05));
+  const std::size_t steps = relaxations_of(r, "min_quality");
+  ASSERT_GE(steps, 1u);
+  EXPECT_EQ(relaxations_of(r, "min_dihedral"), steps);  // they halve together
+  EXPECT_EQ(relaxations_of(r, "tolerance"), 0u);
+  EXPECT_DOUBLE_EQ(r.min_quality_used, std::ldexp(0.9, -static_cast<int>(steps)));
+  EXPECT_DOUBLE_EQ(r.min_dihedral_used, std::ldexp(options.min_dihedral, -static_cast<int>(steps)));
+  const MeshData output = mesh.to_mesh_data();
+  expect_same_topology(input, output);
+  const QualityStats q = compute_quality(output), q_in = compute_quality(input);
+  EXPECT_EQ(q.inverted, 0u);
+  EXPECT_GE(q.mean_ratio.min, std::min(r.min_quality_used, q_in.mean_ratio.min) * (1.0 - 1e-9));
+}
+
+// The topology is never relaxed: a run it stops still stops, with no relaxation, and says so.
+TEST(RelaxLimits, TheTopologyIsNeverRelaxed) {
+  const testing::Grid grid = testing::make_grid(3, 3, 2, [](int i, int j, int k) { return 1 + i + 3 * j + 9 * k; });
+  MeshModel mesh = build_mesh_model(grid.data);
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.2;
+  options.feature_angle = 180.0;
+  const Report r = simplify(mesh, options);
+  ASSERT_EQ(r.status, Status::kStoppedEarly);
+  EXPECT_STREQ(r.stop.dominant, "topology");
+  EXPECT_EQ(r.stop.topology, r.vertices_after);
+  // The tolerance held some surface vertices on the way (and was relaxed for them); the floors never.
+  EXPECT_EQ(relaxations_of(r, "min_quality") + relaxations_of(r, "min_dihedral"), 0u);
+  EXPECT_EQ(relaxations_of(r, "tolerance"), r.relaxations.size());
+}
+
+// Relaxing happens at the same points of the run for every thread count: the same output.
+TEST(RelaxLimits, SameOutputForEveryThreadCount) {
+  const MeshData input = cube_sphere();
+  MeshData reference;
+  Report first;
+  for (int threads : {1, 2}) {
+    MeshModel mesh = build_mesh_model(input);
+    SimplifyOptions options;
+    options.num_threads = threads;
+    options.tolerance_rel = 2e-4;
+    options.feature_angle = 180.0;
+    options.target_vertex_ratio = 0.05;
+    const Report r = simplify(mesh, options);
+    ASSERT_EQ(r.status, Status::kOk) << r.message;
+    ASSERT_FALSE(r.relaxations.empty());
+    const MeshData out = mesh.to_mesh_data();
+    if (threads == 1) {
+      reference = out;
+      first = r;
+      continue;
+    }
+    EXPECT_TRUE(out == reference) << "threads = " << threads;
+    EXPECT_EQ(r.tolerance, first.tolerance);
+    EXPECT_EQ(r.min_dihedral_used, first.min_dihedral_used);
+    EXPECT_EQ(r.relaxations.size(), first.relaxations.size());
+  }
+}
+
+}  // namespace
+}  // namespace topotet
