@@ -194,6 +194,29 @@ sys.exit(0 if l["tolerance"] == 0 and l["feature_edges"] == 0 else 1)' plain.jso
 else
   fail "--tolerance 0 --feature-angle 180 did not turn both off"
 fi
+# --- limits that would stop a run short relax by default; given ones hold (issue #23) ---
+# The default tolerance holds in.mesh at about 9% (its interfaces are staircases): the default run
+# gets to 5% by relaxing it and says so; given on the command line (or --hard-limits), it holds.
+expect 0 simplify_relaxed -- "$topotet" simplify in.mesh -o rx.mesh --ratio 0.05 --feature-angle 180 --report rx.json
+expect 0 simplify_hard -- "$topotet" simplify in.mesh -o hard.mesh --ratio 0.05 --feature-angle 180 --tolerance-rel 0.004 --report hard.json
+expect 0 simplify_hard_limits -- "$topotet" simplify in.mesh -o hl.mesh --ratio 0.05 --feature-angle 180 --hard-limits --report hl.json
+if python3 -c '
+import json, sys
+rx, hard, hl = (json.load(open(f))["levels"][0] for f in sys.argv[1:4])
+target = round(0.05 * rx["vertices_before"])
+ok = rx["vertices_after"] == target and rx["relaxations"] and rx["tolerance"] > rx["tolerance_asked"]
+ok = ok and rx["surface_distance"]["hausdorff"] <= rx["tolerance"]
+for l in (hard, hl):  # the same H, held: stopped before the target, named
+    ok = ok and l["vertices_after"] > target and l["tolerance"] == rx["tolerance_asked"]
+    ok = ok and l["stopped"] is not None and l["stopped"]["dominant"] == "tolerance"
+    ok = ok and all(s["limit"] != "tolerance" for s in l["relaxations"])
+ok = ok and not hl["relaxations"] and hl["min_dihedral_used"] == 5
+sys.exit(0 if ok else 1)' rx.json hard.json hl.json && grep -q '^relaxed   tolerance H .* -> ' simplify_relaxed.out &&
+   ! grep -q '^relaxed' simplify_hard.out; then
+  pass "default limits relax to the target (reported, Hausdorff within the last H); given ones and --hard-limits hold"
+else
+  fail "relaxing: the default run, a given tolerance or --hard-limits misbehaved"
+fi
 # --- field error bounds (issue #16): the limit holds and the measured error stays under the bound ---
 expect 0 simplify_field_bounds -- "$topotet" simplify in.mesh -o fb.mesh --ratio 0.05 --max-field-error-rel 0.01 --no-verify --report fb.json
 if python3 -c '

@@ -86,6 +86,17 @@ try:
 except ValueError as e:
     check("pressure" in str(e), f"message names the field: {e}")
 
+# Limits that would stop the run short relax by default (the report gives the values that hold);
+# relax_tolerance=False keeps H as given.
+tight = dict(materials=materials, ratio=0.05, threads=1, tolerance_rel=1e-4, feature_angle=180.0)
+relaxed = topotet.simplify(points, tets, **tight)["report"]
+held = topotet.simplify(points, tets, **tight, relax_tolerance=False, relax_quality=False)["report"]
+check(relaxed["relaxations"] and relaxed["tolerance"] > relaxed["tolerance_asked"], f"not relaxed: {relaxed['relaxations']}")
+check(relaxed["vertices_after"] < held["vertices_after"] and not held["relaxations"], "relaxing reaches further")
+check(held["tolerance"] == held["tolerance_asked"] == relaxed["tolerance_asked"], "a hard H stays as asked")
+check(all(s["limit"] in ("tolerance", "min_dihedral", "min_quality") and s["to"] != s["from"] for s in relaxed["relaxations"]),
+      f"relaxation steps {relaxed['relaxations']}")
+
 # A target the ball and the pinned box corners cannot reach: the report says what holds the rest.
 stuck = topotet.simplify(points, tets, materials=materials, target_vertices=2, threads=1, corners=box_corners)["report"]
 check(stuck["status"] == "stopped_early", f"status {stuck['status']}")

@@ -117,10 +117,12 @@ TEST(RelaxLimits, TheTopologyIsNeverRelaxed) {
   const Report r = simplify(mesh, options);
   ASSERT_EQ(r.status, Status::kStoppedEarly);
   EXPECT_STREQ(r.stop.dominant, "topology");
-  EXPECT_EQ(r.stop.topology, r.vertices_after);
-  // The tolerance held some surface vertices on the way (and was relaxed for them); the floors never.
+  EXPECT_GE(4 * r.stop.topology, 3 * r.vertices_after);
+  // What the tolerance still holds is too little to relax it for (relax_limits.cpp); the floors never
+  // held the run.
   EXPECT_EQ(relaxations_of(r, "min_quality") + relaxations_of(r, "min_dihedral"), 0u);
   EXPECT_EQ(relaxations_of(r, "tolerance"), r.relaxations.size());
+  EXPECT_LT(4 * r.stop.tolerance, r.stop.vertices);
 }
 
 // Relaxing happens at the same points of the run for every thread count: the same output.
