@@ -53,6 +53,8 @@ def row(topotet, name, path, ratio, threads, work):
     stopped = level.get("stopped")
     if stopped:
         reason = f"{stopped['dominant']} {stopped['dominant_share']:.0%}"
+        if stopped.get("beyond_reach"):  # the topology and the input's pins alone hold the target
+            reason += ", beyond reach"
         pinned = sum(stopped["pinned_vertices"].values())
     else:
         reason, pinned = "reached", 0

@@ -601,6 +601,7 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
         report->pinned_features = i64(d.pinned_features);
         report->pinned_other = i64(d.pinned_other);
         report->stop_dominant_share = d.dominant_share;
+        report->stop_beyond_reach = d.beyond_reach ? 1 : 0;
         std::snprintf(report->stop_dominant, sizeof report->stop_dominant, "%s", d.dominant);
         std::snprintf(report->stop_suggestion, sizeof report->stop_suggestion, "%s", d.suggestion.c_str());
       }

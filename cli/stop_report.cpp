@@ -64,6 +64,7 @@ Json stop_report_json(const Report& report) {
                           {"other", d.pinned_other}};
   j["dominant"] = d.dominant;
   j["dominant_share"] = d.dominant_share;
+  j["beyond_reach"] = d.beyond_reach;
   j["suggestion"] = d.suggestion;
   return j;
 }

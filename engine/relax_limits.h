@@ -10,9 +10,9 @@
 namespace topotet::detail {
 
 // Called when no legal collapse is left before the target. Takes the census of the vertices left
-// (diagnose_stop, into report.stop) and, if the tolerance or the quality floors stop the run (hold
-// the most of them, or a quarter) and the options let that limit relax, relaxes the one that holds
-// more: H doubled (kernel and
+// (diagnose_stop, into report.stop) and, if the tolerance or the quality floors hold enough of them,
+// no fewer than any other limit an option sets, and the options let that limit relax, relaxes the
+// one that holds more: H doubled (kernel and
 // coverage), or the dihedral and mean-ratio floors halved (to 0 once below 1/256 of the asked
 // ones). Records it in report (tolerance, min_quality_used, min_dihedral_used, relaxations),
 // clears report.stop and returns true; else leaves report.stop filled (it is the run's stop

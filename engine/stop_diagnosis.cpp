@@ -62,7 +62,7 @@ std::string number(double x) {
 }  // namespace
 
 void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                   Report& report) {
+                   std::uint64_t target, Report& report) {
   StopDiagnosis& d = report.stop;
   d = StopDiagnosis{};
   d.is_filled = true;
@@ -142,6 +142,8 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
   }
 
   if (d.vertices == 0) return;
+  const std::uint64_t fixed = d.topology + d.pinned_corners + d.pinned_required;
+  d.beyond_reach = fixed >= target;
   // The reasons, the ones an option relaxes first (ties go to the first).
   struct Reason {
     const char* name;
@@ -211,6 +213,9 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
     if (next != nullptr && share_of(*next) >= 0.05) step = held(*next) + ": " + advice(*next);
   }
   d.suggestion = held(*top) + why + (step.empty() ? "" : (advice(*top).empty() ? "; " : ": ") + step);
+  if (d.beyond_reach)
+    d.suggestion += "; the topology and the vertices the input pins alone hold " + std::to_string(fixed) +
+                    " vertices, the target is " + std::to_string(target) + ": no option reaches it";
 }
 
 }  // namespace topotet::detail

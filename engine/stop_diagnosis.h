@@ -11,8 +11,8 @@ namespace topotet::detail {
 // Fills report.stop from the mesh as the engine left it (not compacted), with the kernel options
 // the run used (its tolerance reference and coverage, quality floor, field bounds). Reads only;
 // parallel over vertices, deterministic (the counts are sums). Costs one kernel check per live
-// edge and placement: run it only when the run stopped before its target.
+// edge and placement: run it only when the run stopped before its target (`target` vertices).
 void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                   Report& report);
+                   std::uint64_t target, Report& report);
 
 }  // namespace topotet::detail

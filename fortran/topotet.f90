@@ -114,6 +114,7 @@ module topotet
     real(c_double) :: cell_covered_volume_fraction, cell_remap_seconds
     real(c_double) :: tolerance_asked, min_quality_used, min_dihedral_used  ! as asked / as they hold
     integer(c_int64_t) :: relaxations  ! limits relaxed to reach the target
+    integer(c_int64_t) :: stop_beyond_reach  ! 1: the topology and the input's pins alone hold the target
   end type
 
   public :: topotet_mesh_arrays_init, topotet_options_init, topotet_mesh_build, topotet_mesh_read, &

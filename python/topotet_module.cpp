@@ -312,6 +312,7 @@ py::object stop_dict(const topotet::StopDiagnosis& s) {
   d["pinned_vertices"] = pinned;
   d["dominant"] = std::string(s.dominant);
   d["dominant_share"] = s.dominant_share;
+  d["beyond_reach"] = s.beyond_reach;
   d["suggestion"] = s.suggestion;
   return d;
 }

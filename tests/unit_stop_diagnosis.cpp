@@ -54,6 +54,7 @@ TEST(StopDiagnosis, OnlyTheToleranceStopsIt) {
   options.target_vertex_ratio = 0.02;
   const Report r = simplify(mesh, options);
   expect_consistent(r, "tolerance");
+  EXPECT_FALSE(r.stop.beyond_reach);  // an option frees them
   EXPECT_NE(r.stop.suggestion.find("--tolerance-rel 2e-05"), std::string::npos) << r.stop.suggestion;
   EXPECT_NE(r.stop.suggestion.find("the tolerance held"), std::string::npos) << r.stop.suggestion;
 }
@@ -129,6 +130,11 @@ TEST(StopDiagnosis, OnlyTheTopologyStopsIt) {
   EXPECT_EQ(r.stop.pinned, 0u);
   EXPECT_NE(r.stop.suggestion.find("the topology held 100%"), std::string::npos) << r.stop.suggestion;
   EXPECT_EQ(r.stop.suggestion.find("--"), std::string::npos) << r.stop.suggestion;
+  // More vertices than the target are held where no option reaches: said, with the numbers.
+  EXPECT_TRUE(r.stop.beyond_reach);
+  EXPECT_NE(r.stop.suggestion.find("alone hold " + std::to_string(r.vertices_after) + " vertices"), std::string::npos)
+      << r.stop.suggestion;
+  EXPECT_NE(r.stop.suggestion.find("no option reaches it"), std::string::npos) << r.stop.suggestion;
 }
 
 // Feature corners that hold a run are named with the feature angle to raise.

@@ -200,6 +200,7 @@ typedef struct topotet_report {
      many times the run relaxed one to reach its target. */
   double tolerance_asked, min_quality_used, min_dihedral_used;
   int64_t relaxations;
+  int64_t stop_beyond_reach; /* 1: the topology and the input's pinned vertices alone hold the target */
 } topotet_report;
 
 typedef struct topotet_mesh topotet_mesh;

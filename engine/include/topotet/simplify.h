@@ -240,6 +240,9 @@ struct StopDiagnosis {
   // Live pinned vertices by why: listed corners (MEDIT Corners, Gmsh points), required vertices,
   // feature corners (detect_features), other (pinned by the caller).
   std::uint64_t pinned_corners = 0, pinned_required = 0, pinned_features = 0, pinned_other = 0;
+  // The topology and the vertices the input pins (listed corners, required) alone hold at least
+  // as many vertices as the target: no option reaches it from here (the suggestion says so).
+  bool beyond_reach = false;
   const char* dominant = "";  // the reason with most vertices: "topology", "pinned", "inversion", ...
   double dominant_share = 0.0;  // its share of the vertices, 0..1
   // One change to try, with its predicted effect, in words (an option of `topotet simplify` and
