@@ -393,6 +393,7 @@ void topotet_options_init(topotet_options* options) {
   options->size_weight = d.size_weight;
   options->relax_tolerance = d.relax_tolerance ? 1 : 0;
   options->relax_quality = d.relax_quality ? 1 : 0;
+  options->relax_features = d.relax_features ? 1 : 0;
 }
 
 topotet_status topotet_mesh_build(const topotet_mesh_arrays* arrays, int num_threads, topotet_mesh** mesh) {
@@ -496,6 +497,7 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
     o.tolerance_rel = c.tolerance_rel;
     o.relax_tolerance = c.relax_tolerance != 0;
     o.relax_quality = c.relax_quality != 0;
+    o.relax_features = c.relax_features != 0;
     o.engine = static_cast<topotet::Engine>(c.engine);
     o.num_threads = c.num_threads;
     o.round_fraction = c.round_fraction;
@@ -580,6 +582,7 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
       report->min_quality_used = r.min_quality_used;
       report->min_dihedral_used = r.min_dihedral_used;
       report->relaxations = static_cast<std::int64_t>(r.relaxations.size());
+      report->features_dropped = static_cast<std::int64_t>(r.features_dropped);
       report->rejected_field_error = static_cast<std::int64_t>(r.rejected_by(RejectReason::kFieldError));
       report->feature_edges = static_cast<std::int64_t>(r.feature_edges);
       report->feature_corners = static_cast<std::int64_t>(r.feature_corners);

@@ -92,8 +92,8 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
            ->each(tolerance_given)
            ->capture_default_str());
   keep(cmd->add_flag("--hard-limits", args.hard_limits,
-                     "Keep the default tolerance and quality floors as they are even when they stop the run before "
-                     "its target (the report then says what held the vertices left)"));
+                     "Keep the default tolerance, quality floors and feature curves as they are even when they stop "
+                     "the run before its target (the report then says what held the vertices left)"));
   auto* max_field_error =
       keep(cmd->add_option("--max-field-error", args.max_field_error,
                            "Refuse collapses that would let the field error at an original vertex exceed E (field "
@@ -109,8 +109,10 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
                                           "Keep the per-tet field error bounds and report them, without a limit"));
   keep(cmd->add_option("--feature-angle", args.feature_angle,
                        "Keep as feature curves (like polylines) the surface edges whose faces turn by more than this "
-                       "angle in degrees, and pin their corners; 180 = off")
+                       "angle in degrees, and pin their corners; 180 = off. Given: kept; by default they are dropped "
+                       "where their corners would stop the run before its target")
            ->check(CLI::Range(0.0, 180.0))
+           ->each([&args](const std::string&) { args.features_given = true; })
            ->capture_default_str());
   keep(cmd->add_option("--feature-ref", args.feature_ref,
                        "Also write the detected feature curves as edges (MEDIT ridges) with this ref, their corners "
@@ -246,6 +248,8 @@ SimplifyOptions engine_options(const SimplifyArgs& args) {
   }
   o.relax_tolerance = !args.hard_limits && !args.tolerance_given;
   o.relax_quality = !args.hard_limits && !args.quality_given;
+  // --feature-ref writes the feature curves to the output: they stay to the end then.
+  o.relax_features = !args.hard_limits && !args.features_given && !args.feature_ref;
   o.max_field_error = args.max_field_error;
   o.max_field_error_rel = args.max_field_error_rel;
   o.track_field_bounds = args.field_bounds;
@@ -283,11 +287,11 @@ std::string options_text(const SimplifyOptions& o, const std::vector<double>& le
        : o.tolerance_rel > 0 ? ", tolerance " + format_number(100.0 * o.tolerance_rel) + "% of the diagonal"
                              : std::string(", no tolerance");
   const bool tolerance_relaxes = o.relax_tolerance && (o.tolerance > 0 || o.tolerance_rel > 0);
-  if (tolerance_relaxes || o.relax_quality)
-    s += std::string(", relaxed to reach the target: ") +
-         (tolerance_relaxes && o.relax_quality ? "tolerance and quality floors" : tolerance_relaxes ? "tolerance" : "quality floors");
-  else
-    s += ", hard limits";
+  std::string relaxing;
+  for (const auto& [on, name] : {std::pair{tolerance_relaxes, "tolerance"}, std::pair{o.relax_quality, "quality floors"},
+                                 std::pair{o.relax_features && o.feature_angle < 180.0, "features"}})
+    if (on) relaxing += std::string(relaxing.empty() ? "" : ", ") + name;
+  s += relaxing.empty() ? std::string(", hard limits") : ", relaxed to reach the target: " + relaxing;
   s += o.feature_angle < 180.0 ? ", feature angle " + format_number(o.feature_angle) : std::string(", no features");
   if (o.engine == Engine::kParallel) s += ", round fraction " + format_number(o.round_fraction);
   s += std::string(", optimize ") + to_string(o.optimize);

@@ -36,9 +36,11 @@ struct SimplifyArgs {
   double tolerance = -1.0;  // < 0: not given (the relative default applies)
   double tolerance_rel = SimplifyOptions{}.tolerance_rel;
   // A limit given on the command line holds as given; the defaults relax when they would stop the
-  // run before its target (SimplifyOptions::relax_tolerance, relax_quality); --hard-limits: neither.
+  // run before its target (SimplifyOptions::relax_tolerance, relax_quality, relax_features);
+  // --hard-limits: none of them.
   bool tolerance_given = false;  // --tolerance or --tolerance-rel
   bool quality_given = false;    // --min-quality or --min-dihedral
+  bool features_given = false;   // --feature-angle
   bool hard_limits = false;
   double max_field_error = 0.0;
   double max_field_error_rel = 0.0;

@@ -118,6 +118,7 @@ Json level_json(const LevelResult& l) {
     relaxations.push_back({{"limit", x.limit}, {"from", x.from}, {"to", x.to}, {"vertices_left", x.vertices_left}, {"share", x.share}});
   j["relaxations"] = relaxations;
   j["relax_seconds"] = r.relax_seconds;
+  j["features_dropped"] = r.features_dropped;
   j["field_bounds"] = field_bounds_json(l);
   j["feature_edges"] = r.feature_edges;
   j["feature_corners"] = r.feature_corners;
@@ -390,10 +391,15 @@ void print_relaxations(const Report& r) {
   }
   std::string text;
   for (const Span& s : spans) {
-    const std::string name = std::string(s.limit) == "tolerance" ? "tolerance H" : std::string(s.limit) == "min_dihedral" ? "min dihedral" : "min quality";
+    const std::string limit = s.limit;
+    if (limit == "features") {  // from and to: the feature edges before and after
+      text += (text.empty() ? "" : ", ") + std::string("feature edges ") + format_count(static_cast<std::uint64_t>(s.from)) +
+              " -> " + format_count(static_cast<std::uint64_t>(s.to)) + " (those lower than the relaxed H dropped)";
+      continue;
+    }
+    const std::string name = limit == "tolerance" ? "tolerance H" : limit == "min_dihedral" ? "min dihedral" : "min quality";
     text += (text.empty() ? "" : ", ") + name + " " + format_number(s.from) + " -> " + format_number(s.to) +
-            (std::string(s.limit) == "min_dihedral" ? " degrees" : "") + " (" + std::to_string(s.steps) +
-            (s.steps == 1 ? " step)" : " steps)");
+            (limit == "min_dihedral" ? " degrees" : "") + " (" + std::to_string(s.steps) + (s.steps == 1 ? " step)" : " steps)");
   }
   row("relaxed", text + " to reach the target; the output holds its guarantees with these values (a limit given as "
                         "an option, or --hard-limits, holds as given; choosing took " + format_seconds(r.relax_seconds) + ")");
@@ -501,6 +507,7 @@ Json options_json(const SimplifyJob& job, const SimplifyRun& run) {
           {"tolerance_rel", job.options.tolerance_rel},
           {"relax_tolerance", job.options.relax_tolerance},
           {"relax_quality", job.options.relax_quality},
+          {"relax_features", job.options.relax_features},
           {"max_field_error", job.options.max_field_error},
           {"max_field_error_rel", job.options.max_field_error_rel},
           {"feature_angle", job.options.feature_angle},

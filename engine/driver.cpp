@@ -259,7 +259,7 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
         // no collapse since).
         if (report.status == Status::kStoppedEarly && report.message == "no legal collapse left" &&
             mesh.live_vertex_count() > target && !report.stop.is_filled)
-          detail::diagnose_stop(mesh, options, kernel, target, report);
+          detail::diagnose_stop(mesh, options, kernel, cost, target, report);
         if (samples != nullptr) samples->index(mesh);
         if (log == nullptr) optimize_after_collapses(mesh, options, cost, bounds.get(), samples.get(), report);
         samples.reset();
@@ -274,8 +274,8 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
       // When the tolerance or the quality floors would stop the run short, and the options let
       // them, they relax (relax_limits.h). The engines hold `kernel` by reference.
       detail::RelaxStep relax;
-      if (options.relax_tolerance || options.relax_quality)
-        relax = [&] { return detail::relax_limits(mesh, options, kernel, coverage.get(), target, report); };
+      if (options.relax_tolerance || options.relax_quality || options.relax_features)
+        relax = [&](CostModel& cost) { return detail::relax_limits(mesh, options, kernel, coverage.get(), cost, target, report); };
       if (options.engine == Engine::kSequential)
         detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report, log, finish, relax);
       else
@@ -289,9 +289,11 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
           for (int c = 0; c < bounds->components(); ++c) report.tet_field_bound.push_back(bounds->bound(t, c));
         }
       }
+      // Said only where the census does not clear it (after relaxing, the tolerance has refused
+      // collapses on the way and may hold few of the vertices left: under 5%, it is not said).
       if (report.status == Status::kStoppedEarly && report.tolerance > 0.0 &&
           report.rejected[static_cast<std::size_t>(CollapseReason::kTolerance)] > 0 &&
-          report.message == "no legal collapse left") {
+          report.message == "no legal collapse left" && (!report.stop.is_filled || 20 * report.stop.tolerance >= report.stop.vertices)) {
         report.tolerance_limited = true;
         report.message = "no legal collapse left; the tolerance (H = " + std::to_string(report.tolerance) +
                          ") refused " +

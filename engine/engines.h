@@ -37,9 +37,10 @@ class Progress {
 using FinishStep = std::function<void(CostModel&)>;
 
 // What the driver does when no legal collapse is left before the target: relax a limit in the
-// kernel options the engine was given (relax_limits.h) and return true, and the engine takes the
-// options again, looks at every edge once more and goes on; false: the run stops there.
-using RelaxStep = std::function<bool()>;
+// kernel options the engine was given, or drop the feature curves and tell the engine's cost model
+// (relax_limits.h), and return true; the engine takes the options again, looks at every edge once
+// more and goes on; false: the run stops there.
+using RelaxStep = std::function<bool(CostModel&)>;
 
 // `kernel` carries the kernel settings derived from the options (quality floor, tolerance, the
 // field bound limits); `bounds` (kernel.field_bounds, writable; nullptr = none) is updated by

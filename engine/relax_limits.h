@@ -1,7 +1,8 @@
 // Relaxing the limits that would stop a run before its target (issue #23; SimplifyOptions::
-// relax_tolerance, relax_quality): the driver's RelaxStep (engines.h).
+// relax_tolerance, relax_quality, relax_features): the driver's RelaxStep (engines.h).
 #pragma once
 
+#include "cost/cost.h"
 #include "guarantees/surface_coverage.h"
 #include "kernel/collapse.h"
 #include "mesh/mesh_model.h"
@@ -10,20 +11,22 @@
 namespace topotet::detail {
 
 // Called when no legal collapse is left before the target. Takes the census of the vertices left
-// (diagnose_stop, into report.stop) and, if the tolerance or the quality floors hold enough of them,
-// no fewer than any other limit an option sets, and the options let that limit relax, relaxes the
-// one that holds more: H doubled (kernel and
-// coverage), or the dihedral and mean-ratio floors halved (to 0 once below 1/256 of the asked
-// ones). Records it in report (tolerance, min_quality_used, min_dihedral_used, relaxations),
-// clears report.stop and returns true; else leaves report.stop filled (it is the run's stop
-// diagnosis) and returns false. Deterministic: the census is (diagnose_stop).
+// (diagnose_stop, into report.stop) and, if the tolerance, the quality floors or the feature
+// corners hold enough of them, no fewer than any other limit an option sets, and the options let
+// that limit relax, relaxes the one that holds more: H doubled (kernel and coverage), or the
+// dihedral and mean-ratio floors halved (to 0 once below 1/256 of the asked ones), or the feature
+// curves dropped (drop_features; `cost` forgets its orders, the coverage the curves' segments).
+// Records it in report (tolerance, min_quality_used, min_dihedral_used, features_dropped,
+// relaxations), clears report.stop and returns true; else leaves report.stop filled (it is the
+// run's stop diagnosis) and returns false. Deterministic: the census is (diagnose_stop).
 //
 // Why relaxing keeps the guarantees, with the relaxed values: every collapse was proved under
 // the H it was made with, which is at most the last H, and the coverage invariant (every original
 // point within H of its face) only gets looser; every tet was accepted above the floor of its time,
-// which is at least the last floor. The topology, inversion, pinned vertices and field error
-// limits are never relaxed.
-bool relax_limits(const MeshModel& mesh, const SimplifyOptions& options, CollapseOptions& kernel,
-                  SurfaceCoverage* coverage, std::uint64_t target, Report& report);
+// which is at least the last floor. Dropped features were curves of our own making, not of the
+// input: the surfaces they lay on keep their labels, topology and tolerance. The topology,
+// inversion, listed or required vertices and field error limits are never relaxed.
+bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptions& kernel, SurfaceCoverage* coverage,
+                  CostModel& cost, std::uint64_t target, Report& report);
 
 }  // namespace topotet::detail

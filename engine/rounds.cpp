@@ -169,7 +169,7 @@ class Rounds {
         }
         // A limit the caller lets relax held the vertices left: the driver relaxed it; every edge
         // gets one more look under it (and if none passes, the next relaxation is asked for).
-        if (relax_ && relax_()) {
+        if (relax_ && relax_(cost_)) {
           proposals_.kernel_changed();
           refresh();
           continue;

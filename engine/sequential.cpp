@@ -99,7 +99,7 @@ void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const 
     if (heap.empty()) {
       // A limit the caller lets relax held the edges left: the driver relaxed it (engines.h);
       // every edge is offered once more under it.
-      if (!relax || !relax()) break;
+      if (!relax || !relax(cost)) break;
       for (auto& p : parked) p.fill(kInvalid);
       std::fill(parked_overflow.begin(), parked_overflow.end(), 0);
       push_every_edge();

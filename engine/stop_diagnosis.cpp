@@ -62,11 +62,10 @@ std::string number(double x) {
 }  // namespace
 
 void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                   std::uint64_t target, Report& report) {
+                   CostModel& cost, std::uint64_t target, Report& report) {
   StopDiagnosis& d = report.stop;
   d = StopDiagnosis{};
   d.is_filled = true;
-  CostModel cost(mesh, options);
   const std::size_t nv = mesh.vertex_capacity();
   std::array<std::atomic<std::uint64_t>, kVerdicts> counts{};
   parallel::for_range<std::size_t>(0, nv, 256, "diagnose_stop", [&](std::size_t begin, std::size_t end) {
@@ -170,13 +169,14 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
       return "--tolerance-rel " + number(2.0 * rel) + " (SimplifyOptions::tolerance_rel, twice H = " +
              number(report.tolerance) + ") is the next step" + effect;
     }
-    if (name == "quality" && options.min_dihedral > 0.0)
-      return "--min-dihedral " + number(options.min_dihedral / 2.0) + " or --min-quality " +
-             number(options.min_quality / 2.0) +
+    // The floors as the run used them (relaxed ones included: Report::min_dihedral_used).
+    if (name == "quality" && report.min_dihedral_used > 0.0)
+      return "--min-dihedral " + number(report.min_dihedral_used / 2.0) + " or --min-quality " +
+             number(report.min_quality_used / 2.0) +
              " (SimplifyOptions::min_dihedral, min_quality: half a floor) is the next step" + effect +
              ", with flatter tets";
     if (name == "quality")
-      return "--min-quality " + number(options.min_quality / 2.0) +
+      return "--min-quality " + number(report.min_quality_used / 2.0) +
              " (SimplifyOptions::min_quality, half the floor) is the next step" + effect + ", with flatter tets";
     if (name == "field_error")
       return (options.max_field_error_rel > 0.0 ? "--max-field-error-rel " + number(2.0 * options.max_field_error_rel)

@@ -2,17 +2,18 @@
 // reason that refuses it, and one change to suggest (Report::stop, topotet/simplify.h).
 #pragma once
 
+#include "cost/cost.h"
 #include "kernel/collapse.h"
 #include "mesh/mesh_model.h"
 #include "topotet/simplify.h"
 
 namespace topotet::detail {
 
-// Fills report.stop from the mesh as the engine left it (not compacted), with the kernel options
-// the run used (its tolerance reference and coverage, quality floor, field bounds). Reads only;
+// Fills report.stop from the mesh as the engine left it (not compacted), with the engine's cost
+// model (its placements are the ones the run tries) and the kernel options the run used (its tolerance reference and coverage, quality floor, field bounds). Reads only;
 // parallel over vertices, deterministic (the counts are sums). Costs one kernel check per live
 // edge and placement: run it only when the run stopped before its target (`target` vertices).
 void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                   std::uint64_t target, Report& report);
+                   CostModel& cost, std::uint64_t target, Report& report);
 
 }  // namespace topotet::detail

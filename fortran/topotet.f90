@@ -91,6 +91,7 @@ module topotet
     ! 1 (default): the tolerance (H doubled) / the quality floors (halved) relax where they would stop
     ! the run before its target, the report gives the values that hold; 0: hard limits
     integer(c_int) :: relax_tolerance, relax_quality
+    integer(c_int) :: relax_features  ! 1 (default): feature curves dropped where they would stop the run short
   end type
 
   type, bind(c), public :: topotet_report
@@ -115,6 +116,7 @@ module topotet
     real(c_double) :: tolerance_asked, min_quality_used, min_dihedral_used  ! as asked / as they hold
     integer(c_int64_t) :: relaxations  ! limits relaxed to reach the target
     integer(c_int64_t) :: stop_beyond_reach  ! 1: the topology and the input's pins alone hold the target
+    integer(c_int64_t) :: features_dropped  ! feature edges dropped (lower than the relaxed H)
   end type
 
   public :: topotet_mesh_arrays_init, topotet_options_init, topotet_mesh_build, topotet_mesh_read, &

@@ -381,6 +381,7 @@ py::dict report_dict(const topotet::Report& r) {
     relaxations.append(step);
   }
   d["relaxations"] = relaxations;
+  d["features_dropped"] = r.features_dropped;
   d["feature_edges"] = r.feature_edges;
   d["feature_corners"] = r.feature_corners;
   d["optimize_moves"] = r.optimize_moves;
@@ -444,7 +445,7 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
                   const std::optional<std::string>& hierarchy, const std::string& optimize,
                   const py::object& isosurfaces, const py::object& cell_fields, const py::object& cell_kinds,
                   const std::vector<std::string>& extensive, const std::vector<std::string>& categorical,
-                  bool relax_tolerance, bool relax_quality) {
+                  bool relax_tolerance, bool relax_quality, bool relax_features) {
   std::vector<py::array> keep;
   keep.reserve(4 + (fields.is_none() ? 0 : py::len(fields)));  // the views point into these arrays
   const topotet::MeshView input =
@@ -467,6 +468,7 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
                                                   size_weight, max_cost, threads, feature_angle, optimize);
   options.relax_tolerance = relax_tolerance;
   options.relax_quality = relax_quality;
+  options.relax_features = relax_features;
   options.field_weights = field_weights;
   options.max_field_error = max_field_error;
   options.max_field_error_rel = max_field_error_rel;
@@ -570,6 +572,7 @@ PYBIND11_MODULE(_core, m) {
         d["optimize"] = topotet::to_string(defaults.optimize);
         d["relax_tolerance"] = defaults.relax_tolerance;
         d["relax_quality"] = defaults.relax_quality;
+        d["relax_features"] = defaults.relax_features;
         return d;
       },
       "The library's SimplifyOptions defaults under simplify()'s keyword names (the keywords' own defaults "
@@ -591,11 +594,13 @@ PYBIND11_MODULE(_core, m) {
         py::arg("cell_fields") = py::none(), py::arg("cell_kinds") = py::none(),
         py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
         py::arg("relax_tolerance") = defaults.relax_tolerance, py::arg("relax_quality") = defaults.relax_quality,
+        py::arg("relax_features") = defaults.relax_features,
         "Simplifies the mesh, keeping its topology and that of every substructure. The options and their "
         "defaults are topotet::SimplifyOptions': the geometric tolerance (tolerance_rel, 0.4% of the diagonal; "
         "0 turns it off; where it would stop the run before its target H doubles unless relax_tolerance=False, and "
         "report['tolerance'] is the H that holds; min_quality and min_dihedral likewise halve unless "
-        "relax_quality=False), features at feature_angle degrees (180 turns them off), field_weights {name: weight}, "
+        "relax_quality=False), features at feature_angle degrees (dropped where their corners would stop the run "
+        "short, unless relax_features=False) (180 turns them off), field_weights {name: weight}, "
         "field error limits (max_field_error in the field's units, max_field_error_rel relative to its range; "
         "0 = none), optimize ('none', 'light' or 'full': smoothing and flips after the collapses), isosurfaces (the "
         "list embed_isosurfaces returns: the vertices of those levels' triangles keep the level exactly), cell_fields "

@@ -47,7 +47,8 @@ int topotet_probe_options(const topotet_options* options, double* values, int ca
                       options->min_dihedral,
                       options->size_weight,
                       options->relax_tolerance,
-                      options->relax_quality};
+                      options->relax_quality,
+                      options->relax_features};
   const int n = (int)(sizeof v / sizeof v[0]);
   if (capacity < n) return -1;
   for (int i = 0; i < n; ++i) values[i] = v[i];

@@ -68,7 +68,7 @@ TEST(ParaViewFilter, defaults_are_the_library_defaults) {
   EXPECT_EQ(filter->GetFeatureAngle(), defaults.feature_angle);
   EXPECT_EQ(filter->GetMinQuality(), defaults.min_quality);
   EXPECT_EQ(filter->GetMinDihedral(), defaults.min_dihedral);
-  EXPECT_EQ(filter->GetRelaxLimits() != 0, defaults.relax_tolerance && defaults.relax_quality);
+  EXPECT_EQ(filter->GetRelaxLimits() != 0, defaults.relax_tolerance && defaults.relax_quality && defaults.relax_features);
   EXPECT_EQ(filter->GetMaxCost(), defaults.max_cost);
   EXPECT_EQ(filter->GetMaxFieldErrorRel(), defaults.max_field_error_rel);
   EXPECT_EQ(filter->GetOptimize(), static_cast<int>(defaults.optimize));

@@ -58,6 +58,7 @@ TEST(CapiOptions, DefaultsAreTheLibrarys) {
   EXPECT_EQ(c.size_weight, d.size_weight);
   EXPECT_EQ(c.relax_tolerance != 0, d.relax_tolerance);
   EXPECT_EQ(c.relax_quality != 0, d.relax_quality);
+  EXPECT_EQ(c.relax_features != 0, d.relax_features);
   // The enums' values are the library's.
   EXPECT_EQ(static_cast<int>(topotet::Engine::kSequential), 1);
   EXPECT_EQ(static_cast<int>(topotet::Optimize::kFull), 2);
@@ -65,7 +66,7 @@ TEST(CapiOptions, DefaultsAreTheLibrarys) {
   EXPECT_EQ(static_cast<int>(topotet::CellFieldKind::kExtensive), TOPOTET_CELL_EXTENSIVE);
 }
 
-// SimplifyOptions' 27 fields: 23 reach C, 21 as options of their own and three as pairs or
+// SimplifyOptions' 28 fields: 24 reach C, 22 as options of their own and three as pairs or
 // triples (field_weights: field_weight_count, _names, _weights; on_progress: progress,
 // progress_user_data), isosurfaces through topotet_mesh_embed_isosurfaces (the handle remembers
 // them); 4 are the C++ engine's own:
@@ -73,7 +74,7 @@ TEST(CapiOptions, DefaultsAreTheLibrarys) {
 //   cost_units   - the shared cost units of runs in parts (topotet::mpi, out of core)
 //   quadrics_in, quadrics_out - the quadrics carried between the levels of an out-of-core run
 TEST(CapiOptions, FieldCountIsKnown) {
-  constexpr std::size_t in_c = 23;        // every other field
+  constexpr std::size_t in_c = 24;        // every other field
   constexpr std::size_t engine_only = 4;  // round_log, cost_units, quadrics_in, quadrics_out
   EXPECT_EQ(field_count<topotet::SimplifyOptions>(), in_c + engine_only)
       << "SimplifyOptions changed: add the field to topotet_options (capi/include/topotet/topotet_c.h, at the end), "

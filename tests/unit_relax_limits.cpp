@@ -1,8 +1,9 @@
-// SimplifyOptions::relax_tolerance and relax_quality (issue #23): where the tolerance or the
-// quality floors would stop a run before its target, they relax (H doubled, floors halved) and the
-// run reaches its target; the output holds its guarantees with the values the Report gives, the
-// topology is never relaxed, and the output is the same for every thread count. With relaxing off
-// the same runs stop early (unit_stop_diagnosis.cpp names why).
+// SimplifyOptions::relax_tolerance, relax_quality and relax_features (issue #23): where the
+// tolerance, the quality floors or feature corners would stop a run before its target, they relax
+// (H doubled, floors halved, features lower than H dropped) and the run reaches its target; the
+// output holds its guarantees with the values the Report gives, the topology is never relaxed,
+// and the output is the same for every thread count. With relaxing off the same runs stop early
+// (unit_stop_diagnosis.cpp names why).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -105,6 +106,37 @@ TEST(RelaxLimits, TheQualityFloorsHalveUntilTheTarget) {
   const QualityStats q = compute_quality(output), q_in = compute_quality(input);
   EXPECT_EQ(q.inverted, 0u);
   EXPECT_GE(q.mean_ratio.min, std::min(r.min_quality_used, q_in.mean_ratio.min) * (1.0 - 1e-9));
+}
+
+// Feature corners that hold the run (the generated tori's staircase creases, features at the
+// asked H): H doubles and the curves are judged again at it; those lower than H go, the run reaches
+// its target, and the surfaces stay within the H reported. Without relax_features they hold it.
+TEST(RelaxLimits, FeaturesLowerThanTheRelaxedToleranceGo) {
+  const MeshData input = generate_mesh({"linked-tori", 40000, 1});
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.05;
+  MeshModel held_mesh = build_mesh_model(input);
+  options.relax_features = false;
+  const Report held = simplify(held_mesh, options);
+  ASSERT_EQ(held.status, Status::kStoppedEarly);
+  EXPECT_STREQ(held.stop.dominant, "pinned");
+  EXPECT_GT(held.stop.pinned_features, held.stop.vertices / 2);
+  EXPECT_EQ(held.features_dropped, 0u);
+
+  MeshModel mesh = build_mesh_model(input);
+  options.relax_features = true;
+  const Report r = simplify(mesh, options);
+  ASSERT_EQ(r.status, Status::kOk) << r.message;
+  EXPECT_EQ(r.vertices_after, target_of(r, 0.05));
+  ASSERT_GE(relaxations_of(r, "features"), 1u);
+  EXPECT_GT(r.features_dropped, 0u);
+  EXPECT_LT(r.features_dropped, r.feature_edges);  // not all: the rest are features at the last H
+  EXPECT_GT(r.tolerance, r.tolerance_asked);
+  const MeshData output = mesh.to_mesh_data();
+  expect_same_topology(input, output);
+  SurfaceDistanceOptions distance_options;
+  distance_options.sample_spacing_rel = 1e-3;
+  EXPECT_LE(surface_distance(input, output, distance_options).hausdorff, r.tolerance);
 }
 
 // The topology is never relaxed: a run it stops still stops, with no relaxation, and says so.

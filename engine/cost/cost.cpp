@@ -264,6 +264,13 @@ std::uint8_t CostModel::order(const MeshModel& mesh, VertId v, LinkScratch& scra
   return o;
 }
 
+void CostModel::forget_orders() {
+  for (std::size_t v = 0; v < vertex_count_; ++v) {
+    const std::uint8_t o = orders_[v].load(std::memory_order_relaxed);
+    if (o != 0 && o != kStale) orders_[v].store(kStaleFeature, std::memory_order_relaxed);
+  }
+}
+
 bool CostModel::pins_conflict(const MeshModel& mesh, VertId a, VertId b) const {
   if (pins_.empty()) return false;
   std::uint32_t both = pins_[a] & pins_[b];

@@ -124,6 +124,29 @@ struct Surfaces {
   }
 };
 
+// The Surfaces of the special faces found by a parallel scan (in any order: sorted here, so the
+// result does not depend on the split).
+Surfaces make_surfaces(std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>> face_list) {
+  std::sort(face_list.begin(), face_list.end(), [](const auto& x, const auto& y) {
+    return x.first != y.first ? x.first < y.first : x.second < y.second;
+  });
+  Surfaces surfaces;
+  surfaces.faces.reserve(face_list.size());
+  surfaces.labels.reserve(face_list.size());
+  for (const auto& [f, label] : face_list) {
+    surfaces.faces.push_back(f);
+    surfaces.labels.push_back(label);
+  }
+  std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>>().swap(face_list);
+  surfaces.edge_faces.reserve(3 * surfaces.faces.size());
+  for (std::uint32_t f = 0; f < surfaces.faces.size(); ++f) {
+    const auto& v = surfaces.faces[f];
+    for (int e = 0; e < 3; ++e) surfaces.edge_faces.push_back({edge_key(v[e], v[(e + 1) % 3]), f});
+  }
+  std::sort(surfaces.edge_faces.begin(), surfaces.edge_faces.end());
+  return surfaces;
+}
+
 // A sharp candidate: edge (a, x), a < x, and its two faces' third vertices.
 struct Candidate {
   VertId a, x;
@@ -421,23 +444,7 @@ FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale
 
   // High and sharp at the scale (file comment), in parallel over the candidates.
   if (scale > 0.0 && !sharp.empty()) {
-    std::sort(face_list.begin(), face_list.end(), [](const auto& x, const auto& y) {
-      return x.first != y.first ? x.first < y.first : x.second < y.second;
-    });
-    Surfaces surfaces;
-    surfaces.faces.reserve(face_list.size());
-    surfaces.labels.reserve(face_list.size());
-    for (const auto& [f, label] : face_list) {
-      surfaces.faces.push_back(f);
-      surfaces.labels.push_back(label);
-    }
-    std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>>().swap(face_list);
-    surfaces.edge_faces.reserve(3 * surfaces.faces.size());
-    for (std::uint32_t f = 0; f < surfaces.faces.size(); ++f) {
-      const auto& v = surfaces.faces[f];
-      for (int e = 0; e < 3; ++e) surfaces.edge_faces.push_back({edge_key(v[e], v[(e + 1) % 3]), f});
-    }
-    std::sort(surfaces.edge_faces.begin(), surfaces.edge_faces.end());
+    const Surfaces surfaces = make_surfaces(std::move(face_list));
     std::vector<char> keep(sharp.size(), 0);
     const double radius = kDiskRadius * scale, least = kDepartureFraction * scale;
     parallel::for_range<std::size_t>(0, sharp.size(), 64, "feature_scale", [&](std::size_t begin, std::size_t end) {
@@ -511,6 +518,102 @@ FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale
 }
 
 FeatureStats detect_features(MeshModel& mesh, double angle_degrees) { return detect_features(mesh, angle_degrees, 0.0); }
+
+FeatureDrop drop_features_below(MeshModel& mesh, double angle_degrees, double scale) {
+  FeatureDrop out;
+  const double minus_cos_theta = -std::cos(std::max(angle_degrees, 0.0) * std::numbers::pi / 180.0);
+  // The feature edges now, each once (a < x), and the special faces the disks grow over.
+  std::vector<Candidate> edges;
+  std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>> face_list;
+  std::mutex merge;
+  parallel::for_range<std::size_t>(0, mesh.vertex_capacity(), 1024, "features_below", [&](std::size_t begin, std::size_t end) {
+    LinkScratch scratch;
+    std::vector<Candidate> local;
+    std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>> local_faces;
+    for (std::size_t i = begin; i < end; ++i) {
+      const VertId a = static_cast<VertId>(i);
+      if (mesh.is_dead_vertex(a) || is_interior_vertex(mesh, a)) continue;
+      LinkScratch::VertexData& d = scratch.a;
+      classify_vertex(mesh, a, d, scratch);
+      for (const auto& f : d.special)
+        if (a < f.x && a < f.y) local_faces.push_back({{a, std::min(f.x, f.y), std::max(f.x, f.y)}, f.label});
+    }
+    const std::lock_guard<std::mutex> lock(merge);
+    face_list.insert(face_list.end(), local_faces.begin(), local_faces.end());
+  });
+  for (TetId t = 0; t < mesh.tets.size(); ++t) {
+    if ((mesh.flags[t] & tet_flag::kDead) || mesh.tet_refs_slot[t] == kInvalid) continue;
+    const SubstructureRefs& r = mesh.refs_table[mesh.tet_refs_slot[t]];
+    for (int e = 0; e < 6; ++e)
+      if (is_polyline_edge(mesh.flags[t], e) && r.edge[e] == kFeatureCurveRef) {
+        const VertId x = mesh.tets[t][kTetEdges[e][0]], y = mesh.tets[t][kTetEdges[e][1]];
+        edges.push_back({std::min(x, y), std::max(x, y)});
+      }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end(), [](const Candidate& p, const Candidate& q) { return p.a == q.a && p.x == q.x; }),
+              edges.end());
+  out.edges_before = edges.size();
+  if (edges.empty()) return out;
+  const Surfaces surfaces = make_surfaces(std::move(face_list));
+  // The scale test of detect_features on the mesh as it is, which is within the tolerance of the
+  // original: high and sharp on a disk of radius 4H, continued straight on. Two changes, for the
+  // curves of a shape smaller than 4H (a box whose edges are a few H long): the disk is at most
+  // half the curve's chain long (a larger one wraps around the box's other faces, whose normals
+  // then cancel), and a curve that was long at the asked H is not judged on its length again.
+  // A staircase of steps s stays as high as s / 2 on any disk, so it goes once H > s; a box edge
+  // departs by 0.3 r on a disk of radius r, so it stays until H > 0.6 x its chain's half length.
+  const std::vector<double> chain = chain_lengths(mesh, edges);
+  std::vector<char> keep(edges.size(), 0);
+  const double least = kDepartureFraction * scale;
+  parallel::for_range<std::size_t>(0, edges.size(), 64, "features_below_scale", [&](std::size_t begin, std::size_t end) {
+    DiskScratch disk;
+    for (std::size_t i = begin; i < end; ++i) {
+      const double radius = std::min(kDiskRadius * scale, 0.5 * chain[i]);
+      const CreaseAtScale c = measure_crease(mesh, surfaces, edges[i].a, edges[i].x, radius, disk);
+      keep[i] = c.departure > least && c.sides_cos < -minus_cos_theta;
+    }
+  });
+  continue_straight(mesh, edges, keep, minus_cos_theta);
+  std::vector<Candidate> kept;
+  for (std::size_t i = 0; i < edges.size(); ++i)
+    if (keep[i]) kept.push_back(edges[i]);
+  out.edges_after = kept.size();
+  if (kept.size() == edges.size()) return out;
+  // Unflag the others; unpin the feature corners no kept edge touches (a kept curve keeps its
+  // corners: its ends and junctions are where they were).
+  const auto is_kept = [&](VertId x, VertId y) {
+    const Candidate c{std::min(x, y), std::max(x, y)};
+    return std::binary_search(kept.begin(), kept.end(), c);
+  };
+  std::vector<std::uint8_t> on_kept(mesh.vertex_capacity(), 0);
+  for (const Candidate& c : kept) on_kept[c.a] = on_kept[c.x] = 1;
+  parallel::for_range<std::size_t>(0, mesh.tets.size(), 4096, "features_below_drop", [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const TetId t = static_cast<TetId>(i);
+      if ((mesh.flags[t] & tet_flag::kDead) || mesh.tet_refs_slot[t] == kInvalid) continue;
+      const SubstructureRefs& r = mesh.refs_table[mesh.tet_refs_slot[t]];
+      for (int e = 0; e < 6; ++e)
+        if (is_polyline_edge(mesh.flags[t], e) && r.edge[e] == kFeatureCurveRef &&
+            !is_kept(mesh.tets[t][kTetEdges[e][0]], mesh.tets[t][kTetEdges[e][1]]))
+          // The flags are the truth (is_polyline_edge): the side table's ref of a cleared edge is
+          // left as it is, nothing reads the ref of an edge that is not a polyline edge.
+          mesh.flags[t] &= static_cast<TetFlags>(~(TetFlags(1u) << (tet_flag::kPolylineEdgeShift + e)));
+    }
+  });
+  for (VertId v = 0; v < mesh.vertex_capacity(); ++v) {
+    std::uint8_t& st = mesh.vertex_states[v];
+    if (!(st & vertex_state::kFeatureCorner) || (st & vertex_state::kDead) || on_kept[v]) continue;
+    st &= static_cast<std::uint8_t>(~vertex_state::kFeatureCorner);
+    // detect_features pins only vertices that were not pinned: unless also listed (kCorner,
+    // kRequired), a feature corner was pinned for that reason alone.
+    if (!(st & (vertex_state::kCorner | vertex_state::kRequired))) {
+      st &= static_cast<std::uint8_t>(~vertex_state::kPinned);
+      ++out.unpinned;
+    }
+  }
+  return out;
+}
 
 double feature_scale(const MeshModel& mesh, const SimplifyOptions& options) {
   if (options.tolerance > 0.0) return options.tolerance;

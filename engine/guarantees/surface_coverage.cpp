@@ -8,6 +8,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "parallel/for_range.h"
+
 namespace topotet {
 namespace {
 
@@ -605,6 +607,33 @@ void SurfaceCoverage::append(Records& list, const CoverageSegment& item) {
   list.resize(at + 1 + kEndRecords);
   list[at] = {item.segment, 0.0f, item.depth, static_cast<std::uint8_t>(item.local | kSegment)};
   std::memcpy(static_cast<void*>(&list[at + 1]), item.ends.data(), sizeof(item.ends));
+}
+
+void SurfaceCoverage::drop_unheld_segments(const MeshModel& mesh, std::int32_t ref) {
+  const int id = reference_.polyline_label_id(ref);
+  if (id < 0) return;
+  const auto label = static_cast<std::uint32_t>(id - static_cast<int>(reference_.face_label_count()));
+  const auto& segment_label = reference_.soup().segment_label;
+  parallel::for_range<std::size_t>(0, held_.size(), 4096, "drop_segments", [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t) {
+      Records& list = held_[t];
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < list.size();) {
+        const std::size_t n = records_of(list[i]);
+        const bool unheld = is_segment(list[i]) && segment_label[list[i].triangle] == label &&
+                            !is_polyline_edge(mesh.flags[t], list[i].local & ~kSegment);
+        if (!unheld) {
+          if (kept != i) std::copy_n(&list[i], n, &list[kept]);
+          kept += n;
+        }
+        i += n;
+      }
+      if (kept != list.size()) {
+        list.resize(kept);
+        list.shrink_to_fit();
+      }
+    }
+  });
 }
 
 CoverageSegment SurfaceCoverage::decode_segment(const ItemRecord* head) {

@@ -131,6 +131,12 @@ class SurfaceCoverage {
   void commit(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
               const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, CoverageScratch& s);
 
+  // Edges of polyline `ref` stopped being polyline edges (drop_features_below, features.h: feature
+  // curves a run that relaxed its tolerance no longer keeps): the original segments they held are
+  // dropped, the curve they were on is no substructure any more. Every other item keeps its face
+  // (or edge); the invariant holds for every curve and surface left.
+  void drop_unheld_segments(const MeshModel& mesh, std::int32_t ref);
+
   // Items and pieces held now, and the bytes their lists take.
   std::size_t item_count() const;
   std::size_t memory_bytes() const;

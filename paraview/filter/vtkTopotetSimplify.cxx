@@ -57,7 +57,7 @@ vtkTopotetSimplify::vtkTopotetSimplify() {
   this->FeatureAngle = defaults.feature_angle;
   this->MinQuality = defaults.min_quality;
   this->MinDihedral = defaults.min_dihedral;
-  this->RelaxLimits = defaults.relax_tolerance && defaults.relax_quality;
+  this->RelaxLimits = defaults.relax_tolerance && defaults.relax_quality && defaults.relax_features;
   this->MaxCost = defaults.max_cost;
   this->MaxFieldErrorRel = defaults.max_field_error_rel;
   this->Optimize = static_cast<int>(defaults.optimize);
@@ -104,7 +104,7 @@ int vtkTopotetSimplify::RequestData(vtkInformation*, vtkInformationVector** inpu
     options.feature_angle = this->FeatureAngle;
     options.min_quality = this->MinQuality;
     options.min_dihedral = this->MinDihedral;
-    options.relax_tolerance = options.relax_quality = this->RelaxLimits != 0;
+    options.relax_tolerance = options.relax_quality = options.relax_features = this->RelaxLimits != 0;
     options.max_cost = this->MaxCost;
     options.max_field_error_rel = this->MaxFieldErrorRel;
     options.optimize = static_cast<topotet::Optimize>(this->Optimize);

@@ -61,8 +61,8 @@ class TOPOTETFILTERS_EXPORT vtkTopotetSimplify : public vtkUnstructuredGridAlgor
   vtkSetMacro(MinDihedral, double);
   vtkGetMacro(MinDihedral, double);
   // Where the default tolerance or quality floors would stop the run before its target, relax them
-  // (H doubled, floors halved) and go on; off = hard limits (SimplifyOptions::relax_tolerance and
-  // relax_quality together).
+  // (H doubled, floors halved, feature curves dropped) and go on; off = hard limits
+  // (SimplifyOptions::relax_tolerance, relax_quality and relax_features together).
   vtkSetMacro(RelaxLimits, vtkTypeBool);
   vtkGetMacro(RelaxLimits, vtkTypeBool);
   vtkBooleanMacro(RelaxLimits, vtkTypeBool);

@@ -50,6 +50,7 @@ def _simplify(args):
     # target (SimplifyOptions::relax_tolerance, relax_quality), as `topotet simplify` does.
     options["relax_tolerance"] = not args.hard_limits and args.tolerance is None and args.tolerance_rel is None
     options["relax_quality"] = not args.hard_limits and args.min_quality is None and args.min_dihedral is None
+    options["relax_features"] = not args.hard_limits and args.feature_angle is None
     if args.field_weight:
         options["field_weights"] = {k: float(v) for k, v in _pairs(args.field_weight, "--field-weight").items()}
     if args.isosurface:
@@ -74,7 +75,9 @@ def _simplify(args):
         if report["relaxations"]:
             print(f"relaxed   to reach the target: tolerance {report['tolerance_asked']:.3g} -> {report['tolerance']:.3g}, "
                   f"min dihedral {_asked(report, 'min_dihedral')} -> {report['min_dihedral_used']:.3g}, "
-                  f"min quality {_asked(report, 'min_quality')} -> {report['min_quality_used']:.3g} (--hard-limits keeps them)")
+                  f"min quality {_asked(report, 'min_quality')} -> {report['min_quality_used']:.3g}"
+                  + (f", {report['features_dropped']:,} feature edges dropped" if report["features_dropped"] else "")
+                  + " (--hard-limits keeps them)")
         collapses = report.get("collapses", 0)
         print(f"time      {seconds:.2f} s, {collapses:,} collapses" + (f", {collapses / seconds:,.0f} collapses/s" if seconds > 0 else ""))
         if result["cell_fields"]:
@@ -112,8 +115,9 @@ def main(argv=None):
     s.add_argument("--min-dihedral", type=float,
                    help=f"dihedral angle floor, degrees (default {d['min_dihedral']}; 0 = off)")
     s.add_argument("--hard-limits", action="store_true",
-                   help="keep the default tolerance and quality floors even where they stop the run before its target "
-                        "(by default they relax there: H doubles, the floors halve; a limit given is always hard)")
+                   help="keep the default tolerance, quality floors and feature curves even where they stop the run "
+                        "before its target (by default they relax there: H doubles, the floors halve, the features "
+                        "go; a limit given is always hard)")
     s.add_argument("--size-weight", type=float, help="size term in the ranking of collapses (0 = error only; default: auto, 3e-4 when no field steers the cost, else 0)")
     s.add_argument("--threads", type=int, help="threads (default: all; the output is the same for every count)")
     s.add_argument("--optimize", choices=("none", "light", "full"), help=f"after the collapses (default {d['optimize']})")

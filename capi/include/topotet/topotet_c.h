@@ -157,6 +157,8 @@ typedef struct topotet_options {
   int relax_tolerance;        /* 1 (default): where the tolerance would stop the run before its target, H
                                  doubles (the report gives the H that holds); 0: a hard limit */
   int relax_quality;          /* 1 (default): the same for min_quality and min_dihedral, halved; 0: hard */
+  int relax_features;         /* 1 (default): where their corners would stop the run before its target, the
+                                 feature curves lower than the relaxed H are dropped; 0: kept */
 } topotet_options;
 
 /* Same counters as topotet::Report. */
@@ -201,6 +203,7 @@ typedef struct topotet_report {
   double tolerance_asked, min_quality_used, min_dihedral_used;
   int64_t relaxations;
   int64_t stop_beyond_reach; /* 1: the topology and the input's pinned vertices alone hold the target */
+  int64_t features_dropped;  /* feature edges relaxing dropped (relax_features: lower than the relaxed H) */
 } topotet_report;
 
 typedef struct topotet_mesh topotet_mesh;

@@ -157,6 +157,12 @@ struct SimplifyOptions {
   // simplify` sets them false for a limit given on its command line (and --hard-limits for both).
   bool relax_tolerance = true;
   bool relax_quality = true;
+  // The same for the feature curves (feature_angle), which are judged at the scale of H: where
+  // their pinned corners hold more of the vertices left than the tolerance and the floors, once H
+  // was relaxed, they are judged again at that H on the simplified surfaces and those lower than
+  // it are dropped (Relaxation "features"): generated staircases and voxel creases go, a box's
+  // edges and corners stay (the surfaces around dropped curves stay within H).
+  bool relax_features = true;
   // Field error bounds (paper 003; engine/guarantees/field_bounds.h says exactly what is bounded): every tet
   // carries, per field component, the largest |original - simplified| over the original vertices
   // that lie in it (exact, kept through every collapse). A collapse that would give a tet a bound
@@ -254,7 +260,9 @@ struct StopDiagnosis {
 // (SimplifyOptions::relax_tolerance, relax_quality): which, from and to what value, with how many
 // vertices left, and the share of them it held (Report::stop's census at that point).
 struct Relaxation {
-  const char* limit = "";  // "tolerance" (H, mesh units), "min_dihedral" (degrees) or "min_quality" (mean ratio)
+  // "tolerance" (H, mesh units), "min_dihedral" (degrees), "min_quality" (mean ratio) or
+  // "features" (the feature edges before and after they were judged at the relaxed H)
+  const char* limit = "";
   double from = 0.0, to = 0.0;
   std::uint64_t vertices_left = 0;
   double share = 0.0;
@@ -281,6 +289,7 @@ struct Report {
   double min_quality_used = 0.0, min_dihedral_used = 0.0;
   std::vector<Relaxation> relaxations;
   double relax_seconds = 0.0;  // the censuses that chose them (included in `seconds`)
+  std::uint64_t features_dropped = 0;  // feature edges relaxations dropped (relax_features)
   double tolerance_setup_seconds = 0.0;  // building the Embree scene of the original surfaces
   // Wall time per phase (evaluate, select, apply: parallel engine; compact: both, the final
   // renumbering of the live vertices and tets), seconds.
