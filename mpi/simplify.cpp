@@ -144,9 +144,10 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
   SimplifyOptions local = o;
   local.tolerance = o.tolerance > 0.0 ? o.tolerance : o.tolerance_rel * global_diagonal(comm, mesh.local);
   // The limits hold as given: a part relaxing them alone would give the ranks different guarantees
-  // (SimplifyOptions::relax_tolerance, relax_quality; the passes stop short instead).
+  // (SimplifyOptions::relax_tolerance, relax_quality, relax_features; the passes stop short instead).
   local.relax_tolerance = false;
   local.relax_quality = false;
+  local.relax_features = false;
   report.tolerance = local.tolerance;
   // Per vertex: kFrozenLastPass (the partition should avoid it: pending), kFrozenOnce (sticky).
   std::vector<std::uint8_t> marks(mesh.local.vertex_count(), 0);

@@ -309,9 +309,11 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   base.target_vertex_ratio = 1.0;
   // The limits hold as given: a piece stops short of its level's share instead of relaxing them,
   // since a piece's H is its level's part of the run's (the parts add up to H) and the floors
-  // would differ from piece to piece (SimplifyOptions::relax_tolerance, relax_quality).
+  // would differ from piece to piece (SimplifyOptions::relax_tolerance, relax_quality,
+  // relax_features).
   base.relax_tolerance = false;
   base.relax_quality = false;
+  base.relax_features = false;
 
   std::vector<PieceSlot> slots(cut.pieces);
   std::uint64_t largest_cut_piece = 1;

@@ -131,7 +131,7 @@ TEST_P(OutOfCore, ManyPiecesKeepTheTopologyAndTheTolerance) {
   TetMesh whole = build_tet_mesh(input);
   SimplifyOptions options;
   options.target_vertex_ratio = 0.2;
-  options.relax_tolerance = options.relax_quality = false;  // as out of core keeps them
+  options.relax_tolerance = options.relax_quality = options.relax_features = false;  // as out of core keeps them
   simplify(whole, options);
   EXPECT_LE(r.output.vertex_count(), std::max<std::size_t>(static_cast<std::size_t>(0.2 * input.vertex_count()) + 1,
                                                            static_cast<std::size_t>(1.1 * whole.to_mesh_data().vertex_count())));

@@ -186,7 +186,7 @@ class CostModel {
   // (every other vertex keeps its order: see cost.cpp). Writes only u's quadric and order byte.
   void on_collapse(const MeshModel& mesh, VertId u, VertId v);
 
-  // The substructures lost curves (drop_features, features.h): every vertex that was not interior
+  // The substructures lost curves (drop_features_below, features.h): every vertex that was not interior
   // is classified again when next asked (an order kept from before could only over-estimate, which
   // is legal but keeps former curve vertices on their curve).
   void forget_orders();

@@ -64,7 +64,8 @@ class Proposals {
 
   // --- the kernel ---
   // The kernel options were relaxed (SimplifyOptions::relax_tolerance, relax_quality): take them
-  // again. Verdicts kept from before stay right: a relaxed kernel accepts all it accepted.
+  // again. The engine then has every vertex propose afresh (rounds.cpp, refresh), so no verdict of
+  // the old options is reused (dropped feature curves change the link conditions too).
   void kernel_changed();
   // Verifies a's edges in cost order, from its proposal on, while they rank below `threshold`:
   // the first that passes becomes the verified proposal of round `round`; failures are banned.
