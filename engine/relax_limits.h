@@ -15,7 +15,8 @@ namespace topotet::detail {
 // corners hold enough of them, no fewer than any other limit an option sets, and the options let
 // that limit relax, relaxes the one that holds more: H doubled (kernel and coverage), or the
 // dihedral and mean-ratio floors halved (to 0 once below 1/256 of the asked ones), or the feature
-// curves dropped (drop_features; `cost` forgets its orders, the coverage the curves' segments).
+// curves lower than 2H, 4H or 8H dropped and H raised to that scale (drop_features_below; `cost`
+// forgets its orders, the coverage the curves' segments).
 // Records it in report (tolerance, min_quality_used, min_dihedral_used, features_dropped,
 // relaxations), clears report.stop and returns true; else leaves report.stop filled (it is the
 // run's stop diagnosis) and returns false. Deterministic: the census is (diagnose_stop).
