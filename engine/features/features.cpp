@@ -528,7 +528,6 @@ FeatureDrop drop_features_below(MeshModel& mesh, double angle_degrees, double sc
   std::mutex merge;
   parallel::for_range<std::size_t>(0, mesh.vertex_capacity(), 1024, "features_below", [&](std::size_t begin, std::size_t end) {
     LinkScratch scratch;
-    std::vector<Candidate> local;
     std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>> local_faces;
     for (std::size_t i = begin; i < end; ++i) {
       const VertId a = static_cast<VertId>(i);
