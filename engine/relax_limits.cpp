@@ -63,15 +63,14 @@ bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptio
                            stops_the_run(d.quality);
   const bool features_may = options.relax_features && coverage != nullptr && stops_the_run(d.pinned_features);
   const double share_base = static_cast<double>(d.vertices);
-  const auto double_h = [&](std::uint64_t held) {
-    const double h = 2.0 * kernel.tolerance;
+  const auto raise_h = [&](double h, std::uint64_t held) {
     report.relaxations.push_back({"tolerance", kernel.tolerance, h, live, static_cast<double>(held) / share_base});
     kernel.tolerance = h;
     coverage->raise_tolerance(h);
     report.tolerance = h;
   };
   if (tolerance_may) {  // ties: the tolerance first, then the floors, then the features
-    double_h(d.tolerance);
+    raise_h(2.0 * kernel.tolerance, d.tolerance);
   } else if (quality_may) {
     const double share = static_cast<double>(d.quality) / share_base;
     if (report.min_dihedral_used > 0.0) {
@@ -90,20 +89,14 @@ bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptio
     // Features are judged at the scale of H (features.h): the curves are judged again at 2H, 4H,
     // 8H (or at H when H may not grow), and at the first of those where some are lower than it,
     // they go and H becomes it. None: the features are shapes at those scales, and stay.
-    FeatureDrop drop;
-    double h = kernel.tolerance;
-    for (int step = 1; step <= (tolerance_can_grow ? kFeatureLookAhead : 1); ++step) {
-      if (tolerance_can_grow) h *= 2.0;
-      drop = drop_features_below(mesh, options.feature_angle, h);
-      if (drop.edges_after != drop.edges_before) break;
+    std::vector<double> scales{kernel.tolerance};
+    if (tolerance_can_grow) {
+      scales.clear();
+      for (int step = 1; step <= kFeatureLookAhead; ++step) scales.push_back(std::ldexp(kernel.tolerance, step));
     }
+    const FeatureDrop drop = drop_features_below(mesh, options.feature_angle, scales);
     if (drop.edges_after == drop.edges_before) return false;
-    if (h > kernel.tolerance) {
-      report.relaxations.push_back({"tolerance", kernel.tolerance, h, live, static_cast<double>(d.pinned_features) / share_base});
-      kernel.tolerance = h;
-      coverage->raise_tolerance(h);
-      report.tolerance = h;
-    }
+    if (drop.scale > kernel.tolerance) raise_h(drop.scale, d.pinned_features);
     report.relaxations.push_back({"features", static_cast<double>(drop.edges_before), static_cast<double>(drop.edges_after),
                                   live, static_cast<double>(d.pinned_features) / share_base});
     report.features_dropped += drop.edges_before - drop.edges_after;

@@ -153,6 +153,13 @@ struct Candidate {
   bool operator<(const Candidate& o) const { return a != o.a ? a < o.a : x < o.x; }
 };
 
+// The special faces (a, x, y) of classified vertex a with a < x < y: each face once over its vertices.
+void append_special_faces(VertId a, const LinkScratch::VertexData& d,
+                          std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>>& out) {
+  for (const auto& s : d.special)
+    if (a < s.x && a < s.y) out.push_back({{a, std::min(s.x, s.y), std::max(s.x, s.y)}, s.label});
+}
+
 // The candidates at a (edges (a, x) with a < x that are sharp inner edges of one surface), and,
 // when `faces` is given, the special faces (a, x, y) with a < x < y.
 void scan_vertex(const MeshModel& mesh, VertId a, double minus_cos_theta, LinkScratch& scratch,
@@ -160,9 +167,7 @@ void scan_vertex(const MeshModel& mesh, VertId a, double minus_cos_theta, LinkSc
                  const std::vector<std::int32_t>& skip_refs) {
   LinkScratch::VertexData& d = scratch.a;
   classify_vertex(mesh, a, d, scratch);
-  if (faces != nullptr)
-    for (const auto& s : d.special)
-      if (a < s.x && a < s.y) faces->push_back({{a, std::min(s.x, s.y), std::max(s.x, s.y)}, s.label});
+  if (faces != nullptr) append_special_faces(a, d, *faces);
   for (const LinkScratch::Neighbour& nb : d.neighbours) {
     if (nb.x < a || nb.polyline || nb.mixed_labels || nb.count[kKtilde] != 2) continue;
     VertId y[2];
@@ -519,27 +524,11 @@ FeatureStats detect_features(MeshModel& mesh, double angle_degrees, double scale
 
 FeatureStats detect_features(MeshModel& mesh, double angle_degrees) { return detect_features(mesh, angle_degrees, 0.0); }
 
-FeatureDrop drop_features_below(MeshModel& mesh, double angle_degrees, double scale) {
+FeatureDrop drop_features_below(MeshModel& mesh, double angle_degrees, const std::vector<double>& scales) {
   FeatureDrop out;
   const double minus_cos_theta = -std::cos(std::max(angle_degrees, 0.0) * std::numbers::pi / 180.0);
-  // The feature edges now, each once (a < x), and the special faces the disks grow over.
+  // The feature edges now, each once (a < x): none, and there is nothing to judge (no scan).
   std::vector<Candidate> edges;
-  std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>> face_list;
-  std::mutex merge;
-  parallel::for_range<std::size_t>(0, mesh.vertex_capacity(), 1024, "features_below", [&](std::size_t begin, std::size_t end) {
-    LinkScratch scratch;
-    std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>> local_faces;
-    for (std::size_t i = begin; i < end; ++i) {
-      const VertId a = static_cast<VertId>(i);
-      if (mesh.is_dead_vertex(a) || is_interior_vertex(mesh, a)) continue;
-      LinkScratch::VertexData& d = scratch.a;
-      classify_vertex(mesh, a, d, scratch);
-      for (const auto& f : d.special)
-        if (a < f.x && a < f.y) local_faces.push_back({{a, std::min(f.x, f.y), std::max(f.x, f.y)}, f.label});
-    }
-    const std::lock_guard<std::mutex> lock(merge);
-    face_list.insert(face_list.end(), local_faces.begin(), local_faces.end());
-  });
   for (TetId t = 0; t < mesh.tets.size(); ++t) {
     if ((mesh.flags[t] & tet_flag::kDead) || mesh.tet_refs_slot[t] == kInvalid) continue;
     const SubstructureRefs& r = mesh.refs_table[mesh.tet_refs_slot[t]];
@@ -552,9 +541,25 @@ FeatureDrop drop_features_below(MeshModel& mesh, double angle_degrees, double sc
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end(), [](const Candidate& p, const Candidate& q) { return p.a == q.a && p.x == q.x; }),
               edges.end());
-  out.edges_before = edges.size();
-  if (edges.empty()) return out;
+  out.edges_before = out.edges_after = edges.size();
+  if (edges.empty() || scales.empty()) return out;
+  // The special faces the disks grow over, found once for every scale tried.
+  std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>> face_list;
+  std::mutex merge;
+  parallel::for_range<std::size_t>(0, mesh.vertex_capacity(), 1024, "features_below", [&](std::size_t begin, std::size_t end) {
+    LinkScratch scratch;
+    std::vector<std::pair<std::array<VertId, 3>, LinkScratch::Label>> local_faces;
+    for (std::size_t i = begin; i < end; ++i) {
+      const VertId a = static_cast<VertId>(i);
+      if (mesh.is_dead_vertex(a) || is_interior_vertex(mesh, a)) continue;
+      classify_vertex(mesh, a, scratch.a, scratch);
+      append_special_faces(a, scratch.a, local_faces);
+    }
+    const std::lock_guard<std::mutex> lock(merge);
+    face_list.insert(face_list.end(), local_faces.begin(), local_faces.end());
+  });
   const Surfaces surfaces = make_surfaces(std::move(face_list));
+  const std::vector<double> chain = chain_lengths(mesh, edges);
   // The scale test of detect_features on the mesh as it is, which is within the tolerance of the
   // original: high and sharp on a disk of radius 4H, continued straight on. Two changes, for the
   // curves of a shape smaller than 4H (a box whose edges are a few H long): the disk is at most
@@ -562,21 +567,28 @@ FeatureDrop drop_features_below(MeshModel& mesh, double angle_degrees, double sc
   // then cancel), and a curve that was long at the asked H is not judged on its length again.
   // A staircase of steps s stays as high as s / 2 on any disk, so it goes once H > s; a box edge
   // departs by 0.3 r on a disk of radius r, so it stays until H > 0.6 x its chain's half length.
-  const std::vector<double> chain = chain_lengths(mesh, edges);
-  std::vector<char> keep(edges.size(), 0);
-  const double least = kDepartureFraction * scale;
-  parallel::for_range<std::size_t>(0, edges.size(), 64, "features_below_scale", [&](std::size_t begin, std::size_t end) {
-    DiskScratch disk;
-    for (std::size_t i = begin; i < end; ++i) {
-      const double radius = std::min(kDiskRadius * scale, 0.5 * chain[i]);
-      const CreaseAtScale c = measure_crease(mesh, surfaces, edges[i].a, edges[i].x, radius, disk);
-      keep[i] = c.departure > least && c.sides_cos < -minus_cos_theta;
-    }
-  });
-  continue_straight(mesh, edges, keep, minus_cos_theta);
+  // Each scale in turn, until one drops some: nothing changes the mesh before that.
   std::vector<Candidate> kept;
-  for (std::size_t i = 0; i < edges.size(); ++i)
-    if (keep[i]) kept.push_back(edges[i]);
+  for (const double scale : scales) {
+    std::vector<char> keep(edges.size(), 0);
+    const double least = kDepartureFraction * scale;
+    parallel::for_range<std::size_t>(0, edges.size(), 64, "features_below_scale", [&](std::size_t begin, std::size_t end) {
+      DiskScratch disk;
+      for (std::size_t i = begin; i < end; ++i) {
+        const double radius = std::min(kDiskRadius * scale, 0.5 * chain[i]);
+        const CreaseAtScale c = measure_crease(mesh, surfaces, edges[i].a, edges[i].x, radius, disk);
+        keep[i] = c.departure > least && c.sides_cos < -minus_cos_theta;
+      }
+    });
+    continue_straight(mesh, edges, keep, minus_cos_theta);
+    kept.clear();
+    for (std::size_t i = 0; i < edges.size(); ++i)
+      if (keep[i]) kept.push_back(edges[i]);
+    if (kept.size() != edges.size()) {
+      out.scale = scale;
+      break;
+    }
+  }
   out.edges_after = kept.size();
   if (kept.size() == edges.size()) return out;
   // Unflag the others; unpin the feature corners no kept edge touches (a kept curve keeps its
