@@ -583,6 +583,7 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
       report->min_dihedral_used = r.min_dihedral_used;
       report->relaxations = static_cast<std::int64_t>(r.relaxations.size());
       report->features_dropped = static_cast<std::int64_t>(r.features_dropped);
+      report->stall_flips = static_cast<std::int64_t>(r.stall_flips);
       report->rejected_field_error = static_cast<std::int64_t>(r.rejected_by(RejectReason::kFieldError));
       report->feature_edges = static_cast<std::int64_t>(r.feature_edges);
       report->feature_corners = static_cast<std::int64_t>(r.feature_corners);

@@ -119,6 +119,8 @@ Json level_json(const LevelResult& l) {
   j["relaxations"] = relaxations;
   j["relax_seconds"] = r.relax_seconds;
   j["features_dropped"] = r.features_dropped;
+  j["stall_flips"] = r.stall_flips;
+  j["stall_flip_seconds"] = r.stall_flip_seconds;
   j["field_bounds"] = field_bounds_json(l);
   j["feature_edges"] = r.feature_edges;
   j["feature_corners"] = r.feature_corners;
@@ -371,7 +373,10 @@ void print_optimize(const SimplifyJob& job, const Report& r) {
                       " vertex moves in " + std::to_string(r.optimize_passes) + " passes, from " +
                       format_count(r.optimize_candidates) + " movable vertices of badly shaped tets; " +
                       format_count(r.optimize_flips) + " face and edge flips (" +
-                      format_seconds(r.optimize_seconds) + ")");
+                      format_seconds(r.optimize_seconds) + ")" +
+                      (r.stall_flips > 0 ? "; before that, " + format_count(r.stall_flips) +
+                                               " flips where the collapses stalled (" + format_seconds(r.stall_flip_seconds) + ")"
+                                         : std::string()));
 }
 
 // The limits the run relaxed to reach its target (SimplifyOptions::relax_tolerance, relax_quality),

@@ -19,6 +19,7 @@
 #include "mesh/special_faces.h"
 #include "optimize/optimize.h"
 #include "guarantees/surface_tolerance.h"
+#include "flip_at_stall.h"
 #include "relax_limits.h"
 #include "stop_diagnosis.h"
 #include "topotet/features.h"
@@ -273,9 +274,24 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
       };
       // When the tolerance or the quality floors would stop the run short, and the options let
       // them, they relax (relax_limits.h). The engines hold `kernel` by reference.
+      // Before that, where the run stalls after collapses since the last such step, the bad tets
+      // the collapses made are flipped (flip_at_stall.h): that costs no guarantee. Not in the
+      // parts of a larger mesh (frozen borders: out of core, MPI), which keep their own rules.
+      const bool relax_any = options.relax_tolerance || options.relax_quality || options.relax_features;
+      const bool flip_stalls = options.optimize != Optimize::kNone && bounds == nullptr && log == nullptr &&
+                               std::none_of(mesh.vertex_states.begin(), mesh.vertex_states.end(),
+                                            [](std::uint8_t s) { return (s & vertex_state::kFrozen) != 0; });
+      std::uint64_t live_at_flips = std::numeric_limits<std::uint64_t>::max();
       detail::RelaxStep relax;
-      if (options.relax_tolerance || options.relax_quality || options.relax_features)
-        relax = [&](CostModel& cost) { return detail::relax_limits(mesh, options, kernel, coverage.get(), cost, target, report); };
+      if (relax_any || flip_stalls)
+        relax = [&](CostModel& cost) {
+          const std::uint64_t live = mesh.live_vertex_count();
+          if (flip_stalls && live < live_at_flips) {
+            live_at_flips = live;
+            if (detail::flip_at_stall(mesh, coverage.get(), samples.get(), report)) return true;
+          }
+          return relax_any && detail::relax_limits(mesh, options, kernel, coverage.get(), cost, target, report);
+        };
       if (options.engine == Engine::kSequential)
         detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report, log, finish, relax);
       else

@@ -36,8 +36,10 @@ class Progress {
 // (the stop diagnosis, then the optimisation of optimize/optimize.h, which needs the quadrics).
 using FinishStep = std::function<void(CostModel&)>;
 
-// What the driver does when no legal collapse is left before the target: relax a limit in the
-// kernel options the engine was given, or drop the feature curves and tell the engine's cost model
+// What the driver does when no legal collapse is left before the target: flip the bad tets the
+// collapses made (flip_at_stall.h: the tets are renumbered and the side table grows, so the engine
+// takes its next side-table slots after the table's end), or relax a limit in the kernel options
+// the engine was given, or drop the feature curves and tell the engine's cost model
 // (relax_limits.h), and return true; the engine takes the options again, looks at every edge once
 // more and goes on; false: the run stops there.
 using RelaxStep = std::function<bool(CostModel&)>;

@@ -171,6 +171,8 @@ class Rounds {
         // gets one more look under it (and if none passes, the next relaxation is asked for).
         if (relax_ && relax_(cost_)) {
           proposals_.kernel_changed();
+          // Flips at a stall (flip_at_stall.h) appended refs records past the collapses' headroom.
+          refs_used_ = std::max(refs_used_, static_cast<std::uint32_t>(mesh_.refs_table.size()));
           refresh();
           continue;
         }

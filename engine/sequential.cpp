@@ -100,6 +100,8 @@ void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const 
       // A limit the caller lets relax held the edges left: the driver relaxed it (engines.h);
       // every edge is offered once more under it.
       if (!relax || !relax(cost)) break;
+      // Flips at a stall (flip_at_stall.h) appended refs records past the collapses' headroom.
+      refs_used = std::max(refs_used, static_cast<std::uint32_t>(mesh.refs_table.size()));
       for (auto& p : parked) p.fill(kInvalid);
       std::fill(parked_overflow.begin(), parked_overflow.end(), 0);
       push_every_edge();

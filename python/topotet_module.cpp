@@ -382,6 +382,7 @@ py::dict report_dict(const topotet::Report& r) {
   }
   d["relaxations"] = relaxations;
   d["features_dropped"] = r.features_dropped;
+  d["stall_flips"] = r.stall_flips;
   d["feature_edges"] = r.feature_edges;
   d["feature_corners"] = r.feature_corners;
   d["optimize_moves"] = r.optimize_moves;

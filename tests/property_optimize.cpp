@@ -134,17 +134,36 @@ TEST_P(OptimizePlanted, KeepsEveryGuaranteeAndNeverWorsensTheWorstTet) {
   EXPECT_TRUE(same_topology(before, compute_topology(out), &differences)) << planted.name << ": " << differences;
   const QualityStats q = compute_quality(out), q_plain = compute_quality(plain);
   EXPECT_EQ(q.inverted, 0u);
-  EXPECT_GE(q.mean_ratio.min, q_plain.mean_ratio.min * (1.0 - 1e-9)) << planted.name;
+  // Where the collapses stalled before the target, the optimised run flipped there and went on
+  // (engine/flip_at_stall.h): its collapses differ from the plain run's from that point, so only
+  // what holds for any run is compared (below: the same collapses otherwise).
+  const bool same_collapses = report.stall_flips == 0;
+  EXPECT_EQ(plain_report.stall_flips, 0u);
+  if (same_collapses) {
+    EXPECT_GE(q.mean_ratio.min, q_plain.mean_ratio.min * (1.0 - 1e-9)) << planted.name;
+  }
   // The dihedral floor (SimplifyOptions::min_dihedral, as the run used it: relaxed where it would
   // have stopped the run short) holds through the collapses and the optimisation: every angle
   // within [f, 180 - f], f = min(floor, the input's worst, either way).
   const QualityStats q_in = compute_quality(in);
-  EXPECT_EQ(report.min_dihedral_used, plain_report.min_dihedral_used);
+  if (same_collapses) {
+    EXPECT_EQ(report.min_dihedral_used, plain_report.min_dihedral_used);
+  }
   EXPECT_LE(report.min_dihedral_used, SimplifyOptions{}.min_dihedral);
-  const double floor = std::min({report.min_dihedral_used, q_in.dihedral_deg.min, 180.0 - q_in.dihedral_deg.max});
-  for (const QualityStats* s : {&q_plain, &q}) {
+  for (const auto& [s, used] : {std::pair{&q_plain, plain_report.min_dihedral_used}, std::pair{&q, report.min_dihedral_used}}) {
+    const double floor = std::min({used, q_in.dihedral_deg.min, 180.0 - q_in.dihedral_deg.max});
     EXPECT_GE(s->dihedral_deg.min, floor - 1e-6) << planted.name << (s == &q ? " optimised" : " collapsed");
     EXPECT_LE(s->dihedral_deg.max, 180.0 - floor + 1e-6) << planted.name << (s == &q ? " optimised" : " collapsed");
+  }
+  // Determinism.
+  EXPECT_TRUE(simplified(in, ratio, optimize, 2) == out) << planted.name << ": 1 and 2 threads differ";
+  if (!same_collapses) {
+    std::printf("[ optimize ] %-45s seed %llu ratio %.2f %s: %llu flips where the collapses stalled, %zu vertices (plain "
+                "run %zu), min mean ratio %.3f (plain run %.3f)\n",
+                planted.name, static_cast<unsigned long long>(seed), ratio, to_string(optimize),
+                static_cast<unsigned long long>(report.stall_flips), out.positions.size(), plain.positions.size(),
+                q.mean_ratio.min, q_plain.mean_ratio.min);
+    return;
   }
 
   // Same collapses, then only free vertices move; everything on a substructure stays exactly.
@@ -178,8 +197,6 @@ TEST_P(OptimizePlanted, KeepsEveryGuaranteeAndNeverWorsensTheWorstTet) {
   for (const auto& [label, a] : plain_area)
     EXPECT_NEAR(area.at(label), a, 1e-9 * a) << planted.name << ": a surface label's area changed";
 
-  // Determinism.
-  EXPECT_TRUE(simplified(in, ratio, optimize, 2) == out) << planted.name << ": 1 and 2 threads differ";
   std::printf("[ optimize ] %-45s seed %llu ratio %.2f %s: min mean ratio %.3f -> %.3f, %llu moves, %llu flips\n",
               planted.name, static_cast<unsigned long long>(seed), ratio, to_string(optimize), q_plain.mean_ratio.min,
               q.mean_ratio.min, static_cast<unsigned long long>(report.optimize_moves),

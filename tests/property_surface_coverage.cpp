@@ -10,6 +10,8 @@
 //     slack: <= h for every label;
 //   - planted faults: moving a surface vertex by 3h after the run breaks the invariant and the
 //     metric sees the distance grow above h, so neither check passes vacuously.
+// The same with the flips of a stalled run between the collapses (engine/flip_at_stall.h: the
+// tets are retriangulated and renumbered, and the coverage moves with its faces and edges).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,6 +21,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "flip_at_stall.h"
 #include "kernel/collapse.h"
 #include "mesh/glm_convert.h"
 #include "entry_points.h"
@@ -50,10 +53,12 @@ struct CollapseRun {
   double h = 0.0;
   MeshData input;
   std::size_t applied = 0, refused_tolerance = 0;
+  std::uint64_t flips = 0;
 };
 
-// Random edges, placed at either end or the midpoint, through the full kernel with the coverage.
-void random_collapses(CollapseRun& r, int attempts, std::uint64_t seed) {
+// Random edges, placed at either end or the midpoint, through the full kernel with the coverage;
+// with flip_every > 0, the flips of a stalled run every that many attempts.
+void random_collapses(CollapseRun& r, int attempts, std::uint64_t seed, int flip_every = 0) {
   std::mt19937_64 rng(seed);
   CollapseOptions kernel;
   kernel.surfaces = r.reference.get();
@@ -63,6 +68,12 @@ void random_collapses(CollapseRun& r, int attempts, std::uint64_t seed) {
   std::uint32_t refs_used = static_cast<std::uint32_t>(r.mesh.refs_table.size());
   std::vector<VertId> nbrs;
   for (int i = 0; i < attempts; ++i) {
+    if (flip_every > 0 && i > 0 && i % flip_every == 0) {
+      Report report;
+      detail::flip_at_stall(r.mesh, r.coverage.get(), nullptr, report);
+      r.flips += report.stall_flips;
+      refs_used = std::max(refs_used, static_cast<std::uint32_t>(r.mesh.refs_table.size()));  // as the engines do
+    }
     const auto u = static_cast<VertId>(rng() % r.mesh.vertex_capacity());
     if (r.mesh.is_dead_vertex(u)) continue;
     r.mesh.neighbours(u, nbrs);
@@ -121,6 +132,31 @@ std::size_t invariant_violations(const CollapseRun& r, std::string* first) {
       covered[item.triangle] += area(item.corners);
     });
   }
+  // Polyline segments: held by a live tet at one of its polyline edges, both ends within h of that edge, and
+  // the pieces of each original segment add up to its length.
+  std::vector<double> length(soup.segments.size(), 0.0);
+  for (TetId t = 0; t < r.mesh.tet_capacity(); ++t) {
+    const bool live = !r.mesh.is_dead_tet(t);
+    r.coverage->for_each_segment(t, [&](const CoverageSegment& s) {
+      const auto& tv = r.mesh.tets[t];
+      const glm::dvec3 a = P[tv[kTetEdges[s.local][0]]], b = P[tv[kTetEdges[s.local][1]]];
+      bool ok = live && is_polyline_edge(r.mesh.flags[t], s.local);
+      for (const glm::dvec3& x : s.ends) ok = ok && squared_distance_to_segment(x, a, b) <= h2;
+      if (!ok && ++bad == 1 && first != nullptr)
+        *first = "segment " + std::to_string(s.segment) + " held by tet " + std::to_string(t) +
+                 (live ? (is_polyline_edge(r.mesh.flags[t], s.local) ? " is farther than h from its edge"
+                                                                      : " at an edge that is no polyline edge")
+                       : " (dead tet)");
+      length[s.segment] += glm::length(s.ends[1] - s.ends[0]);
+    });
+  }
+  // (the polyline segments: the soup's first ones; the rest are surfaces' border edges, which the
+  // proof reads and the coverage does not hold)
+  for (std::size_t k = 0; k < r.reference->segment_holders().size(); ++k) {
+    const double whole = glm::length(soup.positions[soup.segments[k][1]] - soup.positions[soup.segments[k][0]]);
+    if (length[k] < whole * (1.0 - 1e-9) && ++bad == 1 && first != nullptr)
+      *first = "original segment " + std::to_string(k) + " is not fully held";
+  }
   for (std::size_t k = 0; k < soup.triangles.size(); ++k) {
     const auto& t = soup.triangles[k];
     const double whole = area({soup.positions[t[0]], soup.positions[t[1]], soup.positions[t[2]]});
@@ -149,17 +185,19 @@ struct Case {
 
 class Coverage : public testing::TestWithParam<Case> {};
 
-TEST_P(Coverage, RandomCollapsesKeepEveryOriginalPointWithinH) {
-  const Case c = GetParam();
+void check_random_collapses(const Case& c, int flip_every) {
   for (std::uint64_t seed : {1u, 2u}) {
     CollapseRun r = make_run(c.family, c.tets, c.h_rel, seed);
     const std::size_t before = r.mesh.live_vertex_count();
-    random_collapses(r, 30000, seed);
-    std::printf("[ coverage ] %s seed %llu h = %.3g: %zu collapses (%zu -> %zu vertices), %zu refused by the tolerance, "
-                "%zu items\n",
+    random_collapses(r, 30000, seed, flip_every);
+    std::printf("[ coverage ] %s seed %llu h = %.3g: %zu collapses (%zu -> %zu vertices), %llu flips, %zu refused by the "
+                "tolerance, %zu items and segments, %zu original segments\n",
                 c.family, (unsigned long long)seed, r.h, r.applied, before, r.mesh.live_vertex_count(),
-                r.refused_tolerance, r.coverage->item_count());
+                (unsigned long long)r.flips, r.refused_tolerance, r.coverage->item_count(), r.reference->soup().segments.size());
     ASSERT_GT(r.applied, before / 4) << "too few collapses to test anything";
+    if (flip_every > 0) {
+      ASSERT_GT(r.flips, 0u) << "no flip between the collapses: nothing tested";
+    }
     ASSERT_GT(r.refused_tolerance, 0u) << "the tolerance never refused: h too loose for a test";
     std::string first;
     EXPECT_EQ(invariant_violations(r, &first), 0u) << first;
@@ -185,9 +223,14 @@ TEST_P(Coverage, RandomCollapsesKeepEveryOriginalPointWithinH) {
   }
 }
 
+TEST_P(Coverage, RandomCollapsesKeepEveryOriginalPointWithinH) { check_random_collapses(GetParam(), 0); }
+
+// Flips every 3000 attempts: the stalls of an engine's run, ten times over.
+TEST_P(Coverage, FlipsBetweenTheCollapsesKeepEveryOriginalPointWithinH) { check_random_collapses(GetParam(), 3000); }
+
 INSTANTIATE_TEST_SUITE_P(Families, Coverage,
                          testing::Values(Case{"cube-sphere", 3000, 0.01}, Case{"cube-sphere", 8000, 0.003},
-                                         Case{"slab", 3000, 0.005}),
+                                         Case{"slab", 3000, 0.005}, Case{"polycrystal", 20000, 0.01}),
                          [](const testing::TestParamInfo<Case>& param) {
                            std::string name = param.param.family;
                            std::replace(name.begin(), name.end(), '-', '_');

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
+#include <unordered_map>
 
 #include <glm/geometric.hpp>
 
@@ -70,6 +72,45 @@ bool moves(const MeshModel& mesh, TetId t, std::uint8_t local, VertId u, VertId 
 bool edge_moves(const MeshModel& mesh, TetId t, std::uint8_t local, VertId u, VertId v) {
   const VertId a = mesh.tets[t][kTetEdges[local][0]], b = mesh.tets[t][kTetEdges[local][1]];
   return a == u || a == v || b == u || b == v;
+}
+
+// Face `local` of tet tv as seen from its tet (outward, kTetFaces' order), rotated so that its
+// smallest vertex comes first: the tets on the two sides of a face see opposite cyclic orders.
+std::array<VertId, 3> oriented_face(const std::array<VertId, 4>& tv, int local) {
+  const auto& f = kTetFaces[static_cast<std::size_t>(local)];
+  std::array<VertId, 3> k{tv[f[0]], tv[f[1]], tv[f[2]]};
+  std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end());
+  return k;
+}
+
+std::array<VertId, 2> edge_of(const std::array<VertId, 4>& tv, int local) {
+  const auto& e = kTetEdges[static_cast<std::size_t>(local)];
+  return {std::min(tv[e[0]], tv[e[1]]), std::max(tv[e[0]], tv[e[1]])};
+}
+
+struct KeyHash {
+  std::size_t operator()(const std::array<VertId, 3>& k) const {
+    return (std::size_t{k[0]} * 0x9E3779B97F4A7C15ull) ^ (std::size_t{k[1]} * 0xC2B2AE3D27D4EB4Full) ^ k[2];
+  }
+  std::size_t operator()(const std::array<VertId, 2>& k) const { return (std::size_t{k[0]} * 0x9E3779B97F4A7C15ull) ^ k[1]; }
+};
+
+// The local index of edge xy (x < y) in tet tv, which has both.
+int local_edge_of(const std::array<VertId, 4>& tv, const std::array<VertId, 2>& xy) {
+  for (int e = 0; e < 6; ++e)
+    if (edge_of(tv, e) == xy) return e;
+  return -1;
+}
+
+// The first tet (by id) of St(u) ∪ St(v) minus St(uv) with edge xy, kInvalid if none.
+TetId first_tet_with_edge(const MeshModel& mesh, const std::vector<TetId>& star_u, const std::vector<TetId>& star_v,
+                          const std::vector<TetId>& star_uv, const std::array<VertId, 2>& xy) {
+  TetId best = kInvalid;
+  for (const std::vector<TetId>* star : {&star_u, &star_v})
+    for (TetId t : *star)
+      if (t < best && local_edge_of(mesh.tets[t], xy) >= 0 && !std::binary_search(star_uv.begin(), star_uv.end(), t))
+        best = t;
+  return best;
 }
 
 // Calls f(t) for every tet of St(u) ∪ St(v) once, in the stars' sorted order.
@@ -538,6 +579,7 @@ void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const st
     }
     list.resize(out);
   });
+  keep_segments_of_removed_tets(mesh, star_u, star_v, star_uv);
   for (CoverageItem item : s.placed) {
     const FaceHolder holder = s.targets[item.local].holder;
     item.local = holder.local;
@@ -554,6 +596,33 @@ void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const st
     Records& list = held_[t];
     if (list.capacity() > list.size() + list.size() / 2 + 4 || list.size() == 0) list.shrink_to_fit();
   });
+}
+
+void SurfaceCoverage::keep_segments_of_removed_tets(const MeshModel& mesh, const std::vector<TetId>& star_u,
+                                                   const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv) {
+  for (TetId t : star_uv) {
+    Records& list = held_[t];
+    for (std::size_t i = 0; i < list.size(); i += records_of(list[i])) {
+      if (!is_segment(list[i])) continue;  // (none: every face of the tet is through u or v)
+      const auto xy = edge_of(mesh.tets[t], list[i].local & ~kSegment);
+      const TetId to = first_tet_with_edge(mesh, star_u, star_v, star_uv, xy);
+      if (to == kInvalid) continue;  // no tet keeps xy (the collapse removes the edge)
+      CoverageSegment item = decode_segment(&list[i]);
+      item.local = static_cast<std::uint8_t>(local_edge_of(mesh.tets[to], xy));
+      append(held_[to], item);
+      list[i].depth = kDropped;  // removed below
+    }
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < list.size();) {
+      const std::size_t n = records_of(list[i]);
+      if (list[i].depth != kDropped) {
+        if (out != i) std::copy_n(&list[i], n, &list[out]);
+        out += n;
+      }
+      i += n;
+    }
+    list.resize(out);
+  }
 }
 
 std::size_t SurfaceCoverage::item_count() const {
@@ -634,6 +703,61 @@ void SurfaceCoverage::drop_unheld_segments(const MeshModel& mesh, std::int32_t r
       }
     }
   });
+}
+
+SurfaceCoverage::Detached SurfaceCoverage::detach(const MeshModel& mesh) {
+  Detached d;
+  for (TetId t = 0; t < held_.size(); ++t)
+    if (held_[t].size() > 0) {
+      d.tets.push_back(mesh.tets[t]);
+      d.lists.push_back(std::move(held_[t]));
+    }
+  held_.clear();
+  return d;
+}
+
+void SurfaceCoverage::attach(const MeshModel& mesh, Detached&& d) {
+  // The faces and edges that held items, then where they are now.
+  std::unordered_map<std::array<VertId, 3>, FaceHolder, KeyHash> faces;
+  std::unordered_map<std::array<VertId, 2>, FaceHolder, KeyHash> edges;
+  constexpr FaceHolder kNone{kInvalid, 0};
+  for (std::size_t i = 0; i < d.lists.size(); ++i)
+    for (std::size_t r = 0; r < d.lists[i].size(); r += records_of(d.lists[i][r])) {
+      const ItemRecord& head = d.lists[i][r];
+      if (is_segment(head))
+        edges.emplace(edge_of(d.tets[i], head.local & ~kSegment), kNone);
+      else
+        faces.emplace(oriented_face(d.tets[i], head.local), kNone);
+    }
+  for (TetId t = 0; t < mesh.tets.size(); ++t) {
+    if (mesh.is_dead_tet(t)) continue;
+    const auto& tv = mesh.tets[t];
+    for (int f = 0; f < 4; ++f)
+      if (const auto it = faces.find(oriented_face(tv, f)); it != faces.end() && it->second.tet == kInvalid)
+        it->second = {t, static_cast<std::uint8_t>(f)};
+    for (int e = 0; e < 6; ++e)
+      if (is_polyline_edge(mesh.flags[t], e))
+        if (const auto it = edges.find(edge_of(tv, e)); it != edges.end() && it->second.tet == kInvalid)
+          it->second = {t, static_cast<std::uint8_t>(e)};
+  }
+  held_.clear();
+  held_.resize(mesh.tets.size());
+  for (std::size_t i = 0; i < d.lists.size(); ++i) {
+    const Records& list = d.lists[i];
+    for (std::size_t r = 0; r < list.size(); r += records_of(list[r])) {
+      const ItemRecord& head = list[r];
+      const FaceHolder to = is_segment(head) ? edges.at(edge_of(d.tets[i], head.local & ~kSegment))
+                                             : faces.at(oriented_face(d.tets[i], head.local));
+      if (to.tet == kInvalid)
+        throw std::logic_error("SurfaceCoverage::attach: a face or edge holding an original surface is gone");
+      Records& out = held_[to.tet];
+      const std::size_t at = out.size(), n = records_of(head);
+      out.resize(at + n);
+      std::copy_n(&list[r], n, &out[at]);
+      out[at].local = is_segment(head) ? static_cast<std::uint8_t>(to.local | kSegment) : to.local;
+    }
+  }
+  for (Records& list : held_) list.shrink_to_fit();
 }
 
 CoverageSegment SurfaceCoverage::decode_segment(const ItemRecord* head) {

@@ -108,6 +108,8 @@ struct CoverageScratch {
 };
 
 class SurfaceCoverage {
+  class Records;  // a tet's items (below)
+
  public:
   // Every original triangle held by the face it was taken from (reference.triangle_holders()).
   SurfaceCoverage(const MeshModel& mesh, const SurfaceReference& reference, double h);
@@ -131,11 +133,37 @@ class SurfaceCoverage {
   void commit(const MeshModel& mesh, VertId u, VertId v, const std::vector<TetId>& star_u,
               const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv, CoverageScratch& s);
 
+  // A collapse u <- v removes the tets of St(uv); the segments one of them holds at its edge xy
+  // opposite uv (its faces are all through u or v, and move with them) stay where they are, on
+  // the same edge, held by the first tet of the new star (by id) with that edge. Left in the dead
+  // tet, no later collapse of x or y would see them (a collapse reads its stencil's lists). Called
+  // by commit(), and by collapse() for a collapse that commits nothing (u inside a material, next
+  // to a curve). Call before the mesh changes.
+  void keep_segments_of_removed_tets(const MeshModel& mesh, const std::vector<TetId>& star_u,
+                                     const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv);
+
   // Edges of polyline `ref` stopped being polyline edges (drop_features_below, features.h: feature
   // curves a run that relaxed its tolerance no longer keeps): the original segments they held are
   // dropped, the curve they were on is no substructure any more. Every other item keeps its face
   // (or edge); the invariant holds for every curve and surface left.
   void drop_unheld_segments(const MeshModel& mesh, std::int32_t ref);
+
+  // Flips at a stall (engine/flip_at_stall.h) retriangulate inside one material and compact the
+  // tets: tet ids change, but every face and edge that holds an item is a face (edge) of the new
+  // tets, with the same vertices, which do not move. detach() takes every list with the vertices of
+  // its tet before the flips; attach() gives each item to the face with the same vertices after,
+  // seen from the same side (the tets keep their orientation: the outward face of the new tet on
+  // that side has the same cyclic order), and each segment to the first live tet (by id) that has
+  // its edge as a polyline edge. The items keep their corners and bounds (no vertex moved), so the
+  // invariant holds as it did; the lists come out in an order set by the mesh alone.
+  struct Detached {
+    std::vector<std::array<VertId, 4>> tets;  // the vertices of the tet that held lists[i]
+    std::vector<Records> lists;
+  };
+  Detached detach(const MeshModel& mesh);
+  // Throws std::logic_error if a face or edge that held an item is gone (the flips may not remove
+  // one: optimize/swap.h).
+  void attach(const MeshModel& mesh, Detached&& detached);
 
   // Items and pieces held now, and the bytes their lists take.
   std::size_t item_count() const;
@@ -147,6 +175,14 @@ class SurfaceCoverage {
     const Records& list = held_[t];
     for (std::size_t i = 0; i < list.size(); i += records_of(list[i]))
       if (!is_segment(list[i])) f(decode(&list[i]));
+  }
+
+  // For the tests: calls f(segment) for every polyline segment (or piece) held by tet t.
+  template <class F>
+  void for_each_segment(TetId t, F&& f) const {
+    const Records& list = held_[t];
+    for (std::size_t i = 0; i < list.size(); i += records_of(list[i]))
+      if (is_segment(list[i])) f(decode_segment(&list[i]));
   }
 
   // Cuts of one item in one re-placement, and pieces per re-placement, before it is refused.

@@ -385,6 +385,8 @@ float collapse(MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p, const d
     }
     coverage->commit(mesh, u, v, s.star_u, s.star_v, s.star_uv, s.coverage);
     s.coverage_for.u = kInvalid;
+  } else if (coverage != nullptr) {
+    coverage->keep_segments_of_removed_tets(mesh, s.star_u, s.star_v, s.star_uv);
   }
   // 0. The field bounds of the new star, from the mesh as it is (nothing written yet); stored at once:
   //    they are keyed by tet ids, which the collapse keeps.
