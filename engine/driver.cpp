@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <new>
@@ -272,25 +273,28 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
             if (!mesh.is_dead_vertex(v)) given.quadrics_out->insert(given.quadrics_out->end(), cost.quadric_of(v), cost.quadric_of(v) + qs);
         }
       };
-      // When the tolerance or the quality floors would stop the run short, and the options let
-      // them, they relax (relax_limits.h). The engines hold `kernel` by reference.
-      // Before that, where the run stalls after collapses since the last such step, the bad tets
-      // the collapses made are flipped (flip_at_stall.h): that costs no guarantee. Not in the
-      // parts of a larger mesh (frozen borders: out of core, MPI), which keep their own rules.
+      // When no legal collapse is left before the target, the census of what holds the vertices
+      // left decides (relax_limits.h): where inverted tets hold the most, the bad tets the
+      // collapses made are flipped (flip_at_stall.h: no guarantee's price), again after each
+      // flip that let collapses through; where the tolerance, the quality floors or the feature
+      // corners hold the most, and the options let them, they relax. Flips not in the parts of a
+      // larger mesh (frozen borders: out of core, MPI), which keep their own rules.
       const bool relax_any = options.relax_tolerance || options.relax_quality || options.relax_features;
       const bool flip_stalls = options.optimize != Optimize::kNone && bounds == nullptr && log == nullptr &&
                                std::none_of(mesh.vertex_states.begin(), mesh.vertex_states.end(),
                                             [](std::uint8_t s) { return (s & vertex_state::kFrozen) != 0; });
-      std::uint64_t live_at_flips = std::numeric_limits<std::uint64_t>::max();
+      std::uint64_t live_at_flips = 0;  // vertices left at the last flips (0: none yet)
+      const std::function<bool()> flip = [&] {
+        const std::uint64_t live = mesh.live_vertex_count();
+        if (live == live_at_flips) return false;  // no collapse since: the same stars
+        live_at_flips = live;
+        return detail::flip_at_stall(mesh, coverage.get(), samples.get(), report);
+      };
       detail::RelaxStep relax;
       if (relax_any || flip_stalls)
         relax = [&](CostModel& cost) {
-          const std::uint64_t live = mesh.live_vertex_count();
-          if (flip_stalls && live < live_at_flips) {
-            live_at_flips = live;
-            if (detail::flip_at_stall(mesh, coverage.get(), samples.get(), report)) return true;
-          }
-          return relax_any && detail::relax_limits(mesh, options, kernel, coverage.get(), cost, target, report);
+          return detail::relax_limits(mesh, options, kernel, coverage.get(), cost, target, report,
+                                      flip_stalls ? flip : std::function<bool()>());
         };
       if (options.engine == Engine::kSequential)
         detail::simplify_sequential(mesh, options, kernel, bounds.get(), target, report, log, finish, relax);

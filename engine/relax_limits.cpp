@@ -5,7 +5,9 @@
 //   tolerance may relax: relax_tolerance, H > 0 and below the bounding box diagonal
 //   quality may relax:   relax_quality and a floor above 0
 //   features may go:     relax_features and pinned feature corners left
-//   of those, the one holding more vertices, if it holds at least min(excess, 1% of the live
+//   inverted tets holding at least min(excess, 1% of the live ones) and no fewer than any limit
+//   an option sets: the driver's flips first (flip_at_stall.h), if they change anything
+//   of the limits, the one holding more vertices, if it holds at least min(excess, 1% of the live
 //   ones) and no less than any other limit an option sets (the tolerance, the floors, a field
 //   error limit, the feature corners of feature_angle), relaxable or not: a limit holding a few
 //   while a hard one holds the rest is kept, since relaxing it would loosen the whole output's
@@ -46,7 +48,7 @@ double halved(double floor, double asked) {
 }  // namespace
 
 bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptions& kernel, SurfaceCoverage* coverage,
-                  CostModel& cost, std::uint64_t target, Report& report) {
+                  CostModel& cost, std::uint64_t target, Report& report, const std::function<bool()>& flip) {
   const auto start = std::chrono::steady_clock::now();
   diagnose_stop(mesh, options, kernel, cost, target, report);
   report.relax_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -56,6 +58,11 @@ bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptio
   const std::uint64_t enough = std::max<std::uint64_t>(1, std::min<std::uint64_t>(live - target, live / 100));
   const std::uint64_t most = std::max({d.quality, d.tolerance, d.field_error, d.pinned_features});
   const auto stops_the_run = [&](std::uint64_t held) { return held >= enough && held == most; };
+  // Inverted tets hold the most: flips first (they cost no guarantee).
+  if (flip && d.inversion >= enough && d.inversion >= most && flip()) {
+    report.stop = StopDiagnosis{};
+    return true;
+  }
   const bool tolerance_can_grow = options.relax_tolerance && kernel.tolerance > 0.0 && coverage != nullptr &&
                                   kernel.tolerance < bounding_box_diagonal(mesh);
   const bool tolerance_may = tolerance_can_grow && stops_the_run(d.tolerance);

@@ -2,6 +2,8 @@
 // relax_tolerance, relax_quality, relax_features): the driver's RelaxStep (engines.h).
 #pragma once
 
+#include <functional>
+
 #include "cost/cost.h"
 #include "guarantees/surface_coverage.h"
 #include "kernel/collapse.h"
@@ -27,7 +29,13 @@ namespace topotet::detail {
 // which is at least the last floor. Dropped features were curves of our own making, not of the
 // input: the surfaces they lay on keep their labels, topology and tolerance. The topology,
 // inversion, listed or required vertices and field error limits are never relaxed.
+//
+// `flip` (may be empty): where the census says inverted tets hold at least as many of the vertices
+// left as every limit an option sets (and at least min(excess, 1% of them)), flip() is asked first
+// (the driver's flip_at_stall, flip_at_stall.h: it changes the stars that fold, at no guarantee's
+// price); true: the run goes on with every limit as it was. False (no flip, or no collapse since
+// the last flips): the limits are looked at as above.
 bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptions& kernel, SurfaceCoverage* coverage,
-                  CostModel& cost, std::uint64_t target, Report& report);
+                  CostModel& cost, std::uint64_t target, Report& report, const std::function<bool()>& flip = {});
 
 }  // namespace topotet::detail

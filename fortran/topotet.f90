@@ -117,7 +117,7 @@ module topotet
     integer(c_int64_t) :: relaxations  ! limits relaxed to reach the target
     integer(c_int64_t) :: stop_beyond_reach  ! 1: the topology and the input's pins alone hold the target
     integer(c_int64_t) :: features_dropped  ! feature edges dropped (lower than the relaxed H)
-    integer(c_int64_t) :: stall_flips  ! flips where the collapses stalled, before any limit relaxed
+    integer(c_int64_t) :: stall_flips  ! flips where the collapses stalled (held by inverted tets)
   end type
 
   public :: topotet_mesh_arrays_init, topotet_options_init, topotet_mesh_build, topotet_mesh_read, &

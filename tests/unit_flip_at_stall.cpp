@@ -1,5 +1,6 @@
 // Flips where the collapses stall (engine/flip_at_stall.h, issue #23): a run whose collapses stall
-// before the target flips the bad tets the collapses made and goes on, before it relaxes any limit.
+// before the target, with inverted tets holding the most of the vertices left, flips the bad tets
+// the collapses made and goes on, rather than relax a limit.
 // On a generated polycrystal (junction curves between pinned grain corners: most of the vertices
 // left at a stall are held by inverted tets) the run with the flips reaches its target, keeps the
 // topology of every substructure, stays within the tolerance it reports, and gives the same bytes

@@ -290,9 +290,9 @@ struct Report {
   std::vector<Relaxation> relaxations;
   double relax_seconds = 0.0;  // the censuses that chose them (included in `seconds`)
   std::uint64_t features_dropped = 0;  // feature edges relaxations dropped (relax_features)
-  // Flips made where the collapses stalled, before any limit relaxed (the flips of the
-  // optimisation, on the mesh the collapses left: engine/flip_at_stall.h), and their time
-  // (included in `seconds`). Only with optimize != kNone.
+  // Flips made where the collapses stalled with inverted tets holding the most of the vertices
+  // left (the flips of the optimisation, on the mesh the collapses left: engine/flip_at_stall.h),
+  // and their time (included in `seconds`). Only with optimize != kNone.
   std::uint64_t stall_flips = 0;
   double stall_flip_seconds = 0.0;
   double tolerance_setup_seconds = 0.0;  // building the Embree scene of the original surfaces
