@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "topotet/io.h"
+#include "topotet/medit_stream.h"
 #include "topotet/mesh_data.h"
 
 namespace topotet::io {
@@ -16,6 +17,8 @@ void write_medit(const std::string& path, const MeshData& mesh);
 
 // Gmsh .msh: reads 4.1 (ASCII and binary) and 2.x (ASCII and binary); writes 4.1.
 MeshData read_gmsh(const std::string& path, const ReadOptions& options, ReadNotes& notes);
+// The same parser, streaming MSH 4.1 into a visitor (topotet/mesh_stream.h).
+void stream_gmsh(const std::string& path, MeditVisitor& visitor, const ReadOptions& options, ReadNotes& notes);
 void write_gmsh(const std::string& path, const MeshData& mesh, bool binary, bool msh22);
 
 // TetGen .node/.ele (+ .face/.edge); read only. `path` names any of them.

@@ -47,6 +47,7 @@
 #include "io/formats.h"
 #include "io/line_reader.h"
 #include "topotet/error.h"
+#include "topotet/mesh_stream.h"
 
 namespace topotet::io {
 namespace {
@@ -186,10 +187,30 @@ std::string unquote(std::string_view s) {
 
 class GmshReader {
  public:
-  GmshReader(const std::string& path, const ReadOptions& options, ReadNotes& notes)
-      : r_(path), options_(options), notes_(notes) {}
+  // With a visitor (stream_gmsh): nodes and tets go to it as they are read, never held; the
+  // lines, triangles and points (surfaces: they grow like the boundary) are held, their refs
+  // resolved, and given to it at the end. MSH 4.1 only, without $NodeData or $ElementData.
+  GmshReader(const std::string& path, const ReadOptions& options, ReadNotes& notes, MeditVisitor* visitor = nullptr)
+      : r_(path), options_(options), notes_(notes), visitor_(visitor) {}
 
   MeshData read() {
+    parse();
+    return std::move(m_);
+  }
+
+  void stream() {
+    parse();
+    visitor_->begin_triangles(m_.triangles.size());
+    for (const Triangle& t : m_.triangles) visitor_->triangle(t);
+    visitor_->begin_segments(m_.segments.size());
+    for (const Segment& s : m_.segments) visitor_->segment(s);
+    for (VertId v : m_.corners) visitor_->corner(v);
+    for (VertId v : m_.required_vertices) visitor_->required_vertex(v);
+    for (std::uint32_t s : m_.ridges) visitor_->ridge(s);
+  }
+
+ private:
+  void parse() {
     read_format();
     for (;;) {
       const std::string_view tok = r_.next_token();
@@ -224,10 +245,8 @@ class GmshReader {
       }
     }
     resolve();
-    return std::move(m_);
   }
 
- private:
   // ---- primitives: the same grammar in ASCII tokens or binary words ----
   std::int32_t int32(std::string_view what) {
     if (binary_) return r_.read_i32(what);
@@ -280,6 +299,9 @@ class GmshReader {
     } else {
       r_.fail("MSH version " + version.substr(0, 20) + " is not supported (use 4.1 or 2.2)");
     }
+    if (visitor_ != nullptr && !v41_)
+      r_.fail("MSH " + version + " is not streamed (out of core reads MSH 4.1): convert it first (topotet convert IN.msh "
+              "IN.mesh, or gmsh -save -format msh41)");
     binary_ = r_.read_int("$MeshFormat file type", 0, 1) == 1;
     const std::int64_t data_size = r_.read_int("$MeshFormat data size");
     if (binary_) {
@@ -371,8 +393,13 @@ class GmshReader {
   }
 
   void add_node(std::uint64_t tag, const std::array<double, 3>& p) {
-    if (m_.positions.size() >= kInvalid - 1) r_.fail("$Nodes: too many nodes");
-    if (!nodes_.insert(tag, static_cast<VertId>(m_.positions.size()))) r_.fail("$Nodes: duplicate node tag " + std::to_string(tag));
+    if (node_count_ >= kInvalid - 1) r_.fail("$Nodes: too many nodes");
+    if (!nodes_.insert(tag, node_count_)) r_.fail("$Nodes: duplicate node tag " + std::to_string(tag));
+    ++node_count_;
+    if (visitor_ != nullptr) {
+      visitor_->vertex(p, 0);
+      return;
+    }
     m_.positions.push_back(p);
     if (options_.keep_partitions && v41_) notes_.node_tags.push_back(tag);
   }
@@ -383,7 +410,10 @@ class GmshReader {
     const std::uint64_t total = size("$Nodes number of nodes");
     size("$Nodes min tag");
     size("$Nodes max tag");
-    m_.positions.reserve(r_.reserve_hint(total, binary_ ? 32 : 8));
+    if (visitor_ != nullptr)
+      visitor_->begin_vertices(total);
+    else
+      m_.positions.reserve(r_.reserve_hint(total, binary_ ? 32 : 8));
     std::vector<std::uint64_t> tags;
     for (std::uint64_t b = 0; b < blocks; ++b) {
       const std::int32_t dim = int32("$Nodes entity dimension");
@@ -402,9 +432,8 @@ class GmshReader {
         add_node(tags[i], p);
       }
     }
-    if (m_.positions.size() != total) {
-      r_.fail("$Nodes: header announces " + std::to_string(total) + " nodes, blocks hold " +
-              std::to_string(m_.positions.size()));
+    if (node_count_ != total) {
+      r_.fail("$Nodes: header announces " + std::to_string(total) + " nodes, blocks hold " + std::to_string(node_count_));
     }
     expect_end("Nodes");
   }
@@ -428,7 +457,12 @@ class GmshReader {
       case kTet: {
         std::array<VertId, 4> t;
         for (int k = 0; k < 4; ++k) t[static_cast<std::size_t>(k)] = vertex(tags[k], "$Elements");
-        m_.tets.push_back(t);
+        if (visitor_ != nullptr) {
+          visitor_->tet(t, block_material_);
+          ++streamed_tets_;
+        } else {
+          m_.tets.push_back(t);
+        }
         return true;
       }
       case kTriangle: {
@@ -456,7 +490,7 @@ class GmshReader {
       case 0: return points_.size();
       case 1: return m_.segments.size();
       case 2: return m_.triangles.size();
-      default: return m_.tets.size();
+      default: return visitor_ != nullptr ? streamed_tets_ : m_.tets.size();
     }
   }
 
@@ -504,7 +538,10 @@ class GmshReader {
     const std::uint64_t total = size("$Elements number of elements");
     size("$Elements min tag");
     size("$Elements max tag");
-    m_.tets.reserve(r_.reserve_hint(total, binary_ ? 40 : 10));  // most elements are tets
+    if (visitor_ != nullptr)
+      visitor_->begin_tets(total);  // an upper bound: the elements of every type
+    else
+      m_.tets.reserve(r_.reserve_hint(total, binary_ ? 40 : 10));  // most elements are tets
     std::uint64_t seen = 0;
     std::array<std::uint64_t, 128> tags{};
     for (std::uint64_t b = 0; b < blocks; ++b) {
@@ -528,12 +565,20 @@ class GmshReader {
       const std::size_t begin = count_of_dim(dim);
       const Piece* piece = piece_of(entity_dim, entity);
       const bool partition_boundary = piece != nullptr && piece->parent_dim != entity_dim;
+      // Streamed tets take their material now: $Entities came before (MSH 4.1 order), and the
+      // rule is resolve()'s.
+      if (visitor_ != nullptr && dim == 3) {
+        int model_entity = entity;
+        const std::vector<int> phys = physicals_of(3, entity, model_entity);
+        block_material_ = resolve_refs(3, phys, model_entity).ref;
+      }
       for (std::uint64_t i = 0; i < n; ++i) {
         const std::uint64_t element_tag = size("$Elements element tag");
         for (int k = 0; k < et.nodes; ++k) tags[static_cast<std::size_t>(k)] = node_tag("$Elements node tag");
         if (!partition_boundary && add_element(type, tags.data())) note_element_tag(type, element_tag);
-        if (is_dropped_volume(type)) dropped_tags_.push_back(element_tag);
+        if (is_dropped_volume(type) && visitor_ == nullptr) dropped_tags_.push_back(element_tag);
       }
+      if (visitor_ != nullptr && dim == 3) continue;  // given already; nothing to resolve
       if (options_.keep_partitions && dim == 3)
         notes_.tet_partition.resize(m_.tets.size(), piece != nullptr ? piece->partition : 0);
       add_to_run(dim, entity, 0, begin);
@@ -623,7 +668,16 @@ class GmshReader {
     return h;
   }
 
+  // Streamed (out of core), the fields of a .msh are not read: they come after the elements, in
+  // node tag order, and the cut spills them per vertex from a MEDIT .sol (SolStream).
+  void refuse_streamed_fields(const std::string& section) {
+    if (visitor_ != nullptr)
+      r_.fail(section + ": the fields of a .msh are not streamed (out of core); convert it first (topotet convert "
+              "IN.msh IN.mesh writes them to IN.sol)");
+  }
+
   void read_node_data() {
+    refuse_streamed_fields("$NodeData");
     const ViewHeader h = read_view_header("$NodeData", "field" + std::to_string(m_.fields.size()));
     const std::string& name = h.name;
     const std::int64_t comps = h.components, n = h.count;
@@ -655,13 +709,14 @@ class GmshReader {
   // Element tags, for $ElementData: [tet] its tag (before the MSH 2 copies are merged), and the tags
   // of the volume elements --tets-only left out (their values go with them).
   void note_element_tag(std::int64_t type, std::uint64_t tag) {
-    if (type == kTet) tet_tags_.push_back(tag);
+    if (type == kTet && visitor_ == nullptr) tet_tags_.push_back(tag);
   }
   bool is_dropped_volume(std::int64_t type) const { return options_.tets_only && type >= 5 && type <= 7; }
 
   // $ElementData: a view on the tets (tags of other elements are an error, those of left-out
   // volume elements are skipped); tets without a value get 0; last time step wins, as $NodeData.
   void read_element_data() {
+    refuse_streamed_fields("$ElementData");
     const ViewHeader h = read_view_header("$ElementData", "cellfield" + std::to_string(m_.cell_fields.size()));
     const std::string& name = h.name;
     const std::int64_t comps = h.components, n = h.count;
@@ -714,6 +769,18 @@ class GmshReader {
   }
 
   // ---- refs ----
+  // The physical tags of the elements of MSH 4.1 entity (dim, entity), and in `model_entity` the
+  // model entity they belong to: a partitioned piece's parent (its physical tags, else the
+  // parent's), else the entity itself.
+  std::vector<int> physicals_of(int dim, int entity, int& model_entity) const {
+    const Piece* piece = piece_of(dim, entity);
+    model_entity = piece != nullptr ? piece->parent_tag : entity;
+    if (piece != nullptr && !piece->physicals.empty()) return piece->physicals;
+    const auto& table = entity_phys_[static_cast<std::size_t>(dim)];
+    const auto it = table.find(model_entity);
+    return it == table.end() ? std::vector<int>() : it->second;
+  }
+
   Resolved resolve_refs(int dim, const std::vector<int>& physicals, int fallback) const {
     Resolved out;
     bool have_ref = false, other_point_group = false;
@@ -757,13 +824,7 @@ class GmshReader {
     for (const Run& run : runs_) {
       int entity = run.entity;
       if (v41_) {
-        const Piece* piece = piece_of(run.dim, run.entity);
-        if (piece != nullptr) entity = piece->parent_tag;
-        const auto& table = entity_phys_[static_cast<std::size_t>(run.dim)];
-        const auto it = table.find(entity);
-        phys = piece != nullptr && !piece->physicals.empty() ? piece->physicals
-               : it == table.end()                           ? std::vector<int>()
-                                                             : it->second;
+        phys = physicals_of(run.dim, run.entity, entity);
       } else {
         phys.clear();
         if (run.physical != 0) phys.push_back(run.physical);
@@ -950,6 +1011,10 @@ class GmshReader {
   LineReader r_;
   const ReadOptions& options_;
   ReadNotes& notes_;
+  MeditVisitor* visitor_ = nullptr;  // streaming (stream_gmsh): see the constructor
+  VertId node_count_ = 0;
+  std::uint64_t streamed_tets_ = 0;
+  std::int32_t block_material_ = 0;  // streaming: the material of the current block's tets
   MeshData m_;
   bool v41_ = false, binary_ = false;
   bool seen_nodes_ = false, seen_elements_ = false;
@@ -1361,6 +1426,10 @@ void write_fields(AtomicFile& f, MshOut& out, const MeshData& m) {
 
 MeshData read_gmsh(const std::string& path, const ReadOptions& options, ReadNotes& notes) {
   return GmshReader(path, options, notes).read();
+}
+
+void stream_gmsh(const std::string& path, MeditVisitor& visitor, const ReadOptions& options, ReadNotes& notes) {
+  GmshReader(path, options, notes, &visitor).stream();
 }
 
 void write_gmsh(const std::string& path, const MeshData& m, bool binary, bool msh22) {

@@ -5,6 +5,7 @@
 
 #include "io/formats.h"
 #include "topotet/error.h"
+#include "topotet/mesh_stream.h"
 
 namespace topotet {
 namespace io {
@@ -133,6 +134,19 @@ MeshData read_mesh(const std::string& path, const ReadOptions& options, ReadNote
       break;
   }
   throw InputError(io::vtk_component_message(path == "-" ? "<stdin>" : path, ".vtu (VTK XML) input"));
+}
+
+void stream_mesh(const std::string& path, MeditVisitor& visitor, const ReadOptions& options, ReadNotes& notes) {
+  notes = {};
+  switch (options.format ? *options.format : format_from_path(path)) {
+    case MeshFormat::kMedit:
+      return stream_medit(path, visitor, options, notes);
+    case MeshFormat::kGmsh:
+      return io::stream_gmsh(path, visitor, options, notes);
+    default:
+      throw InputError(path + ": streamed formats are MEDIT (.mesh) and Gmsh MSH 4.1 (.msh), optionally .gz: convert it "
+                              "first (topotet convert " + path + " in.mesh)");
+  }
 }
 
 void write_mesh(const std::string& path, const MeshData& mesh, const WriteOptions& options) {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 
 #include "mesh/morton.h"
 #include "piece.h"
@@ -17,6 +18,7 @@
 #include "topotet/error.h"
 #include "topotet/io.h"
 #include "topotet/medit_stream.h"
+#include "topotet/mesh_stream.h"
 
 namespace topotet::ooc {
 
@@ -161,7 +163,7 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
     ReadOptions read_options;
     ReadNotes notes;
     const auto t0 = Clock::now();
-    stream_medit(input, pass, read_options, notes);
+    stream_mesh(input, pass, read_options, notes);
     pass.finish();
     say("read " + std::to_string(pass.positions.size()) + " vertices, " + std::to_string(pass.tet_count) + " tets in " +
         std::to_string(std::chrono::duration<double>(Clock::now() - t0).count()) + " s");
@@ -175,14 +177,16 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
   if (counts.vertices >= std::numeric_limits<GlobalId>::max())
     throw InputError(input + ": more than 2^32 - 1 vertices");
 
-  // The fields, spilled in file order (the .sol is streamed too).
-  SolStream sol(input, counts.vertices, counts.tets);
-  if (sol.has_sol()) {
-    result.vertex_fields = sol.vertex_fields();
-    result.cell_fields = sol.cell_fields();
+  // The fields, spilled in file order (the .sol is streamed too; a .msh streams none: its
+  // $NodeData would have failed the mesh pass).
+  std::unique_ptr<SolStream> sol;
+  if (format_from_path(input) == MeshFormat::kMedit) sol = std::make_unique<SolStream>(input, counts.vertices, counts.tets);
+  if (sol != nullptr && sol->has_sol()) {
+    result.vertex_fields = sol->vertex_fields();
+    result.cell_fields = sol->cell_fields();
     apply_cell_kinds(result.cell_fields, cell_kinds);  // an unknown name fails here, before the pieces
-    counts.vertex_stride = sol.vertex_stride();
-    counts.cell_stride = sol.cell_stride();
+    counts.vertex_stride = sol->vertex_stride();
+    counts.cell_stride = sol->cell_stride();
   }
   std::vector<double> fmin(counts.vertex_stride, std::numeric_limits<double>::infinity());
   std::vector<double> fmax(counts.vertex_stride, -std::numeric_limits<double>::infinity());
@@ -190,7 +194,7 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
     ScratchWriter out(scratch.file_path("vertex-fields.bin"));
     std::vector<double> values(counts.vertex_stride);
     for (std::uint64_t v = 0; v < counts.vertices; ++v) {
-      sol.next_vertex(values.data());
+      sol->next_vertex(values.data());
       for (int k = 0; k < counts.vertex_stride; ++k) {
         fmin[k] = std::min(fmin[k], values[k]);
         fmax[k] = std::max(fmax[k], values[k]);
@@ -203,7 +207,7 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
     ScratchWriter out(scratch.file_path("tet-fields.bin"));
     std::vector<double> values(counts.cell_stride);
     for (std::uint64_t t = 0; t < counts.tets; ++t) {
-      sol.next_tet(values.data());
+      sol->next_tet(values.data());
       out.write(values.data(), values.size() * sizeof(double));
     }
     out.close();

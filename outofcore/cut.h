@@ -1,7 +1,8 @@
 // Step 1 of an out-of-core run: the input, streamed once, cut into spatial pieces.
 //
-//   mesh pass   stream_medit (io/medit_stream.h): vertex positions and refs kept (28 bytes a
-//               vertex: the only part of the input held whole), each tet spilled to the scratch
+//   mesh pass   stream_mesh (topotet/mesh_stream.h: MEDIT, or Gmsh MSH 4.1 without fields): vertex
+//               positions and refs kept (28 bytes a vertex: the only part of the input held
+//               whole), each tet spilled to the scratch
 //               folder with the Morton code of its centroid, counted in a histogram of 2^18 bins
 //               of those codes; listed triangles, edges, corners and ridges kept (surfaces, not
 //               volumes: they grow like the boundary);

@@ -244,9 +244,9 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
                                      const SimplifyOptions& options, const OutOfCoreOptions& ooc) {
   const auto start = Clock::now();
   refuse_unsupported(options);
-  if (format_from_path(input) != MeshFormat::kMedit)
-    throw InputError(input + ": out of core streams MEDIT (.mesh, .mesh.gz) only: convert it first (topotet convert " +
-                     input + " in.mesh), or run in core without --memory-limit");
+  if (const MeshFormat f = format_from_path(input); f != MeshFormat::kMedit && f != MeshFormat::kGmsh)
+    throw InputError(input + ": out of core streams MEDIT (.mesh) and Gmsh MSH 4.1 (.msh), optionally .gz: convert it "
+                     "first (topotet convert " + input + " in.mesh), or run in core without --memory-limit");
   if (ooc.memory_limit_bytes == 0 && ooc.pieces == 0)
     throw InputError("out of core needs a memory limit (--memory-limit) or a piece count");
   if (ooc.pieces != 0 && (ooc.pieces > kMaxPieces || (ooc.pieces & (ooc.pieces - 1)) != 0))

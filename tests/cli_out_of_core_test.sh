@@ -61,11 +61,18 @@ expect_error full_disk "scratch folder.*file size limit" -- bash -c "ulimit -f 2
 [[ ! -e full.mesh ]] && pass "full_disk: no output" || fail "full_disk: an output was left"
 no_litter full_disk
 
+# A Gmsh MSH 4.1 file (Gmsh's own, without fields) streams too, and the output checks against it.
+"$topotet" simplify "$here/data/gmsh_sphere_in_box.msh" -o sphere_out.mesh --ratio 0.3 --pieces 4 -q
+if "$topotet" check "$here/data/gmsh_sphere_in_box.msh" sphere_out.mesh -q; then pass "msh_input: check passes"; else fail "msh_input: check fails"; fi
+no_litter msh_input
+
 # Refused before any work.
 expect_error tiny_limit "memory-limit.*at least" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit 4M
 expect_error bad_size "memory size 'lots'" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit lots
 "$topotet" convert small.mesh small.msh -q
-expect_error not_medit "streams MEDIT .* only: convert it first" -- "$topotet" simplify small.msh -o x.mesh --memory-limit 1G
+expect_error msh_fields "NodeData: the fields of a .msh are not streamed.*topotet convert" -- "$topotet" simplify small.msh -o x.mesh --memory-limit 1G
+"$topotet" convert small.mesh small.vtu -q
+expect_error not_streamed "streams MEDIT .* and Gmsh MSH 4.1 .*convert it" -- "$topotet" simplify small.vtu -o x.mesh --memory-limit 1G
 expect_error bounds "excludes" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit 1G --field-bounds
 no_litter refused
 

@@ -14,6 +14,7 @@
 #include "topotet/error.h"
 #include "topotet/io.h"
 #include "topotet/medit_stream.h"
+#include "stream_recorder.h"
 
 namespace topotet {
 namespace {
@@ -22,31 +23,9 @@ namespace fs = std::filesystem;
 using test::read_text;
 using test::TempDir;
 using test::write_text;
+using test::Recorder;
 
 std::string shared(const std::string& rel) { return std::string(TOPOTET_SHARED_DATA_DIR) + "/" + rel; }
-
-// Rebuilds a MeshData (fields aside) from the visitor's calls, checking the declared counts.
-struct Recorder : MeditVisitor {
-  MeshData m;
-  std::uint64_t declared_vertices = 0, declared_tets = 0, declared_triangles = 0, declared_segments = 0;
-  void begin_vertices(std::uint64_t n) override { declared_vertices = n; }
-  void vertex(const std::array<double, 3>& p, std::int32_t ref) override {
-    m.positions.push_back(p);
-    m.vertex_refs.push_back(ref);
-  }
-  void begin_tets(std::uint64_t n) override { declared_tets = n; }
-  void tet(const std::array<VertId, 4>& v, std::int32_t material) override {
-    m.tets.push_back(v);
-    m.tet_material.push_back(material);
-  }
-  void begin_triangles(std::uint64_t n) override { declared_triangles = n; }
-  void triangle(const Triangle& t) override { m.triangles.push_back(t); }
-  void begin_segments(std::uint64_t n) override { declared_segments = n; }
-  void segment(const Segment& s) override { m.segments.push_back(s); }
-  void corner(VertId v) override { m.corners.push_back(v); }
-  void required_vertex(VertId v) override { m.required_vertices.push_back(v); }
-  void ridge(std::uint32_t i) override { m.ridges.push_back(i); }
-};
 
 void expect_stream_matches_read_mesh(const std::string& path) {
   SCOPED_TRACE(path);

@@ -1,6 +1,7 @@
 // libFuzzer target for the mesh readers and writers: the input bytes are written to a temporary
 // file and read as .mesh, as .msh, as the .sol beside a fixed valid .mesh, and as each TetGen file
-// (.node, .ele, .face) beside fixed valid others. Every mesh that parses is written as .mesh,
+// (.node, .ele, .face) beside fixed valid others; a .mesh or .msh that reads is streamed too
+// (topotet/mesh_stream.h), which must refuse it or give the same counts. Every mesh that parses is written as .mesh,
 // .msh 4.1 and .msh 2.2 and read back: the .mesh must give the same MeshData, and every file
 // must read; and as .vtu (ASCII and binary; write-only), which must be complete. It is also built into the model (which may refuse it). Every outcome but these or an
 // InputError (a crash, a sanitizer report, another exception, a huge allocation) is a bug. Build with clang and -DTOPOTET_FUZZ=ON (see tests/CMakeLists.txt), then e.g.
@@ -16,6 +17,7 @@
 
 #include "topotet/error.h"
 #include "topotet/io.h"
+#include "topotet/mesh_stream.h"
 #include "topotet/tet_mesh.h"
 
 namespace {
@@ -79,6 +81,31 @@ void write_and_read_back(const topotet::MeshData& mesh) {
   }
 }
 
+// The streaming reader (out of core) on a file read_mesh read: an InputError (a stream refuses
+// more: MSH 2, fields in a .msh, sections out of the order it needs), or the entities read_mesh gave.
+struct Counter : topotet::MeditVisitor {
+  std::uint64_t vertices = 0, tets = 0, triangles = 0, segments = 0;
+  void vertex(const std::array<double, 3>&, std::int32_t) override { ++vertices; }
+  void tet(const std::array<topotet::VertId, 4>&, std::int32_t) override { ++tets; }
+  void triangle(const topotet::Triangle&) override { ++triangles; }
+  void segment(const topotet::Segment&) override { ++segments; }
+};
+
+void stream_as(const std::string& path, const topotet::MeshData& read, bool tets_only) {
+  Counter counter;
+  try {
+    topotet::ReadOptions options;
+    options.tets_only = tets_only;
+    topotet::ReadNotes notes;
+    topotet::stream_mesh(path, counter, options, notes);
+  } catch (const topotet::InputError&) {
+    return;
+  }
+  if (counter.vertices != read.vertex_count() || counter.tets != read.tet_count() ||
+      counter.triangles != read.triangles.size() || counter.segments != read.segments.size())
+    std::abort();
+}
+
 void read_as(const std::string& path, const std::string& read_path, const std::uint8_t* data, std::size_t size) {
   {
     ::unlink(path.c_str());
@@ -93,6 +120,7 @@ void read_as(const std::string& path, const std::string& read_path, const std::u
   } catch (const topotet::InputError&) {
     return;  // rejected with a message: the expected outcome for most inputs
   }
+  if (path == read_path && (path.ends_with(".mesh") || path.ends_with(".msh"))) stream_as(read_path, mesh, size % 2 == 0);
   write_and_read_back(mesh);
   try {
     topotet::BuildOptions options;

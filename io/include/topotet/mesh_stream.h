@@ -1,0 +1,23 @@
+// A mesh file read as a stream, whatever its format can be streamed: MEDIT .mesh (stream_medit,
+// topotet/medit_stream.h) and Gmsh MSH 4.1, ASCII or binary, each optionally gzipped. For meshes
+// larger than memory (topotet/out_of_core.h): the vertices and tets go to the visitor as they are
+// read and are never held; what is held grows like the surfaces (the listed triangles, lines and
+// points of a .msh, whose refs come from their entities).
+#pragma once
+
+#include <string>
+
+#include "topotet/io.h"
+#include "topotet/medit_stream.h"
+
+namespace topotet {
+
+// Streams `path` through `visitor` in the order MeditVisitor describes, with read_mesh's checks
+// and messages, and the entities read_mesh would give: the same vertices, tets and materials, and
+// the same triangles, segments, ridges, corners and required vertices (a .msh gives its vertex
+// refs as 0 and begin_tets its element count, an upper bound). Throws InputError for another
+// format, MSH 2, and a .msh with $NodeData or $ElementData (the fields of a stream come from a
+// MEDIT .sol: SolStream): each says how to convert.
+void stream_mesh(const std::string& path, MeditVisitor& visitor, const ReadOptions& options, ReadNotes& notes);
+
+}  // namespace topotet
