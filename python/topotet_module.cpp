@@ -662,7 +662,8 @@ PYBIND11_MODULE(_core, m) {
       py::arg("max_cost") = defaults.max_cost, py::arg("feature_angle") = defaults.feature_angle,
       py::arg("threads") = defaults.num_threads, py::arg("optimize") = topotet::to_string(defaults.optimize),
       py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
-      "Simplifies a MEDIT file (.mesh / .mesh.gz + .sol) larger than memory into `output`, out of core "
+      "Simplifies a MEDIT file (.mesh / .mesh.gz + .sol) or a Gmsh MSH 4.1 file without fields (.msh / .msh.gz) "
+      "larger than memory into `output`, out of core "
       "(topotet/out_of_core.h, `topotet simplify --memory-limit`): streamed, cut into pieces in a scratch folder "
       "(next to the output, or in `scratch`), simplified with frozen borders and merged pairwise. memory_limit: "
       "bytes or a size such as '2G' (the peak stays under it; too small is a ValueError before any work); pieces: "

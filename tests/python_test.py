@@ -246,7 +246,7 @@ except ValueError as e:
     check("nope" in str(e), f"message {e!r}")
 # Out of core from a file: 4 pieces merged back into one, the same topology as an in-core run's
 # output (the same counts of vertices and tets per material), the report's levels; a bad size and
-# a non-MEDIT input are ValueErrors.
+# a .msh with fields (not streamed) are ValueErrors; a .msh without gives the output of its .mesh.
 with tempfile.TemporaryDirectory() as d:
     big_points, big_tets = grid(12)
     topotet.write(os.path.join(d, "in.mesh"), {"points": big_points, "tets": big_tets,
@@ -266,11 +266,18 @@ with tempfile.TemporaryDirectory() as d:
             check(False, f"no error for {bad}")
         except ValueError as e:
             check(needle in str(e), f"message {e!r} lacks {needle!r}")
-    topotet.write(os.path.join(d, "in.msh"), {"points": big_points, "tets": big_tets})
+    topotet.write(os.path.join(d, "fields.msh"), {"points": big_points, "tets": big_tets,
+                                                  "fields": {"f": big_points[:, 0]}})
     try:
-        topotet.simplify_out_of_core(os.path.join(d, "in.msh"), os.path.join(d, "x.mesh"), pieces=2)
-        check(False, "no error for a .msh input")
+        topotet.simplify_out_of_core(os.path.join(d, "fields.msh"), os.path.join(d, "x.mesh"), pieces=2)
+        check(False, "no error for a .msh input with fields")
     except ValueError as e:
-        check("MEDIT" in str(e), f"message {e!r}")
+        check("not streamed" in str(e) and "fields.msh" in str(e), f"message {e!r}")
+    outputs = []
+    for name in ("plain.msh", "plain.mesh"):
+        topotet.write(os.path.join(d, name), {"points": big_points, "tets": big_tets})
+        topotet.simplify_out_of_core(os.path.join(d, name), os.path.join(d, "o_" + name + ".mesh"), pieces=2, ratio=0.3)
+        outputs.append(open(os.path.join(d, "o_" + name + ".mesh"), "rb").read())
+    check(outputs[0] == outputs[1], "a .msh streams out of core as the same mesh as .mesh")
 check(topotet.__version__.count(".") == 2, "version")
 print(f"python_test: {len(points)} -> {nv} vertices, {len(tets)} -> {len(out['tets'])} tets: pass")
