@@ -4,7 +4,6 @@
 // .sol) is refused with a message when a file does not give it.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -33,22 +32,7 @@ void expect_stream_matches_read_mesh(const std::string& path) {
   Recorder rec;
   ReadNotes notes;
   stream_medit(path, rec, ReadOptions{}, notes);
-  ASSERT_EQ(rec.m.positions.size(), full.positions.size());
-  EXPECT_EQ(rec.declared_vertices, full.positions.size());
-  EXPECT_EQ(std::memcmp(rec.m.positions.data(), full.positions.data(), full.positions.size() * sizeof(full.positions[0])), 0);
-  if (full.vertex_refs.empty()) {
-    for (std::int32_t r : rec.m.vertex_refs) ASSERT_EQ(r, 0);
-  } else {
-    EXPECT_EQ(rec.m.vertex_refs, full.vertex_refs);
-  }
-  EXPECT_EQ(rec.declared_tets, full.tets.size());
-  EXPECT_EQ(rec.m.tets, full.tets);
-  EXPECT_EQ(rec.m.tet_material, full.tet_material);
-  EXPECT_EQ(rec.m.triangles, full.triangles);
-  EXPECT_EQ(rec.m.segments, full.segments);
-  EXPECT_EQ(rec.m.ridges, full.ridges);
-  EXPECT_EQ(rec.m.corners, full.corners);
-  EXPECT_EQ(rec.m.required_vertices, full.required_vertices);
+  test::expect_recorded(rec, full, true);
 
   // SolStream gives each vertex's values of every field, in field order, then each tet's.
   SolStream sol(path, full.positions.size(), full.tets.size());
