@@ -564,20 +564,9 @@ void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const st
   // Drop the moved items and segments from the stencil's lists, then store the placed ones with
   // their new holder (`local` indexed the targets until now).
   for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
-    Records& list = held_[t];
-    std::size_t out = 0;
-    for (std::size_t i = 0; i < list.size();) {
-      const ItemRecord& head = list[i];
-      const std::size_t n = records_of(head);
-      const bool moved = is_segment(head) ? edge_moves(mesh, t, head.local & ~kSegment, u, v)
-                                          : moves(mesh, t, head.local, u, v);
-      if (!moved) {
-        if (out != i) std::copy_n(&list[i], n, &list[out]);  // out < i: a forward copy is safe
-        out += n;
-      }
-      i += n;
-    }
-    list.resize(out);
+    erase_records_if(held_[t], [&](const ItemRecord* head) {
+      return is_segment(*head) ? edge_moves(mesh, t, head->local & ~kSegment, u, v) : moves(mesh, t, head->local, u, v);
+    });
   });
   keep_segments_of_removed_tets(mesh, star_u, star_v, star_uv);
   for (CoverageItem item : s.placed) {
@@ -601,27 +590,17 @@ void SurfaceCoverage::commit(const MeshModel& mesh, VertId u, VertId v, const st
 void SurfaceCoverage::keep_segments_of_removed_tets(const MeshModel& mesh, const std::vector<TetId>& star_u,
                                                    const std::vector<TetId>& star_v, const std::vector<TetId>& star_uv) {
   for (TetId t : star_uv) {
-    Records& list = held_[t];
-    for (std::size_t i = 0; i < list.size(); i += records_of(list[i])) {
-      if (!is_segment(list[i])) continue;  // (none: every face of the tet is through u or v)
-      const auto xy = edge_of(mesh.tets[t], list[i].local & ~kSegment);
+    // Each segment that goes is appended to its new holder (a tet outside St(uv): another list).
+    erase_records_if(held_[t], [&](const ItemRecord* head) {
+      if (!is_segment(*head)) return false;  // (none: every face of the tet is through u or v)
+      const auto xy = edge_of(mesh.tets[t], head->local & ~kSegment);
       const TetId to = first_tet_with_edge(mesh, star_u, star_v, star_uv, xy);
-      if (to == kInvalid) continue;  // no tet keeps xy (the collapse removes the edge)
-      CoverageSegment item = decode_segment(&list[i]);
+      if (to == kInvalid) return false;  // no tet keeps xy (the collapse removes the edge)
+      CoverageSegment item = decode_segment(head);
       item.local = static_cast<std::uint8_t>(local_edge_of(mesh.tets[to], xy));
       append(held_[to], item);
-      list[i].depth = kDropped;  // removed below
-    }
-    std::size_t out = 0;
-    for (std::size_t i = 0; i < list.size();) {
-      const std::size_t n = records_of(list[i]);
-      if (list[i].depth != kDropped) {
-        if (out != i) std::copy_n(&list[i], n, &list[out]);
-        out += n;
-      }
-      i += n;
-    }
-    list.resize(out);
+      return true;
+    });
   }
 }
 
@@ -686,21 +665,11 @@ void SurfaceCoverage::drop_unheld_segments(const MeshModel& mesh, std::int32_t r
   parallel::for_range<std::size_t>(0, held_.size(), 4096, "drop_segments", [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
       Records& list = held_[t];
-      std::size_t kept = 0;
-      for (std::size_t i = 0; i < list.size();) {
-        const std::size_t n = records_of(list[i]);
-        const bool unheld = is_segment(list[i]) && segment_label[list[i].triangle] == label &&
-                            !is_polyline_edge(mesh.flags[t], list[i].local & ~kSegment);
-        if (!unheld) {
-          if (kept != i) std::copy_n(&list[i], n, &list[kept]);
-          kept += n;
-        }
-        i += n;
-      }
-      if (kept != list.size()) {
-        list.resize(kept);
-        list.shrink_to_fit();
-      }
+      const bool dropped = erase_records_if(list, [&](const ItemRecord* head) {
+        return is_segment(*head) && segment_label[head->triangle] == label &&
+               !is_polyline_edge(mesh.flags[t], head->local & ~kSegment);
+      });
+      if (dropped) list.shrink_to_fit();
     }
   });
 }

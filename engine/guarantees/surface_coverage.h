@@ -242,6 +242,24 @@ class SurfaceCoverage {
     void reallocate(std::size_t capacity);  // a block of that capacity, the records kept
     std::unique_ptr<ItemRecord[]> data_;
   };
+  // Removes from `list` the items (with their corner or end records) whose head `erase` says so,
+  // keeping the others in order; returns whether any went. `erase(head)` sees each head once, in
+  // order, and may read the records after it (decode, decode_segment).
+  template <class Erase>
+  static bool erase_records_if(Records& list, Erase&& erase) {
+    std::size_t out = 0;
+    const std::size_t size = list.size();
+    for (std::size_t i = 0; i < size;) {
+      const std::size_t n = records_of(list[i]);
+      if (!erase(&list[i])) {
+        if (out != i) std::copy_n(&list[i], n, &list[out]);  // out < i: a forward copy is safe
+        out += n;
+      }
+      i += n;
+    }
+    list.resize(out);
+    return out != size;
+  }
   static void append(Records& list, const CoverageItem& item);
   static void append(Records& list, const CoverageSegment& item);
   CoverageItem decode(const ItemRecord* head) const;  // the item whose records start at head
