@@ -20,6 +20,7 @@
 #include "topotet/error.h"
 #include "topotet/isosurface.h"
 #include "topotet/nothrow.h"
+#include "topotet/out_of_core.h"
 #include "topotet/simplify.h"
 #include "topotet/tet_mesh.h"
 #include "topotet/threads.h"
@@ -476,49 +477,113 @@ topotet_status topotet_mesh_embed_isosurfaces(topotet_mesh* mesh, const char* fi
   });
 }
 
+namespace {
+
+// The C options as the library's (without the mesh's isosurfaces); NULL = the defaults.
+topotet_status to_simplify_options(const topotet_options* options, topotet::SimplifyOptions& o) {
+  topotet_options c;
+  topotet_options_init(&c);
+  if (options != nullptr) c = *options;
+  if (c.target_vertices < 0) return fail(TOPOTET_INVALID_INPUT, "target_vertices must be >= 0");
+  if (c.engine != 0 && c.engine != 1) return fail(TOPOTET_INVALID_INPUT, "engine must be 0 (parallel) or 1 (sequential)");
+  o.target_vertex_ratio = c.target_vertex_ratio;
+  o.target_vertices = static_cast<std::uint64_t>(c.target_vertices);
+  o.max_cost = c.max_cost;
+  o.min_quality = c.min_quality;
+  o.min_dihedral = c.min_dihedral;
+  o.size_weight = c.size_weight;
+  o.boundary_weight = c.boundary_weight;
+  o.polyline_weight = c.polyline_weight;
+  o.tolerance = c.tolerance;
+  o.tolerance_rel = c.tolerance_rel;
+  o.relax_tolerance = c.relax_tolerance != 0;
+  o.relax_quality = c.relax_quality != 0;
+  o.relax_features = c.relax_features != 0;
+  o.engine = static_cast<topotet::Engine>(c.engine);
+  o.num_threads = c.num_threads;
+  o.round_fraction = c.round_fraction;
+  o.feature_angle = c.feature_angle;
+  o.max_field_error = c.max_field_error;
+  o.max_field_error_rel = c.max_field_error_rel;
+  if (c.optimize < 0 || c.optimize > 2) return fail(TOPOTET_INVALID_INPUT, "optimize must be 0 (none), 1 (light) or 2 (full)");
+  o.optimize = static_cast<topotet::Optimize>(c.optimize);
+  if (c.field_weight_count < 0) return fail(TOPOTET_INVALID_INPUT, "field_weight_count must be >= 0");
+  if (c.field_weight_count > 0 && (c.field_weight_names == nullptr || c.field_weights == nullptr))
+    return fail(TOPOTET_INVALID_INPUT, "field_weight_names and field_weights must not be NULL when field_weight_count > 0");
+  for (int i = 0; i < c.field_weight_count; ++i) {
+    if (c.field_weight_names[i] == nullptr) return fail(TOPOTET_INVALID_INPUT, "field_weight_names has a NULL entry");
+    o.field_weights[c.field_weight_names[i]] = c.field_weights[i];  // the library checks names and values
+  }
+  o.track_field_bounds = c.track_field_bounds != 0;
+  if (c.progress != nullptr) {
+    const auto progress = c.progress;
+    void* const user_data = c.progress_user_data;
+    o.on_progress = [progress, user_data](double done) { return progress(done, user_data) != 0; };
+  }
+  return TOPOTET_OK;
+}
+
+// The library's counters into the C report (the fields every entry point fills the same way).
+void fill_report(const topotet::Report& r, topotet_report* report) {
+  report->status = to_c(r.status);
+  report->vertices_before = static_cast<std::int64_t>(r.vertices_before);
+  report->vertices_after = static_cast<std::int64_t>(r.vertices_after);
+  report->tets_before = static_cast<std::int64_t>(r.tets_before);
+  report->tets_after = static_cast<std::int64_t>(r.tets_after);
+  report->collapses = static_cast<std::int64_t>(r.collapses);
+  report->evaluations = static_cast<std::int64_t>(r.evaluations);
+  report->legality_checks = static_cast<std::int64_t>(r.legality_checks);
+  report->rounds = static_cast<std::int64_t>(r.rounds);
+  using topotet::RejectReason;
+  report->rejected_link_k = static_cast<std::int64_t>(r.rejected_by(RejectReason::kLinkK));
+  report->rejected_link_ktilde = static_cast<std::int64_t>(r.rejected_by(RejectReason::kLinkKtilde));
+  report->rejected_pinned = static_cast<std::int64_t>(r.rejected_by(RejectReason::kPinned));
+  report->rejected_inversion = static_cast<std::int64_t>(r.rejected_by(RejectReason::kInversion));
+  report->rejected_quality = static_cast<std::int64_t>(r.rejected_by(RejectReason::kQuality));
+  report->rejected_tolerance = static_cast<std::int64_t>(r.rejected_by(RejectReason::kTolerance));
+  report->seconds = r.seconds;
+  report->max_cost = r.max_cost;
+  report->tolerance = r.tolerance;
+  report->tolerance_asked = r.tolerance_asked;
+  report->min_quality_used = r.min_quality_used;
+  report->min_dihedral_used = r.min_dihedral_used;
+  report->relaxations = static_cast<std::int64_t>(r.relaxations.size());
+  report->features_dropped = static_cast<std::int64_t>(r.features_dropped);
+  report->stall_flips = static_cast<std::int64_t>(r.stall_flips);
+  report->rejected_field_error = static_cast<std::int64_t>(r.rejected_by(RejectReason::kFieldError));
+  report->feature_edges = static_cast<std::int64_t>(r.feature_edges);
+  report->feature_corners = static_cast<std::int64_t>(r.feature_corners);
+  report->optimize_moves = static_cast<std::int64_t>(r.optimize_moves);
+  report->optimize_flips = static_cast<std::int64_t>(r.optimize_flips);
+  if (r.stop.is_filled) {
+    const topotet::StopDiagnosis& d = r.stop;
+    const auto i64 = [](std::uint64_t x) { return static_cast<std::int64_t>(x); };
+    report->stop_vertices = i64(d.vertices);
+    report->held_topology = i64(d.topology);
+    report->held_pinned = i64(d.pinned);
+    report->held_inversion = i64(d.inversion);
+    report->held_quality = i64(d.quality);
+    report->held_tolerance = i64(d.tolerance);
+    report->held_field_error = i64(d.field_error);
+    report->held_collapsible = i64(d.collapsible);
+    report->pinned_corners = i64(d.pinned_corners);
+    report->pinned_required = i64(d.pinned_required);
+    report->pinned_features = i64(d.pinned_features);
+    report->pinned_other = i64(d.pinned_other);
+    report->stop_dominant_share = d.dominant_share;
+    report->stop_beyond_reach = d.beyond_reach ? 1 : 0;
+    std::snprintf(report->stop_dominant, sizeof report->stop_dominant, "%s", d.dominant);
+    std::snprintf(report->stop_suggestion, sizeof report->stop_suggestion, "%s", d.suggestion.c_str());
+  }
+}
+
+}  // namespace
+
 topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* options, topotet_report* report) {
   return guarded([&] {
     if (mesh == nullptr) return fail(TOPOTET_INVALID_INPUT, "topotet_simplify: mesh is NULL");
-    topotet_options c;
-    topotet_options_init(&c);
-    if (options != nullptr) c = *options;
-    if (c.target_vertices < 0) return fail(TOPOTET_INVALID_INPUT, "target_vertices must be >= 0");
-    if (c.engine != 0 && c.engine != 1) return fail(TOPOTET_INVALID_INPUT, "engine must be 0 (parallel) or 1 (sequential)");
     topotet::SimplifyOptions o;
-    o.target_vertex_ratio = c.target_vertex_ratio;
-    o.target_vertices = static_cast<std::uint64_t>(c.target_vertices);
-    o.max_cost = c.max_cost;
-    o.min_quality = c.min_quality;
-    o.min_dihedral = c.min_dihedral;
-    o.size_weight = c.size_weight;
-    o.boundary_weight = c.boundary_weight;
-    o.polyline_weight = c.polyline_weight;
-    o.tolerance = c.tolerance;
-    o.tolerance_rel = c.tolerance_rel;
-    o.relax_tolerance = c.relax_tolerance != 0;
-    o.relax_quality = c.relax_quality != 0;
-    o.relax_features = c.relax_features != 0;
-    o.engine = static_cast<topotet::Engine>(c.engine);
-    o.num_threads = c.num_threads;
-    o.round_fraction = c.round_fraction;
-    o.feature_angle = c.feature_angle;
-    o.max_field_error = c.max_field_error;
-    o.max_field_error_rel = c.max_field_error_rel;
-    if (c.optimize < 0 || c.optimize > 2) return fail(TOPOTET_INVALID_INPUT, "optimize must be 0 (none), 1 (light) or 2 (full)");
-    o.optimize = static_cast<topotet::Optimize>(c.optimize);
-    if (c.field_weight_count < 0) return fail(TOPOTET_INVALID_INPUT, "field_weight_count must be >= 0");
-    if (c.field_weight_count > 0 && (c.field_weight_names == nullptr || c.field_weights == nullptr))
-      return fail(TOPOTET_INVALID_INPUT, "field_weight_names and field_weights must not be NULL when field_weight_count > 0");
-    for (int i = 0; i < c.field_weight_count; ++i) {
-      if (c.field_weight_names[i] == nullptr) return fail(TOPOTET_INVALID_INPUT, "field_weight_names has a NULL entry");
-      o.field_weights[c.field_weight_names[i]] = c.field_weights[i];  // the library checks names and values
-    }
-    o.track_field_bounds = c.track_field_bounds != 0;
-    if (c.progress != nullptr) {
-      const auto progress = c.progress;
-      void* const user_data = c.progress_user_data;
-      o.on_progress = [progress, user_data](double done) { return progress(done, user_data) != 0; };
-    }
+    if (const topotet_status converted = to_simplify_options(options, o); converted != TOPOTET_OK) return converted;
     o.isosurfaces = mesh->isosurfaces;
     // The cell arrays' original: the geometry before the collapses, with the arrays moved in (they
     // come back remapped, or as they were when the run changed nothing).
@@ -559,56 +624,7 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
       report->cell_nearest_original_tets = static_cast<std::int64_t>(remapped.nearest_original_tets);
       report->cell_covered_volume_fraction = remapped.covered_volume_fraction;
       report->cell_remap_seconds = remapped.seconds;
-      report->status = to_c(r.status);
-      report->vertices_before = static_cast<std::int64_t>(r.vertices_before);
-      report->vertices_after = static_cast<std::int64_t>(r.vertices_after);
-      report->tets_before = static_cast<std::int64_t>(r.tets_before);
-      report->tets_after = static_cast<std::int64_t>(r.tets_after);
-      report->collapses = static_cast<std::int64_t>(r.collapses);
-      report->evaluations = static_cast<std::int64_t>(r.evaluations);
-      report->legality_checks = static_cast<std::int64_t>(r.legality_checks);
-      report->rounds = static_cast<std::int64_t>(r.rounds);
-      using topotet::RejectReason;
-      report->rejected_link_k = static_cast<std::int64_t>(r.rejected_by(RejectReason::kLinkK));
-      report->rejected_link_ktilde = static_cast<std::int64_t>(r.rejected_by(RejectReason::kLinkKtilde));
-      report->rejected_pinned = static_cast<std::int64_t>(r.rejected_by(RejectReason::kPinned));
-      report->rejected_inversion = static_cast<std::int64_t>(r.rejected_by(RejectReason::kInversion));
-      report->rejected_quality = static_cast<std::int64_t>(r.rejected_by(RejectReason::kQuality));
-      report->rejected_tolerance = static_cast<std::int64_t>(r.rejected_by(RejectReason::kTolerance));
-      report->seconds = r.seconds;
-      report->max_cost = r.max_cost;
-      report->tolerance = r.tolerance;
-      report->tolerance_asked = r.tolerance_asked;
-      report->min_quality_used = r.min_quality_used;
-      report->min_dihedral_used = r.min_dihedral_used;
-      report->relaxations = static_cast<std::int64_t>(r.relaxations.size());
-      report->features_dropped = static_cast<std::int64_t>(r.features_dropped);
-      report->stall_flips = static_cast<std::int64_t>(r.stall_flips);
-      report->rejected_field_error = static_cast<std::int64_t>(r.rejected_by(RejectReason::kFieldError));
-      report->feature_edges = static_cast<std::int64_t>(r.feature_edges);
-      report->feature_corners = static_cast<std::int64_t>(r.feature_corners);
-      report->optimize_moves = static_cast<std::int64_t>(r.optimize_moves);
-      report->optimize_flips = static_cast<std::int64_t>(r.optimize_flips);
-      if (r.stop.is_filled) {
-        const topotet::StopDiagnosis& d = r.stop;
-        const auto i64 = [](std::uint64_t x) { return static_cast<std::int64_t>(x); };
-        report->stop_vertices = i64(d.vertices);
-        report->held_topology = i64(d.topology);
-        report->held_pinned = i64(d.pinned);
-        report->held_inversion = i64(d.inversion);
-        report->held_quality = i64(d.quality);
-        report->held_tolerance = i64(d.tolerance);
-        report->held_field_error = i64(d.field_error);
-        report->held_collapsible = i64(d.collapsible);
-        report->pinned_corners = i64(d.pinned_corners);
-        report->pinned_required = i64(d.pinned_required);
-        report->pinned_features = i64(d.pinned_features);
-        report->pinned_other = i64(d.pinned_other);
-        report->stop_dominant_share = d.dominant_share;
-        report->stop_beyond_reach = d.beyond_reach ? 1 : 0;
-        std::snprintf(report->stop_dominant, sizeof report->stop_dominant, "%s", d.dominant);
-        std::snprintf(report->stop_suggestion, sizeof report->stop_suggestion, "%s", d.suggestion.c_str());
-      }
+      fill_report(r, report);
     }
     const topotet_status s = to_c(r.status);
     if (s != TOPOTET_OK && s != TOPOTET_STOPPED_EARLY) return fail(s, r.message);
@@ -617,6 +633,55 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
       return fail(remap_status, remap_error);
     }
     return s;
+  });
+}
+
+void topotet_out_of_core_options_init(topotet_out_of_core_options* ooc) {
+  if (ooc != nullptr) *ooc = topotet_out_of_core_options{};
+}
+
+topotet_status topotet_simplify_out_of_core(const char* input, const char* output, const topotet_options* options,
+                                            const topotet_out_of_core_options* ooc, topotet_report* report,
+                                            topotet_out_of_core_report* ooc_report) {
+  return guarded([&] {
+    if (input == nullptr || output == nullptr || ooc == nullptr)
+      return fail(TOPOTET_INVALID_INPUT, "topotet_simplify_out_of_core: input, output and ooc must not be NULL");
+    topotet::SimplifyOptions o;
+    if (const topotet_status converted = to_simplify_options(options, o); converted != TOPOTET_OK) return converted;
+    if (o.on_progress) return fail(TOPOTET_INVALID_INPUT, "topotet_simplify_out_of_core: no progress callback out of core (set it to NULL)");
+    if (ooc->memory_limit_bytes < 0 || ooc->pieces < 0 || ooc->extensive_count < 0 || ooc->categorical_count < 0)
+      return fail(TOPOTET_INVALID_INPUT, "topotet_simplify_out_of_core: memory_limit_bytes, pieces and the counts must be >= 0");
+    topotet::OutOfCoreOptions c;
+    c.memory_limit_bytes = static_cast<std::uint64_t>(ooc->memory_limit_bytes);
+    c.pieces = static_cast<std::uint32_t>(ooc->pieces);
+    if (ooc->scratch_parent != nullptr) c.scratch_parent = ooc->scratch_parent;
+    if (ooc->vertex_map_path != nullptr) c.vertex_map_path = ooc->vertex_map_path;
+    const auto names = [](int count, const char* const* list, std::vector<std::string>& into) {
+      if (count > 0 && list == nullptr) throw ArgumentError{"topotet_simplify_out_of_core: a name list is NULL"};
+      for (int i = 0; i < count; ++i) {
+        if (list[i] == nullptr) throw ArgumentError{"topotet_simplify_out_of_core: a NULL cell array name"};
+        into.emplace_back(list[i]);
+      }
+    };
+    names(ooc->extensive_count, ooc->extensive_names, c.cell_remap.extensive);
+    names(ooc->categorical_count, ooc->categorical_names, c.cell_remap.categorical);
+    topotet::OutOfCoreReport r;
+    topotet::run_with_thread_limit(o.num_threads, [&] { r = topotet::simplify_out_of_core(input, output, o, c); });
+    if (report != nullptr) {
+      *report = topotet_report{};
+      fill_report(r.report, report);
+    }
+    if (ooc_report != nullptr) {
+      ooc_report->pieces = static_cast<int>(r.pieces);
+      ooc_report->pieces_left = static_cast<int>(r.output_pieces);
+      ooc_report->levels = static_cast<int>(r.levels.size());
+      ooc_report->piece_tet_limit = static_cast<std::int64_t>(r.piece_tet_limit);
+      ooc_report->peak_rss_bytes = static_cast<std::int64_t>(r.peak_rss_bytes);
+      ooc_report->scratch_peak_bytes = static_cast<std::int64_t>(r.scratch_peak_bytes);
+      ooc_report->cut_seconds = r.cut_seconds;
+      ooc_report->write_seconds = r.write_seconds;
+    }
+    return to_c(r.report.status);
   });
 }
 

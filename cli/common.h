@@ -64,6 +64,10 @@ struct SimplifyJob {
   std::vector<double> levels;  // descending vertex ratios; empty = one run with `options`
   std::string output_path;     // empty = write nothing
   std::string hierarchy_path;  // --hierarchy: also record the collapses into this .tth file
+  // --vertex-map: also write, for each of the first vertex_map_entries input vertices (the file's:
+  // an isosurface's vertices come after them), the output vertex it became (topotet/vertex_map_file.h).
+  std::string vertex_map_path;
+  std::uint64_t vertex_map_entries = 0;
   std::optional<std::int32_t> feature_ref;  // also write detected features, with this ref
   bool binary = false;         // WriteOptions::binary
   bool msh22 = false;          // WriteOptions::msh22

@@ -28,6 +28,7 @@
 #include "topotet/metrics/surface_distance.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/threads.h"
+#include "topotet/vertex_map_file.h"
 
 namespace topotet::cli {
 namespace {
@@ -55,6 +56,7 @@ void check_outputs(const SimplifyJob& job) {
   }
   check_output_folder(job.output_path);
   check_output_folder(job.report_path);
+  check_output_folder(job.vertex_map_path);
 }
 
 // The threads that really run: the default arena follows the process's CPU affinity (taskset),
@@ -128,7 +130,9 @@ void simplify_level(const SimplifyJob& job, double level, TetMesh& mesh, Simplif
   };
   log_stage("simplify" + (level > 0 ? " level " + format_ratio(level) : std::string()) + ": start");
   if (verbosity() >= Verbosity::kDebug) options.round_log = &result.rounds;
-  result.report = job.hierarchy_path.empty() ? simplify(mesh, options) : simplify_with_hierarchy(mesh, options, run.hierarchy);
+  if (!job.hierarchy_path.empty()) result.report = simplify_with_hierarchy(mesh, options, run.hierarchy);
+  else if (!job.vertex_map_path.empty()) result.report = simplify(mesh, options, run.vertex_map);
+  else result.report = simplify(mesh, options);
   bar.finish();
   log_stage("simplify: " + format_count(result.report.collapses) + " collapses in " +
             format_seconds(result.report.seconds) + ", " + format_count(result.report.vertices_after) + " vertices left");
@@ -185,6 +189,14 @@ void simplify_levels(const SimplifyJob& job, TetMesh& mesh, SimplifyRun& run) {
     result.output = mesh.to_mesh_data();
     remap_cells(job, result);
     if (!job.output_path.empty()) write_level(job, level, mesh, result);
+    if (!job.vertex_map_path.empty()) {
+      // After the mesh: the map names its vertices. (--levels and --hierarchy exclude --vertex-map.)
+      const Stopwatch write_clock;
+      run.vertex_map.resize(job.vertex_map_entries);
+      write_vertex_map(job.vertex_map_path, run.vertex_map);
+      run.vertex_map_write_seconds = write_clock.seconds();
+      log_stage("write " + job.vertex_map_path + " in " + format_seconds(run.vertex_map_write_seconds));
+    }
     if (!job.hierarchy_path.empty()) {
       const Stopwatch write_clock;
       write_hierarchy(job.hierarchy_path, run.hierarchy);
@@ -281,6 +293,8 @@ SimplifyJob job_from_args(const SimplifyArgs& args) {
   job.feature_ref = args.feature_ref;
   job.output_path = args.output;
   job.hierarchy_path = args.hierarchy;
+  job.vertex_map_path = args.vertex_map;
+  if (!job.vertex_map_path.empty()) check_vertex_map_path(job.vertex_map_path);
   job.binary = args.binary;
   job.msh22 = args.msh22;
   job.report_path = args.report;
@@ -382,6 +396,7 @@ int run_simplify(const SimplifyArgs& args) {
       };
     }
   }
+  job.vertex_map_entries = job.input.vertex_count();
   if (!job.options.isosurfaces.empty()) {
     // The split tets share an extensive array's amount by volume: its kind must be known first.
     apply_cell_kinds(job.input.cell_fields, job.cell_remap);

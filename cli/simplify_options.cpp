@@ -180,6 +180,12 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
                                          "with fields, each collapse's field error bound too (levels by a guaranteed "
                                          "error)")
                              ->excludes(levels));
+  keep(cmd->add_option("--vertex-map", args.vertex_map,
+                       "Also write, for every input vertex in input order, the 0-based index of the output vertex it "
+                       "became or merged into (-1: used by no tet), to transfer vertex data: FILE.npy (NumPy int64) "
+                       "or FILE.txt (one per line); in core and out of core")
+           ->excludes(levels)
+           ->excludes(hierarchy));
   keep(cmd->add_flag("--no-field-bounds", args.no_field_bounds,
                      "With --hierarchy: record no field error bounds (recording then costs a few percent instead of "
                      "~20%; levels by error use the collapse cost)")
@@ -214,7 +220,8 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
   // Out of core (topotet/out_of_core.h): what it cannot do is excluded here, before any reading.
   auto* memory_limit = keep(cmd->add_option("--memory-limit", args.memory_limit,
                                             "Simplify out of core, keeping the peak memory under SIZE (2G, 256M, ...): "
-                                            "the input (MEDIT .mesh, .mesh.gz) is streamed and cut into pieces kept in "
+                                            "the input (MEDIT .mesh with its .sol, or Gmsh MSH 4.1 .msh without "
+                                            "fields; also .gz) is streamed and cut into pieces kept in "
                                             "a scratch folder, simplified with frozen borders and merged pairwise (the "
                                             "report says what was left apart)"));
   auto* scratch = keep(cmd->add_option("--scratch", args.scratch,

@@ -26,6 +26,7 @@ struct SimplifyArgs {
   std::string output;
   std::string format;                // --format, checked by parse_format before any reading
   std::string hierarchy;             // --hierarchy
+  std::string vertex_map;            // --vertex-map
   std::vector<double> levels_error;  // --levels-error
   double ratio = 0.25;
   std::uint64_t target_vertices = 0;

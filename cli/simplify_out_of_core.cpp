@@ -42,6 +42,7 @@ Json json_report(const SimplifyArgs& args, const OutOfCoreOptions& ooc, const Ou
                           {"peak_rss_bytes", r.peak_rss_bytes},
                           {"scratch_peak_bytes", r.scratch_peak_bytes}}},
               {"tolerance", rep.tolerance},
+              {"vertex_map", ooc.vertex_map_path},
               {"topology", "not checked: topotet check IN OUT"}};
 }
 
@@ -60,6 +61,8 @@ int run_simplify_out_of_core(const SimplifyArgs& args) {
   ooc.pieces = args.pieces;
   ooc.cell_remap.extensive = args.extensive;
   ooc.cell_remap.categorical = args.categorical;
+  ooc.vertex_map_path = args.vertex_map;
+  if (!ooc.vertex_map_path.empty()) check_output_folder(ooc.vertex_map_path);
   if (verbosity() >= Verbosity::kVerbose) ooc.log = [](const std::string& line) { print_note(line); };
   const SimplifyOptions options = engine_options(args);
   OutOfCoreReport r;
@@ -95,6 +98,8 @@ int run_simplify_out_of_core(const SimplifyArgs& args) {
     std::fprintf(out, "tolerance    %s (mesh units), shared by the levels\n", format_number(rep.tolerance).c_str());
     std::fprintf(out, "topology     not checked in this run (the input is never whole in memory): topotet check %s %s%s\n",
                  args.input.c_str(), args.output.c_str(), rep.tets_before > 2'000'000 ? " --fast" : "");
+    if (!ooc.vertex_map_path.empty())
+      std::fprintf(out, "vertex map   %s: every input vertex -> its output vertex\n", ooc.vertex_map_path.c_str());
     if (rep.status != Status::kOk) std::fprintf(out, "status       %s\n", rep.message.c_str());
   }
   if (!args.report.empty()) write_json_atomically(args.report, json_report(args, ooc, r));

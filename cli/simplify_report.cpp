@@ -519,6 +519,7 @@ Json options_json(const SimplifyJob& job, const SimplifyRun& run) {
           {"optimize", to_string(job.options.optimize)},
           {"field_weights", job.options.field_weights},
           {"isosurfaces", isosurfaces_json(job)},
+          {"vertex_map", job.vertex_map_path},
           {"verify", run.verify},
           {"metrics", job.metrics}};
 }
@@ -533,6 +534,9 @@ void print_report(const SimplifyJob& job, const SimplifyRun& run) {
     if (job.levels.empty()) print_single_level(run);
     else print_level_table(job, run);
     if (!job.hierarchy_path.empty()) print_hierarchy(job, run);
+    if (!job.vertex_map_path.empty())
+      row("vertex map", job.vertex_map_path + ": " + format_count(job.vertex_map_entries) + " input vertices -> their output vertex (write " +
+                            format_seconds(run.vertex_map_write_seconds) + ")");
     print_memory(run);
     if (!run.cell_arrays.empty()) print_cell_data(run);
     if (job.levels.empty() && job.metrics) print_quality(run);

@@ -67,6 +67,8 @@ struct SimplifyRun {
   double cumulative_seconds = 0.0;  // simplify time of every level
   Hierarchy hierarchy;              // --hierarchy
   double hierarchy_write_seconds = 0.0;
+  std::vector<VertId> vertex_map;  // --vertex-map
+  double vertex_map_write_seconds = 0.0;
   std::uint64_t peak_bytes = 0;  // after simplifying, before measuring
   // cell data: the input's cell arrays with the kinds they are remapped with (empty: none)
   std::vector<CellField> cell_arrays;  // names, components and kinds only (no values)

@@ -120,6 +120,23 @@ module topotet
     integer(c_int64_t) :: stall_flips  ! flips where the collapses stalled (held by inverted tets)
   end type
 
+  ! Out of core (topotet_c.h): a file larger than memory simplified into another under a memory limit.
+  type, bind(c), public :: topotet_out_of_core_options
+    integer(c_int64_t) :: memory_limit_bytes
+    integer(c_int) :: pieces
+    type(c_ptr) :: scratch_parent, vertex_map_path
+    integer(c_int) :: extensive_count
+    type(c_ptr) :: extensive_names
+    integer(c_int) :: categorical_count
+    type(c_ptr) :: categorical_names
+  end type
+
+  type, bind(c), public :: topotet_out_of_core_report
+    integer(c_int) :: pieces, pieces_left, levels
+    integer(c_int64_t) :: piece_tet_limit, peak_rss_bytes, scratch_peak_bytes
+    real(c_double) :: cut_seconds, write_seconds
+  end type
+
   public :: topotet_mesh_arrays_init, topotet_options_init, topotet_mesh_build, topotet_mesh_read, &
             topotet_mesh_write, topotet_mesh_free, topotet_simplify, topotet_mesh_vertex_count, &
             topotet_mesh_tet_count, topotet_mesh_field_count, topotet_mesh_vertex_map_size, &
@@ -129,7 +146,8 @@ module topotet
             topotet_mesh_copy_segments, topotet_mesh_embed_isosurfaces, &
             topotet_mesh_cell_field_count, topotet_mesh_cell_field_info, topotet_mesh_cell_field_values, &
             topotet_mesh_copy_cell_field, topotet_mesh_add_cell_field, topotet_mesh_set_cell_field_kind, &
-            topotet_mesh_field_bounds, topotet_c_string
+            topotet_mesh_field_bounds, topotet_c_string, topotet_out_of_core_options_init, &
+            topotet_simplify_out_of_core
 
   ! topotet_mesh_add_cell_field(mesh, name, kind, values): a Fortran name and the array's values,
   ! real(c_double) values(m) or values(components, m), or integer(c_int32_t) labels(m).
@@ -183,6 +201,21 @@ module topotet
       import :: c_ptr
       type(c_ptr), value :: mesh
     end subroutine
+
+    subroutine topotet_out_of_core_options_init(ooc) bind(c, name="topotet_out_of_core_options_init")
+      import :: topotet_out_of_core_options
+      type(topotet_out_of_core_options), intent(out) :: ooc
+    end subroutine
+
+    integer(c_int) function c_simplify_out_of_core(input, output, options, ooc, report, ooc_report) &
+        bind(c, name="topotet_simplify_out_of_core")
+      import :: c_int, c_char, topotet_options, topotet_out_of_core_options, topotet_report, topotet_out_of_core_report
+      character(kind=c_char), intent(in) :: input(*), output(*)
+      type(topotet_options), intent(in) :: options
+      type(topotet_out_of_core_options), intent(in) :: ooc
+      type(topotet_report), intent(out) :: report
+      type(topotet_out_of_core_report), intent(out) :: ooc_report
+    end function
 
     integer(c_int) function topotet_simplify(mesh, options, report) bind(c, name="topotet_simplify")
       import :: c_int, c_ptr, topotet_options, topotet_report
@@ -448,6 +481,32 @@ contains
     integer(c_int32_t), contiguous, target, intent(in) :: values(:)
     add_cell_field_int1 = add_cell_field(mesh, name, kind, 1_c_int, size(values), &
                                          topotet_view(c_loc(values), TOPOTET_INT32, 0))
+  end function
+
+  ! Simplifies the file `input` into `output` out of core (topotet_c.h). ooc: the limit and pieces
+  ! (its paths and names are C pointers); scratch and vertex_map (optional) are Fortran strings that
+  ! set its scratch_parent and vertex_map_path for the call.
+  integer(c_int) function topotet_simplify_out_of_core(input, output, options, ooc, report, ooc_report, &
+                                                       scratch, vertex_map)
+    character(*), intent(in) :: input, output
+    type(topotet_options), intent(in) :: options
+    type(topotet_out_of_core_options), intent(in) :: ooc
+    type(topotet_report), intent(out) :: report
+    type(topotet_out_of_core_report), intent(out) :: ooc_report
+    character(*), intent(in), optional :: scratch, vertex_map
+    type(topotet_out_of_core_options) :: o
+    character(kind=c_char), allocatable, target :: c_scratch(:), c_map(:)
+    o = ooc
+    if (present(scratch)) then
+      c_scratch = topotet_c_string(scratch)
+      o%scratch_parent = c_loc(c_scratch)
+    end if
+    if (present(vertex_map)) then
+      c_map = topotet_c_string(vertex_map)
+      o%vertex_map_path = c_loc(c_map)
+    end if
+    topotet_simplify_out_of_core = c_simplify_out_of_core(topotet_c_string(input), topotet_c_string(output), options, &
+                                                          o, report, ooc_report)
   end function
 
   ! The message of the last failed call on this thread.

@@ -16,7 +16,7 @@ namespace topotet::ooc {
 
 namespace {
 
-constexpr const char* kFixedNames[] = {"tets.bin", "vertex-fields.bin", "tet-fields.bin"};
+constexpr const char* kFixedNames[] = {"tets.bin", "vertex-fields.bin", "tet-fields.bin", "vertex-map.bin"};
 
 // Live scratch folders, for remove_scratch_folders() in a signal handler; 32 bytes are kept for
 // the names the handler appends.
@@ -94,13 +94,15 @@ ScratchWriter::~ScratchWriter() {
   if (file_ != nullptr) std::fclose(file_);
 }
 
-void ScratchWriter::fail(const char* what) const {
+void throw_scratch_error(const std::string& path, const char* what) {
   std::string why = errno_text();
   if (errno == ENOSPC) why = "no space left on the device (choose another folder with --scratch DIR)";
   if (errno == EFBIG) why = "file size limit exceeded (ulimit -f)";
-  const std::string::size_type slash = path_.rfind('/');
-  throw InputError("scratch folder " + path_.substr(0, slash) + ": " + what + " " + path_.substr(slash + 1) + ": " + why);
+  const std::string::size_type slash = path.rfind('/');
+  throw InputError("scratch folder " + path.substr(0, slash) + ": " + what + " " + path.substr(slash + 1) + ": " + why);
 }
+
+void ScratchWriter::fail(const char* what) const { throw_scratch_error(path_, what); }
 
 void ScratchWriter::write(const void* data, std::size_t bytes) {
   if (bytes == 0) return;

@@ -83,6 +83,10 @@ class ScratchReader {
   std::FILE* file_ = nullptr;
 };
 
+// InputError "scratch folder DIR: WHAT NAME: why" for the errno of a failed call on `path` (a full
+// disk and a file-size limit said in words).
+[[noreturn]] void throw_scratch_error(const std::string& path, const char* what);
+
 // Async-signal-safe: unlinks the fixed names in every live scratch folder and removes the folders.
 void remove_scratch_folders() noexcept;
 

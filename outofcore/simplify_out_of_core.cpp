@@ -23,6 +23,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <filesystem>
 
@@ -37,6 +38,8 @@
 #include "topotet/io.h"
 #include "topotet/medit_stream.h"
 #include "topotet/out_of_core.h"
+#include "topotet/vertex_map_file.h"
+#include "vertex_map_log.h"
 
 namespace topotet {
 
@@ -75,8 +78,9 @@ struct PieceRun {
 // Cell fields are not in the engine's model: they are remapped from the piece as it was onto the
 // simplified piece (topotet/cell_fields.h; exact overlaps: the piece's region is the same before and
 // after, its border frozen), so an extensive array's sum is conserved level after level.
+// With a vertex map asked for, the vertices the run merged go to `map` (global ids).
 PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, SimplifyOptions options,
-                        std::uint64_t remove, const CellRemapOptions& cell_remap) {
+                        std::uint64_t remove, const CellRemapOptions& cell_remap, VertexMapLog* map) {
   PieceRun run;
   MeshData& data = piece.mesh;
   const std::size_t before = data.positions.size();
@@ -102,7 +106,8 @@ PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, 
   std::vector<double> quadrics_out;
   options.quadrics_in = piece.quadrics.empty() ? nullptr : &piece.quadrics;
   options.quadrics_out = &quadrics_out;
-  run.report = simplify(model, options);
+  std::vector<VertId> local_map;
+  run.report = map != nullptr ? simplify(model, options, local_map) : simplify(model, options);
   if (run.report.status == Status::kInvalidInput || run.report.status == Status::kInternalError ||
       run.report.status == Status::kOutOfMemory || run.report.status == Status::kCancelled)
     throw InputError("out-of-core piece: " + run.report.message);
@@ -118,6 +123,13 @@ PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, 
   }
   out.group_names.clear();
   run.removed = before - out.positions.size();
+  if (map != nullptr) {
+    std::vector<std::pair<GlobalId, GlobalId>> merged;
+    merged.reserve(run.removed);
+    for (VertId v = 0; v < local_map.size(); ++v)
+      if (local_map[v] != kInvalid && ids[local_map[v]] != piece.global_ids[v]) merged.push_back({piece.global_ids[v], ids[local_map[v]]});
+    map->record_merges(std::move(merged));
+  }
   piece.quadric_doubles = out.positions.empty() ? 0 : static_cast<std::uint32_t>(quadrics_out.size() / out.positions.size());
   if (piece.quadric_doubles * out.positions.size() != quadrics_out.size()) piece.quadric_doubles = 0;
   piece.quadrics = piece.quadric_doubles != 0 ? std::move(quadrics_out) : std::vector<double>{};
@@ -142,7 +154,7 @@ std::uint64_t folder_bytes(const std::string& folder) {
 // The output written from several pieces, MEDIT, streaming: each vertex once (from the first
 // piece that holds it), every tet, listed triangles and edges on the borders once.
 void write_pieces(const std::string& output, const ScratchFolder& scratch, const std::vector<PieceSlot>& slots,
-                  std::uint64_t input_vertices, const CutResult& cut) {
+                  std::uint64_t input_vertices, const CutResult& cut, VertexMapLog* vertex_map) {
   if (format_from_path(output) != MeshFormat::kMedit)
     throw InputError(output + ": the memory limit kept " + std::to_string(slots.size()) +
                      " pieces apart, and several pieces are written as MEDIT (.mesh) only: give a .mesh output "
@@ -188,6 +200,7 @@ void write_pieces(const std::string& output, const ScratchFolder& scratch, const
     for (VertId v : piece.mesh.corners) corners.insert(map[v]);
     for (VertId v : piece.mesh.required_vertices) required.insert(map[v]);
   }
+  if (vertex_map != nullptr) vertex_map->record_output_index(out_index);
   MeditStreamWriter writer(output, cut.vertex_fields, cut.cell_fields);
   writer.begin_vertices(vertices);
   const int vstride = cut.counts.vertex_stride, cstride = cut.counts.cell_stride;
@@ -244,6 +257,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
                                      const SimplifyOptions& options, const OutOfCoreOptions& ooc) {
   const auto start = Clock::now();
   refuse_unsupported(options);
+  if (!ooc.vertex_map_path.empty()) check_vertex_map_path(ooc.vertex_map_path);
   if (const MeshFormat f = format_from_path(input); f != MeshFormat::kMedit && f != MeshFormat::kGmsh)
     throw InputError(input + ": out of core streams MEDIT (.mesh) and Gmsh MSH 4.1 (.msh), optionally .gz: convert it "
                      "first (topotet convert " + input + " in.mesh), or run in core without --memory-limit");
@@ -289,6 +303,8 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   std::vector<std::uint8_t>& holders = cut.holders;
   std::uint64_t input_vertices = 0;
   for (std::uint8_t h : holders) input_vertices += h != 0;
+  std::optional<VertexMapLog> map;
+  if (!ooc.vertex_map_path.empty()) map.emplace(scratch.file_path("vertex-map.bin"), holders.size());
   report.vertices_before = input_vertices;
   report.tets_before = cut.counts.tets;
   const std::uint64_t target = std::max<std::uint64_t>(
@@ -402,7 +418,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
       std::uint64_t remove = interior > keep ? interior - keep : 0;
       if (last) remove = live > target ? live - target : 0;
       stats.largest_piece_tets = std::max<std::uint64_t>(stats.largest_piece_tets, piece.mesh.tets.size());
-      const PieceRun run = simplify_piece(piece, holders, o, remove, ooc.cell_remap);
+      const PieceRun run = simplify_piece(piece, holders, o, remove, ooc.cell_remap, map ? &*map : nullptr);
       add_run_counts(report, run.report);
       stats.collapses += run.report.collapses;
       live -= run.removed;
@@ -429,10 +445,13 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
     Piece piece = load_piece(scratch.piece_path(slots[0].file));
     out_tets = piece.mesh.tets.size();
     write_mesh(output, piece.mesh);
+    if (map) map->record_output_piece(piece.global_ids);
   } else {
     for (const PieceSlot& s : slots) out_tets += s.tets;
-    write_pieces(output, scratch, slots, holders.size(), cut);
+    write_pieces(output, scratch, slots, holders.size(), cut, map ? &*map : nullptr);
   }
+  // holders[g] != 0: used by a tet (a merge takes a holder from a border vertex, never the last).
+  if (map) map->write(ooc.vertex_map_path, holders);
   result.write_seconds = since(write_start);
   report.vertices_after = live;
   report.tets_after = out_tets;

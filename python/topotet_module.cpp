@@ -39,6 +39,7 @@
 #include "topotet/simplify.h"
 #include "topotet/threads.h"
 #include "topotet/version.h"
+#include "topotet/vertex_map_file.h"
 
 namespace py = pybind11;
 
@@ -616,7 +617,7 @@ PYBIND11_MODULE(_core, m) {
          const std::string& scratch, double ratio, std::uint64_t target_vertices, double tolerance_rel,
          double tolerance, double min_quality, double min_dihedral, double size_weight, double max_cost,
          double feature_angle, int threads, const std::string& optimize, const std::vector<std::string>& extensive,
-         const std::vector<std::string>& categorical) {
+         const std::vector<std::string>& categorical, const std::string& vertex_map) {
         topotet::OutOfCoreOptions ooc;
         if (py::isinstance<py::str>(memory_limit)) ooc.memory_limit_bytes = topotet::parse_memory_size(memory_limit.cast<std::string>());
         else if (!memory_limit.is_none()) ooc.memory_limit_bytes = memory_limit.cast<std::uint64_t>();
@@ -624,6 +625,7 @@ PYBIND11_MODULE(_core, m) {
         ooc.scratch_parent = scratch;
         ooc.cell_remap.extensive = extensive;
         ooc.cell_remap.categorical = categorical;
+        ooc.vertex_map_path = vertex_map;
         const topotet::SimplifyOptions o = run_options(ratio, target_vertices, tolerance_rel, tolerance, min_quality,
                                                        min_dihedral, size_weight, max_cost, threads, feature_angle, optimize);
         topotet::OutOfCoreReport r;
@@ -662,12 +664,15 @@ PYBIND11_MODULE(_core, m) {
       py::arg("max_cost") = defaults.max_cost, py::arg("feature_angle") = defaults.feature_angle,
       py::arg("threads") = defaults.num_threads, py::arg("optimize") = topotet::to_string(defaults.optimize),
       py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
+      py::arg("vertex_map") = "",
       "Simplifies a MEDIT file (.mesh / .mesh.gz + .sol) or a Gmsh MSH 4.1 file without fields (.msh / .msh.gz) "
       "larger than memory into `output`, out of core "
       "(topotet/out_of_core.h, `topotet simplify --memory-limit`): streamed, cut into pieces in a scratch folder "
       "(next to the output, or in `scratch`), simplified with frozen borders and merged pairwise. memory_limit: "
       "bytes or a size such as '2G' (the peak stays under it; too small is a ValueError before any work); pieces: "
-      "exactly this many (a power of two) instead. The topology is not checked here (read both and compare, or "
+      "exactly this many (a power of two) instead. vertex_map: a path (.npy or .txt) to write, for every input "
+      "vertex, the output vertex it became or merged into (-1: used by no tet; numpy.load reads the .npy), as "
+      "simplify() returns it in core. The topology is not checked here (read both and compare, or "
       "`topotet check IN OUT`). Returns the report dict of simplify() plus pieces, pieces_left, piece_tet_limit, "
       "levels (one dict per level), peak_rss_bytes, scratch_peak_bytes, cut_seconds, write_seconds.");
   m.def(
@@ -741,4 +746,28 @@ PYBIND11_MODULE(_core, m) {
       py::arg("path"), py::arg("mesh"), py::kw_only(), py::arg("binary") = false,
       "Writes a mesh dict (as read() or simplify() return; other keys are ignored) to a .mesh, .msh or .vtu "
       "file, chosen by the extension.");
+  m.def(
+      "write_vertex_map",
+      [](const std::string& path, const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& map) {
+        if (map.ndim() != 1) throw py::value_error("write_vertex_map: a one-dimensional array of output vertex indices");
+        const auto r = map.unchecked<1>();
+        topotet::VertexMapWriter writer(path, static_cast<std::uint64_t>(r.shape(0)));
+        for (py::ssize_t i = 0; i < r.shape(0); ++i) {
+          if (r(i) < -1) throw py::value_error("write_vertex_map: entry " + std::to_string(i) + " is " + std::to_string(r(i)) + " (an index >= 0, or -1)");
+          writer.add(r(i));
+        }
+        writer.commit();
+      },
+      py::arg("path"), py::arg("vertex_map"),
+      "Writes a vertex map (simplify()'s 'vertex_map') as `topotet simplify --vertex-map` does: .npy (int64) or "
+      ".txt (one index per line), atomically.");
+  m.def(
+      "read_vertex_map",
+      [](const std::string& path) {
+        const std::vector<std::int64_t> map = topotet::read_vertex_map(path);
+        py::array_t<std::int64_t> out(static_cast<py::ssize_t>(map.size()));
+        std::copy(map.begin(), map.end(), out.mutable_data());
+        return out;
+      },
+      py::arg("path"), "Reads a vertex map file (.npy or .txt, as write_vertex_map writes it) into an int64 array.");
 }

@@ -18,6 +18,13 @@ printf '5 3 0 1\n1 0 0 0 1\n2 1 0 0 1\n3 0 1 0 0\n4 0 0 1 1\n5 1 1 1 0\n' >"$cor
 printf '2 4 1\n1 1 2 3 4 7\n2 2 3 4 5 8\n' >"$corpus/seed.ele"
 printf 'Dimension 3\nVertices\n5\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 1 0\nTetrahedra\n1\n1 2 3 4 1\nPyramids\n1\n1 2 3 4 5 2\nCorners\n2\n1\n9\nEnd\n' \
   >"$corpus/seed_mixed.mesh"
+# A vertex map seed (.npy: read as every format, and as a map).
+python3 - "$corpus/seed_map.npy" <<'EOF'
+import struct, sys
+h = "{'descr': '<i8', 'fortran_order': False, 'shape': (3,), }"
+h += " " * (127 - 10 - len(h)) + "\n"
+open(sys.argv[1], "wb").write(b"\x93NUMPY\x01\x00" + struct.pack("<H", len(h)) + h.encode() + struct.pack("<3q", 0, 0, -1))
+EOF
 build-fuzz/tests/fuzz_readers -max_total_time="$seconds" -rss_limit_mb=2048 -max_len=20000 \
   -dict=tests/fuzz/readers.dict -artifact_prefix=build-fuzz/fuzz_artifacts/ "$corpus"
 echo "fuzz smoke (readers): no crash in ${seconds} s; corpus: $(ls "$corpus" | wc -l) files"

@@ -38,6 +38,12 @@ assert 0 < j["vertices"]["after"] < j["vertices"]["before"] and j["memory"]["pea
 expect 0 check -- "$topotet" check small.mesh out.mesh
 no_litter run
 
+# --vertex-map out of core: every input vertex -> the output vertex it became, across the levels.
+expect 0 vertex_map -- "$topotet" simplify small.mesh -o vm.mesh --pieces 8 --ratio 0.2 --optimize none --vertex-map vm.txt
+contains vertex_map_report vertex_map.out "vertex map.*vm.txt"
+expect 0 vertex_map_valid -- python3 "$here/vertex_map_check.py" vm.txt small.mesh vm.mesh
+no_litter vertex_map
+
 # SIGINT midway: the run is killed while pieces are on disk. (Job control on: a background job of
 # a non-interactive shell would otherwise start with SIGINT ignored, and topotet keeps it so.)
 rm -f out.mesh out.sol

@@ -86,6 +86,14 @@ expect 0 check_parallel -- "$topotet" check in.mesh out.mesh --json check.json
 check_json check.json topology
 expect 0 check_sequential -- "$topotet" check in.mesh seq.msh
 expect 0 simplify_levels -- "$topotet" simplify in.mesh -o lv.mesh --levels 0.5,0.2 --no-verify
+# --vertex-map: every input vertex -> the output vertex it became (checked without topotet's readers).
+expect 0 vertex_map -- "$topotet" simplify in.mesh -o vm.mesh --ratio 0.2 --optimize none --vertex-map vm.npy
+contains vertex_map_report vertex_map.out "vertex map.*vm.npy"
+expect 0 vertex_map_valid -- python3 "$here/vertex_map_check.py" vm.npy in.mesh vm.mesh
+expect 0 vertex_map_txt -- "$topotet" simplify in.mesh -o vmt.mesh --ratio 0.2 --optimize none --vertex-map vm.txt -q --no-metrics
+expect 0 vertex_map_txt_valid -- python3 "$here/vertex_map_check.py" vm.txt in.mesh vmt.mesh
+expect_error vertex_map_extension "vm.csv.*npy.*txt" -- "$topotet" simplify in.mesh -o x.mesh --vertex-map vm.csv
+expect_error vertex_map_levels "excludes" -- "$topotet" simplify in.mesh -o x.mesh --levels 0.5 --vertex-map vm.npy
 [[ -s lv_0.5.mesh && -s lv_0.2.mesh ]] && pass "level files written" || fail "level files missing"
 if grep -q '^measure *quality' simplify_parallel.out; then pass "simplify prints the measurement times"; else fail "no measure line"; fi
 # The input is released during the simplification and read again for the measurements, unless the

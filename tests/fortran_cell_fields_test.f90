@@ -50,6 +50,8 @@ program fortran_cell_fields_test
   type(topotet_mesh_arrays) :: in
   type(topotet_options), target :: options
   type(topotet_report) :: report
+  type(topotet_out_of_core_options) :: ooc
+  type(topotet_out_of_core_report) :: ooc_report
   type(c_ptr) :: mesh
   integer(c_int) :: status, components, kind
   integer(c_int32_t), allocatable, target :: out_material(:), out_label(:)
@@ -58,11 +60,12 @@ program fortran_cell_fields_test
   character(:), allocatable :: name, message
   integer :: i, j, k, p, s, t, c(3), v, m
   real(c_double) :: expected(nopt), mass_out
-  integer(c_size_t) :: sizes(4)
+  integer(c_size_t) :: sizes(6)
 
   ! --- the options: sizes, defaults, and every field's place ---
-  sizes = [(probe_sizeof(i), i = 0, 3)]
-  if (any([c_sizeof(options), c_sizeof(report), c_sizeof(in), c_sizeof(cells(1))] /= sizes)) &
+  sizes = [(probe_sizeof(i), i = 0, 5)]
+  if (any([c_sizeof(options), c_sizeof(report), c_sizeof(in), c_sizeof(cells(1)), c_sizeof(ooc), c_sizeof(ooc_report)] &
+          /= sizes)) &
     error stop "a bind(c) type's size differs from its C struct's"
   call topotet_options_init(options)
   if (probe_options(c_null_ptr, c_values, size(c_values)) /= nopt) error stop "the C probe knows another field count"

@@ -11,6 +11,8 @@ size_t topotet_probe_sizeof(int which) {
     case 1: return sizeof(topotet_report);
     case 2: return sizeof(topotet_mesh_arrays);
     case 3: return sizeof(topotet_cell_field_view);
+    case 4: return sizeof(topotet_out_of_core_options);
+    case 5: return sizeof(topotet_out_of_core_report);
     default: return 0;
   }
 }

@@ -215,6 +215,16 @@ if run.returncode == 0:
     check_cells("python -m", back["materials"], cf["density"], cf["label"], cf["mass"], mass_before, len(tets))
     direct = topotet.simplify(points, tets, materials=materials, fields={"f": f}, ratio=0.3, threads=1)
     check(np.array_equal(back["tets"], direct["tets"]), "python -m gives simplify()'s own mesh (the same defaults)")
+# --vertex-map: the file holds simplify()'s own map (read back with read_vertex_map and numpy.load).
+run = pym("simplify", src, "-o", dst, "--ratio", "0.3", "--vertex-map", os.path.join(work, "map.npy"), "-q")
+check(run.returncode == 0, f"python -m topotet simplify --vertex-map: {run.returncode} {run.stderr}")
+if run.returncode == 0:
+    direct = topotet.simplify(points, tets, materials=materials, fields={"f": f}, ratio=0.3)
+    written = np.load(os.path.join(work, "map.npy"))
+    check(np.array_equal(written, direct["vertex_map"]) and np.array_equal(topotet.read_vertex_map(os.path.join(work, "map.npy")), written),
+          "python -m --vertex-map writes simplify()'s vertex map")
+    topotet.write_vertex_map(os.path.join(work, "map.txt"), direct["vertex_map"])
+    check(np.array_equal(np.loadtxt(os.path.join(work, "map.txt"), dtype=np.int64), direct["vertex_map"]), "write_vertex_map .txt")
 run = pym("simplify", os.path.join(work, "missing.mesh"), "-o", dst)
 check(run.returncode == 2 and "topotet: error:" in run.stderr and "missing.mesh" in run.stderr,
       f"a missing file: {run.returncode} {run.stderr}")

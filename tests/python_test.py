@@ -279,5 +279,17 @@ with tempfile.TemporaryDirectory() as d:
         topotet.simplify_out_of_core(os.path.join(d, name), os.path.join(d, "o_" + name + ".mesh"), pieces=2, ratio=0.3)
         outputs.append(open(os.path.join(d, "o_" + name + ".mesh"), "rb").read())
     check(outputs[0] == outputs[1], "a .msh streams out of core as the same mesh as .mesh")
+    # The vertex map out of core (a file): without the optimisation's flips the output tets are the
+    # input tets renamed through it, less the collapsed ones.
+    topotet.simplify_out_of_core(os.path.join(d, "in.mesh"), os.path.join(d, "vm.mesh"), pieces=4, ratio=0.2,
+                                 optimize="none", vertex_map=os.path.join(d, "vm.npy"))
+    vm = np.load(os.path.join(d, "vm.npy"))
+    vm_out = topotet.read(os.path.join(d, "vm.mesh"))
+    check(vm.dtype == np.int64 and len(vm) == len(big_points) and vm.min() == 0 and vm.max() == len(vm_out["points"]) - 1,
+          f"out-of-core vertex map: {vm.dtype} {len(vm)} entries, {vm.min()}..{vm.max()}")
+    renamed = np.sort(vm[big_tets], axis=1)
+    renamed = renamed[(np.diff(renamed, axis=1) != 0).all(axis=1)]
+    check(sorted(map(tuple, renamed)) == sorted(map(tuple, np.sort(vm_out["tets"], axis=1))),
+          "out-of-core vertex map renames the input tets into the output's")
 check(topotet.__version__.count(".") == 2, "version")
 print(f"python_test: {len(points)} -> {nv} vertices, {len(tets)} -> {len(out['tets'])} tets: pass")

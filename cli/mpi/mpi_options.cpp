@@ -25,6 +25,8 @@ constexpr Unavailable kUnavailable[] = {
     {"--isosurface", "the level sets are embedded by topotet simplify only so far (embed_isosurfaces)"},
     {"--levels", "one target per run: run topotet-mpi once per ratio"},
     {"--hierarchy", "a hierarchy records the collapses of one engine mesh; the ranks' parts are rebuilt every pass"},
+    {"--vertex-map", "each rank's map covers its part only (topotet/mpi.h gives it per rank to a library caller); "
+                     "one file for the whole mesh is written by topotet simplify, in core or with --memory-limit"},
     {"--no-field-bounds", "it belongs to --hierarchy"},
     {"--levels-error", "it belongs to --hierarchy"},
     {"--progress", "the ranks draw no progress; the report lists every pass at the end"},

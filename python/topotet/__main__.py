@@ -3,7 +3,7 @@
     python -m topotet simplify IN -o OUT [--ratio R | --target-vertices N] [--tolerance-rel H]
         [--feature-angle A] [--hard-limits] [--threads T] [--optimize none|light|full] [--isosurface FIELD=V[,V...]]
         [--field-weight NAME=W] [--max-field-error E] [--max-field-error-rel E]
-        [--extensive NAME] [--categorical NAME] [--quiet]
+        [--extensive NAME] [--categorical NAME] [--vertex-map MAP.npy|MAP.txt] [--quiet]
     python -m topotet info IN
 
 IN and OUT are what topotet.read and topotet.write take (MEDIT .mesh + .sol, Gmsh .msh, optionally
@@ -65,6 +65,8 @@ def _simplify(args):
     result = _core.simplify(mesh["points"], mesh["tets"], **{k: mesh[k] for k in keys}, **options,
                             cell_fields=mesh["cell_fields"] or None, cell_kinds=kinds or None)
     _core.write(args.output, result)
+    if args.vertex_map:
+        _core.write_vertex_map(args.vertex_map, result["vertex_map"])
     report = result["report"]
     if not args.quiet:
         seconds = report.get("seconds", 0.0)
@@ -85,6 +87,8 @@ def _simplify(args):
         print(f"time      {seconds:.2f} s, {collapses:,} collapses" + (f", {collapses / seconds:,.0f} collapses/s" if seconds > 0 else ""))
         if result["cell_fields"]:
             print("cell data " + ", ".join(f"{n}: {k}" for n, k in result["cell_kinds"].items()))
+        if args.vertex_map:
+            print(f"vertex map {args.vertex_map}: every input vertex -> its output vertex")
         print("topology  not checked here: topotet check IN OUT gives the verdict")
     return 0
 
@@ -130,6 +134,7 @@ def main(argv=None):
     s.add_argument("--isosurface", action="append", default=[], metavar="FIELD=V[,V...]", help="keep these level sets' topology")
     s.add_argument("--extensive", action="append", default=[], metavar="NAME", help="a cell array conserved as a sum")
     s.add_argument("--categorical", action="append", default=[], metavar="NAME", help="a cell array remapped as labels")
+    s.add_argument("--vertex-map", metavar="FILE", help="also write, for every input vertex, the output vertex it became (.npy or .txt)")
     s.add_argument("-q", "--quiet", action="store_true", help="no report")
     s.set_defaults(run=_simplify)
     i = commands.add_parser("info", help="what a mesh file holds")

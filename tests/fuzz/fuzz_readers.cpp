@@ -1,6 +1,6 @@
 // libFuzzer target for the mesh readers and writers: the input bytes are written to a temporary
 // file and read as .mesh, as .msh, as the .sol beside a fixed valid .mesh, and as each TetGen file
-// (.node, .ele, .face) beside fixed valid others; a .mesh or .msh that reads is streamed too
+// (.node, .ele, .face) beside fixed valid others, and as a vertex map (.npy, .txt); a .mesh or .msh that reads is streamed too
 // (topotet/mesh_stream.h), which must refuse it or give the same counts. Every mesh that parses is written as .mesh,
 // .msh 4.1 and .msh 2.2 and read back: the .mesh must give the same MeshData, and every file
 // must read; and as .vtu (ASCII and binary; write-only), which must be complete. It is also built into the model (which may refuse it). Every outcome but these or an
@@ -19,6 +19,7 @@
 #include "topotet/io.h"
 #include "topotet/mesh_stream.h"
 #include "topotet/tet_mesh.h"
+#include "topotet/vertex_map_file.h"
 
 namespace {
 
@@ -131,6 +132,25 @@ void read_as(const std::string& path, const std::string& read_path, const std::u
   }
 }
 
+// The vertex map reader (topotet/vertex_map_file.h): an InputError, or a map that writes back to
+// the same bytes' meaning (read again: the same entries).
+void read_vertex_map_as(const std::string& path, const std::uint8_t* data, std::size_t size) {
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  }
+  std::vector<std::int64_t> map;
+  try {
+    map = topotet::read_vertex_map(path);
+  } catch (const topotet::InputError&) {
+    return;
+  }
+  topotet::VertexMapWriter writer(path, map.size());
+  for (std::int64_t o : map) writer.add(o);
+  writer.commit();
+  if (topotet::read_vertex_map(path) != map) std::abort();
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -141,5 +161,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   read_as(dir + "/n.node", dir + "/n.node", data, size);
   read_as(dir + "/e.ele", dir + "/e.ele", data, size);
   read_as(dir + "/f.face", dir + "/f.face", data, size);
+  read_vertex_map_as(dir + "/map.npy", data, size);
+  read_vertex_map_as(dir + "/map.txt", data, size);
   return 0;
 }

@@ -294,6 +294,44 @@ topotet_status topotet_mesh_copy_triangles(const topotet_mesh* mesh, topotet_out
 topotet_status topotet_mesh_copy_segments(const topotet_mesh* mesh, topotet_out_view out, topotet_out_view refs_out,
                                           int index_base);
 
+/* Out of core (topotet/out_of_core.h, `topotet simplify --memory-limit`): a file larger than memory
+ * simplified into another, the peak resident memory under a limit. The input is MEDIT (.mesh,
+ * .mesh.gz, with its .sol) or Gmsh MSH 4.1 without fields (.msh, .msh.gz), streamed and cut into
+ * pieces kept in a scratch folder, simplified with frozen borders and merged pairwise; the output is
+ * written when complete (a failed run leaves none, nor the scratch folder). Field error bounds
+ * (max_field_error*, track_field_bounds) are refused out of core; progress is not called. */
+typedef struct topotet_out_of_core_options {
+  int64_t memory_limit_bytes;  /* the peak resident memory to stay under; 0 = none (then pieces > 0) */
+  int pieces;                  /* exactly this many pieces (a power of two <= 4096); 0 = from the limit */
+  const char* scratch_parent;  /* where the scratch folder goes; NULL or "" = the output's folder */
+  /* NULL or "" = none; else a .npy (int64) or .txt path: for every input vertex, the 0-based output
+     vertex it became or merged into, -1 for a vertex no tet uses (topotet/vertex_map_file.h) */
+  const char* vertex_map_path;
+  /* Cell arrays carried as amounts (sums conserved) and as labels (largest overlap), by name, as
+     the CLI's --extensive / --categorical; the rest are volume-averaged. */
+  int extensive_count;
+  const char* const* extensive_names;
+  int categorical_count;
+  const char* const* categorical_names;
+} topotet_out_of_core_options;
+
+typedef struct topotet_out_of_core_report {
+  int pieces;                 /* after the cut */
+  int pieces_left;            /* at the end: 1 unless the limit kept pieces apart */
+  int levels;                 /* levels run (level 0 = the cut's pieces) */
+  int64_t piece_tet_limit;    /* the memory model's largest piece */
+  int64_t peak_rss_bytes;     /* measured (VmHWM) */
+  int64_t scratch_peak_bytes; /* the scratch folder's largest size */
+  double cut_seconds, write_seconds;
+} topotet_out_of_core_report;
+
+void topotet_out_of_core_options_init(topotet_out_of_core_options* ooc); /* no limit, no pieces, no map */
+/* options NULL = the defaults; report and ooc_report may be NULL. A limit too small for the input, an
+ * input it cannot stream or an option it cannot honour is TOPOTET_INVALID_INPUT before any work. */
+topotet_status topotet_simplify_out_of_core(const char* input, const char* output, const topotet_options* options,
+                                            const topotet_out_of_core_options* ooc, topotet_report* report,
+                                            topotet_out_of_core_report* ooc_report);
+
 #ifdef __cplusplus
 }
 #endif

@@ -17,7 +17,9 @@
 //   - quality floors (min_quality, min_dihedral: relative to the tets replaced, as in core);
 //   - determinism: the pieces depend on the input, the limit and the process's resident size at
 //     the start rounded up to 64 MiB (outofcore/memory_budget.h), never on timing, and each
-//     piece's run is the parallel engine's, identical for every thread count.
+//     piece's run is the parallel engine's, identical for every thread count;
+//   - the vertex map (vertex_map_path below): each piece's run records the vertices it merged, in
+//     global ids, on disk; the chains are followed to the output at the end (vertex_map_log.h).
 // The levels share the work (level l keeps a fraction of its pieces' vertices that halves from
 // level to level, so that a merged pair still fits; the last piece goes to the target), and each
 // vertex's quadric travels with its piece (SimplifyOptions::quadrics_in/_out), so every level ranks
@@ -58,6 +60,10 @@ struct OutOfCoreOptions {
   // How cell fields are carried (topotet/cell_fields.h: extensive sums conserved, categorical
   // labels by largest overlap, the rest volume-averaged), remapped piece by piece at every level.
   CellRemapOptions cell_remap;
+  // Non-empty: write the vertex map there (topotet/vertex_map_file.h: .npy or .txt), for every
+  // input vertex the output vertex it became or merged into, as simplify()'s vertex map gives it
+  // in core. Kept on disk during the run (8 bytes an input vertex in the scratch folder).
+  std::string vertex_map_path;
 };
 
 struct OutOfCoreLevel {

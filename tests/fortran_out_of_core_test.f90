@@ -1,0 +1,103 @@
+! The Fortran binding's out-of-core call (topotet_simplify_out_of_core): a grid of 12^3 cells built
+! from Fortran arrays and written as MEDIT, simplified out of core in 4 pieces with a vertex map
+! given as a Fortran string; the reports, the output read back and the map file agree; a limit too
+! small is an error with a message.
+!   usage: fortran_out_of_core_test FOLDER
+program fortran_out_of_core_test
+  use, intrinsic :: iso_c_binding
+  use topotet
+  implicit none
+  integer, parameter :: n = 12, nv = (n + 1)**3, nt = 6 * n**3
+  integer, parameter :: order(3, 6) = reshape([1, 2, 3, 2, 3, 1, 3, 1, 2, 1, 3, 2, 2, 1, 3, 3, 2, 1], [3, 6])
+  real(c_double), target :: xyz(3, nv)
+  integer(c_int32_t), target :: tets(4, nt)
+  type(topotet_mesh_arrays) :: in
+  type(topotet_options) :: options
+  type(topotet_out_of_core_options) :: ooc
+  type(topotet_out_of_core_report) :: ooc_report
+  type(topotet_report) :: report
+  type(c_ptr) :: mesh, out
+  integer(c_int) :: status
+  integer :: i, j, k, p, s, t, c(3), v, unit, o, entries
+  logical :: hit(nv)
+  character(4096) :: folder
+  character(:), allocatable :: input, output, map, message
+
+  call get_command_argument(1, folder)
+  input = trim(folder)//"/fortran_ooc_in.mesh"
+  output = trim(folder)//"/fortran_ooc_out.mesh"
+  map = trim(folder)//"/fortran_ooc_map.txt"
+  do v = 1, nv
+    xyz(:, v) = [real(mod(v - 1, n + 1), c_double), real(mod((v - 1) / (n + 1), n + 1), c_double), &
+                 real((v - 1) / (n + 1)**2, c_double)]
+  end do
+  t = 0
+  do k = 0, n - 1
+    do j = 0, n - 1
+      do i = 0, n - 1
+        do p = 1, 6
+          t = t + 1
+          c = [i, j, k]
+          tets(1, t) = vid(c)
+          do s = 1, 3
+            c(order(s, p)) = c(order(s, p)) + 1
+            tets(s + 1, t) = vid(c)
+          end do
+          if (p >= 4) tets(3:4, t) = tets([4, 3], t)
+        end do
+      end do
+    end do
+  end do
+  call topotet_mesh_arrays_init(in)
+  in%vertex_count = nv
+  in%positions = topotet_view(c_loc(xyz), TOPOTET_FLOAT64, 0)
+  in%tet_count = nt
+  in%tets = topotet_view(c_loc(tets), TOPOTET_INT32, 0)
+  in%index_base = 1
+  if (topotet_mesh_build(in, 0, mesh) /= TOPOTET_OK) error stop "build"
+  if (topotet_mesh_write(mesh, input) /= TOPOTET_OK) error stop "write"
+  call topotet_mesh_free(mesh)
+
+  call topotet_options_init(options)
+  options%target_vertex_ratio = 0.2d0
+  call topotet_out_of_core_options_init(ooc)
+  ooc%memory_limit_bytes = 1024_c_int64_t  ! far too small: refused before any work
+  status = topotet_simplify_out_of_core(input, output, options, ooc, report, ooc_report)
+  if (status /= TOPOTET_INVALID_INPUT) error stop "a 1 kB limit was not refused"
+  message = topotet_error_message()
+  if (index(message, "memory-limit") == 0) error stop "a 1 kB limit was refused without saying why"
+  ooc%memory_limit_bytes = 0
+  ooc%pieces = 4
+  status = topotet_simplify_out_of_core(input, output, options, ooc, report, ooc_report, vertex_map=map)
+  if (status /= TOPOTET_OK .and. status /= TOPOTET_STOPPED_EARLY) error stop "out of core failed"
+  if (report%vertices_before /= nv .or. report%tets_before /= nt .or. 3 * report%vertices_after >= nv) &
+    error stop "report counts"
+  if (ooc_report%pieces /= 4 .or. ooc_report%pieces_left /= 1 .or. ooc_report%levels /= 3) error stop "pieces"
+  if (topotet_mesh_read(output, 0, out) /= TOPOTET_OK) error stop "read the output"
+  if (topotet_mesh_vertex_count(out) /= report%vertices_after) error stop "the output's vertex count is not the report's"
+  if (topotet_mesh_tet_count(out) /= report%tets_after) error stop "the output's tet count is not the report's"
+  call topotet_mesh_free(out)
+  ! The map: a comment line, then one 0-based output vertex per input vertex, onto the output.
+  hit = .false.
+  entries = 0
+  open (newunit=unit, file=map, status="old", action="read")
+  read (unit, *)
+  do
+    read (unit, *, end=10) o
+    if (o < 0 .or. o >= report%vertices_after) error stop "a map entry out of range"
+    hit(o + 1) = .true.
+    entries = entries + 1
+  end do
+10 close (unit)
+  if (entries /= nv .or. count(hit) /= report%vertices_after) error stop "the map is not one entry per input vertex, onto"
+  print '("fortran_out_of_core_test: ", i0, " -> ", i0, " vertices in ", i0, " pieces: pass")', nv, &
+    report%vertices_after, ooc_report%pieces
+
+contains
+
+  integer(c_int32_t) function vid(cell)
+    integer, intent(in) :: cell(3)
+    vid = int(1 + cell(1) + (n + 1) * (cell(2) + (n + 1) * cell(3)), c_int32_t)
+  end function
+
+end program
