@@ -175,7 +175,7 @@ void check_output_format(const std::string& path) {
   for (const char* ext : {".pvtu", ".vtk", ".cgns"})
     if (ends_with_ci(path, ext))
       throw_input_error(path, std::string("writing ") + ext +
-                                  " is not supported (written: .mesh, .msh, .vtu, Exodus II .exo/.e/.ex2; topotet-mpi "
+                                  " is not supported (written: .mesh, .meshb, .msh, .vtu, Exodus II .exo/.e/.ex2; topotet-mpi "
                                   "--partitioned writes .pvtu)");
 #if TOPOTET_HAVE_VTK
   if (exodus_path(path)) return;

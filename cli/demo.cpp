@@ -52,7 +52,7 @@ void add_demo_command(CLI::App& app, CommandRunner& run) {
       "demo", "Generate a cube-sphere mesh, simplify it to 10% of its vertices in parallel, verify its topology.");
   cmd->add_option("--tets", args->tets, "Tets of the generated mesh")->capture_default_str();
   cmd->add_option("--threads", args->threads, "Threads (0 = all cores)")->check(whole_number_at_least(0))->capture_default_str();
-  cmd->add_option("-o,--output", args->output, "Also write the simplified mesh (.mesh, .msh or .vtu)");
+  cmd->add_option("-o,--output", args->output, "Also write the simplified mesh (.mesh, .meshb, .msh or .vtu)");
   cmd->add_option("--json", args->json, "Also write the report as JSON to this file (- = stdout)");
   add_verbosity_flags(cmd);
   cmd->callback([args, &run] { run = [args] { return run_demo(*args); }; });

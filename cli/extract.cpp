@@ -214,7 +214,7 @@ void add_extract_command(CLI::App& app, CommandRunner& run) {
       "extract", "Extract a level of detail from a hierarchy file (simplify --hierarchy): uniform by vertex count or "
                  "error, or fine inside a volume of interest and coarse elsewhere");
   cmd->add_option("H", args->input, "Hierarchy file (.tth)")->required();
-  cmd->add_option("-o,--output", args->output, "Output mesh (.mesh, .msh or .vtu; - = stdout, with --format)")->required();
+  cmd->add_option("-o,--output", args->output, "Output mesh (.mesh, .meshb, .msh or .vtu; - = stdout, with --format)")->required();
   cmd->add_option("--format", args->format, "Format of - (stdout) and of paths without a mesh extension: mesh, msh, vtu");
   cmd->add_option("--vertices", args->vertices, "Uniform level: keep this many vertices (or the coarsest level)");
   cmd->add_option("--max-error", args->max_error, "Uniform level: apply every collapse of error <= E (the field error bound relative to the range when the hierarchy has bounds, else the collapse cost)")

@@ -130,7 +130,7 @@ void add_generate_command(CLI::App& app, CommandRunner& run) {
   cmd->add_option("--seed", args->seed, "Seed of the vertex jitter")->capture_default_str();
   cmd->add_option("--cells", args->cells, "polycrystal: number of cells (materials); 0 = one per ~4000 tets")
       ->capture_default_str();
-  cmd->add_option("-o,--output", args->output, "Output file (.mesh, .msh or .vtu)")->required();
+  cmd->add_option("-o,--output", args->output, "Output file (.mesh, .meshb, .msh or .vtu)")->required();
   cmd->add_flag("--binary", args->binary, "Binary Gmsh 4.1 / raw appended VTU data");
   add_verbosity_flags(cmd);
   cmd->callback([args, &run] { run = [args] { return run_generate(*args); }; });

@@ -232,7 +232,7 @@ void add_info_command(CLI::App& app, CommandRunner& run) {
   auto args = std::make_shared<InfoArgs>();
   CLI::App* cmd = app.add_subcommand("info", "Counts, substructures, fields, bounding box, Euler characteristic, "
                                              "memory per tet; validates by building the model (exit 2 if invalid).");
-  cmd->add_option("FILE", args->input, "Mesh file (.mesh, .msh, optionally .gz)")->required();
+  cmd->add_option("FILE", args->input, "Mesh file (.mesh, .meshb, .msh, optionally .gz)")->required();
   cmd->add_option("--json", args->json_path, "Also write the numbers as JSON to this file");
   cmd->add_option("--format", args->format, "Format of FILE when it is - (stdin): mesh or msh");
   add_verbosity_flags(cmd);

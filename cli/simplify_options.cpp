@@ -37,10 +37,10 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
     set.all.push_back(option);
     return option;
   };
-  set.input = cmd->add_option("IN", args.input, "Input mesh (.mesh, .msh, optionally .gz; - = stdin, with --format)")
+  set.input = cmd->add_option("IN", args.input, "Input mesh (.mesh, .meshb, .msh, optionally .gz; - = stdin, with --format)")
                   ->required();
   set.output = keep(cmd->add_option("-o,--output", args.output,
-                                    "Output mesh (.mesh, .msh or .vtu; - = stdout, with --format)")
+                                    "Output mesh (.mesh, .meshb, .msh or .vtu; - = stdout, with --format)")
                         ->required());
   keep(cmd->add_option("--format", args.format,
                        "Format of - (stdin/stdout) and of paths without a mesh extension (/dev/null, a FIFO): mesh, "
@@ -220,8 +220,8 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
   // Out of core (topotet/out_of_core.h): what it cannot do is excluded here, before any reading.
   auto* memory_limit = keep(cmd->add_option("--memory-limit", args.memory_limit,
                                             "Simplify out of core, keeping the peak memory under SIZE (2G, 256M, ...): "
-                                            "the input (MEDIT .mesh with its .sol, or Gmsh MSH 4.1 .msh without "
-                                            "fields; also .gz) is streamed and cut into pieces kept in "
+                                            "the input (MEDIT .mesh / .meshb with its .sol / .solb, or Gmsh MSH "
+                                            "4.1 .msh without fields; also .gz) is streamed and cut into pieces kept in "
                                             "a scratch folder, simplified with frozen borders and merged pairwise (the "
                                             "report says what was left apart)"));
   auto* scratch = keep(cmd->add_option("--scratch", args.scratch,

@@ -99,16 +99,11 @@ bool is_exodus_path(std::string_view path) { return io::is_exodus_extension(path
 MeshFormat format_from_path(std::string_view path) {
   std::string_view p = path;
   if (io::iends_with(p, ".gz")) p.remove_suffix(3);
-  if (io::iends_with(p, ".mesh")) return MeshFormat::kMedit;
+  if (io::iends_with(p, ".mesh") || io::iends_with(p, ".meshb")) return MeshFormat::kMedit;
   if (io::iends_with(p, ".msh")) return MeshFormat::kGmsh;
   if (io::iends_with(p, ".vtu")) return MeshFormat::kVtu;
   if (io::is_tetgen_path(p)) return MeshFormat::kTetgen;
   if (const std::string vtk = io::vtk_format_name(p); !vtk.empty()) throw InputError(io::vtk_component_message(path, vtk));
-  if (io::iends_with(p, ".meshb")) {
-    throw InputError(std::string(path) +
-                     ": binary MEDIT (.meshb) is not supported; convert it to ASCII .mesh first (e.g. "
-                     "'transmesh in.meshb out.mesh' from libMeshb)");
-  }
   throw InputError(std::string(path) + ": unknown mesh format (expected .mesh, .msh, .vtu or TetGen .node/.ele, optionally + .gz)");
 }
 

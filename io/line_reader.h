@@ -58,6 +58,8 @@ class LineReader {
   // end of file is fine.
   void skip_rest_of_line();
 
+  // True when no byte is left (binary formats, whose sections are not tokens).
+  bool at_end() { return pos_ == end_ && !refill(); }
   // Raw bytes (Gmsh binary); fails at end of file.
   void read_bytes(void* dst, std::size_t n, std::string_view what);
   std::int32_t read_i32(std::string_view what);

@@ -1,4 +1,6 @@
-// MEDIT ASCII .mesh and .sol (the Gamma Mesh Format as written by Mmg, CGAL, Gmsh, TetGen...).
+// MEDIT .mesh and .sol (the Gamma Mesh Format as written by Mmg, CGAL, Gmsh, TetGen...), ASCII, and
+// binary .meshb / .solb through the same parser: MeditInput (io/medit_input.h) gives it tokens or
+// binary words, and the writer spells the same sections in either.
 //
 // A file is a sequence of sections "Keyword [count] entries...", in any order, keywords
 // case-insensitive, '#' starting a comment anywhere. We read Vertices, Tetrahedra, Triangles,
@@ -19,6 +21,7 @@
 #include "io/atomic_file.h"
 #include "io/formats.h"
 #include "io/line_reader.h"
+#include "io/medit_input.h"
 #include "topotet/error.h"
 #include "topotet/medit_stream.h"
 
@@ -104,31 +107,34 @@ const Keyword* find_keyword(std::string_view name) {
 // Components of a .sol type in 3D: scalar, vector, symmetric tensor, full matrix.
 constexpr std::array<int, 5> kSolComponents = {0, 1, 3, 6, 9};
 
-bool is_keyword_token(std::string_view tok) {
-  const char c = tok.empty() ? '\0' : tok[0];
-  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z');
+// .meshb / .solb (optionally .gz): the binary GMF (io/medit_input.h).
+bool is_binary_medit(std::string_view path) {
+  if (iends_with(path, ".gz")) path.remove_suffix(3);
+  return iends_with(path, ".meshb") || iends_with(path, ".solb");
 }
 
-std::uint32_t read_count(LineReader& r, std::string_view section) {
+std::uint32_t read_count(MeditInput& r, std::string_view section) {
   const std::int64_t n = r.read_int(section);
   if (n < 0) r.fail(std::string(section) + ": negative count " + std::to_string(n));
   if (n >= static_cast<std::int64_t>(kInvalid)) r.fail(std::string(section) + ": count " + std::to_string(n) + " too large");
   return static_cast<std::uint32_t>(n);
 }
 
-std::int32_t read_ref(LineReader& r, std::string_view what) {
+std::int32_t read_ref(MeditInput& r, std::string_view what) {
   return static_cast<std::int32_t>(
       r.read_int(what, std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::max()));
 }
 
-void skip_tokens(LineReader& r, std::uint64_t n, std::string_view section) {
-  for (std::uint64_t i = 0; i < n; ++i) r.token(section);
+void skip_tokens(MeditInput& r, std::uint64_t n, std::string_view section) {
+  for (std::uint64_t i = 0; i < n; ++i) r.tokens().token(section);
 }
 
-// Skips a section we do not use, or refuses it.
-void skip_section(LineReader& r, std::string_view keyword) {
+// Skips a section we do not use, or refuses it. A binary file says where the next keyword is:
+// any section can be skipped there, but curved elements are refused all the same.
+void skip_section(MeditInput& r, std::string_view keyword) {
   const Keyword* k = find_keyword(keyword);
   const std::string name(keyword);
+  if (r.binary() && (k == nullptr || k->kind != Kind::kHighOrder)) return r.skip_to_next_keyword(name);
   if (k == nullptr) {
     r.fail("unknown section '" + name + "': cannot skip it (its entry size is unknown)");
   }
@@ -140,19 +146,19 @@ void skip_section(LineReader& r, std::string_view keyword) {
       skip_tokens(r, static_cast<std::uint64_t>(k->tokens), name);
       return;
     case Kind::kString: {
-      std::string_view tok = r.token(name);
+      std::string_view tok = r.tokens().token(name);
       // A quoted string may contain blanks: skip tokens up to the closing quote.
       if (tok.front() == '"') {
-        while (tok.size() < 2 || tok.back() != '"') tok = r.token(name);
+        while (tok.size() < 2 || tok.back() != '"') tok = r.tokens().token(name);
       }
       return;
     }
     case Kind::kSol: {
       const std::uint32_t n = read_count(r, name);
-      const auto types = r.read_int(name + ": number of solutions", 1, 1000);
+      const auto types = r.read_word(name + ": number of solutions", 1, 1000);
       std::uint64_t per_entry = 0;
       for (std::int64_t t = 0; t < types; ++t)
-        per_entry += static_cast<std::uint64_t>(kSolComponents[static_cast<std::size_t>(r.read_int(name + ": type", 1, 4))]);
+        per_entry += static_cast<std::uint64_t>(kSolComponents[static_cast<std::size_t>(r.read_word(name + ": type", 1, 4))]);
       skip_tokens(r, n * per_entry, name);
       return;
     }
@@ -161,12 +167,12 @@ void skip_section(LineReader& r, std::string_view keyword) {
   }
 }
 
-void read_dimension(LineReader& r) {
-  const std::int64_t d = r.read_int("Dimension");
+void read_dimension(MeditInput& r) {
+  const std::int64_t d = r.read_word("Dimension", std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::max());
   if (d != 3) r.fail("Dimension " + std::to_string(d) + " is not supported (only 3D meshes)");
 }
 
-void read_version(LineReader& r) {
+void read_version(MeditInput& r) {
   const std::int64_t v = r.read_int("MeshVersionFormatted");
   if (v < 1 || v > 4) r.fail("MeshVersionFormatted " + std::to_string(v) + " is not supported (expected 1 to 4)");
 }
@@ -175,17 +181,17 @@ void read_version(LineReader& r) {
 // "<prefix><k>" ("sol0", ... for vertices, "cellsol0", ... for tets), k counting from the fields
 // already there. `count`, when known, is the number of entities the section must have.
 template <class Field>
-void read_sol_section(LineReader& r, const std::string& keyword, std::optional<std::size_t> count, const char* entities,
+void read_sol_section(MeditInput& r, const std::string& keyword, std::optional<std::size_t> count, const char* entities,
                       const char* prefix, std::vector<Field>& fields) {
   const std::uint32_t n = read_count(r, keyword);
   if (count && n != *count) {
     r.fail(keyword + ": " + std::to_string(n) + " entries but the mesh has " + std::to_string(*count) + " " + entities);
   }
-  const auto types = r.read_int(keyword + ": number of solutions", 1, 1000);
+  const auto types = r.read_word(keyword + ": number of solutions", 1, 1000);
   const std::size_t first = fields.size();
   int per_entry = 0;
   for (std::int64_t t = 0; t < types; ++t) {
-    const auto type = r.read_int(keyword + ": type (1 scalar, 2 vector, 3 symmetric tensor, 4 matrix)", 1, 4);
+    const auto type = r.read_word(keyword + ": type (1 scalar, 2 vector, 3 symmetric tensor, 4 matrix)", 1, 4);
     Field f;
     f.name = prefix + std::to_string(fields.size());
     f.components = kSolComponents[static_cast<std::size_t>(type)];
@@ -201,11 +207,11 @@ void read_sol_section(LineReader& r, const std::string& keyword, std::optional<s
       for (int c = 0; c < fields[k].components; ++c) fields[k].values.push_back(r.read_double(value));
 }
 
-void read_sol_at_vertices(LineReader& r, std::optional<std::size_t> vertex_count, std::vector<VertexField>& fields) {
+void read_sol_at_vertices(MeditInput& r, std::optional<std::size_t> vertex_count, std::vector<VertexField>& fields) {
   read_sol_section(r, "SolAtVertices", vertex_count, "vertices", "sol", fields);
 }
 
-void read_sol_at_tets(LineReader& r, std::optional<std::size_t> tet_count, std::vector<CellField>& fields) {
+void read_sol_at_tets(MeditInput& r, std::optional<std::size_t> tet_count, std::vector<CellField>& fields) {
   read_sol_section(r, "SolAtTetrahedra", tet_count, "tetrahedra", "cellsol", fields);
 }
 
@@ -215,16 +221,12 @@ void read_sol_at_tets(LineReader& r, std::optional<std::size_t> tet_count, std::
 class MeditReader {
  public:
   MeditReader(const std::string& path, const ReadOptions& options, ReadNotes& notes, MeditVisitor* visitor = nullptr)
-      : r_(path), options_(options), notes_(notes), visitor_(visitor) {
-    r_.set_comment_char('#');
-  }
+      : r_(path, is_binary_medit(path)), options_(options), notes_(notes), visitor_(visitor) {}
 
   MeshData read() {
     for (;;) {
-      const std::string_view tok = r_.next_token();
-      if (tok.empty() || iequals(tok, "End")) break;
-      if (!is_keyword_token(tok)) r_.fail("expected a section keyword, got '" + std::string(tok.substr(0, 40)) + "'");
-      const std::string kw(tok);  // the view dies with the next read
+      const std::string kw = r_.keyword();
+      if (kw.empty()) break;
       if (iequals(kw, "MeshVersionFormatted")) {
         read_version(r_);
       } else if (iequals(kw, "Dimension")) {
@@ -451,7 +453,7 @@ class MeditReader {
       if (m_.ridges[i] >= m_.segments.size()) bad("Ridges", ridges_line_, i, m_.ridges[i], m_.segments.size());
   }
 
-  LineReader r_;
+  MeditInput r_;
   const ReadOptions& options_;
   ReadNotes& notes_;
   MeditVisitor* visitor_;  // null: into m_
@@ -467,13 +469,10 @@ class MeditReader {
 
 void read_sol_file(const std::string& path, const MeshData& mesh, std::vector<VertexField>& fields,
                    std::vector<CellField>& cell_fields) {
-  LineReader r(path);
-  r.set_comment_char('#');
+  MeditInput r(path, is_binary_medit(path));
   for (;;) {
-    const std::string_view tok = r.next_token();
-    if (tok.empty() || iequals(tok, "End")) break;
-    if (!is_keyword_token(tok)) r.fail("expected a section keyword, got '" + std::string(tok.substr(0, 40)) + "'");
-    const std::string kw(tok);
+    const std::string kw = r.keyword();
+    if (kw.empty()) break;
     if (iequals(kw, "MeshVersionFormatted")) {
       read_version(r);
     } else if (iequals(kw, "Dimension")) {
@@ -548,6 +547,7 @@ std::string mesh_stem(const std::string& path, bool& gz) {
   gz = iends_with(stem, ".gz");
   if (gz) stem.resize(stem.size() - 3);
   if (iends_with(stem, ".mesh")) stem.resize(stem.size() - 5);
+  else if (iends_with(stem, ".meshb")) stem.resize(stem.size() - 6);
   return stem;
 }
 
@@ -602,17 +602,20 @@ std::string sol_beside(const std::string& path, std::string* stem_out) {
   const std::string stem = mesh_stem(path, gz);
   if (stem_out) *stem_out = stem;
   std::error_code ec;
-  for (const std::string& sol : {stem + (gz ? ".sol.gz" : ".sol"), stem + (gz ? ".sol" : ".sol.gz")})
+  // Its own kind only (.sol beside a .mesh, .solb beside a .meshb): a .mesh and a .meshb of one
+  // stem are two meshes, each with its own companions.
+  const std::string kind = is_binary_medit(path) ? ".solb" : ".sol";
+  for (const std::string& sol : {stem + kind + (gz ? ".gz" : ""), stem + kind + (gz ? "" : ".gz")})
     if (std::filesystem::is_regular_file(sol, ec)) return sol;
   return {};
 }
 
-// Names from <stem>.sol.fields.txt, when present, for the solutions read from `sol` after the
+// Names from <stem>.sol.fields.txt (<stem>.solb.fields.txt beside a .solb), when present, for the solutions read from `sol` after the
 // first `first` (`first_cell`) ones.
 void apply_field_names(const std::string& stem, const std::string& sol, std::vector<VertexField>& fields,
                        std::size_t first, std::vector<CellField>& cell_fields, std::size_t first_cell) {
   std::error_code ec;
-  const std::string names_path = stem + ".sol.fields.txt";
+  const std::string names_path = stem + (is_binary_medit(sol) ? ".solb" : ".sol") + ".fields.txt";
   if (!std::filesystem::is_regular_file(names_path, ec)) return;
   SolNames names = read_field_names(names_path);
   // A file of names that knows no SolAtTetrahedra line names the vertex columns only.
@@ -693,7 +696,7 @@ void stream_medit(const std::string& path, MeditVisitor& visitor, const ReadOpti
 
 // Two readers of one .sol: one at the SolAtVertices values, one at the SolAtTetrahedra values.
 struct SolStream::Readers {
-  std::unique_ptr<LineReader> vertices, tets;
+  std::unique_ptr<MeditInput> vertices, tets;
 };
 
 namespace {
@@ -701,15 +704,12 @@ namespace {
 // Opens `sol` and moves to the values of section `wanted` (SolAtVertices or SolAtTetrahedra),
 // appending its layout to `fields`; null when the file has no such section.
 template <class Field>
-std::unique_ptr<LineReader> open_sol_section(const std::string& sol, const char* wanted, std::uint64_t count,
+std::unique_ptr<MeditInput> open_sol_section(const std::string& sol, const char* wanted, std::uint64_t count,
                                              const char* entities, const char* prefix, std::vector<Field>& fields) {
-  auto r = std::make_unique<LineReader>(sol);
-  r->set_comment_char('#');
+  auto r = std::make_unique<MeditInput>(sol, is_binary_medit(sol));
   for (;;) {
-    const std::string_view tok = r->next_token();
-    if (tok.empty() || iequals(tok, "End")) return nullptr;
-    if (!is_keyword_token(tok)) r->fail("expected a section keyword, got '" + std::string(tok.substr(0, 40)) + "'");
-    const std::string kw(tok);
+    const std::string kw = r->keyword();
+    if (kw.empty()) return nullptr;
     if (iequals(kw, "MeshVersionFormatted")) {
       read_version(*r);
     } else if (iequals(kw, "Dimension")) {
@@ -718,9 +718,9 @@ std::unique_ptr<LineReader> open_sol_section(const std::string& sol, const char*
       const std::uint32_t n = read_count(*r, kw);
       if (n != count)
         r->fail(kw + ": " + std::to_string(n) + " entries but the mesh has " + std::to_string(count) + " " + entities);
-      const auto types = r->read_int(kw + ": number of solutions", 1, 1000);
+      const auto types = r->read_word(kw + ": number of solutions", 1, 1000);
       for (std::int64_t t = 0; t < types; ++t) {
-        const auto type = r->read_int(kw + ": type (1 scalar, 2 vector, 3 symmetric tensor, 4 matrix)", 1, 4);
+        const auto type = r->read_word(kw + ": type (1 scalar, 2 vector, 3 symmetric tensor, 4 matrix)", 1, 4);
         Field f;
         f.name = prefix + std::to_string(fields.size());
         f.components = kSolComponents[static_cast<std::size_t>(type)];
@@ -760,9 +760,55 @@ void SolStream::next_tet(double* values) {
 // The sections in the order they are written (MeditStreamWriter::begin's `section`).
 enum Section : int { kVertices, kTets, kTriangles, kSegments, kRidges, kCorners, kRequired, kSections };
 
+// A .meshb / .solb (binary GMF, io/medit_input.h) is written as libMeshb writes version 3: int32
+// integers, float64 reals, int64 positions; version 4 (int64 integers) when the vertex count needs
+// it. The header waits for begin_vertices, which knows that count.
+struct BinaryOut {
+  AtomicFile& file;
+  std::uint64_t& at;  // bytes written: the position of what comes next
+  int version;
+  void word(std::int32_t v) { put(v); }
+  void integer(std::int64_t v) {
+    if (version >= 4) put(v);
+    else put(static_cast<std::int32_t>(v));
+  }
+  void real(double v) { put(v); }
+  int integer_bytes() const { return version >= 4 ? 8 : 4; }
+  // A keyword with `count` entries of `entry_bytes` and `header_words` int32 words after the count.
+  void keyword(std::int32_t code, std::uint64_t count, std::uint64_t entry_bytes, int header_words = 0) {
+    word(code);
+    const std::uint64_t end = at + 8 + static_cast<std::uint64_t>(integer_bytes()) + 4u * static_cast<unsigned>(header_words) +
+                              count * entry_bytes;
+    put(static_cast<std::int64_t>(end));
+    integer(static_cast<std::int64_t>(count));
+  }
+  void header() {  // code 1, version, Dimension 3
+    word(1);
+    word(version);
+    word(3);
+    put(static_cast<std::int64_t>(at + 8 + 4));
+    word(3);
+  }
+  void end() {
+    word(54);
+    put(std::int64_t{0});
+  }
+  template <class T>
+  void put(const T& v) {
+    file.put_raw(v);
+    at += sizeof v;
+  }
+};
+
+constexpr std::int32_t kCodeVertices = 4, kCodeEdges = 5, kCodeTriangles = 6, kCodeTetrahedra = 8, kCodeCorners = 13,
+                       kCodeRidges = 14, kCodeRequiredVertices = 15, kCodeSolAtVertices = 62, kCodeSolAtTetrahedra = 66;
+
 struct MeditStreamWriter::Files {
   std::string path, stem;
   bool direct = false;
+  bool binary = false;  // .meshb + .solb
+  int version = 3;      // binary: 4 when the vertex count needs int64 indices
+  std::uint64_t mesh_at = 0, sol_at = 0;
   std::vector<VertexField> vertex_fields;
   std::vector<CellField> cell_fields;
   std::optional<AtomicFile> mesh, sol;
@@ -770,7 +816,39 @@ struct MeditStreamWriter::Files {
   std::uint64_t declared = 0, written = 0;
   std::uint64_t vertex_count = 0, tet_count = 0;
   bool sol_tets_begun = false;
+  BinaryOut mesh_out() { return {*mesh, mesh_at, version}; }
+  // An element: its vertices (1-based in the file) and its ref.
+  void put_entry(const VertId* v, int n, std::int32_t ref) {
+    if (binary) {
+      BinaryOut out = mesh_out();
+      for (int k = 0; k < n; ++k) out.integer(std::int64_t{v[k]} + 1);
+      out.integer(ref);
+      return;
+    }
+    put_vertex_ids(*mesh, v, n);
+    mesh->put_int(ref);
+    mesh->put('\n');
+  }
+  // An entry of Ridges, Corners, RequiredVertices: one 1-based index.
+  void put_index(std::uint64_t i) {
+    if (binary) return mesh_out().integer(static_cast<std::int64_t>(i + 1));
+    mesh->put_int(i + 1);
+    mesh->put('\n');
+  }
+  BinaryOut sol_out() { return {*sol, sol_at, version}; }
+  const char* sol_extension() const { return binary ? ".solb" : ".sol"; }
   void put_sol_header(const char* keyword, std::uint64_t count, const auto& fields) {
+    if (binary) {
+      int stride = 0;
+      for (const auto& f : fields) stride += f.components;
+      BinaryOut out = sol_out();
+      out.keyword(std::string_view(keyword) == "SolAtVertices" ? kCodeSolAtVertices : kCodeSolAtTetrahedra, count,
+                  8u * static_cast<unsigned>(stride), 1 + static_cast<int>(fields.size()));
+      out.word(static_cast<std::int32_t>(fields.size()));
+      for (const auto& f : fields)
+        out.word(static_cast<std::int32_t>(std::find(kSolComponents.begin() + 1, kSolComponents.end(), f.components) - kSolComponents.begin()));
+      return;
+    }
     sol->put(keyword);
     sol->put('\n');
     sol->put_int(count);
@@ -783,6 +861,12 @@ struct MeditStreamWriter::Files {
     sol->put("\n\n");
   }
   void put_values(const double* values, const auto& fields) {
+    if (binary) {
+      BinaryOut out = sol_out();
+      for (const auto& f : fields)
+        for (int k = 0; k < f.components; ++k) out.real(*values++);
+      return;
+    }
     bool first = true;
     for (const auto& f : fields)
       for (int k = 0; k < f.components; ++k) {
@@ -811,19 +895,20 @@ MeditStreamWriter::MeditStreamWriter(const std::string& path, std::vector<Vertex
                             "fields inline, or a regular file)");
   bool gz = false;
   f.stem = mesh_stem(path, gz);
+  f.binary = is_binary_medit(path);
   const auto check_layout = [&](const auto& list) {
     for (const auto& x : list)
       if (std::find(kSolComponents.begin() + 1, kSolComponents.end(), x.components) == kSolComponents.end())
-        throw InputError(f.stem + ".sol: cannot write field '" + x.name + "' with " + std::to_string(x.components) +
-                         " components (.sol supports 1, 3, 6 or 9)");
+        throw InputError(f.stem + f.sol_extension() + ": cannot write field '" + x.name + "' with " +
+                         std::to_string(x.components) + " components (.sol supports 1, 3, 6 or 9)");
   };
   check_layout(f.vertex_fields);
   check_layout(f.cell_fields);
   f.mesh.emplace(path);
-  f.mesh->put("MeshVersionFormatted 2\n\nDimension 3\n\n");
+  if (!f.binary) f.mesh->put("MeshVersionFormatted 2\n\nDimension 3\n\n");
   if (fields) {
-    f.sol.emplace(f.stem + ".sol");
-    f.sol->put("MeshVersionFormatted 2\n\nDimension 3\n\n");
+    f.sol.emplace(f.stem + f.sol_extension());
+    if (!f.binary) f.sol->put("MeshVersionFormatted 2\n\nDimension 3\n\n");
   }
 }
 
@@ -840,6 +925,16 @@ void MeditStreamWriter::begin(int section, const char* keyword, std::uint64_t co
   f.written = 0;
   // Vertices is always written (write_mesh always did); other sections only with entries.
   if (count == 0 && section != kVertices) return;
+  if (f.binary) {
+    // Entry sizes in integers and reals: Vertices 1 + 3 reals, Tetrahedra 5, Triangles 4, Edges 3, lists 1.
+    static constexpr std::int32_t kCodes[] = {kCodeVertices, kCodeTetrahedra, kCodeTriangles, kCodeEdges,
+                                              kCodeRidges, kCodeCorners, kCodeRequiredVertices};
+    static constexpr int kIntegers[] = {1, 5, 4, 3, 1, 1, 1};
+    BinaryOut out = f.mesh_out();
+    const auto i = static_cast<std::size_t>(section);
+    out.keyword(kCodes[i], count, static_cast<std::uint64_t>(kIntegers[i] * out.integer_bytes() + (section == kVertices ? 24 : 0)));
+    return;
+  }
   if (section != kVertices) f.mesh->put('\n');
   f.mesh->put(keyword);
   f.mesh->put('\n');
@@ -854,6 +949,13 @@ void MeditStreamWriter::entry(int section) {
 }
 
 void MeditStreamWriter::begin_vertices(std::uint64_t count) {
+  Files& f = *files_;
+  if (f.binary && f.section < kVertices) {
+    // The indices are written + 1: int32 holds them up to 2^31 - 1 vertices.
+    f.version = count + 1 > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max()) ? 4 : 3;
+    f.mesh_out().header();
+    if (f.sol) f.sol_out().header();
+  }
   begin(kVertices, "Vertices", count);
   files_->vertex_count = count;
   if (files_->sol && !files_->vertex_fields.empty()) files_->put_sol_header("SolAtVertices", count, files_->vertex_fields);
@@ -861,6 +963,13 @@ void MeditStreamWriter::begin_vertices(std::uint64_t count) {
 
 void MeditStreamWriter::vertex(const std::array<double, 3>& p, std::int32_t ref, const double* field_values) {
   entry(kVertices);
+  if (files_->binary) {
+    BinaryOut out = files_->mesh_out();
+    for (double x : p) out.real(x);
+    out.integer(ref);
+    if (!files_->vertex_fields.empty()) files_->put_values(field_values, files_->vertex_fields);
+    return;
+  }
   AtomicFile& out = *files_->mesh;
   out.put_double(p[0]);
   out.put(' ');
@@ -877,16 +986,14 @@ void MeditStreamWriter::begin_tets(std::uint64_t count) {
   Files& f = *files_;
   begin(kTets, "Tetrahedra", count);
   f.tet_count = count;
-  if (f.sol && !f.vertex_fields.empty()) f.sol->put("\n");  // ends SolAtVertices
+  if (f.sol && !f.vertex_fields.empty() && !f.binary) f.sol->put("\n");  // ends SolAtVertices
   if (f.sol && !f.cell_fields.empty()) f.put_sol_header("SolAtTetrahedra", count, f.cell_fields);
   f.sol_tets_begun = true;
 }
 
 void MeditStreamWriter::tet(const std::array<VertId, 4>& v, std::int32_t material, const double* cell_values) {
   entry(kTets);
-  put_vertex_ids(*files_->mesh, v.data(), 4);
-  files_->mesh->put_int(material);
-  files_->mesh->put('\n');
+  files_->put_entry(v.data(), 4, material);
   if (!files_->cell_fields.empty()) files_->put_values(cell_values, files_->cell_fields);
 }
 
@@ -897,9 +1004,7 @@ void MeditStreamWriter::begin_triangles(std::uint64_t count) {
 
 void MeditStreamWriter::triangle(const Triangle& t) {
   entry(kTriangles);
-  put_vertex_ids(*files_->mesh, t.v.data(), 3);
-  files_->mesh->put_int(t.ref);
-  files_->mesh->put('\n');
+  files_->put_entry(t.v.data(), 3, t.ref);
 }
 
 void MeditStreamWriter::begin_segments(std::uint64_t count) {
@@ -909,17 +1014,8 @@ void MeditStreamWriter::begin_segments(std::uint64_t count) {
 
 void MeditStreamWriter::segment(const Segment& s) {
   entry(kSegments);
-  put_vertex_ids(*files_->mesh, s.v.data(), 2);
-  files_->mesh->put_int(s.ref);
-  files_->mesh->put('\n');
+  files_->put_entry(s.v.data(), 2, s.ref);
 }
-
-namespace {
-void put_index(AtomicFile& out, std::uint64_t i) {
-  out.put_int(i + 1);
-  out.put('\n');
-}
-}  // namespace
 
 void MeditStreamWriter::begin_ridges(std::uint64_t count) {
   if (!files_->sol_tets_begun) begin_tets(0);
@@ -927,7 +1023,7 @@ void MeditStreamWriter::begin_ridges(std::uint64_t count) {
 }
 void MeditStreamWriter::ridge(std::uint32_t segment_index) {
   entry(kRidges);
-  put_index(*files_->mesh, segment_index);
+  files_->put_index(segment_index);
 }
 void MeditStreamWriter::begin_corners(std::uint64_t count) {
   if (!files_->sol_tets_begun) begin_tets(0);
@@ -935,7 +1031,7 @@ void MeditStreamWriter::begin_corners(std::uint64_t count) {
 }
 void MeditStreamWriter::corner(VertId v) {
   entry(kCorners);
-  put_index(*files_->mesh, v);
+  files_->put_index(v);
 }
 void MeditStreamWriter::begin_required_vertices(std::uint64_t count) {
   if (!files_->sol_tets_begun) begin_tets(0);
@@ -943,7 +1039,7 @@ void MeditStreamWriter::begin_required_vertices(std::uint64_t count) {
 }
 void MeditStreamWriter::required_vertex(VertId v) {
   entry(kRequired);
-  put_index(*files_->mesh, v);
+  files_->put_index(v);
 }
 
 void MeditStreamWriter::commit() {
@@ -953,8 +1049,9 @@ void MeditStreamWriter::commit() {
   if (f.written != f.declared)
     throw std::logic_error("MeditStreamWriter: " + std::to_string(f.written) + " entries written for " +
                            std::to_string(f.declared) + " declared");
-  f.mesh->put("\nEnd\n");
-  const std::string sol_path = f.stem + ".sol", names_path = f.stem + ".sol.fields.txt";
+  if (f.binary) f.mesh_out().end();
+  else f.mesh->put("\nEnd\n");
+  const std::string sol_path = f.stem + f.sol_extension(), names_path = sol_path + ".fields.txt";
   // The companion files of <stem>.mesh are replaced with it: whatever this write does not produce
   // is removed afterwards, or the next read would attach a stale .sol to the new mesh.
   const auto remove_stale = [&](std::initializer_list<std::string> paths) {
@@ -963,24 +1060,28 @@ void MeditStreamWriter::commit() {
   };
   if (!f.sol) {
     f.mesh->commit();
-    if (!f.direct) remove_stale({sol_path, f.stem + ".sol.gz", names_path});
+    if (!f.direct) remove_stale({sol_path, sol_path + ".gz", names_path});
     return;
   }
-  if (!f.cell_fields.empty()) f.sol->put("\n");  // ends SolAtTetrahedra
-  f.sol->put("End\n");
+  if (f.binary) {
+    f.sol_out().end();
+  } else {
+    if (!f.cell_fields.empty()) f.sol->put("\n");  // ends SolAtTetrahedra
+    f.sol->put("End\n");
+  }
   MeshData layout;  // names only, for the defaults test and the names file
   layout.fields = f.vertex_fields;
   layout.cell_fields = f.cell_fields;
   // Names go to <stem>.sol.fields.txt, unless they are the defaults a reader would give anyway.
   if (default_field_names(layout)) {
     commit_all({&*f.sol, &*f.mesh});
-    remove_stale({f.stem + ".sol.gz", names_path});
+    remove_stale({sol_path + ".gz", names_path});
     return;
   }
   AtomicFile names(names_path);
   names.put(fields_file_text(layout));
   commit_all({&*f.sol, &names, &*f.mesh});
-  remove_stale({f.stem + ".sol.gz"});
+  remove_stale({sol_path + ".gz"});
 }
 
 }  // namespace topotet

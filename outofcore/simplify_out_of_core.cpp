@@ -157,7 +157,7 @@ void write_pieces(const std::string& output, const ScratchFolder& scratch, const
                   std::uint64_t input_vertices, const CutResult& cut, VertexMapLog* vertex_map) {
   if (format_from_path(output) != MeshFormat::kMedit)
     throw InputError(output + ": the memory limit kept " + std::to_string(slots.size()) +
-                     " pieces apart, and several pieces are written as MEDIT (.mesh) only: give a .mesh output "
+                     " pieces apart, and several pieces are written as MEDIT (.mesh, .meshb) only: give a .mesh output "
                      "or a larger --memory-limit");
   std::vector<VertId> out_index(input_vertices, kInvalid);
   std::vector<std::pair<std::uint64_t, std::uint64_t>> owned(slots.size());  // [slot] out ids it assigns
@@ -259,7 +259,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   refuse_unsupported(options);
   if (!ooc.vertex_map_path.empty()) check_vertex_map_path(ooc.vertex_map_path);
   if (const MeshFormat f = format_from_path(input); f != MeshFormat::kMedit && f != MeshFormat::kGmsh)
-    throw InputError(input + ": out of core streams MEDIT (.mesh) and Gmsh MSH 4.1 (.msh), optionally .gz: convert it "
+    throw InputError(input + ": out of core streams MEDIT (.mesh, .meshb) and Gmsh MSH 4.1 (.msh), optionally .gz: convert it "
                      "first (topotet convert " + input + " in.mesh), or run in core without --memory-limit");
   if (ooc.memory_limit_bytes == 0 && ooc.pieces == 0)
     throw InputError("out of core needs a memory limit (--memory-limit) or a piece count");

@@ -665,7 +665,7 @@ PYBIND11_MODULE(_core, m) {
       py::arg("threads") = defaults.num_threads, py::arg("optimize") = topotet::to_string(defaults.optimize),
       py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
       py::arg("vertex_map") = "",
-      "Simplifies a MEDIT file (.mesh / .mesh.gz + .sol) or a Gmsh MSH 4.1 file without fields (.msh / .msh.gz) "
+      "Simplifies a MEDIT file (.mesh / .meshb, optionally .gz, + .sol / .solb) or a Gmsh MSH 4.1 file without fields (.msh / .msh.gz) "
       "larger than memory into `output`, out of core "
       "(topotet/out_of_core.h, `topotet simplify --memory-limit`): streamed, cut into pieces in a scratch folder "
       "(next to the output, or in `scratch`), simplified with frozen borders and merged pairwise. memory_limit: "
@@ -731,7 +731,7 @@ PYBIND11_MODULE(_core, m) {
         }
         return to_dict(d);
       },
-      py::arg("path"), "Reads a .mesh (+.sol) or .msh file (optionally .gz) into a dict of arrays.");
+      py::arg("path"), "Reads a .mesh (+.sol), .meshb (+.solb, binary MEDIT) or .msh file (optionally .gz) into a dict of arrays.");
   m.def(
       "write",
       [](const std::string& path, const py::dict& mesh, bool binary) {
@@ -744,7 +744,7 @@ PYBIND11_MODULE(_core, m) {
         topotet::write_mesh(path, d, {binary});
       },
       py::arg("path"), py::arg("mesh"), py::kw_only(), py::arg("binary") = false,
-      "Writes a mesh dict (as read() or simplify() return; other keys are ignored) to a .mesh, .msh or .vtu "
+      "Writes a mesh dict (as read() or simplify() return; other keys are ignored) to a .mesh, .meshb, .msh or .vtu "
       "file, chosen by the extension.");
   m.def(
       "write_vertex_map",

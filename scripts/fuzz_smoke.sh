@@ -18,6 +18,20 @@ printf '5 3 0 1\n1 0 0 0 1\n2 1 0 0 1\n3 0 1 0 0\n4 0 0 1 1\n5 1 1 1 0\n' >"$cor
 printf '2 4 1\n1 1 2 3 4 7\n2 2 3 4 5 8\n' >"$corpus/seed.ele"
 printf 'Dimension 3\nVertices\n5\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 1 0\nTetrahedra\n1\n1 2 3 4 1\nPyramids\n1\n1 2 3 4 5 2\nCorners\n2\n1\n9\nEnd\n' \
   >"$corpus/seed_mixed.mesh"
+# A binary MEDIT seed (.meshb, version 3: two tets).
+python3 - "$corpus/seed.meshb" <<'EOF'
+import struct, sys
+out = bytearray(struct.pack("<ii", 1, 3))
+def keyword(code, body):
+    out.extend(struct.pack("<iq", code, len(out) + 12 + len(body)) + body)
+keyword(3, struct.pack("<i", 3))
+vertices = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 1)]
+keyword(4, struct.pack("<i", 5) + b"".join(struct.pack("<dddi", *p, 0) for p in vertices))
+keyword(8, struct.pack("<i", 2) + struct.pack("<5i", 1, 2, 3, 4, 1) + struct.pack("<5i", 2, 3, 4, 5, 2))
+keyword(6, struct.pack("<i", 1) + struct.pack("<4i", 2, 3, 4, 7))
+out.extend(struct.pack("<iq", 54, 0))
+open(sys.argv[1], "wb").write(out)
+EOF
 # A vertex map seed (.npy: read as every format, and as a map).
 python3 - "$corpus/seed_map.npy" <<'EOF'
 import struct, sys

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Files as meshers write them, through the command-line tool: Gmsh meshes whose surfaces share
 # faces (4.1 and 2.2 -save_all), Gmsh triangles that are no tet's face, mixed meshes (refused,
-# or --tets-only). Gmsh is a Debian package that scripts/setup.sh --tests installs; every mesh here is
+# or --tets-only), binary MEDIT. Gmsh is a Debian package that scripts/setup.sh --tests installs; every mesh here is
 # small (well under a second each).
 #   usage: bash tests/cli_formats_test.sh path/to/topotet
 set -euo pipefail
@@ -192,6 +192,16 @@ for sig in INT TERM; do
   done
   [[ $interrupted -gt 0 ]] && pass "SIG$sig interrupted $interrupted run(s) with exit $want" || fail "SIG$sig interrupted no run"
 done
+
+# --- binary MEDIT (.meshb + .solb): a Gmsh mesh through it and back is the same text, and a
+# simplification of the .meshb checks against the .mesh ---
+expect 0 meshb_write -- "$topotet" convert shared41_in.mesh shared41.meshb
+expect 0 meshb_back -- "$topotet" convert shared41.meshb shared41_back.mesh
+if cmp -s shared41_in.mesh shared41_back.mesh; then pass "meshb: .mesh -> .meshb -> .mesh is the same file"; else fail "meshb: round trip differs"; fi
+expect 0 meshb_simplify -- "$topotet" simplify shared41.meshb -o shared41_out.meshb --ratio 0.5
+expect 0 meshb_check -- "$topotet" check shared41_in.mesh shared41_out.meshb
+head -c 40 shared41.meshb >cut.meshb
+expect_error meshb_truncated "cut.meshb: byte " -- "$topotet" info cut.meshb
 
 # --- option messages: plain, and before any file is read (no_such.mesh is never opened) ---
 expect_error threads_negative "--threads: '-3' is not a whole number >= 0" -- "$topotet" simplify no_such.mesh -o x.mesh --threads -3

@@ -108,6 +108,19 @@ if meshio is not None:
         check(len(k["triangles"]) == len(k["triangle_refs"]) > 0 and len(k["segments"]) > 0 and "fields" not in k,
               f"tinyBoxt through meshio: {sorted(k)}")
         check(sorted(set(k["materials"].tolist())) == [2, 3], "tinyBoxt through meshio: its two materials (refs 2 and 3)")
+    # Binary MEDIT (.meshb) both ways with meshio's own, independent GMF code: the same tets,
+    # materials and points.
+    with tempfile.TemporaryDirectory() as d:
+        ours = os.path.join(d, "ours.meshb")
+        topotet.write(ours, {"points": points, "tets": tets, "materials": materials})
+        theirs = meshio.read(ours)
+        check(np.array_equal(theirs.points, points) and np.array_equal(theirs.cells_dict["tetra"], tets) and
+              np.array_equal(theirs.cell_data_dict["medit:ref"]["tetra"], materials), "meshio reads topotet's .meshb")
+        meshio.write(os.path.join(d, "theirs.meshb"), meshio.Mesh(points, [("tetra", tets)],
+                                                                  cell_data={"medit:ref": [materials]}))
+        back = topotet.read(os.path.join(d, "theirs.meshb"))
+        check(np.array_equal(back["points"], points) and np.array_equal(back["tets"], tets) and
+              np.array_equal(back["materials"], materials), "topotet reads meshio's .meshb")
     try:
         topotet.from_meshio(mesh, material_array="nope")
         check(False, "an unknown material_array is an error")

@@ -192,6 +192,8 @@ TEST_P(SharedData, RoundTripsAreExact) {
   expect_same_mesh(grouped, read_mesh(dir.file("c.mesh")), "via .msh then .mesh", false);
   write_mesh(dir.file("d.msh"), original, WriteOptions{.msh22 = true});
   expect_same_mesh(grouped, read_mesh(dir.file("d.msh")), "via .msh 2.2");
+  write_mesh(dir.file("e.meshb"), original);  // binary MEDIT (+ .solb)
+  expect_same_mesh(original, read_mesh(dir.file("e.meshb")), "via .meshb", false);
   if (c.file == std::string_view("mfem/nested_cubes.msh")) expect_same_mesh(original, grouped, "a Gmsh file is grouped");
 }
 
@@ -885,7 +887,7 @@ TEST(Malformed, FormatsAndPaths) {
   EXPECT_EQ(format_from_path("b.mesh.gz"), MeshFormat::kMedit);
   EXPECT_EQ(format_from_path("b.msh"), MeshFormat::kGmsh);
   EXPECT_EQ(format_from_path("b.vtu"), MeshFormat::kVtu);
-  EXPECT_THROW(format_from_path("b.meshb"), InputError);
+  EXPECT_EQ(format_from_path("b.meshb"), MeshFormat::kMedit);  // binary MEDIT (GMF)
   EXPECT_THROW(format_from_path("b.stl"), InputError);
   EXPECT_THROW(read_mesh("b.vtu"), InputError);
   EXPECT_THROW(read_mesh("/nonexistent/file.mesh"), InputError);
@@ -908,7 +910,7 @@ TEST(Writers, HandMadeMeshesRoundTripExactly) {
   surface_only.fields = {{"m", 9, {1, 2, 3, 4, 5, 6, 7, 8, 9, 1, 2, 3, 4, 5, 6, 7, 8, 9, 0, 0, 0, 0, 0, 0, 0, 0, 0}}};
   const MeshData meshes[] = {two_tets(), MeshData{}, surface_only};
   for (const MeshData& m : meshes) {
-    for (const char* name : {"a.mesh", "a.msh"}) {
+    for (const char* name : {"a.mesh", "a.msh", "a.meshb"}) {
       write_mesh(dir.file(name), m);
       expect_same_mesh(m, read_mesh(dir.file(name)), name);
     }

@@ -269,6 +269,30 @@ TEST(OutOfCoreGmsh, AnMsh41InputGivesTheBytesOfTheSameMeshAsMedit) {
   for (const std::string& e : folder.entries()) EXPECT_EQ(e.find(".topotet-scratch"), std::string::npos) << e;
 }
 
+// A binary MEDIT input (.meshb with its .solb: fields and cell fields streamed from the binary
+// file) gives the bytes of the run on the ASCII .mesh; a .meshb output reads back as that output.
+TEST(OutOfCoreMeshb, ABinaryMeditInputGivesTheBytesOfTheAsciiOne) {
+  MeshData input = generated("cube-sphere", 12000);
+  CellField cells{"density", 1, CellFieldKind::kIntensive, {}};
+  for (std::size_t t = 0; t < input.tet_count(); ++t) cells.values.push_back(1.0 + input.tet_material[t]);
+  input.cell_fields.push_back(cells);
+  plant_in_mid_plane(input);
+  test::TempDir folder;
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.2;
+  OutOfCoreOptions ooc;
+  ooc.pieces = 8;
+  write_mesh(folder.file("in.mesh"), input);
+  write_mesh(folder.file("bin.meshb"), input);
+  ASSERT_TRUE(fs::exists(folder.file("bin.solb")));
+  simplify_out_of_core(folder.file("in.mesh"), folder.file("a.mesh"), options, ooc);
+  simplify_out_of_core(folder.file("bin.meshb"), folder.file("b.mesh"), options, ooc);
+  EXPECT_EQ(test::read_text(folder.file("b.mesh")), test::read_text(folder.file("a.mesh")));
+  EXPECT_EQ(test::read_text(folder.file("b.sol")), test::read_text(folder.file("a.sol")));
+  simplify_out_of_core(folder.file("bin.meshb"), folder.file("c.meshb"), options, ooc);
+  EXPECT_EQ(read_mesh(folder.file("c.meshb")), read_mesh(folder.file("a.mesh")));
+}
+
 TEST(OutOfCoreErrors, BadInputAndOptionsAreClearErrorsAndLeaveNothing) {
   MeshData input = generated("cube-sphere", 5000);
   test::TempDir folder;

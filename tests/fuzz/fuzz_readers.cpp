@@ -1,9 +1,9 @@
 // libFuzzer target for the mesh readers and writers: the input bytes are written to a temporary
-// file and read as .mesh, as .msh, as the .sol beside a fixed valid .mesh, and as each TetGen file
+// file and read as .mesh, as .meshb (binary MEDIT), as .msh, as the .sol beside a fixed valid .mesh, and as each TetGen file
 // (.node, .ele, .face) beside fixed valid others, and as a vertex map (.npy, .txt); a .mesh or .msh that reads is streamed too
 // (topotet/mesh_stream.h), which must refuse it or give the same counts. Every mesh that parses is written as .mesh,
 // .msh 4.1 and .msh 2.2 and read back: the .mesh must give the same MeshData, and every file
-// must read; and as .vtu (ASCII and binary; write-only), which must be complete. It is also built into the model (which may refuse it). Every outcome but these or an
+// must read, and as .meshb, which must give the same MeshData; and as .vtu (ASCII and binary; write-only), which must be complete. It is also built into the model (which may refuse it). Every outcome but these or an
 // InputError (a crash, a sanitizer report, another exception, a huge allocation) is a bug. Build with clang and -DTOPOTET_FUZZ=ON (see tests/CMakeLists.txt), then e.g.
 //   ./fuzz_readers -max_total_time=60 -rss_limit_mb=2048 corpus/
 #include <unistd.h>
@@ -49,13 +49,15 @@ const std::string& work_dir() {
 // Every writer's output reads back; the .mesh one exactly (MEDIT has no group names).
 void write_and_read_back(const topotet::MeshData& mesh) {
   const std::string& dir = work_dir();
-  try {
-    topotet::write_mesh(dir + "/out.mesh", mesh);
-    topotet::MeshData back = topotet::read_mesh(dir + "/out.mesh");
-    back.group_names = mesh.group_names;
-    if (!(back == mesh)) std::abort();
-  } catch (const topotet::InputError&) {
-    // A field that .sol cannot hold (2, 4, 5... components) is refused: fine.
+  for (const char* name : {"/out.mesh", "/out.meshb"}) {
+    try {
+      topotet::write_mesh(dir + name, mesh);
+      topotet::MeshData back = topotet::read_mesh(dir + name);
+      back.group_names = mesh.group_names;
+      if (!(back == mesh)) std::abort();
+    } catch (const topotet::InputError&) {
+      // A field that .sol cannot hold (2, 4, 5... components) is refused: fine.
+    }
   }
   for (const bool msh22 : {false, true}) {
     topotet::WriteOptions options;
@@ -121,7 +123,8 @@ void read_as(const std::string& path, const std::string& read_path, const std::u
   } catch (const topotet::InputError&) {
     return;  // rejected with a message: the expected outcome for most inputs
   }
-  if (path == read_path && (path.ends_with(".mesh") || path.ends_with(".msh"))) stream_as(read_path, mesh, size % 2 == 0);
+  if (path == read_path && (path.ends_with(".mesh") || path.ends_with(".meshb") || path.ends_with(".msh")))
+    stream_as(read_path, mesh, size % 2 == 0);
   write_and_read_back(mesh);
   try {
     topotet::BuildOptions options;
@@ -157,6 +160,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string& dir = work_dir();
   read_as(dir + "/input.mesh", dir + "/input.mesh", data, size);
   read_as(dir + "/input.msh", dir + "/input.msh", data, size);
+  read_as(dir + "/input.meshb", dir + "/input.meshb", data, size);
   read_as(dir + "/sol.sol", dir + "/sol.mesh", data, size);
   read_as(dir + "/n.node", dir + "/n.node", data, size);
   read_as(dir + "/e.ele", dir + "/e.ele", data, size);

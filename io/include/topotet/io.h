@@ -1,6 +1,7 @@
-// Mesh files: MEDIT .mesh (+ .sol), Gmsh .msh (4.1 read/write, ASCII or binary; 2.x ASCII/binary
+// Mesh files: MEDIT .mesh (+ .sol) and binary .meshb (+ .solb: libMeshb's GMF, versions 1-4 read,
+// 3 written, 4 when the vertex count needs int64), Gmsh .msh (4.1 read/write, ASCII or binary; 2.x ASCII/binary
 // read), VTK .vtu (write). The format is chosen by the file extension; a trailing ".gz" is read
-// transparently (writing .gz is refused). Binary MEDIT (.meshb) is refused with a clear message.
+// transparently (writing .gz is refused).
 // The VTK formats (.vtu/.pvtu/.vtk input, Exodus II, CGNS) are the optional component
 // topotet::io_vtk (topotet/io_vtk.h: read_vtk_mesh, write_exodus, read_any_mesh); read_mesh and
 // write_mesh refuse them with a message that names it.

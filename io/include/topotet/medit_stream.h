@@ -1,4 +1,4 @@
-// MEDIT .mesh (+ .sol) read and written as a stream: memory independent of the file's size, for
+// MEDIT .mesh (+ .sol), ASCII or binary (.meshb + .solb), read and written as a stream: memory independent of the file's size, for
 // meshes larger than memory (topotet/out_of_core.h) and generators that write as they go.
 // read_mesh and write_mesh (topotet/io.h) are built on the same parser and writer, so the three
 // accept, refuse and write exactly the same text.
@@ -32,7 +32,7 @@ struct MeditVisitor {
   virtual void ridge(std::uint32_t /*segment_index*/) {}
 };
 
-// Streams a .mesh / .mesh.gz through `visitor` with read_mesh's checks and messages (FILE:LINE,
+// Streams a .mesh / .meshb (optionally .gz) through `visitor` with read_mesh's checks and messages (FILE:LINE,
 // NaN, indices out of range, truncation, mixed meshes unless options.tets_only; ReadNotes counts).
 // Keeping nothing, it needs Vertices before any section that indexes vertices and Edges before
 // Ridges (every writer does so), and fields in the .sol (SolStream), not in the .mesh: otherwise an
@@ -68,7 +68,7 @@ class SolStream {
   int vertex_stride_ = 0, cell_stride_ = 0;
 };
 
-// Writes a .mesh, and its .sol (+ .sol.fields.txt unless the names are the defaults) when there are
+// Writes a .mesh (or a binary .meshb: by the extension), and its .sol (.solb) (+ .sol.fields.txt unless the names are the defaults) when there are
 // fields, section by section, the bytes write_mesh writes. Nothing appears at the paths before
 // commit() (io/atomic_file.h: temporary names, renamed together; destroyed without commit, the
 // temporaries are removed). Counts are declared by begin_*; commit() throws std::logic_error when
