@@ -189,7 +189,8 @@ class GmshReader {
  public:
   // With a visitor (stream_gmsh): nodes and tets go to it as they are read, never held; the
   // lines, triangles and points (surfaces: they grow like the boundary) are held, their refs
-  // resolved, and given to it at the end. MSH 4.1 only, without $NodeData or $ElementData.
+  // resolved, and given to it at the end; $NodeData views go to it as they are read (if it takes
+  // them). MSH 4.1 only, without $ElementData.
   GmshReader(const std::string& path, const ReadOptions& options, ReadNotes& notes, MeditVisitor* visitor = nullptr)
       : r_(path), options_(options), notes_(notes), visitor_(visitor) {}
 
@@ -668,16 +669,41 @@ class GmshReader {
     return h;
   }
 
-  // Streamed (out of core), the fields of a .msh are not read: they come after the elements, in
-  // node tag order, and the cut spills them per vertex from a MEDIT .sol (SolStream).
+  // Streamed (out of core), the cell fields of a .msh are not read: an element tag -> tet map
+  // would take 8 bytes a tet (and a visitor that takes no node views refuses those too).
   void refuse_streamed_fields(const std::string& section) {
     if (visitor_ != nullptr)
-      r_.fail(section + ": the fields of a .msh are not streamed (out of core); convert it first (topotet convert "
-              "IN.msh IN.mesh writes them to IN.sol)");
+      r_.fail(section + ": the " + (section == "$NodeData" ? "node" : "cell") +
+              " fields of a .msh are not streamed here (out of core); convert it first (topotet convert IN.msh "
+              "IN.mesh writes them to IN.sol)");
+  }
+
+  // $NodeData into the visitor: the same header, checks and entries as below, nothing held.
+  void stream_node_data() {
+    const ViewHeader h = read_view_header("$NodeData", "field" + std::to_string(streamed_fields_.size()));
+    if (!visitor_->begin_node_view(h.name, static_cast<int>(h.components))) refuse_streamed_fields("$NodeData");
+    if (std::find(streamed_fields_.begin(), streamed_fields_.end(), h.name) == streamed_fields_.end())
+      streamed_fields_.push_back(h.name);
+    const std::int64_t comps = h.components, n = h.count;
+    if (n < 0 || static_cast<std::uint64_t>(n) > node_count_)
+      r_.fail("$NodeData: " + std::to_string(n) + " values for " + std::to_string(node_count_) + " nodes");
+    begin_binary();
+    double values[9];
+    for (std::int64_t i = 0; i < n; ++i) {
+      const VertId v = vertex(node_data_tag(), "$NodeData");
+      for (std::int64_t c = 0; c < comps; ++c) values[c] = real("$NodeData value");
+      visitor_->node_values(v, values);
+    }
+    expect_end("NodeData");
+  }
+
+  std::uint64_t node_data_tag() {
+    return binary_ ? static_cast<std::uint64_t>(static_cast<std::uint32_t>(r_.read_i32("$NodeData node tag")))
+                   : static_cast<std::uint64_t>(r_.read_int("$NodeData node tag", 1, std::numeric_limits<std::int64_t>::max()));
   }
 
   void read_node_data() {
-    refuse_streamed_fields("$NodeData");
+    if (visitor_ != nullptr) return stream_node_data();
     const ViewHeader h = read_view_header("$NodeData", "field" + std::to_string(m_.fields.size()));
     const std::string& name = h.name;
     const std::int64_t comps = h.components, n = h.count;
@@ -690,9 +716,7 @@ class GmshReader {
     // Nodes without a value (a partial view) get 0.
     f.values.assign(m_.positions.size() * static_cast<std::size_t>(comps), 0.0);
     for (std::int64_t i = 0; i < n; ++i) {
-      const std::uint64_t tag = binary_ ? static_cast<std::uint64_t>(static_cast<std::uint32_t>(r_.read_i32("$NodeData node tag")))
-                                        : static_cast<std::uint64_t>(r_.read_int("$NodeData node tag", 1, std::numeric_limits<std::int64_t>::max()));
-      const VertId v = vertex(tag, "$NodeData");
+      const VertId v = vertex(node_data_tag(), "$NodeData");
       for (std::int64_t c = 0; c < comps; ++c)
         f.values[static_cast<std::size_t>(v) * static_cast<std::size_t>(comps) + static_cast<std::size_t>(c)] =
             real("$NodeData value");
@@ -1014,6 +1038,7 @@ class GmshReader {
   MeditVisitor* visitor_ = nullptr;  // streaming (stream_gmsh): see the constructor
   VertId node_count_ = 0;
   std::uint64_t streamed_tets_ = 0;
+  std::vector<std::string> streamed_fields_;  // streaming: the node views' names so far (default names count them)
   std::int32_t block_material_ = 0;  // streaming: the material of the current block's tets
   MeshData m_;
   bool v41_ = false, binary_ = false;

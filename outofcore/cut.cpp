@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "mesh/morton.h"
+#include "node_views.h"
 #include "piece.h"
 #include "topotet/cell_fields.h"
 #include "topotet/error.h"
@@ -35,7 +36,8 @@ struct TetRecord {
 // The mesh pass: what the cut keeps of the input, and the tets spilled with their bins.
 class MeshPass final : public MeditVisitor {
  public:
-  MeshPass(const std::string& input, ScratchFolder& scratch) : input_(input), tets_(scratch.file_path("tets.bin")) {}
+  MeshPass(const std::string& input, ScratchFolder& scratch)
+      : node_views(scratch.file_path("node-data.bin")), input_(input), tets_(scratch.file_path("tets.bin")) {}
 
   void begin_vertices(std::uint64_t count) override {
     if (on_vertex_count) on_vertex_count(count);
@@ -67,6 +69,12 @@ class MeshPass final : public MeditVisitor {
   void corner(VertId v) override { corners.push_back(v); }
   void required_vertex(VertId v) override { required.push_back(v); }
   void ridge(std::uint32_t s) override { ridges.push_back(s); }
+  // A .msh's $NodeData: spilled, read back per vertex after the pass (node_views.h).
+  bool begin_node_view(const std::string& name, int components) override {
+    node_views.begin(name, components, positions.size());
+    return true;
+  }
+  void node_values(VertId v, const double* values) override { node_views.values(v, values); }
 
   void finish() { tets_.close(); }
 
@@ -77,6 +85,7 @@ class MeshPass final : public MeditVisitor {
   std::vector<Segment> segments;
   std::vector<VertId> corners, required;
   std::vector<std::uint32_t> ridges;
+  NodeViews node_views;
   std::vector<std::uint64_t> histogram = std::vector<std::uint64_t>(std::size_t{1} << kBinBits, 0);
   std::uint64_t tet_count = 0;
   double volume = 0.0;
@@ -177,24 +186,32 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
   if (counts.vertices >= std::numeric_limits<GlobalId>::max())
     throw InputError(input + ": more than 2^32 - 1 vertices");
 
-  // The fields, spilled in file order (the .sol is streamed too; a .msh streams none: its
-  // $NodeData would have failed the mesh pass).
+  // The fields, spilled in vertex (tet) order: a MEDIT file's from its .sol, streamed too; a
+  // .msh's node views from their spill, as read_mesh gives them (node_views.h); a .msh's cell
+  // fields would have failed the mesh pass.
   std::unique_ptr<SolStream> sol;
+  std::function<void(double*)> next_vertex_values;
   if (format_from_path(input) == MeshFormat::kMedit) sol = std::make_unique<SolStream>(input, counts.vertices, counts.tets);
   if (sol != nullptr && sol->has_sol()) {
     result.vertex_fields = sol->vertex_fields();
     result.cell_fields = sol->cell_fields();
-    apply_cell_kinds(result.cell_fields, cell_kinds);  // an unknown name fails here, before the pieces
     counts.vertex_stride = sol->vertex_stride();
     counts.cell_stride = sol->cell_stride();
+    next_vertex_values = [&sol](double* values) { sol->next_vertex(values); };
+  } else if (!pass.node_views.empty()) {
+    pass.node_views.finish(pass.refs);
+    result.vertex_fields = pass.node_views.fields();
+    counts.vertex_stride = pass.node_views.stride();
+    next_vertex_values = [&pass](double* values) { pass.node_views.next_vertex(values); };
   }
+  apply_cell_kinds(result.cell_fields, cell_kinds);  // an unknown name fails here, before the pieces
   std::vector<double> fmin(counts.vertex_stride, std::numeric_limits<double>::infinity());
   std::vector<double> fmax(counts.vertex_stride, -std::numeric_limits<double>::infinity());
   if (counts.vertex_stride > 0) {
     ScratchWriter out(scratch.file_path("vertex-fields.bin"));
     std::vector<double> values(counts.vertex_stride);
     for (std::uint64_t v = 0; v < counts.vertices; ++v) {
-      sol->next_vertex(values.data());
+      next_vertex_values(values.data());
       for (int k = 0; k < counts.vertex_stride; ++k) {
         fmin[k] = std::min(fmin[k], values[k]);
         fmax[k] = std::max(fmax[k], values[k]);

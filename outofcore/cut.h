@@ -1,12 +1,14 @@
 // Step 1 of an out-of-core run: the input, streamed once, cut into spatial pieces.
 //
-//   mesh pass   stream_mesh (topotet/mesh_stream.h: MEDIT, or Gmsh MSH 4.1 without fields): vertex
+//   mesh pass   stream_mesh (topotet/mesh_stream.h: MEDIT, or Gmsh MSH 4.1, whose node fields are
+//               spilled as they come: node_views.h): vertex
 //               positions and refs kept (28 bytes a vertex: the only part of the input held
 //               whole), each tet spilled to the scratch
 //               folder with the Morton code of its centroid, counted in a histogram of 2^18 bins
 //               of those codes; listed triangles, edges, corners and ridges kept (surfaces, not
 //               volumes: they grow like the boundary);
-//   .sol pass   the vertex and tet fields, spilled in file order (SolStream);
+//   .sol pass   the vertex and tet fields, spilled in vertex (tet) order: a MEDIT file's from
+//               its .sol (SolStream), a .msh's node views read back from their spill;
 //   split       the Morton bins cut into `pieces` ranges of about equal tet counts: Morton order
 //               keeps a range spatially compact, and neighbouring ranges are neighbours in space,
 //               which is what the merges pair (2i with 2i + 1);

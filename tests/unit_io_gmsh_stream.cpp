@@ -95,5 +95,62 @@ TEST(GmshStream, Msh2AndFieldsAreRefusedWithWhereAndHow) {
   EXPECT_NE(message(vtu).find("streamed formats are MEDIT"), std::string::npos) << message(vtu);
 }
 
+// A visitor that takes node views gets each $NodeData view raw, as the file has it (the rules of
+// read_mesh are the caller's: node_views.h): names, components, and the values at the vertices
+// read_mesh puts them. $ElementData is refused all the same, naming it.
+TEST(GmshStream, NodeViewsGoToAVisitorThatTakesThem) {
+  struct Views : test::Recorder {
+    std::vector<std::pair<std::string, int>> views;
+    std::vector<std::vector<double>> values;  // [view] vertex-major, 0 where not given
+    std::size_t vertices = 0;
+    bool begin_node_view(const std::string& name, int components) override {
+      views.push_back({name, components});
+      values.emplace_back(m.positions.size() * static_cast<std::size_t>(components), 0.0);
+      return true;
+    }
+    void node_values(VertId v, const double* x) override {
+      const auto c = static_cast<std::size_t>(views.back().second);
+      std::copy(x, x + c, values.back().begin() + static_cast<std::ptrdiff_t>(v * c));
+    }
+  };
+  TempDir dir;
+  MeshData m = listed_mesh();
+  m.fields.push_back({"u", 1, {}});
+  m.fields.push_back({"w", 3, {}});
+  for (std::size_t v = 0; v < m.positions.size(); ++v) {
+    m.fields[0].values.push_back(0.5 * static_cast<double>(v));
+    for (int k = 0; k < 3; ++k) m.fields[1].values.push_back(m.positions[v][static_cast<std::size_t>(k)]);
+  }
+  for (const bool binary : {false, true}) {
+    const std::string path = dir.file(binary ? "fields_b.msh" : "fields.msh");
+    WriteOptions options;
+    options.binary = binary;
+    write_mesh(path, m, options);
+    Views rec;
+    ReadNotes notes;
+    stream_mesh(path, rec, ReadOptions{}, notes);
+    const MeshData full = read_mesh(path);
+    ASSERT_EQ(rec.views.size(), 2u);
+    EXPECT_EQ(rec.views[0], (std::pair<std::string, int>{"u", 1}));
+    EXPECT_EQ(rec.views[1], (std::pair<std::string, int>{"w", 3}));
+    EXPECT_EQ(rec.values[0], full.fields[0].values);
+    EXPECT_EQ(rec.values[1], full.fields[1].values);
+    test::expect_recorded(rec, full, false);
+  }
+  MeshData cells = m;
+  cells.fields.clear();
+  cells.cell_fields.push_back({"rho", 1, CellFieldKind::kIntensive, std::vector<double>(m.tets.size(), 2.0)});
+  write_mesh(dir.file("cells.msh"), cells);
+  Views rec;
+  ReadNotes notes;
+  try {
+    stream_mesh(dir.file("cells.msh"), rec, ReadOptions{}, notes);
+    FAIL() << "a .msh with $ElementData streamed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("$ElementData"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("topotet convert"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace topotet

@@ -269,6 +269,47 @@ TEST(OutOfCoreGmsh, AnMsh41InputGivesTheBytesOfTheSameMeshAsMedit) {
   for (const std::string& e : folder.entries()) EXPECT_EQ(e.find(".topotet-scratch"), std::string::npos) << e;
 }
 
+// A .msh with node fields (ASCII and binary): the $NodeData views stream as read_mesh reads them
+// (a later view of a name replaces it, a partial one leaves 0 elsewhere, an exactly symmetric 3x3
+// comes back as 6 components, "topotet:vertex_ref" as the vertex refs), so the output has the
+// bytes of the run on the mesh read_mesh gives, written as MEDIT.
+TEST(OutOfCoreGmsh, NodeFieldsStreamAsReadMeshReadsThem) {
+  MeshData input = generated("cube-sphere", 12000);
+  input.vertex_refs.resize(input.vertex_count());
+  VertexField stress{"stress", 6, {}};
+  for (std::size_t v = 0; v < input.vertex_count(); ++v) {
+    input.vertex_refs[v] = static_cast<std::int32_t>(v % 3);
+    const auto& p = input.positions[v];
+    for (double x : {p[0], p[1], p[2], p[0] * p[1], p[1] * p[2], 1.0}) stress.values.push_back(x);
+  }
+  input.fields.push_back(stress);
+  test::TempDir folder;
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.2;
+  OutOfCoreOptions ooc;
+  ooc.pieces = 8;
+  const std::string ascii = folder.file("in.msh"), binary = folder.file("in_b.msh");
+  write_mesh(ascii, input);
+  WriteOptions b;
+  b.binary = true;
+  write_mesh(binary, input, b);
+  // A later, partial time step of "f": it replaces the first; the nodes it leaves out read 0.
+  std::ofstream(ascii, std::ios::app) << "$NodeData\n1\n\"f\"\n1\n1.0\n3\n1\n1\n2\n1 5.5\n3 -7.25\n$EndNodeData\n";
+  const auto simplified = [&](const std::string& in, const std::string& out) {
+    simplify_out_of_core(in, folder.file(out), options, ooc);
+    return test::read_text(folder.file(out)) + test::read_text(folder.file(out.substr(0, out.size() - 5) + ".sol"));
+  };
+  for (const std::string& msh : {ascii, binary}) {
+    const MeshData as_read = read_mesh(msh);
+    ASSERT_EQ(as_read.fields.size(), 2u);
+    EXPECT_EQ(as_read.fields[1].components, 6);  // the symmetric tensor, back to 6
+    EXPECT_FALSE(as_read.vertex_refs.empty());
+    write_mesh(folder.file("as_read.mesh"), as_read);
+    EXPECT_EQ(simplified(msh, "from_msh.mesh"), simplified(folder.file("as_read.mesh"), "from_mesh.mesh")) << msh;
+  }
+  for (const std::string& e : folder.entries()) EXPECT_EQ(e.find(".topotet-scratch"), std::string::npos) << e;
+}
+
 // A binary MEDIT input (.meshb with its .solb: fields and cell fields streamed from the binary
 // file) gives the bytes of the run on the ASCII .mesh; a .meshb output reads back as that output.
 TEST(OutOfCoreMeshb, ABinaryMeditInputGivesTheBytesOfTheAsciiOne) {

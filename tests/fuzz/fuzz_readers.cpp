@@ -92,6 +92,11 @@ struct Counter : topotet::MeditVisitor {
   void tet(const std::array<topotet::VertId, 4>&, std::int32_t) override { ++tets; }
   void triangle(const topotet::Triangle&) override { ++triangles; }
   void segment(const topotet::Segment&) override { ++segments; }
+  // A .msh's node views stream too (the out-of-core cut takes them).
+  bool begin_node_view(const std::string&, int components) override { return components >= 1 && components <= 9; }
+  void node_values(topotet::VertId v, const double*) override {
+    if (v >= vertices) std::abort();
+  }
 };
 
 void stream_as(const std::string& path, const topotet::MeshData& read, bool tets_only) {

@@ -30,6 +30,13 @@ struct MeditVisitor {
   virtual void corner(VertId /*v*/) {}
   virtual void required_vertex(VertId /*v*/) {}
   virtual void ridge(std::uint32_t /*segment_index*/) {}
+  // The node fields of a streamed .msh ($NodeData, after the elements; topotet/mesh_stream.h): a
+  // view begins with its name and component count, then gives (0-based vertex, values) entries in
+  // file order; the vertices it does not list have 0 there, and a view whose name came before
+  // replaces that field's values (the last time step wins), as read_mesh reads them. A visitor
+  // that does not take them returns false (the default): the stream is then refused, saying so.
+  virtual bool begin_node_view(const std::string& /*name*/, int /*components*/) { return false; }
+  virtual void node_values(VertId /*v*/, const double* /*values*/) {}
 };
 
 // Streams a .mesh / .meshb (optionally .gz) through `visitor` with read_mesh's checks and messages (FILE:LINE,

@@ -15,9 +15,12 @@ namespace topotet {
 // Streams `path` through `visitor` in the order MeditVisitor describes, with read_mesh's checks
 // and messages, and the entities read_mesh would give: the same vertices, tets and materials, and
 // the same triangles, segments, ridges, corners and required vertices (a .msh gives its vertex
-// refs as 0 and begin_tets its element count, an upper bound). Throws InputError for another
-// format, MSH 2, and a .msh with $NodeData or $ElementData (the fields of a stream come from a
-// MEDIT .sol: SolStream): each says how to convert.
+// refs as 0 and begin_tets its element count, an upper bound). The fields of a MEDIT file are in
+// its .sol (SolStream); those of a .msh come as node views (MeditVisitor::begin_node_view), raw:
+// the visitor applies read_mesh's two rules (a view "topotet:vertex_ref" of integers is the vertex
+// refs; a 9-component view exactly symmetric at every vertex is 6 components). Throws InputError
+// for another format, MSH 2, a .msh with $ElementData, and a .msh with $NodeData when the visitor
+// does not take node views: each says how to convert.
 void stream_mesh(const std::string& path, MeditVisitor& visitor, const ReadOptions& options, ReadNotes& notes);
 
 }  // namespace topotet

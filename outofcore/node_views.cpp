@@ -1,0 +1,128 @@
+#include "node_views.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <limits>
+
+#include "scratch.h"
+
+namespace topotet::ooc {
+namespace {
+
+constexpr std::size_t kRun = std::size_t{1} << 15;     // doubles buffered before a write
+constexpr std::uint64_t kWindow = 4096;                 // vertices read back at once
+constexpr const char* kVertexRefView = "topotet:vertex_ref";  // io/gmsh.cpp's name
+
+}  // namespace
+
+NodeViews::~NodeViews() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void NodeViews::begin(const std::string& name, int components, std::uint64_t vertices) {
+  flush();
+  if (fd_ < 0) {
+    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    if (fd_ < 0) throw_scratch_error(path_, "cannot create");
+  }
+  vertices_ = vertices;
+  View v{name, components, file_end_, true};
+  file_end_ += vertices * static_cast<std::uint64_t>(components) * sizeof(double);
+  // Sparse: the region reads 0 until written.
+  if (::ftruncate(fd_, static_cast<off_t>(file_end_)) != 0) throw_scratch_error(path_, "cannot size");
+  views_.push_back(v);
+  run_.clear();
+}
+
+void NodeViews::values(VertId v, const double* values) {
+  View& view = views_.back();
+  const auto c = static_cast<std::size_t>(view.components);
+  if (c == 9 && (values[1] != values[3] || values[2] != values[6] || values[5] != values[7])) view.symmetric = false;
+  if (!run_.empty() && (v != run_first_ + run_.size() / c || run_.size() + c > kRun)) flush();
+  if (run_.empty()) run_first_ = v;
+  run_.insert(run_.end(), values, values + c);
+}
+
+void NodeViews::flush() {
+  if (run_.empty()) return;
+  const View& view = views_.back();
+  const std::size_t bytes = run_.size() * sizeof(double);
+  const std::uint64_t at = view.offset + run_first_ * static_cast<std::uint64_t>(view.components) * sizeof(double);
+  const ssize_t wrote = ::pwrite(fd_, run_.data(), bytes, static_cast<off_t>(at));
+  if (wrote != static_cast<ssize_t>(bytes)) {
+    if (wrote >= 0) errno = ENOSPC;
+    throw_scratch_error(path_, "cannot write");
+  }
+  run_.clear();
+}
+
+void NodeViews::read(void* into, std::uint64_t offset, std::size_t bytes) const {
+  if (::pread(fd_, into, bytes, static_cast<off_t>(offset)) != static_cast<ssize_t>(bytes)) throw_scratch_error(path_, "cannot read");
+}
+
+void NodeViews::finish(std::vector<std::int32_t>& refs) {
+  flush();
+  // One field per name: the first view's place, the last view's values.
+  std::vector<const View*> last;
+  for (const View& v : views_) {
+    const auto same = std::find_if(last.begin(), last.end(), [&](const View* w) { return w->name == v.name; });
+    if (same != last.end()) *same = &v;
+    else last.push_back(&v);
+  }
+  for (const View* v : last) {
+    if (v->name == kVertexRefView && v->components == 1) {
+      // Integers: the vertex refs (io/gmsh.cpp's finish_fields), else an ordinary field.
+      std::vector<std::int32_t> read_refs(vertices_);
+      std::vector<double> window(kWindow);
+      bool integers = true;
+      for (std::uint64_t first = 0; first < vertices_ && integers; first += kWindow) {
+        const std::size_t n = static_cast<std::size_t>(std::min(kWindow, vertices_ - first));
+        read(window.data(), v->offset + first * sizeof(double), n * sizeof(double));
+        for (std::size_t i = 0; i < n && integers; ++i) {
+          const double x = window[i];
+          integers = x >= std::numeric_limits<std::int32_t>::min() && x <= std::numeric_limits<std::int32_t>::max() &&
+                     x == static_cast<double>(static_cast<std::int32_t>(x));
+          read_refs[first + i] = integers ? static_cast<std::int32_t>(x) : 0;
+        }
+      }
+      if (integers) {
+        if (std::any_of(read_refs.begin(), read_refs.end(), [](std::int32_t x) { return x != 0; })) refs = std::move(read_refs);
+        continue;
+      }
+    }
+    Window w;
+    w.view = v;
+    w.to_symmetric = v->components == 9 && v->symmetric;
+    VertexField f;
+    f.name = v->name;
+    f.components = w.to_symmetric ? 6 : v->components;
+    stride_ += f.components;
+    fields_.push_back(std::move(f));
+    windows_.push_back(std::move(w));
+  }
+}
+
+void NodeViews::next_vertex(double* out) {
+  const std::uint64_t v = next_++;
+  const std::uint64_t first = v / kWindow * kWindow;
+  for (Window& w : windows_) {
+    const auto c = static_cast<std::size_t>(w.view->components);
+    if (v == first || w.buffer.empty()) {
+      const std::size_t n = static_cast<std::size_t>(std::min(kWindow, vertices_ - first));
+      w.buffer.resize(n * c);
+      read(w.buffer.data(), w.view->offset + first * c * sizeof(double), w.buffer.size() * sizeof(double));
+    }
+    const double* a = &w.buffer[static_cast<std::size_t>(v - first) * c];
+    if (w.to_symmetric) {
+      const double s[6] = {a[0], a[1], a[4], a[2], a[5], a[8]};
+      out = std::copy(s, s + 6, out);
+    } else {
+      out = std::copy(a, a + c, out);
+    }
+  }
+}
+
+}  // namespace topotet::ooc
