@@ -221,7 +221,7 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
   auto* memory_limit = keep(cmd->add_option("--memory-limit", args.memory_limit,
                                             "Simplify out of core, keeping the peak memory under SIZE (2G, 256M, ...): "
                                             "the input (MEDIT .mesh / .meshb with its .sol / .solb, or Gmsh MSH "
-                                            "4.1 .msh with its node fields; also .gz) is streamed and cut into pieces kept in "
+                                            "4.1 .msh with its fields; also .gz) is streamed and cut into pieces kept in "
                                             "a scratch folder, simplified with frozen borders and merged pairwise (the "
                                             "report says what was left apart)"));
   auto* scratch = keep(cmd->add_option("--scratch", args.scratch,

@@ -189,8 +189,8 @@ class GmshReader {
  public:
   // With a visitor (stream_gmsh): nodes and tets go to it as they are read, never held; the
   // lines, triangles and points (surfaces: they grow like the boundary) are held, their refs
-  // resolved, and given to it at the end; $NodeData views go to it as they are read (if it takes
-  // them). MSH 4.1 only, without $ElementData.
+  // resolved, and given to it at the end; $NodeData and $ElementData views go to it as they are
+  // read (if it takes them). MSH 4.1 only.
   GmshReader(const std::string& path, const ReadOptions& options, ReadNotes& notes, MeditVisitor* visitor = nullptr)
       : r_(path), options_(options), notes_(notes), visitor_(visitor) {}
 
@@ -733,14 +733,49 @@ class GmshReader {
   // Element tags, for $ElementData: [tet] its tag (before the MSH 2 copies are merged), and the tags
   // of the volume elements --tets-only left out (their values go with them).
   void note_element_tag(std::int64_t type, std::uint64_t tag) {
-    if (type == kTet && visitor_ == nullptr) tet_tags_.push_back(tag);
+    if (type != kTet) return;
+    if (visitor_ == nullptr) return tet_tags_.push_back(tag);
+    // Streamed: the tets' tags are kept as a range, when they are consecutive (add_element has
+    // counted this tet already).
+    if (streamed_tets_ == 1) first_tet_tag_ = tag;
+    else if (tag != first_tet_tag_ + streamed_tets_ - 1) consecutive_tet_tags_ = false;
   }
   bool is_dropped_volume(std::int64_t type) const { return options_.tets_only && type >= 5 && type <= 7; }
 
   // $ElementData: a view on the tets (tags of other elements are an error, those of left-out
   // volume elements are skipped); tets without a value get 0; last time step wins, as $NodeData.
+  // $ElementData into the visitor: the tet of a tag is tag - first (consecutive tags only).
+  void stream_element_data() {
+    const ViewHeader h = read_view_header("$ElementData", "cellfield" + std::to_string(streamed_cell_fields_.size()));
+    if (!visitor_->begin_cell_view(h.name, static_cast<int>(h.components))) refuse_streamed_fields("$ElementData");
+    if (!consecutive_tet_tags_)
+      r_.fail("$ElementData: the tetrahedra's element tags are not consecutive, so the cell fields of this .msh are not "
+              "streamed (out of core); convert it first (topotet convert IN.msh IN.mesh writes them to IN.sol)");
+    if (std::find(streamed_cell_fields_.begin(), streamed_cell_fields_.end(), h.name) == streamed_cell_fields_.end())
+      streamed_cell_fields_.push_back(h.name);
+    const std::int64_t comps = h.components, n = h.count;
+    if (n < 0 || static_cast<std::uint64_t>(n) > streamed_tets_)
+      r_.fail("$ElementData: " + std::to_string(n) + " values for " + std::to_string(streamed_tets_) + " tetrahedra");
+    begin_binary();
+    double values[9];
+    for (std::int64_t i = 0; i < n; ++i) {
+      const std::uint64_t tag = element_data_tag();
+      if (tag < first_tet_tag_ || tag - first_tet_tag_ >= streamed_tets_)
+        r_.fail("$ElementData '" + h.name + "': element tag " + std::to_string(tag) +
+                " is not a tetrahedron of the mesh (topotet reads the cell data of tetrahedra)");
+      for (std::int64_t c = 0; c < comps; ++c) values[c] = real("$ElementData value");
+      visitor_->cell_values(tag - first_tet_tag_, values);
+    }
+    expect_end("ElementData");
+  }
+
+  std::uint64_t element_data_tag() {
+    return binary_ ? static_cast<std::uint64_t>(static_cast<std::uint32_t>(r_.read_i32("$ElementData element tag")))
+                   : static_cast<std::uint64_t>(r_.read_int("$ElementData element tag", 1, std::numeric_limits<std::int64_t>::max()));
+  }
+
   void read_element_data() {
-    refuse_streamed_fields("$ElementData");
+    if (visitor_ != nullptr) return stream_element_data();
     const ViewHeader h = read_view_header("$ElementData", "cellfield" + std::to_string(m_.cell_fields.size()));
     const std::string& name = h.name;
     const std::int64_t comps = h.components, n = h.count;
@@ -758,8 +793,7 @@ class GmshReader {
     f.components = static_cast<int>(comps);
     f.values.assign(tet_tags_.size() * static_cast<std::size_t>(comps), 0.0);
     for (std::int64_t i = 0; i < n; ++i) {
-      const std::uint64_t tag = binary_ ? static_cast<std::uint64_t>(static_cast<std::uint32_t>(r_.read_i32("$ElementData element tag")))
-                                        : static_cast<std::uint64_t>(r_.read_int("$ElementData element tag", 1, std::numeric_limits<std::int64_t>::max()));
+      const std::uint64_t tag = element_data_tag();
       const auto at = std::lower_bound(tag_index_.begin(), tag_index_.end(), std::pair<std::uint64_t, std::size_t>(tag, 0));
       std::size_t tet = kNoRun;
       if (at != tag_index_.end() && at->first == tag) {
@@ -1038,7 +1072,10 @@ class GmshReader {
   MeditVisitor* visitor_ = nullptr;  // streaming (stream_gmsh): see the constructor
   VertId node_count_ = 0;
   std::uint64_t streamed_tets_ = 0;
-  std::vector<std::string> streamed_fields_;  // streaming: the node views' names so far (default names count them)
+  std::vector<std::string> streamed_fields_;       // streaming: the node views' names so far (default names count them)
+  std::vector<std::string> streamed_cell_fields_;  // and the cell views'
+  std::uint64_t first_tet_tag_ = 0;                // streaming: the first tet's element tag
+  bool consecutive_tet_tags_ = true;               // and whether the others follow it one by one
   std::int32_t block_material_ = 0;  // streaming: the material of the current block's tets
   MeshData m_;
   bool v41_ = false, binary_ = false;

@@ -13,7 +13,7 @@
 #include <memory>
 
 #include "mesh/morton.h"
-#include "node_views.h"
+#include "field_views.h"
 #include "piece.h"
 #include "topotet/cell_fields.h"
 #include "topotet/error.h"
@@ -37,7 +37,10 @@ struct TetRecord {
 class MeshPass final : public MeditVisitor {
  public:
   MeshPass(const std::string& input, ScratchFolder& scratch)
-      : node_views(scratch.file_path("node-data.bin")), input_(input), tets_(scratch.file_path("tets.bin")) {}
+      : node_views(scratch.file_path("node-data.bin")),
+        cell_views(scratch.file_path("element-data.bin")),
+        input_(input),
+        tets_(scratch.file_path("tets.bin")) {}
 
   void begin_vertices(std::uint64_t count) override {
     if (on_vertex_count) on_vertex_count(count);
@@ -69,12 +72,17 @@ class MeshPass final : public MeditVisitor {
   void corner(VertId v) override { corners.push_back(v); }
   void required_vertex(VertId v) override { required.push_back(v); }
   void ridge(std::uint32_t s) override { ridges.push_back(s); }
-  // A .msh's $NodeData: spilled, read back per vertex after the pass (node_views.h).
+  // A .msh's $NodeData and $ElementData: spilled, read back in order after the pass (field_views.h).
   bool begin_node_view(const std::string& name, int components) override {
     node_views.begin(name, components, positions.size());
     return true;
   }
   void node_values(VertId v, const double* values) override { node_views.values(v, values); }
+  bool begin_cell_view(const std::string& name, int components) override {
+    cell_views.begin(name, components, tet_count);
+    return true;
+  }
+  void cell_values(std::uint64_t t, const double* values) override { cell_views.values(t, values); }
 
   void finish() { tets_.close(); }
 
@@ -85,7 +93,7 @@ class MeshPass final : public MeditVisitor {
   std::vector<Segment> segments;
   std::vector<VertId> corners, required;
   std::vector<std::uint32_t> ridges;
-  NodeViews node_views;
+  FieldViews node_views, cell_views;
   std::vector<std::uint64_t> histogram = std::vector<std::uint64_t>(std::size_t{1} << kBinBits, 0);
   std::uint64_t tet_count = 0;
   double volume = 0.0;
@@ -187,10 +195,9 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
     throw InputError(input + ": more than 2^32 - 1 vertices");
 
   // The fields, spilled in vertex (tet) order: a MEDIT file's from its .sol, streamed too; a
-  // .msh's node views from their spill, as read_mesh gives them (node_views.h); a .msh's cell
-  // fields would have failed the mesh pass.
+  // .msh's views from their spill, as read_mesh gives them (field_views.h).
   std::unique_ptr<SolStream> sol;
-  std::function<void(double*)> next_vertex_values;
+  std::function<void(double*)> next_vertex_values, next_tet_values;
   if (format_from_path(input) == MeshFormat::kMedit) sol = std::make_unique<SolStream>(input, counts.vertices, counts.tets);
   if (sol != nullptr && sol->has_sol()) {
     result.vertex_fields = sol->vertex_fields();
@@ -198,11 +205,20 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
     counts.vertex_stride = sol->vertex_stride();
     counts.cell_stride = sol->cell_stride();
     next_vertex_values = [&sol](double* values) { sol->next_vertex(values); };
-  } else if (!pass.node_views.empty()) {
-    pass.node_views.finish(pass.refs);
-    result.vertex_fields = pass.node_views.fields();
+    next_tet_values = [&sol](double* values) { sol->next_tet(values); };
+  }
+  if (!pass.node_views.empty()) {
+    pass.node_views.finish(&pass.refs);
+    for (const FieldViews::Layout& l : pass.node_views.fields()) result.vertex_fields.push_back({l.name, l.components, {}});
     counts.vertex_stride = pass.node_views.stride();
-    next_vertex_values = [&pass](double* values) { pass.node_views.next_vertex(values); };
+    next_vertex_values = [&pass](double* values) { pass.node_views.next(values); };
+  }
+  if (!pass.cell_views.empty()) {
+    pass.cell_views.finish(nullptr);
+    for (const FieldViews::Layout& l : pass.cell_views.fields())
+      result.cell_fields.push_back({l.name, l.components, CellFieldKind::kIntensive, {}});
+    counts.cell_stride = pass.cell_views.stride();
+    next_tet_values = [&pass](double* values) { pass.cell_views.next(values); };
   }
   apply_cell_kinds(result.cell_fields, cell_kinds);  // an unknown name fails here, before the pieces
   std::vector<double> fmin(counts.vertex_stride, std::numeric_limits<double>::infinity());
@@ -224,7 +240,7 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
     ScratchWriter out(scratch.file_path("tet-fields.bin"));
     std::vector<double> values(counts.cell_stride);
     for (std::uint64_t t = 0; t < counts.tets; ++t) {
-      sol->next_tet(values.data());
+      next_tet_values(values.data());
       out.write(values.data(), values.size() * sizeof(double));
     }
     out.close();

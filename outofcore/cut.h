@@ -1,7 +1,7 @@
 // Step 1 of an out-of-core run: the input, streamed once, cut into spatial pieces.
 //
-//   mesh pass   stream_mesh (topotet/mesh_stream.h: MEDIT, or Gmsh MSH 4.1, whose node fields are
-//               spilled as they come: node_views.h): vertex
+//   mesh pass   stream_mesh (topotet/mesh_stream.h: MEDIT, or Gmsh MSH 4.1, whose fields are
+//               spilled as they come: field_views.h): vertex
 //               positions and refs kept (28 bytes a vertex: the only part of the input held
 //               whole), each tet spilled to the scratch
 //               folder with the Morton code of its centroid, counted in a histogram of 2^18 bins

@@ -16,7 +16,8 @@ namespace topotet::ooc {
 
 namespace {
 
-constexpr const char* kFixedNames[] = {"tets.bin", "vertex-fields.bin", "tet-fields.bin", "vertex-map.bin", "node-data.bin"};
+constexpr const char* kFixedNames[] = {"tets.bin", "vertex-fields.bin", "tet-fields.bin", "vertex-map.bin", "node-data.bin",
+                                       "element-data.bin"};
 
 // Live scratch folders, for remove_scratch_folders() in a signal handler; 32 bytes are kept for
 // the names the handler appends.

@@ -665,7 +665,7 @@ PYBIND11_MODULE(_core, m) {
       py::arg("threads") = defaults.num_threads, py::arg("optimize") = topotet::to_string(defaults.optimize),
       py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
       py::arg("vertex_map") = "",
-      "Simplifies a MEDIT file (.mesh / .meshb, optionally .gz, + .sol / .solb) or a Gmsh MSH 4.1 file with node fields, not cell fields (.msh / .msh.gz) "
+      "Simplifies a MEDIT file (.mesh / .meshb, optionally .gz, + .sol / .solb) or a Gmsh MSH 4.1 file with its fields (.msh / .msh.gz) "
       "larger than memory into `output`, out of core "
       "(topotet/out_of_core.h, `topotet simplify --memory-limit`): streamed, cut into pieces in a scratch folder "
       "(next to the output, or in `scratch`), simplified with frozen borders and merged pairwise. memory_limit: "

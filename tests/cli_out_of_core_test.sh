@@ -76,19 +76,12 @@ no_litter msh_input
 expect_error tiny_limit "memory-limit.*at least" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit 4M
 expect_error bad_size "memory size 'lots'" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit lots
 "$topotet" convert small.mesh small.msh -q
-# A .msh with node fields streams ($NodeData), and gives the output of the same mesh as MEDIT (as
-# the .msh reads: its surfaces grouped by entity); its cell fields do not stream.
+# A .msh with node and cell fields streams ($NodeData, $ElementData), and gives the output of the
+# same mesh as MEDIT (as the .msh reads: its surfaces grouped by entity).
 "$topotet" convert small.msh small_back.mesh -q
 expect 0 msh_fields -- "$topotet" simplify small.msh -o msh_fields.mesh --pieces 4 --ratio 0.3
 expect 0 mesh_fields -- "$topotet" simplify small_back.mesh -o mesh_fields.mesh --pieces 4 --ratio 0.3
 if cmp -s msh_fields.mesh mesh_fields.mesh && cmp -s msh_fields.sol mesh_fields.sol; then pass "msh_fields: the same output as the .mesh"; else fail "msh_fields: differs from the .mesh's"; fi
-python3 - small.msh small_cells.msh <<'EOF'
-import sys
-text = open(sys.argv[1]).read()
-tets = int(text.split("$Elements\n")[1].split()[1])  # an upper bound is enough: the view lists element 1 only
-open(sys.argv[2], "w").write(text + '$ElementData\n1\n"rho"\n1\n0.0\n3\n0\n1\n1\n1 2.0\n$EndElementData\n')
-EOF
-expect_error msh_cells "ElementData: the cell fields of a .msh are not streamed.*topotet convert" -- "$topotet" simplify small_cells.msh -o x.mesh --memory-limit 1G
 "$topotet" convert small.mesh small.vtu -q
 expect_error not_streamed "streams MEDIT .* and Gmsh MSH 4.1 .*convert it" -- "$topotet" simplify small.vtu -o x.mesh --memory-limit 1G
 expect_error bounds "excludes" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit 1G --field-bounds

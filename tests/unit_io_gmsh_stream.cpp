@@ -5,6 +5,8 @@
 // with a message that says where and how to convert.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <string>
 
 #include "io_test_files.h"
@@ -96,8 +98,8 @@ TEST(GmshStream, Msh2AndFieldsAreRefusedWithWhereAndHow) {
 }
 
 // A visitor that takes node views gets each $NodeData view raw, as the file has it (the rules of
-// read_mesh are the caller's: node_views.h): names, components, and the values at the vertices
-// read_mesh puts them. $ElementData is refused all the same, naming it.
+// read_mesh are the caller's: field_views.h): names, components, and the values at the vertices
+// read_mesh puts them. $ElementData is refused to a visitor that takes no cell views, naming it.
 TEST(GmshStream, NodeViewsGoToAVisitorThatTakesThem) {
   struct Views : test::Recorder {
     std::vector<std::pair<std::string, int>> views;
@@ -148,6 +150,43 @@ TEST(GmshStream, NodeViewsGoToAVisitorThatTakesThem) {
     FAIL() << "a .msh with $ElementData streamed";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("$ElementData"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("topotet convert"), std::string::npos) << e.what();
+  }
+}
+
+// A visitor that takes cell views gets each $ElementData view at the tets read_mesh gives it; a
+// file whose tets are not numbered consecutively cannot map tags to tets without holding them: it
+// is refused with the line and the conversion.
+TEST(GmshStream, CellViewsNeedConsecutiveTetTags) {
+  struct Cells : test::Recorder {
+    std::vector<double> values;
+    bool begin_cell_view(const std::string&, int components) override {
+      values.assign(m.tets.size() * static_cast<std::size_t>(components), 0.0);
+      return components == 1;
+    }
+    void cell_values(std::uint64_t t, const double* x) override { values.at(t) = x[0]; }
+  };
+  TempDir dir;
+  MeshData m = listed_mesh();
+  m.cell_fields.push_back({"rho", 1, CellFieldKind::kIntensive, {}});
+  for (std::size_t t = 0; t < m.tets.size(); ++t) m.cell_fields[0].values.push_back(1.0 + static_cast<double>(t));
+  write_mesh(dir.file("cells.msh"), m);
+  Cells rec;
+  ReadNotes notes;
+  stream_mesh(dir.file("cells.msh"), rec, ReadOptions{}, notes);
+  EXPECT_EQ(rec.values, read_mesh(dir.file("cells.msh")).cell_fields.at(0).values);
+  std::ofstream(dir.file("gaps.msh")) << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 5 1 5\n3 1 0 5\n1\n2\n3\n4\n5\n"
+                                         "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n$EndNodes\n$Elements\n1 2 1 10\n3 1 4 2\n"
+                                         "1 1 2 3 4\n10 2 3 5 4\n$EndElements\n$ElementData\n1\n\"rho\"\n1\n0.0\n3\n0\n1\n2\n"
+                                         "1 1.5\n10 2.5\n$EndElementData\n";
+  EXPECT_EQ(read_mesh(dir.file("gaps.msh")).cell_fields.at(0).values, (std::vector<double>{1.5, 2.5}));
+  Cells gaps;
+  try {
+    stream_mesh(dir.file("gaps.msh"), gaps, ReadOptions{}, notes);
+    FAIL() << "cell data streamed with non-consecutive tet tags";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gaps.msh:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not consecutive"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("topotet convert"), std::string::npos) << e.what();
   }
 }

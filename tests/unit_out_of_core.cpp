@@ -269,11 +269,11 @@ TEST(OutOfCoreGmsh, AnMsh41InputGivesTheBytesOfTheSameMeshAsMedit) {
   for (const std::string& e : folder.entries()) EXPECT_EQ(e.find(".topotet-scratch"), std::string::npos) << e;
 }
 
-// A .msh with node fields (ASCII and binary): the $NodeData views stream as read_mesh reads them
-// (a later view of a name replaces it, a partial one leaves 0 elsewhere, an exactly symmetric 3x3
-// comes back as 6 components, "topotet:vertex_ref" as the vertex refs), so the output has the
-// bytes of the run on the mesh read_mesh gives, written as MEDIT.
-TEST(OutOfCoreGmsh, NodeFieldsStreamAsReadMeshReadsThem) {
+// A .msh with node and cell fields (ASCII and binary): the $NodeData and $ElementData views stream
+// as read_mesh reads them (a later view of a name replaces it, a partial one leaves 0 elsewhere, an
+// exactly symmetric 3x3 comes back as 6 components, "topotet:vertex_ref" as the vertex refs), so
+// the output has the bytes of the run on the mesh read_mesh gives, written as MEDIT.
+TEST(OutOfCoreGmsh, FieldsStreamAsReadMeshReadsThem) {
   MeshData input = generated("cube-sphere", 12000);
   input.vertex_refs.resize(input.vertex_count());
   VertexField stress{"stress", 6, {}};
@@ -283,6 +283,9 @@ TEST(OutOfCoreGmsh, NodeFieldsStreamAsReadMeshReadsThem) {
     for (double x : {p[0], p[1], p[2], p[0] * p[1], p[1] * p[2], 1.0}) stress.values.push_back(x);
   }
   input.fields.push_back(stress);
+  CellField density{"density", 1, CellFieldKind::kIntensive, {}};
+  for (std::size_t t = 0; t < input.tet_count(); ++t) density.values.push_back(0.5 + input.tet_material[t]);
+  input.cell_fields.push_back(density);
   test::TempDir folder;
   SimplifyOptions options;
   options.target_vertex_ratio = 0.2;
@@ -302,6 +305,7 @@ TEST(OutOfCoreGmsh, NodeFieldsStreamAsReadMeshReadsThem) {
   for (const std::string& msh : {ascii, binary}) {
     const MeshData as_read = read_mesh(msh);
     ASSERT_EQ(as_read.fields.size(), 2u);
+    ASSERT_EQ(as_read.cell_fields.size(), 1u);
     EXPECT_EQ(as_read.fields[1].components, 6);  // the symmetric tensor, back to 6
     EXPECT_FALSE(as_read.vertex_refs.empty());
     write_mesh(folder.file("as_read.mesh"), as_read);

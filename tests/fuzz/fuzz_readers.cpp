@@ -97,6 +97,10 @@ struct Counter : topotet::MeditVisitor {
   void node_values(topotet::VertId v, const double*) override {
     if (v >= vertices) std::abort();
   }
+  bool begin_cell_view(const std::string&, int components) override { return components >= 1 && components <= 9; }
+  void cell_values(std::uint64_t t, const double*) override {
+    if (t >= tets) std::abort();
+  }
 };
 
 void stream_as(const std::string& path, const topotet::MeshData& read, bool tets_only) {

@@ -30,13 +30,16 @@ struct MeditVisitor {
   virtual void corner(VertId /*v*/) {}
   virtual void required_vertex(VertId /*v*/) {}
   virtual void ridge(std::uint32_t /*segment_index*/) {}
-  // The node fields of a streamed .msh ($NodeData, after the elements; topotet/mesh_stream.h): a
-  // view begins with its name and component count, then gives (0-based vertex, values) entries in
-  // file order; the vertices it does not list have 0 there, and a view whose name came before
-  // replaces that field's values (the last time step wins), as read_mesh reads them. A visitor
-  // that does not take them returns false (the default): the stream is then refused, saying so.
+  // The fields of a streamed .msh ($NodeData and $ElementData, after the elements;
+  // topotet/mesh_stream.h): a view begins with its name and component count, then gives (0-based
+  // vertex or tet, values) entries in file order; the entities it does not list have 0 there, and
+  // a view whose name came before replaces that field's values (the last time step wins), as
+  // read_mesh reads them. A visitor that does not take them returns false (the default): the
+  // stream is then refused, saying so.
   virtual bool begin_node_view(const std::string& /*name*/, int /*components*/) { return false; }
   virtual void node_values(VertId /*v*/, const double* /*values*/) {}
+  virtual bool begin_cell_view(const std::string& /*name*/, int /*components*/) { return false; }
+  virtual void cell_values(std::uint64_t /*tet*/, const double* /*values*/) {}
 };
 
 // Streams a .mesh / .meshb (optionally .gz) through `visitor` with read_mesh's checks and messages (FILE:LINE,

@@ -16,11 +16,13 @@ namespace topotet {
 // and messages, and the entities read_mesh would give: the same vertices, tets and materials, and
 // the same triangles, segments, ridges, corners and required vertices (a .msh gives its vertex
 // refs as 0 and begin_tets its element count, an upper bound). The fields of a MEDIT file are in
-// its .sol (SolStream); those of a .msh come as node views (MeditVisitor::begin_node_view), raw:
-// the visitor applies read_mesh's two rules (a view "topotet:vertex_ref" of integers is the vertex
-// refs; a 9-component view exactly symmetric at every vertex is 6 components). Throws InputError
-// for another format, MSH 2, a .msh with $ElementData, and a .msh with $NodeData when the visitor
-// does not take node views: each says how to convert.
+// its .sol (SolStream); those of a .msh come as node and cell views (MeditVisitor::begin_node_view,
+// begin_cell_view), raw: the visitor applies read_mesh's two rules (a node view
+// "topotet:vertex_ref" of integers is the vertex refs; a 9-component view exactly symmetric
+// everywhere is 6 components). A cell view needs the tets' element tags consecutive (what Gmsh
+// writes): the tet of a tag is then tag - first, with nothing held. Throws InputError for another
+// format, MSH 2, views the visitor does not take, and cell views of a file whose tets are not
+// numbered consecutively: each says how to convert.
 void stream_mesh(const std::string& path, MeditVisitor& visitor, const ReadOptions& options, ReadNotes& notes);
 
 }  // namespace topotet

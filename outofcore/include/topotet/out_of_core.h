@@ -33,7 +33,7 @@
 // (outofcore/memory_budget.h); a limit below what the model needs for this input is refused before
 // any work, with the limit that would do. The report gives the measured peak (VmHWM).
 //
-// Input: MEDIT .mesh / .meshb (ASCII or binary; + .sol / .solb), optionally .gz, or Gmsh MSH 4.1 .msh / .msh.gz with node fields ($NodeData; not $ElementData), streamed
+// Input: MEDIT .mesh / .meshb (ASCII or binary; + .sol / .solb), optionally .gz, or Gmsh MSH 4.1 .msh / .msh.gz with its fields ($NodeData, $ElementData), streamed
 // (topotet/mesh_stream.h). Output: any format when the
 // pieces merged into one (it is then in memory and goes through write_mesh); MEDIT .mesh written
 // from the pieces, streaming, when the limit stopped the merges before (then the borders between

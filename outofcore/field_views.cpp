@@ -1,4 +1,4 @@
-#include "node_views.h"
+#include "field_views.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -13,31 +13,31 @@ namespace topotet::ooc {
 namespace {
 
 constexpr std::size_t kRun = std::size_t{1} << 15;     // doubles buffered before a write
-constexpr std::uint64_t kWindow = 4096;                 // vertices read back at once
+constexpr std::uint64_t kWindow = 4096;                 // entities read back at once
 constexpr const char* kVertexRefView = "topotet:vertex_ref";  // io/gmsh.cpp's name
 
 }  // namespace
 
-NodeViews::~NodeViews() {
+FieldViews::~FieldViews() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-void NodeViews::begin(const std::string& name, int components, std::uint64_t vertices) {
+void FieldViews::begin(const std::string& name, int components, std::uint64_t entities) {
   flush();
   if (fd_ < 0) {
     fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
     if (fd_ < 0) throw_scratch_error(path_, "cannot create");
   }
-  vertices_ = vertices;
+  entities_ = entities;
   View v{name, components, file_end_, true};
-  file_end_ += vertices * static_cast<std::uint64_t>(components) * sizeof(double);
+  file_end_ += entities * static_cast<std::uint64_t>(components) * sizeof(double);
   // Sparse: the region reads 0 until written.
   if (::ftruncate(fd_, static_cast<off_t>(file_end_)) != 0) throw_scratch_error(path_, "cannot size");
   views_.push_back(v);
   run_.clear();
 }
 
-void NodeViews::values(VertId v, const double* values) {
+void FieldViews::values(std::uint64_t v, const double* values) {
   View& view = views_.back();
   const auto c = static_cast<std::size_t>(view.components);
   if (c == 9 && (values[1] != values[3] || values[2] != values[6] || values[5] != values[7])) view.symmetric = false;
@@ -46,7 +46,7 @@ void NodeViews::values(VertId v, const double* values) {
   run_.insert(run_.end(), values, values + c);
 }
 
-void NodeViews::flush() {
+void FieldViews::flush() {
   if (run_.empty()) return;
   const View& view = views_.back();
   const std::size_t bytes = run_.size() * sizeof(double);
@@ -59,11 +59,11 @@ void NodeViews::flush() {
   run_.clear();
 }
 
-void NodeViews::read(void* into, std::uint64_t offset, std::size_t bytes) const {
+void FieldViews::read(void* into, std::uint64_t offset, std::size_t bytes) const {
   if (::pread(fd_, into, bytes, static_cast<off_t>(offset)) != static_cast<ssize_t>(bytes)) throw_scratch_error(path_, "cannot read");
 }
 
-void NodeViews::finish(std::vector<std::int32_t>& refs) {
+void FieldViews::finish(std::vector<std::int32_t>* vertex_refs) {
   flush();
   // One field per name: the first view's place, the last view's values.
   std::vector<const View*> last;
@@ -73,13 +73,13 @@ void NodeViews::finish(std::vector<std::int32_t>& refs) {
     else last.push_back(&v);
   }
   for (const View* v : last) {
-    if (v->name == kVertexRefView && v->components == 1) {
+    if (vertex_refs != nullptr && v->name == kVertexRefView && v->components == 1) {
       // Integers: the vertex refs (io/gmsh.cpp's finish_fields), else an ordinary field.
-      std::vector<std::int32_t> read_refs(vertices_);
+      std::vector<std::int32_t> read_refs(entities_);
       std::vector<double> window(kWindow);
       bool integers = true;
-      for (std::uint64_t first = 0; first < vertices_ && integers; first += kWindow) {
-        const std::size_t n = static_cast<std::size_t>(std::min(kWindow, vertices_ - first));
+      for (std::uint64_t first = 0; first < entities_ && integers; first += kWindow) {
+        const std::size_t n = static_cast<std::size_t>(std::min(kWindow, entities_ - first));
         read(window.data(), v->offset + first * sizeof(double), n * sizeof(double));
         for (std::size_t i = 0; i < n && integers; ++i) {
           const double x = window[i];
@@ -89,29 +89,27 @@ void NodeViews::finish(std::vector<std::int32_t>& refs) {
         }
       }
       if (integers) {
-        if (std::any_of(read_refs.begin(), read_refs.end(), [](std::int32_t x) { return x != 0; })) refs = std::move(read_refs);
+        if (std::any_of(read_refs.begin(), read_refs.end(), [](std::int32_t x) { return x != 0; }))
+          *vertex_refs = std::move(read_refs);
         continue;
       }
     }
     Window w;
     w.view = v;
     w.to_symmetric = v->components == 9 && v->symmetric;
-    VertexField f;
-    f.name = v->name;
-    f.components = w.to_symmetric ? 6 : v->components;
-    stride_ += f.components;
-    fields_.push_back(std::move(f));
+    fields_.push_back({v->name, w.to_symmetric ? 6 : v->components});
+    stride_ += fields_.back().components;
     windows_.push_back(std::move(w));
   }
 }
 
-void NodeViews::next_vertex(double* out) {
+void FieldViews::next(double* out) {
   const std::uint64_t v = next_++;
   const std::uint64_t first = v / kWindow * kWindow;
   for (Window& w : windows_) {
     const auto c = static_cast<std::size_t>(w.view->components);
     if (v == first || w.buffer.empty()) {
-      const std::size_t n = static_cast<std::size_t>(std::min(kWindow, vertices_ - first));
+      const std::size_t n = static_cast<std::size_t>(std::min(kWindow, entities_ - first));
       w.buffer.resize(n * c);
       read(w.buffer.data(), w.view->offset + first * c * sizeof(double), w.buffer.size() * sizeof(double));
     }
