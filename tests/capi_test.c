@@ -6,13 +6,8 @@
 
 #include <topotet/topotet_c.h>
 
-#define CHECK(cond)                                                   \
-  do {                                                                \
-    if (!(cond)) {                                                    \
-      fprintf(stderr, "%s:%d: failed: %s\n", __FILE__, __LINE__, #cond); \
-      return 1;                                                       \
-    }                                                                 \
-  } while (0)
+#include "capi_check.h"
+
 
 enum { N = 4, NV = (N + 1) * (N + 1) * (N + 1), NT = 6 * N * N * N };
 

@@ -27,6 +27,7 @@ program fortran_cell_fields_test
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use topotet
   use fortran_cell_fields_callbacks
+  use fortran_test_grid
   implicit none
   interface
     integer(c_size_t) function probe_sizeof(which) bind(c, name="topotet_probe_sizeof")
@@ -41,7 +42,6 @@ program fortran_cell_fields_test
     end function
   end interface
   integer, parameter :: n = 4, nv = (n + 1)**3, nt = 6 * n**3, nopt = 26
-  integer, parameter :: order(3, 6) = reshape([1, 2, 3, 2, 3, 1, 3, 1, 2, 1, 3, 2, 2, 1, 3, 3, 2, 1], [3, 6])
   real(c_double), target :: xyz(3, nv), density(nt), mass(1, nt), c_values(32), bad(nt)
   integer(c_int32_t), target :: tets(4, nt), material(nt), label(nt)
   integer(c_int), target :: progress_calls
@@ -58,7 +58,7 @@ program fortran_cell_fields_test
   real(c_double), allocatable, target :: out_mass(:)
   real(c_double), pointer :: out_density(:)
   character(:), allocatable :: name, message
-  integer :: i, j, k, p, s, t, c(3), v, m
+  integer :: i, t, m
   real(c_double) :: expected(nopt), mass_out
   integer(c_size_t) :: sizes(6)
 
@@ -87,27 +87,10 @@ program fortran_cell_fields_test
   end if
 
   ! --- the mesh and its cell arrays ---
-  do v = 1, nv
-    xyz(:, v) = [mod(v - 1, n + 1), mod((v - 1) / (n + 1), n + 1), (v - 1) / (n + 1)**2]
-  end do
-  t = 0
-  do k = 0, n - 1
-    do j = 0, n - 1
-      do i = 0, n - 1
-        do p = 1, 6
-          t = t + 1
-          c = [i, j, k]
-          tets(1, t) = vid(c)
-          do s = 1, 3
-            c(order(s, p)) = c(order(s, p)) + 1
-            tets(s + 1, t) = vid(c)
-          end do
-          if (p > 3) tets(3:4, t) = tets([4, 3], t)
-          material(t) = merge(2, 1, i < n / 2)
-          mass(1, t) = 1d0 + 0.37d0 * mod(t, 11) + 0.01d0 * k
-        end do
-      end do
-    end do
+  call kuhn_grid(n, xyz, tets)
+  do t = 1, nt
+    material(t) = merge(2, 1, mod((t - 1) / 6, n) < n / 2)  ! the cell's i < n / 2
+    mass(1, t) = 1d0 + 0.37d0 * mod(t, 11) + 0.01d0 * ((t - 1) / (6 * n * n))  ! + 0.01 k
   end do
   density = merge(0.5d0, 2d0, material == 2)
   label = 10 * material
@@ -187,11 +170,6 @@ program fortran_cell_fields_test
   deallocate (out_material, out_label, out_mass, name, message)
 
 contains
-
-  integer(c_int32_t) function vid(c)
-    integer, intent(in) :: c(3)
-    vid = c(1) + (n + 1) * (c(2) + (n + 1) * c(3)) + 1
-  end function
 
   ! The fields of a topotet_options in the order of topotet_probe_options, pointers as 1 / 0.
   function options_as_reals(o) result(r)

@@ -4,9 +4,9 @@
 program fortran_isosurface_test
   use, intrinsic :: iso_c_binding
   use topotet
+  use fortran_test_grid
   implicit none
   integer, parameter :: n = 6, nv = (n + 1)**3, nt = 6 * n**3
-  integer, parameter :: order(3, 6) = reshape([1, 2, 3, 2, 3, 1, 3, 1, 2, 1, 3, 2, 2, 1, 3, 3, 2, 1], [3, 6])
   real(c_double), target :: xyz(3, nv), r(nv)
   integer(c_int32_t), target :: tets(4, nt)
   character(kind=c_char, len=2), target :: name = "r"//c_null_char
@@ -19,29 +19,12 @@ program fortran_isosurface_test
   type(topotet_report) :: report
   type(c_ptr) :: mesh
   integer(c_int) :: status
-  integer :: i, j, k, p, s, t, c(3), v, on
+  integer :: t, v, on
   character(:), allocatable :: message
 
+  call kuhn_grid(n, xyz, tets)
   do v = 1, nv
-    xyz(:, v) = [mod(v - 1, n + 1), mod((v - 1) / (n + 1), n + 1), (v - 1) / (n + 1)**2]
     r(v) = norm2(xyz(:, v) - n / 2d0)
-  end do
-  t = 0
-  do k = 0, n - 1
-    do j = 0, n - 1
-      do i = 0, n - 1
-        do p = 1, 6
-          t = t + 1
-          c = [i, j, k]
-          tets(1, t) = vid(c)
-          do s = 1, 3
-            c(order(s, p)) = c(order(s, p)) + 1
-            tets(s + 1, t) = vid(c)
-          end do
-          if (p > 3) tets(3:4, t) = tets([4, 3], t)
-        end do
-      end do
-    end do
   end do
   field(1) = topotet_field_view(c_loc(name), 1, topotet_view(c_loc(r), TOPOTET_FLOAT64, 0))
   call topotet_mesh_arrays_init(in)
@@ -88,12 +71,5 @@ program fortran_isosurface_test
   call topotet_mesh_free(mesh)
   ! A main program's variables are saved: free them, or LeakSanitizer reports them at exit.
   deallocate (values, triangles, refs, message)
-
-contains
-
-  integer(c_int32_t) function vid(c)
-    integer, intent(in) :: c(3)
-    vid = c(1) + (n + 1) * (c(2) + (n + 1) * c(3)) + 1
-  end function
 
 end program fortran_isosurface_test

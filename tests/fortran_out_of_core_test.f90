@@ -6,9 +6,9 @@
 program fortran_out_of_core_test
   use, intrinsic :: iso_c_binding
   use topotet
+  use fortran_test_grid
   implicit none
   integer, parameter :: n = 12, nv = (n + 1)**3, nt = 6 * n**3
-  integer, parameter :: order(3, 6) = reshape([1, 2, 3, 2, 3, 1, 3, 1, 2, 1, 3, 2, 2, 1, 3, 3, 2, 1], [3, 6])
   real(c_double), target :: xyz(3, nv)
   integer(c_int32_t), target :: tets(4, nt)
   type(topotet_mesh_arrays) :: in
@@ -18,7 +18,7 @@ program fortran_out_of_core_test
   type(topotet_report) :: report
   type(c_ptr) :: mesh, out
   integer(c_int) :: status
-  integer :: i, j, k, p, s, t, c(3), v, unit, o, entries
+  integer :: unit, o, entries
   logical :: hit(nv)
   character(4096) :: folder
   character(:), allocatable :: input, output, map, message
@@ -27,27 +27,7 @@ program fortran_out_of_core_test
   input = trim(folder)//"/fortran_ooc_in.mesh"
   output = trim(folder)//"/fortran_ooc_out.mesh"
   map = trim(folder)//"/fortran_ooc_map.txt"
-  do v = 1, nv
-    xyz(:, v) = [real(mod(v - 1, n + 1), c_double), real(mod((v - 1) / (n + 1), n + 1), c_double), &
-                 real((v - 1) / (n + 1)**2, c_double)]
-  end do
-  t = 0
-  do k = 0, n - 1
-    do j = 0, n - 1
-      do i = 0, n - 1
-        do p = 1, 6
-          t = t + 1
-          c = [i, j, k]
-          tets(1, t) = vid(c)
-          do s = 1, 3
-            c(order(s, p)) = c(order(s, p)) + 1
-            tets(s + 1, t) = vid(c)
-          end do
-          if (p >= 4) tets(3:4, t) = tets([4, 3], t)
-        end do
-      end do
-    end do
-  end do
+  call kuhn_grid(n, xyz, tets)
   call topotet_mesh_arrays_init(in)
   in%vertex_count = nv
   in%positions = topotet_view(c_loc(xyz), TOPOTET_FLOAT64, 0)
@@ -92,12 +72,5 @@ program fortran_out_of_core_test
   if (entries /= nv .or. count(hit) /= report%vertices_after) error stop "the map is not one entry per input vertex, onto"
   print '("fortran_out_of_core_test: ", i0, " -> ", i0, " vertices in ", i0, " pieces: pass")', nv, &
     report%vertices_after, ooc_report%pieces
-
-contains
-
-  integer(c_int32_t) function vid(cell)
-    integer, intent(in) :: cell(3)
-    vid = int(1 + cell(1) + (n + 1) * (cell(2) + (n + 1) * cell(3)), c_int32_t)
-  end function
 
 end program
