@@ -43,10 +43,13 @@ class MeshPass final : public MeditVisitor {
         tets_(scratch.file_path("tets.bin")) {}
 
   void begin_vertices(std::uint64_t count) override {
-    if (on_vertex_count) on_vertex_count(count);
-    // The declared count may lie (a truncated or hostile file): reserve a bounded amount.
-    positions.reserve(std::min<std::uint64_t>(count, 1u << 22));
-    refs.reserve(std::min<std::uint64_t>(count, 1u << 22));
+    // A count checked against the memory limit is reserved whole: growing by doubling would hold
+    // the old and the new arrays at once (three times the positions) and keep up to twice the
+    // room. Unchecked, the declared count may lie (a truncated or hostile file): a bounded amount.
+    const bool checked = on_vertex_count && on_vertex_count(count);
+    const std::uint64_t reserve = checked ? count : std::min<std::uint64_t>(count, 1u << 22);
+    positions.reserve(reserve);
+    refs.reserve(reserve);
   }
   void vertex(const std::array<double, 3>& p, std::int32_t ref) override {
     positions.push_back(p);
@@ -86,7 +89,7 @@ class MeshPass final : public MeditVisitor {
 
   void finish() { tets_.close(); }
 
-  std::function<void(std::uint64_t)> on_vertex_count;
+  std::function<bool(std::uint64_t)> on_vertex_count;
   std::vector<std::array<double, 3>> positions;
   std::vector<std::int32_t> refs;
   std::vector<Triangle> triangles;
@@ -168,7 +171,7 @@ class FieldWindow {
 CutResult cut_input(const std::string& input, ScratchFolder& scratch,
                     const std::function<std::uint32_t(const InputCounts&)>& choose_pieces,
                     const std::function<void(const std::string&)>& log,
-                    const std::function<void(std::uint64_t)>& on_vertex_count, const CellRemapOptions& cell_kinds) {
+                    const std::function<bool(std::uint64_t)>& on_vertex_count, const CellRemapOptions& cell_kinds) {
   using Clock = std::chrono::steady_clock;
   const auto say = [&](const std::string& s) {
     if (log) log(s);

@@ -290,6 +290,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   };
   const auto on_vertices = [&](std::uint64_t vertices) {
     if (limited) budget.check_vertices(vertices, input);
+    return limited;
   };
   const auto cut_start = Clock::now();
   CutResult cut = cut_input(input, scratch, choose, ooc.log, on_vertices, ooc.cell_remap);
