@@ -72,5 +72,7 @@ program fortran_out_of_core_test
   if (entries /= nv .or. count(hit) /= report%vertices_after) error stop "the map is not one entry per input vertex, onto"
   print '("fortran_out_of_core_test: ", i0, " -> ", i0, " vertices in ", i0, " pieces: pass")', nv, &
     report%vertices_after, ooc_report%pieces
+  ! A main program's variables are saved: free them, or LeakSanitizer reports them at exit.
+  deallocate (input, output, map, message)
 
 end program
