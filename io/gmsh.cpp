@@ -669,8 +669,8 @@ class GmshReader {
     return h;
   }
 
-  // Streamed (out of core), the cell fields of a .msh are not read: an element tag -> tet map
-  // would take 8 bytes a tet (and a visitor that takes no node views refuses those too).
+  // Streamed, a view goes to the visitor only if it takes views of that kind; otherwise the stream
+  // is refused here, saying how to convert the file.
   void refuse_streamed_fields(const std::string& section) {
     if (visitor_ != nullptr)
       r_.fail(section + ": the " + (section == "$NodeData" ? "node" : "cell") +
@@ -742,9 +742,8 @@ class GmshReader {
   }
   bool is_dropped_volume(std::int64_t type) const { return options_.tets_only && type >= 5 && type <= 7; }
 
-  // $ElementData: a view on the tets (tags of other elements are an error, those of left-out
-  // volume elements are skipped); tets without a value get 0; last time step wins, as $NodeData.
-  // $ElementData into the visitor: the tet of a tag is tag - first (consecutive tags only).
+  // $ElementData into the visitor: the tet of a tag is tag - first, which needs the tets' tags
+  // consecutive (what Gmsh and topotet write); a tag -> tet map would hold 8 bytes a tet.
   void stream_element_data() {
     const ViewHeader h = read_view_header("$ElementData", "cellfield" + std::to_string(streamed_cell_fields_.size()));
     if (!visitor_->begin_cell_view(h.name, static_cast<int>(h.components))) refuse_streamed_fields("$ElementData");
@@ -774,6 +773,8 @@ class GmshReader {
                    : static_cast<std::uint64_t>(r_.read_int("$ElementData element tag", 1, std::numeric_limits<std::int64_t>::max()));
   }
 
+  // $ElementData: a view on the tets (tags of other elements are an error, those of left-out
+  // volume elements are skipped); tets without a value get 0; last time step wins, as $NodeData.
   void read_element_data() {
     if (visitor_ != nullptr) return stream_element_data();
     const ViewHeader h = read_view_header("$ElementData", "cellfield" + std::to_string(m_.cell_fields.size()));
