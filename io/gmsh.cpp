@@ -56,7 +56,6 @@ constexpr std::string_view kRefPrefix = "topotet:ref=";
 constexpr std::string_view kCornersName = "topotet:corners";
 constexpr std::string_view kRequiredName = "topotet:required_vertices";
 constexpr std::string_view kRidgesName = "topotet:ridges";
-constexpr std::string_view kVertexRefField = "topotet:vertex_ref";
 
 constexpr int kLine = 1, kTriangle = 2, kTet = 4, kPoint = 15;
 
@@ -1038,13 +1037,8 @@ class GmshReader {
 
   bool as_vertex_refs(const VertexField& f) {
     std::vector<std::int32_t> refs(f.values.size());
-    for (std::size_t i = 0; i < refs.size(); ++i) {
-      const double x = f.values[i];
-      if (!(x >= std::numeric_limits<std::int32_t>::min() && x <= std::numeric_limits<std::int32_t>::max()) ||
-          x != static_cast<double>(static_cast<std::int32_t>(x)))
-        return false;
-      refs[i] = static_cast<std::int32_t>(x);
-    }
+    for (std::size_t i = 0; i < refs.size(); ++i)
+      if (!exact_int32(f.values[i], refs[i])) return false;
     if (std::any_of(refs.begin(), refs.end(), [](std::int32_t x) { return x != 0; })) m_.vertex_refs = std::move(refs);
     return true;
   }
@@ -1053,16 +1047,10 @@ class GmshReader {
   template <class Field>
   static void to_symmetric_if_exact(Field& f) {
     const std::size_t n = f.values.size() / 9;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double* a = &f.values[9 * i];
-      if (a[1] != a[3] || a[2] != a[6] || a[5] != a[7]) return;
-    }
+    for (std::size_t i = 0; i < n; ++i)
+      if (!is_symmetric_3x3(&f.values[9 * i])) return;
     std::vector<double> sym(6 * n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double* a = &f.values[9 * i];
-      const double s[6] = {a[0], a[1], a[4], a[2], a[5], a[8]};
-      std::copy(s, s + 6, &sym[6 * i]);
-    }
+    for (std::size_t i = 0; i < n; ++i) symmetric_components(&f.values[9 * i], &sym[6 * i]);
     f.values = std::move(sym);
     f.components = 6;
   }
@@ -1538,3 +1526,21 @@ void write_gmsh(const std::string& path, const MeshData& m, bool binary, bool ms
 }
 
 }  // namespace topotet::io
+
+// read_mesh's rules for a .msh's views (topotet/mesh_stream.h), shared with stream visitors.
+namespace topotet {
+
+bool exact_int32(double x, std::int32_t& out) {
+  if (!(x >= std::numeric_limits<std::int32_t>::min() && x <= std::numeric_limits<std::int32_t>::max())) return false;
+  out = static_cast<std::int32_t>(x);
+  return x == static_cast<double>(out);
+}
+
+bool is_symmetric_3x3(const double* a) { return a[1] == a[3] && a[2] == a[6] && a[5] == a[7]; }
+
+void symmetric_components(const double* a, double* six) {
+  const double s[6] = {a[0], a[1], a[4], a[2], a[5], a[8]};
+  std::copy(s, s + 6, six);
+}
+
+}  // namespace topotet

@@ -5,16 +5,15 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <limits>
 
 #include "scratch.h"
+#include "topotet/mesh_stream.h"
 
 namespace topotet::ooc {
 namespace {
 
 constexpr std::size_t kRun = std::size_t{1} << 15;     // doubles buffered before a write
 constexpr std::uint64_t kWindow = 4096;                 // entities read back at once
-constexpr const char* kVertexRefView = "topotet:vertex_ref";  // io/gmsh.cpp's name
 
 }  // namespace
 
@@ -40,7 +39,7 @@ void FieldViews::begin(const std::string& name, int components, std::uint64_t en
 void FieldViews::values(std::uint64_t v, const double* values) {
   View& view = views_.back();
   const auto c = static_cast<std::size_t>(view.components);
-  if (c == 9 && (values[1] != values[3] || values[2] != values[6] || values[5] != values[7])) view.symmetric = false;
+  if (c == 9 && !is_symmetric_3x3(values)) view.symmetric = false;
   if (!run_.empty() && (v != run_first_ + run_.size() / c || run_.size() + c > kRun)) flush();
   if (run_.empty()) run_first_ = v;
   run_.insert(run_.end(), values, values + c);
@@ -73,7 +72,7 @@ void FieldViews::finish(std::vector<std::int32_t>* vertex_refs) {
     else last.push_back(&v);
   }
   for (const View* v : last) {
-    if (vertex_refs != nullptr && v->name == kVertexRefView && v->components == 1) {
+    if (vertex_refs != nullptr && v->name == kVertexRefField && v->components == 1) {
       // Integers: the vertex refs (io/gmsh.cpp's finish_fields), else an ordinary field.
       std::vector<std::int32_t> read_refs(entities_);
       std::vector<double> window(kWindow);
@@ -81,12 +80,7 @@ void FieldViews::finish(std::vector<std::int32_t>* vertex_refs) {
       for (std::uint64_t first = 0; first < entities_ && integers; first += kWindow) {
         const std::size_t n = static_cast<std::size_t>(std::min(kWindow, entities_ - first));
         read(window.data(), v->offset + first * sizeof(double), n * sizeof(double));
-        for (std::size_t i = 0; i < n && integers; ++i) {
-          const double x = window[i];
-          integers = x >= std::numeric_limits<std::int32_t>::min() && x <= std::numeric_limits<std::int32_t>::max() &&
-                     x == static_cast<double>(static_cast<std::int32_t>(x));
-          read_refs[first + i] = integers ? static_cast<std::int32_t>(x) : 0;
-        }
+        for (std::size_t i = 0; i < n && integers; ++i) integers = exact_int32(window[i], read_refs[first + i]);
       }
       if (integers) {
         if (std::any_of(read_refs.begin(), read_refs.end(), [](std::int32_t x) { return x != 0; }))
@@ -115,8 +109,8 @@ void FieldViews::next(double* out) {
     }
     const double* a = &w.buffer[static_cast<std::size_t>(v - first) * c];
     if (w.to_symmetric) {
-      const double s[6] = {a[0], a[1], a[4], a[2], a[5], a[8]};
-      out = std::copy(s, s + 6, out);
+      symmetric_components(a, out);
+      out += 6;
     } else {
       out = std::copy(a, a + c, out);
     }

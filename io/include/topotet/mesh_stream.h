@@ -5,7 +5,9 @@
 // points of a .msh, whose refs come from their entities).
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "topotet/io.h"
 #include "topotet/medit_stream.h"
@@ -24,5 +26,15 @@ namespace topotet {
 // format, MSH 2, views the visitor does not take, and cell views of a file whose tets are not
 // numbered consecutively: each says how to convert.
 void stream_mesh(const std::string& path, MeditVisitor& visitor, const ReadOptions& options, ReadNotes& notes);
+
+// read_mesh's two rules for the views of a .msh, shared with a visitor that takes them raw:
+//  - the node view named kVertexRefField, one component, every value an exact int32: the vertex refs;
+//  - a 9-component view exactly symmetric everywhere: 6 components in MEDIT's order.
+inline constexpr std::string_view kVertexRefField = "topotet:vertex_ref";
+// x as an int32 when it is exactly one.
+bool exact_int32(double x, std::int32_t& out);
+// Whether the row-major 3x3 `a` is exactly symmetric, and its 6 components (xx, xy, yy, xz, yz, zz).
+bool is_symmetric_3x3(const double* a);
+void symmetric_components(const double* a, double* six);
 
 }  // namespace topotet
