@@ -1,10 +1,6 @@
 #include "field_views.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 
 #include "scratch.h"
 #include "topotet/mesh_stream.h"
@@ -17,21 +13,13 @@ constexpr std::uint64_t kWindow = 4096;                 // entities read back at
 
 }  // namespace
 
-FieldViews::~FieldViews() {
-  if (fd_ >= 0) ::close(fd_);
-}
-
 void FieldViews::begin(const std::string& name, int components, std::uint64_t entities) {
   flush();
-  if (fd_ < 0) {
-    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-    if (fd_ < 0) throw_scratch_error(path_, "cannot create");
-  }
+  if (!file_) file_.emplace(path_);
   entities_ = entities;
   View v{name, components, file_end_, true};
   file_end_ += entities * static_cast<std::uint64_t>(components) * sizeof(double);
-  // Sparse: the region reads 0 until written.
-  if (::ftruncate(fd_, static_cast<off_t>(file_end_)) != 0) throw_scratch_error(path_, "cannot size");
+  file_->resize(file_end_);  // sparse: the region reads 0 until written
   views_.push_back(v);
   run_.clear();
 }
@@ -48,18 +36,9 @@ void FieldViews::values(std::uint64_t v, const double* values) {
 void FieldViews::flush() {
   if (run_.empty()) return;
   const View& view = views_.back();
-  const std::size_t bytes = run_.size() * sizeof(double);
-  const std::uint64_t at = view.offset + run_first_ * static_cast<std::uint64_t>(view.components) * sizeof(double);
-  const ssize_t wrote = ::pwrite(fd_, run_.data(), bytes, static_cast<off_t>(at));
-  if (wrote != static_cast<ssize_t>(bytes)) {
-    if (wrote >= 0) errno = ENOSPC;
-    throw_scratch_error(path_, "cannot write");
-  }
+  file_->write_at(run_.data(), run_.size() * sizeof(double),
+                  view.offset + run_first_ * static_cast<std::uint64_t>(view.components) * sizeof(double));
   run_.clear();
-}
-
-void FieldViews::read(void* into, std::uint64_t offset, std::size_t bytes) const {
-  if (::pread(fd_, into, bytes, static_cast<off_t>(offset)) != static_cast<ssize_t>(bytes)) throw_scratch_error(path_, "cannot read");
 }
 
 void FieldViews::finish(std::vector<std::int32_t>* vertex_refs) {
@@ -79,7 +58,7 @@ void FieldViews::finish(std::vector<std::int32_t>* vertex_refs) {
       bool integers = true;
       for (std::uint64_t first = 0; first < entities_ && integers; first += kWindow) {
         const std::size_t n = static_cast<std::size_t>(std::min(kWindow, entities_ - first));
-        read(window.data(), v->offset + first * sizeof(double), n * sizeof(double));
+        file_->read_at(window.data(), n * sizeof(double), v->offset + first * sizeof(double));
         for (std::size_t i = 0; i < n && integers; ++i) integers = exact_int32(window[i], read_refs[first + i]);
       }
       if (integers) {
@@ -105,7 +84,7 @@ void FieldViews::next(double* out) {
     if (v == first || w.buffer.empty()) {
       const std::size_t n = static_cast<std::size_t>(std::min(kWindow, entities_ - first));
       w.buffer.resize(n * c);
-      read(w.buffer.data(), w.view->offset + first * c * sizeof(double), w.buffer.size() * sizeof(double));
+      file_->read_at(w.buffer.data(), w.buffer.size() * sizeof(double), w.view->offset + first * c * sizeof(double));
     }
     const double* a = &w.buffer[static_cast<std::size_t>(v - first) * c];
     if (w.to_symmetric) {

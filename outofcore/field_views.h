@@ -14,19 +14,17 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "topotet/mesh_data.h"
+#include "scratch.h"
 
 namespace topotet::ooc {
 
 class FieldViews {
  public:
   explicit FieldViews(std::string path) : path_(std::move(path)) {}
-  ~FieldViews();
-  FieldViews(const FieldViews&) = delete;
-  FieldViews& operator=(const FieldViews&) = delete;
 
   bool empty() const { return views_.empty(); }
   // A view of `entities` vertices (tets) begins (the scratch file is created at the first).
@@ -58,10 +56,9 @@ class FieldViews {
     std::vector<double> buffer;  // kWindow vertices of the view's components
   };
   void flush();
-  void read(void* into, std::uint64_t offset, std::size_t bytes) const;
 
   std::string path_;
-  int fd_ = -1;
+  std::optional<ScratchFile> file_;  // created by the first view
   std::uint64_t entities_ = 0, file_end_ = 0;
   std::vector<View> views_;
   // The current run: consecutive entities of the current view, written in one call.

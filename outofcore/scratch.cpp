@@ -1,5 +1,6 @@
 #include "scratch.h"
 
+#include <fcntl.h>
 #include <stdlib.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -121,6 +122,30 @@ void ScratchWriter::close() {
     errno = flushed ? errno : saved;
     fail("cannot write");
   }
+}
+
+ScratchFile::ScratchFile(const std::string& path) : path_(path) {
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+  if (fd_ < 0) throw_scratch_error(path_, "cannot create");
+}
+
+ScratchFile::~ScratchFile() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void ScratchFile::resize(std::uint64_t bytes) {
+  if (::ftruncate(fd_, static_cast<off_t>(bytes)) != 0) throw_scratch_error(path_, "cannot size");
+}
+
+void ScratchFile::write_at(const void* data, std::size_t bytes, std::uint64_t offset) {
+  const ssize_t wrote = ::pwrite(fd_, data, bytes, static_cast<off_t>(offset));
+  if (wrote == static_cast<ssize_t>(bytes)) return;
+  if (wrote >= 0) errno = ENOSPC;  // a short write: the disk filled up
+  throw_scratch_error(path_, "cannot write");
+}
+
+void ScratchFile::read_at(void* data, std::size_t bytes, std::uint64_t offset) const {
+  if (::pread(fd_, data, bytes, static_cast<off_t>(offset)) != static_cast<ssize_t>(bytes)) throw_scratch_error(path_, "cannot read");
 }
 
 ScratchReader::ScratchReader(const std::string& path) : path_(path) {

@@ -83,6 +83,24 @@ class ScratchReader {
   std::FILE* file_ = nullptr;
 };
 
+// A scratch file written and read in place (pwrite / pread): the vertex map and the field views,
+// whose entries come in another order than they are read. Created empty; resize() extends it
+// sparse (unwritten bytes read 0 and take no disk). Every failure throws InputError naming the folder.
+class ScratchFile {
+ public:
+  explicit ScratchFile(const std::string& path);
+  ~ScratchFile();
+  ScratchFile(const ScratchFile&) = delete;
+  ScratchFile& operator=(const ScratchFile&) = delete;
+  void resize(std::uint64_t bytes);
+  void write_at(const void* data, std::size_t bytes, std::uint64_t offset);
+  void read_at(void* data, std::size_t bytes, std::uint64_t offset) const;
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+};
+
 // InputError "scratch folder DIR: WHAT NAME: why" for the errno of a failed call on `path` (a full
 // disk and a file-size limit said in words).
 [[noreturn]] void throw_scratch_error(const std::string& path, const char* what);

@@ -1,13 +1,8 @@
 #include "vertex_map_log.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <stdexcept>
 
-#include "scratch.h"
 #include "topotet/vertex_map_file.h"
 
 namespace topotet::ooc {
@@ -18,16 +13,8 @@ constexpr std::size_t kWindow = std::size_t{1} << 16;  // entries read or writte
 
 }  // namespace
 
-VertexMapLog::VertexMapLog(const std::string& path, std::uint64_t input_vertices)
-    : path_(path), count_(input_vertices) {
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-  if (fd_ < 0) throw_scratch_error(path_, "cannot create");
-  // Sparse: unwritten entries read as 0 and take no disk.
-  if (::ftruncate(fd_, static_cast<off_t>(count_ * sizeof(std::uint64_t))) != 0) throw_scratch_error(path_, "cannot size");
-}
-
-VertexMapLog::~VertexMapLog() {
-  if (fd_ >= 0) ::close(fd_);
+VertexMapLog::VertexMapLog(const std::string& path, std::uint64_t input_vertices) : file_(path), count_(input_vertices) {
+  file_.resize(count_ * sizeof(std::uint64_t));  // sparse: unwritten entries read as 0
 }
 
 // Sorted by global id, runs of consecutive ids go out in one call (a piece's vertices come from
@@ -39,12 +26,7 @@ void VertexMapLog::put(std::vector<std::pair<GlobalId, std::uint64_t>> entries) 
     const GlobalId first = entries[i].first;
     run.clear();
     while (i < entries.size() && entries[i].first == first + run.size() && run.size() < kWindow) run.push_back(entries[i++].second);
-    const std::size_t bytes = run.size() * sizeof(std::uint64_t);
-    const ssize_t wrote = ::pwrite(fd_, run.data(), bytes, static_cast<off_t>(std::uint64_t{first} * sizeof(std::uint64_t)));
-    if (wrote != static_cast<ssize_t>(bytes)) {
-      if (wrote >= 0) errno = ENOSPC;
-      throw_scratch_error(path_, "cannot write");
-    }
+    file_.write_at(run.data(), run.size() * sizeof(std::uint64_t), std::uint64_t{first} * sizeof(std::uint64_t));
   }
 }
 
@@ -73,9 +55,7 @@ void VertexMapLog::record_output_index(const std::vector<VertId>& output_index) 
 
 void VertexMapLog::write(const std::string& path, const std::vector<std::uint8_t>& used) const {
   const auto read = [&](std::uint64_t* into, std::uint64_t first, std::size_t n) {
-    const std::size_t bytes = n * sizeof(std::uint64_t);
-    if (::pread(fd_, into, bytes, static_cast<off_t>(first * sizeof(std::uint64_t))) != static_cast<ssize_t>(bytes))
-      throw_scratch_error(path_, "cannot read");
+    file_.read_at(into, n * sizeof(std::uint64_t), first * sizeof(std::uint64_t));
   };
   VertexMapWriter writer(path, count_);
   std::vector<std::uint64_t> window(kWindow);

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "piece.h"
+#include "scratch.h"
 
 namespace topotet::ooc {
 
@@ -30,9 +31,6 @@ class VertexMapLog {
  public:
   // Creates (sparse) `path`, a scratch file; throws InputError naming the scratch folder.
   VertexMapLog(const std::string& path, std::uint64_t input_vertices);
-  ~VertexMapLog();
-  VertexMapLog(const VertexMapLog&) = delete;
-  VertexMapLog& operator=(const VertexMapLog&) = delete;
 
   // One piece's run: `merged` pairs (removed vertex, the vertex it merged into), global ids.
   void record_merges(std::vector<std::pair<GlobalId, GlobalId>> merged);
@@ -46,9 +44,8 @@ class VertexMapLog {
 
  private:
   void put(std::vector<std::pair<GlobalId, std::uint64_t>> entries);  // sorted in place, then written
-  std::string path_;
+  ScratchFile file_;
   std::uint64_t count_ = 0;
-  int fd_ = -1;
 };
 
 }  // namespace topotet::ooc
