@@ -26,7 +26,6 @@ class MeditInput {
   MeditInput(const std::string& path, bool binary);
 
   bool binary() const { return binary_; }
-  const std::string& path() const { return r_.path(); }
 
   // The next section's keyword (ASCII spelling: "Vertices", "SolAtTetrahedra", "Code 77" for a
   // binary code without a name); empty at the end (End, or in ASCII the end of the file; a
