@@ -526,6 +526,8 @@ topotet_status to_simplify_options(const topotet_options* options, topotet::Simp
 // The library's counters into the C report (the fields every entry point fills the same way).
 void fill_report(const topotet::Report& r, topotet_report* report) {
   report->status = to_c(r.status);
+  report->field_bounds = r.field_bounds ? 1 : 0;
+  report->field_bound_rel = r.field_bound_rel;
   report->vertices_before = static_cast<std::int64_t>(r.vertices_before);
   report->vertices_after = static_cast<std::int64_t>(r.vertices_after);
   report->tets_before = static_cast<std::int64_t>(r.tets_before);
@@ -617,8 +619,6 @@ topotet_status topotet_simplify(topotet_mesh* mesh, const topotet_options* optio
     mesh->field_bound = r.field_bounds ? r.field_bound : std::vector<double>{};
     if (report != nullptr) {
       *report = topotet_report{};
-      report->field_bounds = r.field_bounds ? 1 : 0;
-      report->field_bound_rel = r.field_bound_rel;
       report->cell_overlap_pairs = static_cast<std::int64_t>(remapped.overlap_pairs);
       report->cell_nearest_new_tets = static_cast<std::int64_t>(remapped.nearest_new_tets);
       report->cell_nearest_original_tets = static_cast<std::int64_t>(remapped.nearest_original_tets);

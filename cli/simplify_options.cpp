@@ -232,8 +232,7 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
                                       "benchmarks); without --memory-limit nothing limits the merges")
                           ->check(CLI::Range(1u, 4096u)));
   for (CLI::Option* out_of_core : {memory_limit, pieces})
-    for (const char* not_out_of_core : {"--levels", "--hierarchy", "--levels-error", "--isosurface", "--field-bounds",
-                                        "--max-field-error", "--max-field-error-rel", "--feature-ref"})
+    for (const char* not_out_of_core : {"--levels", "--hierarchy", "--levels-error", "--isosurface", "--feature-ref"})
       out_of_core->excludes(not_out_of_core);
   scratch->check(CLI::ExistingDirectory);
   return set;

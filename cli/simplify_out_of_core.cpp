@@ -42,6 +42,11 @@ Json json_report(const SimplifyArgs& args, const OutOfCoreOptions& ooc, const Ou
                           {"peak_rss_bytes", r.peak_rss_bytes},
                           {"scratch_peak_bytes", r.scratch_peak_bytes}}},
               {"tolerance", rep.tolerance},
+              {"field_bounds", rep.field_bounds ? Json{{"max_bound_rel", rep.field_bound_rel},
+                                                       {"bound", rep.field_bound},
+                                                       {"bytes", rep.field_bounds_bytes},
+                                                       {"setup_seconds", rep.field_bounds_setup_seconds}}
+                                                 : Json()},
               {"vertex_map", ooc.vertex_map_path},
               {"topology", "not checked: topotet check IN OUT"}};
 }
@@ -96,6 +101,17 @@ int run_simplify_out_of_core(const SimplifyArgs& args) {
                  ooc.memory_limit_bytes ? (", limit " + format_bytes(ooc.memory_limit_bytes)).c_str() : "",
                  format_bytes(r.scratch_peak_bytes).c_str());
     std::fprintf(out, "tolerance    %s (mesh units), shared by the levels\n", format_number(rep.tolerance).c_str());
+    if (rep.field_bounds) {
+      // The bound holds at every input vertex, as in core (engine/guarantees/field_bounds.h).
+      std::string per_component;
+      for (std::size_t c = 0; c < rep.field_bound.size(); ++c)
+        per_component += (c ? ", " : "") + format_number(rep.field_bound[c]);
+      std::fprintf(out, "field bound  %s of the range at most, at every input vertex (per component, field units: %s)%s\n",
+                   format_number(rep.field_bound_rel).c_str(), per_component.c_str(),
+                   rep.rejected_by(RejectReason::kFieldError) > 0
+                       ? ("; the limit refused " + format_count(rep.rejected_by(RejectReason::kFieldError)) + " collapses").c_str()
+                       : "");
+    }
     std::fprintf(out, "topology     not checked in this run (the input is never whole in memory): topotet check %s %s%s\n",
                  args.input.c_str(), args.output.c_str(), rep.tets_before > 2'000'000 ? " --fast" : "");
     if (!ooc.vertex_map_path.empty())

@@ -101,6 +101,18 @@ std::string check_against_mesh(const SimplifyOptions& o, const MeshModel& mesh) 
     if (std::none_of(mesh.fields.begin(), mesh.fields.end(), [&](const FieldInfo& f) { return f.name == name; }))
       return "field_weights: the mesh has no field named '" + name + "'";
   }
+  if (const FieldBoundSamples* f = o.field_samples; f != nullptr && f->components != 0) {
+    const auto k = static_cast<std::size_t>(mesh.field_stride());
+    const std::size_t n = f->size();
+    if (static_cast<std::size_t>(f->components) != k || f->range.size() != k || f->magnitude.size() != k)
+      return "field_samples: " + std::to_string(f->components) + " components, the mesh has " + std::to_string(k);
+    if (f->positions.size() != 3 * n || f->values.size() != k * n || f->bounds.size() != k * mesh.tet_capacity())
+      return "field_samples: the positions, values and bounds do not match the sample and tet counts";
+    for (std::size_t w = 0; w < n; ++w)
+      if (f->tet[w] >= mesh.tet_capacity() || mesh.is_dead_tet(f->tet[w]))
+        return "field_samples: sample " + std::to_string(w) + " names tet " + std::to_string(f->tet[w]) +
+               ", not a tet of the mesh";
+  }
   return {};
 }
 
@@ -178,7 +190,11 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
     target = std::max<std::uint64_t>(target, 4);
     parallel::run_with_threads(options.num_threads, [&] {
       // Neighbours in space become neighbours in memory: every phase walks stars (reorder.h).
-      reorder_for_locality(mesh, vertex_map != nullptr || log != nullptr || given.quadrics_in != nullptr ? &new2old : nullptr);
+      const bool want_bounds = options.max_field_error > 0.0 || options.max_field_error_rel > 0.0 || options.track_field_bounds;
+      const bool carried_bounds = want_bounds && mesh.field_stride() > 0 && options.field_samples != nullptr;
+      std::vector<TetId> tet_old2new;  // for the carried samples' tets
+      reorder_for_locality(mesh, vertex_map != nullptr || log != nullptr || given.quadrics_in != nullptr ? &new2old : nullptr,
+                           carried_bounds && options.field_samples->components != 0 ? &tet_old2new : nullptr);
       if (new2old_out != nullptr) *new2old_out = new2old;
       if (given.quadrics_in != nullptr) {
         // Per vertex in the caller's order -> per vertex in the renumbered order; a wrong count is
@@ -237,10 +253,20 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
       // Field error bounds, only when asked for (they cost memory and a point location per sample
       // of every checked stencil). Taken after the renumbering: they are keyed by tet and vertex ids.
       std::unique_ptr<FieldBounds> bounds;
-      const bool want_bounds = options.max_field_error > 0.0 || options.max_field_error_rel > 0.0 || options.track_field_bounds;
       if (want_bounds && mesh.field_stride() > 0) {
         const auto setup_start = std::chrono::steady_clock::now();
-        bounds = std::make_unique<FieldBounds>(mesh, options.max_field_error, options.max_field_error_rel);
+        if (carried_bounds && options.field_samples->components != 0) {
+          FieldBoundSamples& carried = *options.field_samples;
+          const std::size_t k = static_cast<std::size_t>(carried.components);
+          std::vector<float> bound(tet_old2new.size() * k, 0.0f);  // [new tet * k + c]
+          for (std::size_t t = 0; t < tet_old2new.size(); ++t)
+            if (tet_old2new[t] != kInvalid) std::copy_n(carried.bounds.begin() + t * k, k, bound.begin() + tet_old2new[t] * k);
+          carried.bounds = std::move(bound);
+          for (std::uint32_t& t : carried.tet) t = tet_old2new[t];
+          bounds = std::make_unique<FieldBounds>(mesh, std::move(carried), options.max_field_error, options.max_field_error_rel);
+        } else {
+          bounds = std::make_unique<FieldBounds>(mesh, options.max_field_error, options.max_field_error_rel);
+        }
         kernel.field_bounds = bounds.get();
         report.field_bounds = true;
         report.field_bounds_bytes = bounds->memory_bytes();
@@ -308,6 +334,7 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
           if (mesh.flags[t] & tet_flag::kDead) continue;
           for (int c = 0; c < bounds->components(); ++c) report.tet_field_bound.push_back(bounds->bound(t, c));
         }
+        if (carried_bounds) bounds->release(mesh, *options.field_samples);
       }
       // Said only where the census does not clear it (after relaxing, the tolerance has refused
       // collapses on the way and may hold few of the vertices left: under 5%, it is not said).

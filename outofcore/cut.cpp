@@ -304,6 +304,9 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
 
   // Build the pieces.
   result.holders.assign(counts.vertices, 0);
+  result.used_min.assign(counts.vertex_stride, std::numeric_limits<double>::infinity());
+  result.used_max.assign(counts.vertex_stride, -std::numeric_limits<double>::infinity());
+  result.used_magnitude.assign(counts.vertex_stride, 0.0);
   std::vector<VertId> local(counts.vertices, kInvalid);
   std::vector<std::uint8_t> triangle_held(pass.triangles.size(), 0), segment_held(pass.segments.size(), 0);
   FieldWindow vertex_fields(counts.vertex_stride > 0 ? scratch.file_path("vertex-fields.bin") : std::string(),
@@ -345,6 +348,12 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
       for (GlobalId g : piece.global_ids) {
         const double* values = vertex_fields.at(g) + offset;
         field.values.insert(field.values.end(), values, values + field.components);
+        for (int k = 0; k < field.components; ++k) {
+          const std::size_t c = offset + static_cast<std::size_t>(k);
+          result.used_min[c] = std::min(result.used_min[c], values[k]);
+          result.used_max[c] = std::max(result.used_max[c], values[k]);
+          result.used_magnitude[c] = std::max(result.used_magnitude[c], std::fabs(values[k]));
+        }
       }
       offset += field.components;
       m.fields.push_back(std::move(field));

@@ -47,6 +47,9 @@ struct CutResult {
   std::vector<std::uint8_t> holders;
   CostUnits units;      // the whole input's (cost_shares: every piece's costs in the same units)
   double diagonal = 0;  // of the bounding box
+  // [vertex field component] over the vertices a tet uses (the field error bounds' range and
+  // magnitude, as an in-core run takes them; units above count every vertex of the file).
+  std::vector<double> used_min, used_max, used_magnitude;
   std::vector<VertexField> vertex_fields;  // layouts (no values)
   std::vector<CellField> cell_fields;
 };

@@ -47,6 +47,11 @@ std::uint64_t bytes_per_piece_tet(const InputCounts& counts) {
   return kBytesPerPieceTet + (3 * quadric_bytes + kTetsPerVertex - 1) / kTetsPerVertex;
 }
 
+std::uint64_t bytes_per_field_sample(const InputCounts& counts) {
+  const auto k = static_cast<std::uint64_t>(std::max(counts.vertex_stride, 0));
+  return 2 * (32 + 8 * k);
+}
+
 std::uint64_t MemoryBudget::usable() const {
   const auto after_headroom = static_cast<std::uint64_t>(static_cast<double>(limit) * (1.0 - kHeadroom));
   return after_headroom > baseline ? after_headroom - baseline : 0;
@@ -66,9 +71,12 @@ std::uint64_t MemoryBudget::piece_tets(const InputCounts& counts) const {
   // The cut phase and the levels do not overlap: a piece must fit beside what each holds. A piece
   // built during the cut costs its arrays only (~1/8 of a simplification's bytes per tet).
   const std::uint64_t cut_held = counts.vertices * kCutBytesPerVertex + counts.triangles * 16 + counts.segments * 12;
-  const std::uint64_t level_held = counts.vertices * kLevelBytesPerVertex;
+  const bool samples = field_samples && counts.vertex_stride > 0;  // a mesh without fields has nothing to bound
+  const std::uint64_t samples_held = samples ? counts.vertices * bytes_per_field_sample(counts) : 0;
+  const std::uint64_t level_held = counts.vertices * kLevelBytesPerVertex + samples_held;
   const std::uint64_t u = usable();
-  const std::uint64_t per_tet = bytes_per_piece_tet(counts);
+  const auto k = static_cast<std::uint64_t>(std::max(counts.vertex_stride, 0));
+  const std::uint64_t per_tet = bytes_per_piece_tet(counts) + (samples ? 4 + 12 * k : 0);
   const std::uint64_t during_cut = u > cut_held ? (u - cut_held) * 8 / kBytesPerPieceTet : 0;
   const std::uint64_t during_levels = u > level_held ? (u - level_held) / per_tet : 0;
   const std::uint64_t tets = std::min(during_cut, during_levels);
@@ -78,7 +86,11 @@ std::uint64_t MemoryBudget::piece_tets(const InputCounts& counts) const {
     const auto needed = static_cast<std::uint64_t>(static_cast<double>(baseline + need) / (1.0 - kHeadroom)) + 1;
     throw InputError("--memory-limit " + format_bytes(limit) + " leaves room for pieces of " + std::to_string(tets) +
                      " tets; out of core needs at least " + std::to_string(kMinPieceTets) + ": give at least " +
-                     format_bytes(needed));
+                     format_bytes(needed) +
+                     (samples ? " (the field error bounds keep every input vertex as a sample: " +
+                                          format_bytes(samples_held) + " for " + std::to_string(counts.vertices) +
+                                          " vertices; without --max-field-error / --field-bounds they are not needed)"
+                                    : std::string()));
   }
   return tets;
 }

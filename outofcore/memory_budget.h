@@ -14,6 +14,12 @@
 //                 plus the carried quadrics: three copies (the piece's, the engine's renumbered
 //                 input, its output) of quadric_size(3 + vertex field components) doubles per
 //                 vertex, at most one vertex per kTetsPerVertex tets;
+//   field bounds  with field error bounds (SimplifyOptions::max_field_error...), every input vertex
+//                 is a sample carried through the levels, and the last merge holds them all:
+//                 bytes_per_field_sample per input vertex (position, values and tet, twice: a
+//                 merge's vectors while they grow), plus 4 + 12 k bytes per piece tet (its list
+//                 head and its bounds in the piece, the engine and the output), k = vertex field
+//                 components;
 //   headroom      kHeadroom of the limit for the allocator's slack and the I/O buffers.
 // A limit that leaves fewer than kMinPieceTets per piece is refused before any work, with the
 // smallest limit that would do.
@@ -40,6 +46,7 @@ std::uint64_t budget_baseline(std::uint64_t rss);
 struct MemoryBudget {
   std::uint64_t limit = 0;     // bytes
   std::uint64_t baseline = 0;  // bytes (resident at the start)
+  bool field_samples = false;  // field error bounds kept (see the top)
 
   // The most tets a piece may have once the input's counts are known; throws InputError with the
   // limit that would be needed when it is below kMinPieceTets.
@@ -57,5 +64,7 @@ std::string format_bytes(std::uint64_t bytes);  // "1.50 GiB", "256 MiB"
 
 // kBytesPerPieceTet and the carried quadrics' share per tet, for this input's fields.
 std::uint64_t bytes_per_piece_tet(const InputCounts& counts);
+// What one field error sample costs at the peak (see the top).
+std::uint64_t bytes_per_field_sample(const InputCounts& counts);
 
 }  // namespace topotet::ooc

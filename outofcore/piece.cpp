@@ -12,7 +12,7 @@ namespace topotet::ooc {
 
 namespace {
 
-constexpr std::uint64_t kMagic = 0x32656365'6970746fULL;  // "otpiece2"
+constexpr std::uint64_t kMagic = 0x33656365'6970746fULL;  // "otpiece3"
 
 template <class T>
 void put_vector(ScratchWriter& out, const std::vector<T>& v) {
@@ -68,6 +68,14 @@ void save_piece(const std::string& path, const Piece& piece) {
   }
   out.put<std::uint32_t>(piece.quadric_doubles);
   put_vector(out, piece.quadrics);
+  const FieldBoundSamples& f = piece.samples;
+  out.put<std::int32_t>(f.components);
+  put_vector(out, f.range);
+  put_vector(out, f.magnitude);
+  put_vector(out, f.positions);
+  put_vector(out, f.values);
+  put_vector(out, f.tet);
+  put_vector(out, f.bounds);
   out.close();
 }
 
@@ -101,6 +109,14 @@ Piece load_piece(const std::string& path) {
   }
   piece.quadric_doubles = in.get<std::uint32_t>();
   get_vector(in, piece.quadrics);
+  FieldBoundSamples& f = piece.samples;
+  f.components = in.get<std::int32_t>();
+  get_vector(in, f.range);
+  get_vector(in, f.magnitude);
+  get_vector(in, f.positions);
+  get_vector(in, f.values);
+  get_vector(in, f.tet);
+  get_vector(in, f.bounds);
   return piece;
 }
 
@@ -162,6 +178,19 @@ Piece merge_pieces(Piece a, Piece b) {
     const int c = m.fields[f].components;
     for (VertId v : added)
       for (int k = 0; k < c; ++k) m.fields[f].values.push_back(n.fields[f].values[std::size_t{v} * c + k]);
+  }
+  // b's samples follow b's tets, which follow a's.
+  if (a.samples.components != b.samples.components)
+    throw std::logic_error("merge_pieces: one piece has field samples, the other not");
+  if (a.samples.components != 0) {
+    const auto a_tets = static_cast<std::uint32_t>(m.tets.size());
+    FieldBoundSamples& f = a.samples;
+    const FieldBoundSamples& g = b.samples;
+    f.positions.insert(f.positions.end(), g.positions.begin(), g.positions.end());
+    f.values.insert(f.values.end(), g.values.begin(), g.values.end());
+    for (std::uint32_t t : g.tet) f.tet.push_back(a_tets + t);
+    f.bounds.insert(f.bounds.end(), g.bounds.begin(), g.bounds.end());
+    b.samples = FieldBoundSamples{};
   }
   for (const auto& t : n.tets) m.tets.push_back({map[t[0]], map[t[1]], map[t[2]], map[t[3]]});
   m.tet_material.insert(m.tet_material.end(), n.tet_material.begin(), n.tet_material.end());

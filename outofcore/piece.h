@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "topotet/mesh_data.h"
+#include "topotet/simplify.h"
 
 namespace topotet::ooc {
 
@@ -28,6 +29,10 @@ struct Piece {
   // in each (from each piece's tets): a merge adds them.
   std::vector<double> quadrics;
   std::uint32_t quadric_doubles = 0;
+  // With field error bounds: the input vertices this piece's tets hold as samples, and its tets'
+  // bounds (SimplifyOptions::field_samples), carried from level to level; components = 0 before
+  // the first run, or without bounds.
+  FieldBoundSamples samples;
 };
 
 void save_piece(const std::string& path, const Piece& piece);  // throws InputError (disk full...)
@@ -36,7 +41,7 @@ Piece load_piece(const std::string& path);
 // The union of a and b: common vertices (same global id) once, a's vertices first in a's order,
 // then b's new ones; tets of both (a piece's tets are its own); triangles, edges, corners and
 // required vertices that both list (those on the common border) once, a's copy first; the
-// quadrics of common vertices added. The field layouts must agree (they come from one input), and
+// quadrics of common vertices added; the field samples of both (a sample is in one piece only). The field layouts must agree (they come from one input), and
 // so must the quadrics' (both or neither).
 Piece merge_pieces(Piece a, Piece b);
 

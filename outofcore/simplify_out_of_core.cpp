@@ -50,11 +50,11 @@ using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+bool wants_field_bounds(const SimplifyOptions& o) {
+  return o.max_field_error > 0.0 || o.max_field_error_rel > 0.0 || o.track_field_bounds;
+}
+
 void refuse_unsupported(const SimplifyOptions& o) {
-  if (o.max_field_error > 0.0 || o.max_field_error_rel > 0.0 || o.track_field_bounds)
-    throw InputError(
-        "field error bounds are not available out of core (a bound is kept per tet within one run and does not "
-        "compose across the levels of pieces): drop --max-field-error / --field-bounds or --memory-limit");
   if (!o.isosurfaces.empty())
     throw InputError("isosurfaces are not available out of core: embed them in core first (topotet simplify "
                      "--isosurface at --ratio 1), then simplify that mesh out of core");
@@ -66,7 +66,37 @@ struct PieceSlot {
   std::uint32_t file = 0;  // piece_path(file)
   std::uint64_t tets = 0;
   std::uint64_t region = 0;  // input vertices that this piece alone holds (see the top)
+  std::vector<double> field_bound;  // [component] the largest bound of its tets (with field bounds)
 };
+
+// Field error bounds out of core: every input vertex is a sample of exactly one piece (the first,
+// at level 0, that holds it: a border vertex is in several), in the first of that piece's tets
+// that has it (bound 0 there), as an in-core run takes them; from then on the samples travel with
+// their tets (Piece::samples), level after level, and stay exact over the input's vertices. A
+// piece's border is frozen, so its samples never cross into another piece.
+struct FieldSampling {
+  std::vector<bool> taken;                // [global vertex] a sample of some piece already
+  std::vector<double> range, magnitude;   // [component] over the input's used vertices (the cut)
+};
+
+void take_samples(const MeshModel& model, const std::vector<GlobalId>& ids, FieldSampling& sampling,
+                  FieldBoundSamples& out) {
+  const auto k = static_cast<std::size_t>(model.field_stride());
+  out = FieldBoundSamples{};
+  out.components = model.field_stride();
+  out.range = sampling.range;
+  out.magnitude = sampling.magnitude;
+  out.bounds.assign(model.tets.size() * k, 0.0f);
+  for (TetId t = 0; t < model.tets.size(); ++t)
+    for (VertId x : model.tets[t]) {
+      if (sampling.taken[ids[x]]) continue;
+      sampling.taken[ids[x]] = true;
+      for (int d = 0; d < 3; ++d) out.positions.push_back(model.positions[x][d]);
+      out.values.insert(out.values.end(), model.field_values.begin() + static_cast<std::ptrdiff_t>(x * k),
+                        model.field_values.begin() + static_cast<std::ptrdiff_t>((x + 1) * k));
+      out.tet.push_back(t);
+    }
+}
 
 // What one piece's run changed, for the totals.
 struct PieceRun {
@@ -78,9 +108,11 @@ struct PieceRun {
 // Cell fields are not in the engine's model: they are remapped from the piece as it was onto the
 // simplified piece (topotet/cell_fields.h; exact overlaps: the piece's region is the same before and
 // after, its border frozen), so an extensive array's sum is conserved level after level.
-// With a vertex map asked for, the vertices the run merged go to `map` (global ids).
+// With a vertex map asked for, the vertices the run merged go to `map` (global ids). With field
+// bounds (`sampling`), the piece's samples go through the run (taken first, at level 0).
 PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, SimplifyOptions options,
-                        std::uint64_t remove, const CellRemapOptions& cell_remap, VertexMapLog* map) {
+                        std::uint64_t remove, const CellRemapOptions& cell_remap, VertexMapLog* map,
+                        FieldSampling* sampling) {
   PieceRun run;
   MeshData& data = piece.mesh;
   const std::size_t before = data.positions.size();
@@ -106,6 +138,11 @@ PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, 
   std::vector<double> quadrics_out;
   options.quadrics_in = piece.quadrics.empty() ? nullptr : &piece.quadrics;
   options.quadrics_out = &quadrics_out;
+  options.field_samples = nullptr;
+  if (sampling != nullptr) {
+    if (piece.samples.components == 0) take_samples(model, piece.global_ids, *sampling, piece.samples);
+    options.field_samples = &piece.samples;
+  }
   std::vector<VertId> local_map;
   run.report = map != nullptr ? simplify(model, options, local_map) : simplify(model, options);
   if (run.report.status == Status::kInvalidInput || run.report.status == Status::kInternalError ||
@@ -272,6 +309,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   Report& report = result.report;
   MemoryBudget budget;
   budget.limit = ooc.memory_limit_bytes;
+  budget.field_samples = wants_field_bounds(options);
   budget.baseline = budget_baseline(resident_bytes());
   const bool limited = budget.limit > 0;
 
@@ -306,6 +344,16 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   for (std::uint8_t h : holders) input_vertices += h != 0;
   std::optional<VertexMapLog> map;
   if (!ooc.vertex_map_path.empty()) map.emplace(scratch.file_path("vertex-map.bin"), holders.size());
+  std::optional<FieldSampling> sampling;
+  if (wants_field_bounds(options) && cut.counts.vertex_stride > 0) {
+    sampling.emplace();
+    sampling->taken.assign(holders.size(), false);
+    for (int c = 0; c < cut.counts.vertex_stride; ++c) {
+      const double lo = cut.used_min[c], hi = cut.used_max[c];
+      sampling->range.push_back(hi > lo ? hi - lo : 1.0);  // a constant component divides by 1, as in core
+      sampling->magnitude.push_back(cut.used_magnitude[c]);
+    }
+  }
   report.vertices_before = input_vertices;
   report.tets_before = cut.counts.tets;
   const std::uint64_t target = std::max<std::uint64_t>(
@@ -412,6 +460,9 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
         for (GlobalId g : common) made_interior += --holders[g] == 1;
         piece = merge_pieces(std::move(a), std::move(b));
         slot.region = slots[step.a].region + slots[step.b].region + made_interior;
+        slot.field_bound = slots[step.a].field_bound;  // until its run says (it may have nothing to remove)
+        for (std::size_t c = 0; c < slot.field_bound.size() && c < slots[step.b].field_bound.size(); ++c)
+          slot.field_bound[c] = std::max(slot.field_bound[c], slots[step.b].field_bound[c]);
       }
       std::uint64_t interior = 0;
       for (GlobalId g : piece.global_ids) interior += holders[g] == 1;
@@ -419,8 +470,14 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
       std::uint64_t remove = interior > keep ? interior - keep : 0;
       if (last) remove = live > target ? live - target : 0;
       stats.largest_piece_tets = std::max<std::uint64_t>(stats.largest_piece_tets, piece.mesh.tets.size());
-      const PieceRun run = simplify_piece(piece, holders, o, remove, ooc.cell_remap, map ? &*map : nullptr);
+      const PieceRun run =
+          simplify_piece(piece, holders, o, remove, ooc.cell_remap, map ? &*map : nullptr, sampling ? &*sampling : nullptr);
       add_run_counts(report, run.report);
+      if (run.report.field_bounds) {
+        slot.field_bound = run.report.field_bound;
+        report.field_bounds_bytes = std::max(report.field_bounds_bytes, run.report.field_bounds_bytes);
+        report.field_bounds_setup_seconds += run.report.field_bounds_setup_seconds;
+      }
       stats.collapses += run.report.collapses;
       live -= run.removed;
       slot.tets = piece.mesh.tets.size();
@@ -454,6 +511,17 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   // holders[g] != 0: used by a tet (a merge takes a holder from a border vertex, never the last).
   if (map) map->write(ooc.vertex_map_path, holders);
   result.write_seconds = since(write_start);
+  if (sampling) {
+    // The largest bound over the output's tets: over the pieces' (each piece's are its tets').
+    report.field_bounds = true;
+    report.field_bound.assign(sampling->range.size(), 0.0);
+    for (const PieceSlot& s : slots)
+      for (std::size_t c = 0; c < s.field_bound.size() && c < report.field_bound.size(); ++c)
+        report.field_bound[c] = std::max(report.field_bound[c], s.field_bound[c]);
+    report.field_bound_rel = 0.0;
+    for (std::size_t c = 0; c < report.field_bound.size(); ++c)
+      report.field_bound_rel = std::max(report.field_bound_rel, report.field_bound[c] / sampling->range[c]);
+  }
   report.vertices_after = live;
   report.tets_after = out_tets;
   report.status = live <= target ? Status::kOk : Status::kStoppedEarly;

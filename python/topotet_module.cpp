@@ -328,7 +328,8 @@ topotet::Optimize optimize_of(const std::string& name) {
 // The options simplify() and simplify_out_of_core() both take, under the same keywords.
 topotet::SimplifyOptions run_options(double ratio, std::uint64_t target_vertices, double tolerance_rel, double tolerance,
                                      double min_quality, double min_dihedral, double size_weight, double max_cost,
-                                     int threads, double feature_angle, const std::string& optimize) {
+                                     int threads, double feature_angle, const std::string& optimize,
+                                     double max_field_error, double max_field_error_rel, bool field_bounds) {
   topotet::SimplifyOptions o;
   o.target_vertex_ratio = ratio;
   o.target_vertices = target_vertices;
@@ -341,6 +342,9 @@ topotet::SimplifyOptions run_options(double ratio, std::uint64_t target_vertices
   o.num_threads = threads;
   o.feature_angle = feature_angle;
   o.optimize = optimize_of(optimize);
+  o.max_field_error = max_field_error;
+  o.max_field_error_rel = max_field_error_rel;
+  o.track_field_bounds = field_bounds;
   return o;
 }
 
@@ -389,6 +393,10 @@ py::dict report_dict(const topotet::Report& r) {
   d["optimize_moves"] = r.optimize_moves;
   d["optimize_flips"] = r.optimize_flips;
   d["stopped"] = stop_dict(r.stop);
+  // Field error bounds (max_field_error(_rel), field_bounds): the largest bound per component
+  // (field units, fields in order) and relative to the range; None when not kept.
+  d["field_bound"] = r.field_bounds ? py::cast(r.field_bound) : py::none();
+  d["field_bound_rel"] = r.field_bounds ? py::cast(r.field_bound_rel) : py::none();
   return d;
 }
 
@@ -447,7 +455,7 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
                   const std::optional<std::string>& hierarchy, const std::string& optimize,
                   const py::object& isosurfaces, const py::object& cell_fields, const py::object& cell_kinds,
                   const std::vector<std::string>& extensive, const std::vector<std::string>& categorical,
-                  bool relax_tolerance, bool relax_quality, bool relax_features) {
+                  bool relax_tolerance, bool relax_quality, bool relax_features, bool field_bounds) {
   std::vector<py::array> keep;
   keep.reserve(4 + (fields.is_none() ? 0 : py::len(fields)));  // the views point into these arrays
   const topotet::MeshView input =
@@ -467,13 +475,12 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   remap.extensive = extensive;
   remap.categorical = categorical;
   topotet::SimplifyOptions options = run_options(ratio, target_vertices, tolerance_rel, tolerance, min_quality, min_dihedral,
-                                                  size_weight, max_cost, threads, feature_angle, optimize);
+                                                  size_weight, max_cost, threads, feature_angle, optimize, max_field_error,
+                                                  max_field_error_rel, field_bounds);
   options.relax_tolerance = relax_tolerance;
   options.relax_quality = relax_quality;
   options.relax_features = relax_features;
   options.field_weights = field_weights;
-  options.max_field_error = max_field_error;
-  options.max_field_error_rel = max_field_error_rel;
   options.boundary_weight = boundary_weight;
   options.polyline_weight = polyline_weight;
   options.round_fraction = round_fraction;
@@ -568,6 +575,7 @@ PYBIND11_MODULE(_core, m) {
         d["feature_angle"] = defaults.feature_angle;
         d["max_field_error"] = defaults.max_field_error;
         d["max_field_error_rel"] = defaults.max_field_error_rel;
+        d["field_bounds"] = defaults.track_field_bounds;
         d["boundary_weight"] = defaults.boundary_weight;
         d["polyline_weight"] = defaults.polyline_weight;
         d["round_fraction"] = defaults.round_fraction;
@@ -596,7 +604,7 @@ PYBIND11_MODULE(_core, m) {
         py::arg("cell_fields") = py::none(), py::arg("cell_kinds") = py::none(),
         py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
         py::arg("relax_tolerance") = defaults.relax_tolerance, py::arg("relax_quality") = defaults.relax_quality,
-        py::arg("relax_features") = defaults.relax_features,
+        py::arg("relax_features") = defaults.relax_features, py::arg("field_bounds") = defaults.track_field_bounds,
         "Simplifies the mesh, keeping its topology and that of every substructure. The options and their "
         "defaults are topotet::SimplifyOptions': the geometric tolerance (tolerance_rel, 0.4% of the diagonal; "
         "0 turns it off; where it would stop the run before its target H doubles unless relax_tolerance=False, and "
@@ -604,7 +612,8 @@ PYBIND11_MODULE(_core, m) {
         "relax_quality=False), features at feature_angle degrees (dropped where their corners would stop the run "
         "short, unless relax_features=False) (180 turns them off), field_weights {name: weight}, "
         "field error limits (max_field_error in the field's units, max_field_error_rel relative to its range; "
-        "0 = none), optimize ('none', 'light' or 'full': smoothing and flips after the collapses), isosurfaces (the "
+        "0 = none; field_bounds=True keeps the bounds without a limit; report['field_bound'] / ['field_bound_rel'] "
+        "give them), optimize ('none', 'light' or 'full': smoothing and flips after the collapses), isosurfaces (the "
         "list embed_isosurfaces returns: the vertices of those levels' triangles keep the level exactly), cell_fields "
         "{name: (m,) or (m, components)} per-tet arrays carried onto the output tets by overlap volume with their "
         "cell_kinds {name: 'intensive' (default) | 'categorical' | 'extensive'} (or the names listed in extensive / "
@@ -617,7 +626,8 @@ PYBIND11_MODULE(_core, m) {
          const std::string& scratch, double ratio, std::uint64_t target_vertices, double tolerance_rel,
          double tolerance, double min_quality, double min_dihedral, double size_weight, double max_cost,
          double feature_angle, int threads, const std::string& optimize, const std::vector<std::string>& extensive,
-         const std::vector<std::string>& categorical, const std::string& vertex_map) {
+         const std::vector<std::string>& categorical, const std::string& vertex_map, double max_field_error,
+         double max_field_error_rel, bool field_bounds) {
         topotet::OutOfCoreOptions ooc;
         if (py::isinstance<py::str>(memory_limit)) ooc.memory_limit_bytes = topotet::parse_memory_size(memory_limit.cast<std::string>());
         else if (!memory_limit.is_none()) ooc.memory_limit_bytes = memory_limit.cast<std::uint64_t>();
@@ -627,7 +637,8 @@ PYBIND11_MODULE(_core, m) {
         ooc.cell_remap.categorical = categorical;
         ooc.vertex_map_path = vertex_map;
         const topotet::SimplifyOptions o = run_options(ratio, target_vertices, tolerance_rel, tolerance, min_quality,
-                                                       min_dihedral, size_weight, max_cost, threads, feature_angle, optimize);
+                                                       min_dihedral, size_weight, max_cost, threads, feature_angle, optimize,
+                                                       max_field_error, max_field_error_rel, field_bounds);
         topotet::OutOfCoreReport r;
         {
           py::gil_scoped_release release;
@@ -664,7 +675,8 @@ PYBIND11_MODULE(_core, m) {
       py::arg("max_cost") = defaults.max_cost, py::arg("feature_angle") = defaults.feature_angle,
       py::arg("threads") = defaults.num_threads, py::arg("optimize") = topotet::to_string(defaults.optimize),
       py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
-      py::arg("vertex_map") = "",
+      py::arg("vertex_map") = "", py::arg("max_field_error") = defaults.max_field_error,
+      py::arg("max_field_error_rel") = defaults.max_field_error_rel, py::arg("field_bounds") = defaults.track_field_bounds,
       "Simplifies a MEDIT file (.mesh / .meshb, optionally .gz, + .sol / .solb) or a Gmsh MSH 4.1 file with its fields (.msh / .msh.gz) "
       "larger than memory into `output`, out of core "
       "(topotet/out_of_core.h, `topotet simplify --memory-limit`): streamed, cut into pieces in a scratch folder "
@@ -672,7 +684,8 @@ PYBIND11_MODULE(_core, m) {
       "bytes or a size such as '2G' (the peak stays under it; too small is a ValueError before any work); pieces: "
       "exactly this many (a power of two) instead. vertex_map: a path (.npy or .txt) to write, for every input "
       "vertex, the output vertex it became or merged into (-1: used by no tet; numpy.load reads the .npy), as "
-      "simplify() returns it in core. The topology is not checked here (read both and compare, or "
+      "simplify() returns it in core. max_field_error(_rel) and field_bounds as in simplify(): the bound "
+      "holds at every input vertex (report['field_bound_rel']). The topology is not checked here (read both and compare, or "
       "`topotet check IN OUT`). Returns the report dict of simplify() plus pieces, pieces_left, piece_tet_limit, "
       "levels (one dict per level), peak_rss_bytes, scratch_peak_bytes, cut_seconds, write_seconds.");
   m.def(

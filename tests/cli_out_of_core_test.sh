@@ -2,7 +2,7 @@
 # topotet simplify --memory-limit / --pieces (out of core) through the command-line tool: a run
 # passes `topotet check`; SIGINT midway leaves no scratch folder and no output; a scratch folder
 # that fills up (a file-size ulimit) is one clear error and leaves nothing; options out of core
-# cannot honour are refused before any work. Meshes of ~100k tets at most (a few seconds).
+# cannot honour are refused before any work; a field error limit holds at every input vertex. Meshes of ~100k tets at most (a few seconds).
 #   usage: bash tests/cli_out_of_core_test.sh path/to/topotet
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -44,6 +44,19 @@ contains vertex_map_report vertex_map.out "vertex map.*vm.txt"
 expect 0 vertex_map_valid -- python3 "$here/vertex_map_check.py" vm.txt small.mesh vm.mesh
 no_litter vertex_map
 
+# A field error limit out of core: the report gives the bound, and `topotet check` measures the
+# error at every input vertex within it.
+expect 0 bounds -- "$topotet" simplify small.mesh -o fb.mesh --pieces 8 --ratio 0.1 --max-field-error-rel 0.005 --json fb.json
+contains bounds_report bounds.out "field bound .* of the range at most, at every input vertex"
+expect 0 bounds_check -- "$topotet" check small.mesh fb.mesh --json fb_check.json
+if python3 -c '
+import json
+run, check = json.load(open("fb.json")), json.load(open("fb_check.json"))
+bound, measured = run["field_bounds"]["max_bound_rel"], check["field_error"]["max_rel_at_input_vertices"]
+assert 0 < measured <= bound <= 0.005, (measured, bound)
+' 2>bounds_json.err; then pass "bounds: measured at the input vertices within the bound"; else fail "bounds: measured"; cat bounds_json.err; fi
+no_litter bounds
+
 # SIGINT midway: the run is killed while pieces are on disk. (Job control on: a background job of
 # a non-interactive shell would otherwise start with SIGINT ignored, and topotet keeps it so.)
 rm -f out.mesh out.sol
@@ -84,7 +97,7 @@ expect 0 mesh_fields -- "$topotet" simplify small_back.mesh -o mesh_fields.mesh 
 if cmp -s msh_fields.mesh mesh_fields.mesh && cmp -s msh_fields.sol mesh_fields.sol; then pass "msh_fields: the same output as the .mesh"; else fail "msh_fields: differs from the .mesh's"; fi
 "$topotet" convert small.mesh small.vtu -q
 expect_error not_streamed "streams MEDIT .* and Gmsh MSH 4.1 .*convert it" -- "$topotet" simplify small.vtu -o x.mesh --memory-limit 1G
-expect_error bounds "excludes" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit 1G --field-bounds
+expect_error isosurface "excludes" -- "$topotet" simplify big.mesh -o x.mesh --memory-limit 1G --isosurface sol0=0.5
 no_litter refused
 
 echo "$passed passed, $failed failed"

@@ -228,6 +228,8 @@ if run.returncode == 0:
     check_cells("python -m", back["materials"], cf["density"], cf["label"], cf["mass"], mass_before, len(tets))
     direct = topotet.simplify(points, tets, materials=materials, fields={"f": f}, ratio=0.3, threads=1)
     check(np.array_equal(back["tets"], direct["tets"]), "python -m gives simplify()'s own mesh (the same defaults)")
+run = pym("simplify", src, "-o", dst, "--ratio", "0.3", "--field-bounds")
+check(run.returncode == 0 and "bounds    field error bound" in run.stdout, f"python -m --field-bounds: {run.stdout} {run.stderr}")
 # --vertex-map: the file holds simplify()'s own map (read back with read_vertex_map and numpy.load).
 run = pym("simplify", src, "-o", dst, "--ratio", "0.3", "--vertex-map", os.path.join(work, "map.npy"), "-q")
 check(run.returncode == 0, f"python -m topotet simplify --vertex-map: {run.returncode} {run.stderr}")

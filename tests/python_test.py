@@ -284,6 +284,16 @@ with tempfile.TemporaryDirectory() as d:
         topotet.simplify_out_of_core(os.path.join(d, name), os.path.join(d, "o_" + name + ".mesh"), pieces=2, ratio=0.3)
         outputs.append(open(os.path.join(d, "o_" + name + ".mesh"), "rb").read())
     check(outputs[0] == outputs[1], "a .msh streams out of core as the same mesh as .mesh")
+    # Field error bounds out of core: the limit holds and the report gives the bound (its
+    # measurement at every input vertex: tests/unit_out_of_core_field_bounds.cpp).
+    fb = topotet.simplify_out_of_core(os.path.join(d, "in.mesh"), os.path.join(d, "fb.mesh"), pieces=4, ratio=0.2,
+                                      max_field_error_rel=0.001)
+    check(fb["field_bound_rel"] is not None and 0 < fb["field_bound_rel"] <= 0.001 and len(fb["field_bound"]) == 1
+          and fb["rejected"]["field_error"] > 0, f"out-of-core field bounds: {fb['field_bound_rel']}")
+    check(rep["field_bound"] is None, "no bounds kept, none reported")
+    tracked = topotet.simplify(big_points, big_tets, fields={"f": big_points[:, 0] * big_points[:, 1]}, ratio=0.3,
+                               field_bounds=True)["report"]
+    check(tracked["field_bound_rel"] > 0 and tracked["rejected"]["field_error"] == 0, "field_bounds=True tracks them")
     # The vertex map out of core (a file): without the optimisation's flips the output tets are the
     # input tets renamed through it, less the collapsed ones.
     topotet.simplify_out_of_core(os.path.join(d, "in.mesh"), os.path.join(d, "vm.mesh"), pieces=4, ratio=0.2,

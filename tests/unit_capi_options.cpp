@@ -66,16 +66,18 @@ TEST(CapiOptions, DefaultsAreTheLibrarys) {
   EXPECT_EQ(static_cast<int>(topotet::CellFieldKind::kExtensive), TOPOTET_CELL_EXTENSIVE);
 }
 
-// SimplifyOptions' 28 fields: 24 reach C, 22 as options of their own and three as pairs or
+// SimplifyOptions' 29 fields: 24 reach C, 22 as options of their own and three as pairs or
 // triples (field_weights: field_weight_count, _names, _weights; on_progress: progress,
 // progress_user_data), isosurfaces through topotet_mesh_embed_isosurfaces (the handle remembers
-// them); 4 are the C++ engine's own:
+// them); 5 are the C++ engine's own:
 //   round_log    - per-round diagnostics for bench_simplify and `topotet simplify -vv`
 //   cost_units   - the shared cost units of runs in parts (topotet::mpi, out of core)
 //   quadrics_in, quadrics_out - the quadrics carried between the levels of an out-of-core run
+//   field_samples - the field error bounds' samples carried likewise (C reaches them through
+//                   topotet_simplify_out_of_core)
 TEST(CapiOptions, FieldCountIsKnown) {
   constexpr std::size_t in_c = 24;        // every other field
-  constexpr std::size_t engine_only = 4;  // round_log, cost_units, quadrics_in, quadrics_out
+  constexpr std::size_t engine_only = 5;  // round_log, cost_units, quadrics_in, quadrics_out, field_samples
   EXPECT_EQ(field_count<topotet::SimplifyOptions>(), in_c + engine_only)
       << "SimplifyOptions changed: add the field to topotet_options (capi/include/topotet/topotet_c.h, at the end), "
          "topotet_options_init, topotet_simplify, the Fortran type (fortran/topotet.f90) and this test";

@@ -149,7 +149,9 @@ FieldBounds::FieldBounds(const MeshModel& mesh, double max_abs, double max_rel) 
   head_.assign(nt, kInvalid);
   next_.assign(nv, kInvalid);
   bound_.assign(nt * k, 0.0f);
-  sample_position_ = mesh.positions;
+  sample_xyz_.resize(3 * nv);
+  for (std::size_t x = 0; x < nv; ++x)
+    for (int d = 0; d < 3; ++d) sample_xyz_[3 * x + d] = mesh.positions[x][d];
   sample_values_ = mesh.field_values;
   // Each used vertex is a sample of the first tet (by id) that has it: there the error is 0.
   std::vector<std::uint8_t> taken(nv, 0);
@@ -174,10 +176,72 @@ FieldBounds::FieldBounds(const MeshModel& mesh, double max_abs, double max_rel) 
     }
   }
   range_.resize(k);
+  for (std::size_t c = 0; c < k; ++c) range_[c] = hi[c] > lo[c] ? hi[c] - lo[c] : 1.0;  // a constant component divides by 1 (as the metrics do)
+  magnitude_ = std::move(max_magnitude);
+  set_limits(max_abs, max_rel);
+}
+
+FieldBounds::FieldBounds(const MeshModel& mesh, FieldBoundSamples&& samples, double max_abs, double max_rel)
+    : k_(mesh.field_stride()) {
+  const std::size_t nt = mesh.tets.size(), n = samples.size(), k = static_cast<std::size_t>(k_);
+  range_ = std::move(samples.range);
+  magnitude_ = std::move(samples.magnitude);
+  sample_xyz_ = std::move(samples.positions);
+  sample_values_ = std::move(samples.values);
+  bound_ = std::move(samples.bounds);
+  bound_.resize(nt * k, 0.0f);
+  head_.assign(nt, kInvalid);
+  next_.assign(n, kInvalid);
+  // Pushed in reverse so that each list is in sample order, as given.
+  for (std::size_t w = n; w-- > 0;) {
+    const TetId t = samples.tet[w];
+    next_[w] = head_[t];
+    head_[t] = static_cast<std::uint32_t>(w);
+  }
+  samples = FieldBoundSamples{};
+  set_limits(max_abs, max_rel);
+}
+
+void FieldBounds::release(const MeshModel& mesh, FieldBoundSamples& out) {
+  const std::size_t k = static_cast<std::size_t>(k_);
+  out = FieldBoundSamples{};
+  out.components = k_;
+  std::vector<std::uint32_t> tet_of(next_.size(), kInvalid);
+  out.bounds.reserve(mesh.live_tet_count() * k);
+  std::uint32_t o = 0;
+  for (TetId t = 0; t < mesh.tets.size(); ++t) {
+    if (mesh.flags[t] & tet_flag::kDead) continue;
+    for (std::uint32_t w = head_[t]; w != kInvalid; w = next_[w]) tet_of[w] = o;
+    out.bounds.insert(out.bounds.end(), bound_.begin() + static_cast<std::ptrdiff_t>(t * k), bound_.begin() + static_cast<std::ptrdiff_t>((t + 1) * k));
+    ++o;
+  }
+  // Dropping the samples no live tet holds, in place (the kept ones keep their order).
+  std::size_t kept = 0;
+  for (std::size_t w = 0; w < tet_of.size(); ++w) {
+    if (tet_of[w] == kInvalid) continue;
+    if (kept != w) {
+      std::copy_n(sample_xyz_.begin() + static_cast<std::ptrdiff_t>(3 * w), 3, sample_xyz_.begin() + static_cast<std::ptrdiff_t>(3 * kept));
+      std::copy_n(sample_values_.begin() + static_cast<std::ptrdiff_t>(k * w), k, sample_values_.begin() + static_cast<std::ptrdiff_t>(k * kept));
+    }
+    tet_of[kept++] = tet_of[w];
+  }
+  tet_of.resize(kept);
+  sample_xyz_.resize(3 * kept);
+  sample_values_.resize(k * kept);
+  out.range = std::move(range_);
+  out.magnitude = std::move(magnitude_);
+  out.positions = std::move(sample_xyz_);
+  out.values = std::move(sample_values_);
+  out.tet = std::move(tet_of);
+  *this = FieldBounds();
+}
+
+void FieldBounds::set_limits(double max_abs, double max_rel) {
+  const std::size_t k = static_cast<std::size_t>(k_);
   limit_.resize(k);
   slack_.resize(k);
+  has_limit_ = false;
   for (std::size_t c = 0; c < k; ++c) {
-    range_[c] = hi[c] > lo[c] ? hi[c] - lo[c] : 1.0;  // a constant component divides by 1 (as the metrics do)
     double limit = std::numeric_limits<double>::infinity();
     if (max_abs > 0.0) limit = std::min(limit, max_abs);
     if (max_rel > 0.0) limit = std::min(limit, max_rel * range_[c]);
@@ -186,7 +250,7 @@ FieldBounds::FieldBounds(const MeshModel& mesh, double max_abs, double max_rel) 
     // Interpolating at the same point in two tets, or with barycentric coordinates rounded
     // differently (the measurement's), differs by rounding: a few ulps of the largest value, and
     // up to kInsideTolerance of the range where a point on a shared face is taken in either tet.
-    slack_[c] = 10.0 * kInsideTolerance * range_[c] + 8.0 * std::numeric_limits<double>::epsilon() * max_magnitude[c];
+    slack_[c] = 10.0 * kInsideTolerance * range_[c] + 8.0 * std::numeric_limits<double>::epsilon() * magnitude_[c];
   }
 }
 
@@ -223,7 +287,7 @@ bool FieldBounds::evaluate(const MeshModel& mesh, std::span<const TetId> removed
   for (std::size_t i = 0; i < s.samples.size(); ++i) {
     const std::uint32_t w = s.samples[i];
     bool outside = false;
-    const std::uint32_t j = locate(s, sample_position_[w], s.home[i], lambda, outside);
+    const std::uint32_t j = locate(s, sample_position(w), s.home[i], lambda, outside);
     // Under a limit no original vertex may leave the mesh: outside it the measurement takes the
     // globally closest tet, which this stencil cannot know (field_bounds.h).
     if (stop_at_limit && outside) return false;
@@ -281,8 +345,8 @@ double FieldBounds::max_bound_rel(const MeshModel& mesh) const {
 }
 
 std::size_t FieldBounds::memory_bytes() const {
-  return range_.capacity() * 3 * sizeof(double) + bound_.capacity() * sizeof(float) +
-         (head_.capacity() + next_.capacity()) * sizeof(std::uint32_t) + sample_position_.capacity() * sizeof(glm::dvec3) +
+  return range_.capacity() * 4 * sizeof(double) + bound_.capacity() * sizeof(float) +
+         (head_.capacity() + next_.capacity()) * sizeof(std::uint32_t) + sample_xyz_.capacity() * sizeof(double) +
          sample_values_.capacity() * sizeof(double);
 }
 

@@ -41,7 +41,8 @@
 // original vertices on it (flat boundaries and concave ones simplify freely).
 //
 // Memory: per tet one list head and one float per component; per original vertex its position,
-// its values and a list link: (4 + 4k) bytes per tet + (28 + 8k) bytes per vertex.
+// its values and a list link: (4 + 4k) bytes per tet + (28 + 8k) bytes per vertex. Carried from
+// run to run (FieldBoundSamples, out of core) a sample keeps its tet instead of its link.
 #pragma once
 
 #include <array>
@@ -52,6 +53,7 @@
 #include <glm/vec3.hpp>
 
 #include "mesh/mesh_model.h"
+#include "topotet/simplify.h"
 
 namespace topotet {
 
@@ -77,7 +79,15 @@ class FieldBounds {
   // Takes the samples (every vertex used by a live tet: bound 0 in the first tet of its star).
   // Limits per component: max_abs (field units) and max_rel (times the component's range); 0 =
   // none, both given = the smaller. A mesh without fields has nothing to bound.
+  FieldBounds() = default;  // nothing to bound
   FieldBounds(const MeshModel& mesh, double max_abs, double max_rel);
+  // Takes carried samples (topotet/simplify.h FieldBoundSamples, their tets in the mesh's current
+  // ids, checked by the caller: check_field_samples) and moves them in; their range and magnitude
+  // are the whole input's.
+  FieldBounds(const MeshModel& mesh, FieldBoundSamples&& samples, double max_abs, double max_rel);
+  // Moves the samples and bounds out, the live tets numbered in the order compact() keeps (by
+  // id); a sample no tet holds (an unused vertex) is dropped. Leaves this object empty.
+  void release(const MeshModel& mesh, FieldBoundSamples& out);
 
   int components() const { return k_; }
   // Range (max - min over the samples) of component c; 1 for a constant component.
@@ -109,19 +119,24 @@ class FieldBounds {
   // Which tet holds each sample, for the tests: samples of tet t.
   template <class F>
   void for_each_sample(TetId t, F&& f) const {
-    for (std::uint32_t w = head_[t]; w != kInvalid; w = next_[w]) f(w, sample_position_[w], &sample_values_[w * k_]);
+    for (std::uint32_t w = head_[t]; w != kInvalid; w = next_[w]) f(w, sample_position(w), &sample_values_[w * k_]);
   }
 
   std::size_t memory_bytes() const;
 
  private:
+  void set_limits(double max_abs, double max_rel);  // from range_ and magnitude_
+  glm::dvec3 sample_position(std::uint32_t w) const {
+    return {sample_xyz_[3 * std::size_t{w}], sample_xyz_[3 * std::size_t{w} + 1], sample_xyz_[3 * std::size_t{w} + 2]};
+  }
+
   int k_ = 0;
   bool has_limit_ = false;
-  std::vector<double> range_, limit_, slack_;    // [component]
+  std::vector<double> range_, magnitude_, limit_, slack_;  // [component]
   std::vector<float> bound_;                     // [tet * k + c]
   std::vector<std::uint32_t> head_;              // [tet] first sample, kInvalid = none
   std::vector<std::uint32_t> next_;              // [sample] next sample of the same tet
-  std::vector<glm::dvec3> sample_position_;      // [sample] original position
+  std::vector<double> sample_xyz_;               // [sample * 3] original position
   std::vector<double> sample_values_;            // [sample * k + c] original values
 };
 

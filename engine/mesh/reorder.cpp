@@ -53,7 +53,7 @@ void permute(std::vector<T>& values, const std::vector<std::pair<std::uint64_t, 
 
 }  // namespace
 
-void reorder_for_locality(MeshModel& m, std::vector<VertId>* new2old) {
+void reorder_for_locality(MeshModel& m, std::vector<VertId>* new2old, std::vector<TetId>* tet_old2new) {
   const MortonFrame frame(m);
   using Keyed = std::pair<std::uint64_t, std::uint32_t>;  // (Morton key, old id): a total order
 
@@ -80,6 +80,10 @@ void reorder_for_locality(MeshModel& m, std::vector<VertId>* new2old) {
         return Keyed{frame.key(centroid), static_cast<std::uint32_t>(t)};
       });
   parallel::sort(tet_order.begin(), tet_order.end());
+  if (tet_old2new != nullptr) {
+    tet_old2new->assign(m.tet_capacity(), kInvalid);
+    for (std::size_t i = 0; i < tet_order.size(); ++i) (*tet_old2new)[tet_order[i].second] = static_cast<TetId>(i);
+  }
 
   const std::size_t stride = static_cast<std::size_t>(m.field_stride());
   permute(m.positions, vertex_order, 1);

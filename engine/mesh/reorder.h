@@ -16,7 +16,9 @@
 
 namespace topotet {
 
-// new2old, when given, receives the old id of every new vertex id.
-void reorder_for_locality(MeshModel& mesh, std::vector<VertId>* new2old = nullptr);
+// new2old, when given, receives the old id of every new vertex id; tet_old2new the new id of
+// every old tet (kInvalid for a dead one).
+void reorder_for_locality(MeshModel& mesh, std::vector<VertId>* new2old = nullptr,
+                          std::vector<TetId>* tet_old2new = nullptr);
 
 }  // namespace topotet

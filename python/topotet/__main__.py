@@ -2,7 +2,7 @@
 
     python -m topotet simplify IN -o OUT [--ratio R | --target-vertices N] [--tolerance-rel H]
         [--feature-angle A] [--hard-limits] [--threads T] [--optimize none|light|full] [--isosurface FIELD=V[,V...]]
-        [--field-weight NAME=W] [--max-field-error E] [--max-field-error-rel E]
+        [--field-weight NAME=W] [--max-field-error E] [--max-field-error-rel E] [--field-bounds]
         [--extensive NAME] [--categorical NAME] [--vertex-map MAP.npy|MAP.txt] [--quiet]
     python -m topotet info IN
 
@@ -51,6 +51,8 @@ def _simplify(args):
     options["relax_tolerance"] = not args.hard_limits and args.tolerance is None and args.tolerance_rel is None
     options["relax_quality"] = not args.hard_limits and args.min_quality is None and args.min_dihedral is None
     options["relax_features"] = not args.hard_limits and args.feature_angle is None
+    if args.field_bounds:
+        options["field_bounds"] = True
     if args.field_weight:
         options["field_weights"] = {k: float(v) for k, v in _pairs(args.field_weight, "--field-weight").items()}
     if args.isosurface:
@@ -85,6 +87,9 @@ def _simplify(args):
                   "(every guarantee kept; --optimize none does not)")
         collapses = report.get("collapses", 0)
         print(f"time      {seconds:.2f} s, {collapses:,} collapses" + (f", {collapses / seconds:,.0f} collapses/s" if seconds > 0 else ""))
+        if report["field_bound_rel"] is not None:
+            print(f"bounds    field error bound {report['field_bound_rel']:.3g} (relative to the range, worst component), "
+                  "at every original vertex")
         if result["cell_fields"]:
             print("cell data " + ", ".join(f"{n}: {k}" for n, k in result["cell_kinds"].items()))
         if args.vertex_map:
@@ -130,6 +135,7 @@ def main(argv=None):
     s.add_argument("--optimize", choices=("none", "light", "full"), help=f"after the collapses (default {d['optimize']})")
     s.add_argument("--max-field-error", type=float, help="field error bound per component, field units")
     s.add_argument("--max-field-error-rel", type=float, help="the same relative to each component's range")
+    s.add_argument("--field-bounds", action="store_true", help="keep the field error bounds and report them, without a limit")
     s.add_argument("--field-weight", action="append", default=[], metavar="NAME=W", help="a field's weight in the cost")
     s.add_argument("--isosurface", action="append", default=[], metavar="FIELD=V[,V...]", help="keep these level sets' topology")
     s.add_argument("--extensive", action="append", default=[], metavar="NAME", help="a cell array conserved as a sum")

@@ -296,10 +296,11 @@ topotet_status topotet_mesh_copy_segments(const topotet_mesh* mesh, topotet_out_
 
 /* Out of core (topotet/out_of_core.h, `topotet simplify --memory-limit`): a file larger than memory
  * simplified into another, the peak resident memory under a limit. The input is MEDIT (.mesh,
- * .mesh.gz, with its .sol) or Gmsh MSH 4.1 without fields (.msh, .msh.gz), streamed and cut into
+ * .mesh.gz, .meshb, with its .sol / .solb) or Gmsh MSH 4.1 with its fields (.msh, .msh.gz), streamed and cut into
  * pieces kept in a scratch folder, simplified with frozen borders and merged pairwise; the output is
  * written when complete (a failed run leaves none, nor the scratch folder). Field error bounds
- * (max_field_error*, track_field_bounds) are refused out of core; progress is not called. */
+ * (max_field_error*, track_field_bounds) hold at every input vertex as in core (report->field_bounds,
+ * field_bound_rel); progress is not called. */
 typedef struct topotet_out_of_core_options {
   int64_t memory_limit_bytes;  /* the peak resident memory to stay under; 0 = none (then pieces > 0) */
   int pieces;                  /* exactly this many pieces (a power of two <= 4096); 0 = from the limit */

@@ -27,6 +27,22 @@ namespace topotet {
 
 struct RoundStats;  // topotet/round_log.h
 
+// The field error bounds of a mesh carried from one run to the next (SimplifyOptions::field_samples):
+// out of core, a piece's samples travel with it through the levels, so that its bounds stay exact
+// over the input's vertices (engine/guarantees/field_bounds.h) instead of restarting at 0 against
+// an already simplified piece. A sample is an original vertex: its position and field values,
+// and the tet of the mesh that holds it. Every component's range and largest magnitude are the
+// whole input's (the limits and the rounding slack are in its units, not a piece's).
+struct FieldBoundSamples {
+  int components = 0;                     // field_stride() of the mesh
+  std::vector<double> range, magnitude;   // [component] max - min (1 if constant), max |value|
+  std::vector<double> positions;          // [sample * 3]
+  std::vector<double> values;             // [sample * components + c]
+  std::vector<std::uint32_t> tet;         // [sample] the tet holding it (the mesh's tet order)
+  std::vector<float> bounds;              // [tet * components + c] the tet's bound (field units)
+  std::size_t size() const { return tet.size(); }
+};
+
 enum class Status : std::uint8_t {
   kOk,            // target reached
   kStoppedEarly,  // mesh valid; no legal collapse was left (topology or error bounds stopped us)
@@ -175,6 +191,12 @@ struct SimplifyOptions {
   double max_field_error = 0.0;
   double max_field_error_rel = 0.0;
   bool track_field_bounds = false;
+  // Runs in passes (out of core) carry the bounds (FieldBoundSamples above). When set and the
+  // bounds are kept: the run starts from these samples (the mesh passed, in its tet order) instead
+  // of taking the mesh's vertices as samples at bound 0, moves them out, and leaves the output's
+  // here (its tets in output order; empty when the run fails). Samples that do not fit the mesh
+  // (components, a tet out of range, sizes): kInvalidInput.
+  FieldBoundSamples* field_samples = nullptr;
   Engine engine = Engine::kParallel;
   // Smoothing and flips of badly shaped stars after the collapses (Optimize above).
   // Not run when the collapses are recorded for a hierarchy (simplify_with_hierarchy): its levels

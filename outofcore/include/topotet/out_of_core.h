@@ -19,15 +19,18 @@
 //     the start rounded up to 64 MiB (outofcore/memory_budget.h), never on timing, and each
 //     piece's run is the parallel engine's, identical for every thread count;
 //   - the vertex map (vertex_map_path below): each piece's run records the vertices it merged, in
-//     global ids, on disk; the chains are followed to the output at the end (vertex_map_log.h).
+//     global ids, on disk; the chains are followed to the output at the end (vertex_map_log.h);
+//   - field error bounds (max_field_error*, track_field_bounds): every input vertex is a sample of
+//     one piece and travels with its tet through the levels (SimplifyOptions::field_samples), so
+//     the bound holds at every input vertex as in core; the last merge holds every sample, which
+//     the memory budget counts (outofcore/memory_budget.h).
 // The levels share the work (level l keeps a fraction of its pieces' vertices that halves from
 // level to level, so that a merged pair still fits; the last piece goes to the target), and each
 // vertex's quadric travels with its piece (SimplifyOptions::quadrics_in/_out), so every level ranks
 // collapses by their error against the input, as one run would: on the cube-sphere the field
 // error is an in-core run's (docs/performance.md, "Out of core").
-// Not available out of core (refused with kInvalidInput-like InputError): field error bounds
-// (max_field_error*, track_field_bounds: a bound is kept per tet of one run and does not compose
-// across levels), isosurfaces (embed them in core first), hierarchies.
+// Not available out of core (refused with kInvalidInput-like InputError): isosurfaces (embed them
+// in core first), hierarchies.
 //
 // Memory. The pieces' size comes from the limit by a model of bytes per tet and per vertex
 // (outofcore/memory_budget.h); a limit below what the model needs for this input is refused before
@@ -77,7 +80,8 @@ struct OutOfCoreLevel {
 };
 
 struct OutOfCoreReport {
-  Report report;  // counts summed over the pieces' runs; status, message, tolerance H, seconds
+  Report report;  // counts summed over the pieces' runs; status, message, tolerance H, seconds;
+                  // with field bounds: field_bound(_rel) over the output's tets (not per tet)
   std::uint32_t pieces = 0;            // after the cut
   std::uint32_t output_pieces = 0;     // left at the end (1 unless the limit stopped the merges)
   std::uint64_t piece_tet_limit = 0;   // the model's largest piece
