@@ -117,6 +117,23 @@ int element_dim(std::int64_t type) {
 // map otherwise, so a file with a few huge tags cannot make us allocate gigabytes.
 class NodeMap {
  public:
+  // What the map will hold for `count` nodes with tags up to `max_tag` (the $Nodes header), for a
+  // streaming reader's memory budget: dense, 4 bytes a tag up to the largest; sparse, a hash node
+  // (key, value, link, the allocator's header) and a bucket per node.
+  static std::uint64_t planned_bytes(std::uint64_t count, std::uint64_t max_tag) {
+    return dense_fits(count, max_tag) ? 4 * (max_tag + 1) : kSparseBytesPerNode * count;
+  }
+  // Allocates that at once, once the counts were checked against a limit.
+  void reserve(std::uint64_t count, std::uint64_t max_tag) {
+    if (count_ != 0) return;
+    if (dense_fits(count, max_tag)) {
+      dense_.assign(static_cast<std::size_t>(max_tag + 1), kInvalid);
+    } else {
+      sparse_mode_ = true;
+      sparse_.reserve(static_cast<std::size_t>(count));
+    }
+  }
+
   // False if the tag is already present.
   bool insert(std::uint64_t tag, VertId index) {
     if (!sparse_mode_) {
@@ -126,8 +143,8 @@ class NodeMap {
         ++count_;
         return true;
       }
-      const std::uint64_t limit = 16 * count_ + (std::uint64_t{1} << 20);
-      if (tag < limit) {
+      if (dense_fits(count_, tag)) {
+        const std::uint64_t limit = 16 * count_ + (std::uint64_t{1} << 20);
         dense_.resize(static_cast<std::size_t>(std::min<std::uint64_t>(std::max<std::uint64_t>(tag + 1, 2 * dense_.size()), limit)),
                       kInvalid);
         dense_[tag] = index;
@@ -150,6 +167,9 @@ class NodeMap {
   }
 
  private:
+  static constexpr std::uint64_t kSparseBytesPerNode = 48;
+  static bool dense_fits(std::uint64_t count, std::uint64_t tag) { return tag < 16 * count + (std::uint64_t{1} << 20); }
+
   std::vector<VertId> dense_;
   std::unordered_map<std::uint64_t, VertId> sparse_;
   bool sparse_mode_ = false;
@@ -409,10 +429,10 @@ class GmshReader {
     const std::uint64_t blocks = size("$Nodes number of blocks");
     const std::uint64_t total = size("$Nodes number of nodes");
     size("$Nodes min tag");
-    size("$Nodes max tag");
-    if (visitor_ != nullptr)
-      visitor_->begin_vertices(total);
-    else
+    const std::uint64_t max_tag = size("$Nodes max tag");
+    if (visitor_ != nullptr) {
+      if (visitor_->begin_vertices_holding(total, NodeMap::planned_bytes(total, max_tag))) nodes_.reserve(total, max_tag);
+    } else
       m_.positions.reserve(r_.reserve_hint(total, binary_ ? 32 : 8));
     std::vector<std::uint64_t> tags;
     for (std::uint64_t b = 0; b < blocks; ++b) {

@@ -42,14 +42,17 @@ class MeshPass final : public MeditVisitor {
         input_(input),
         tets_(scratch.file_path("tets.bin")) {}
 
-  void begin_vertices(std::uint64_t count) override {
-    // A count checked against the memory limit is reserved whole: growing by doubling would hold
-    // the old and the new arrays at once (three times the positions) and keep up to twice the
-    // room. Unchecked, the declared count may lie (a truncated or hostile file): a bounded amount.
-    const bool checked = on_vertex_count && on_vertex_count(count);
+  void begin_vertices(std::uint64_t count) override { begin_vertices_holding(count, 0); }
+  bool begin_vertices_holding(std::uint64_t count, std::uint64_t reader_bytes) override {
+    // A count checked against the memory limit (with what the reader holds beside: a .msh's node
+    // tag map) is reserved whole: growing by doubling would hold the old and the new arrays at
+    // once (three times the positions) and keep up to twice the room. Unchecked, the declared
+    // count may lie (a truncated or hostile file): a bounded amount.
+    const bool checked = on_vertex_count && on_vertex_count(count, reader_bytes);
     const std::uint64_t reserve = checked ? count : std::min<std::uint64_t>(count, 1u << 22);
     positions.reserve(reserve);
     refs.reserve(reserve);
+    return checked;
   }
   void vertex(const std::array<double, 3>& p, std::int32_t ref) override {
     positions.push_back(p);
@@ -89,7 +92,7 @@ class MeshPass final : public MeditVisitor {
 
   void finish() { tets_.close(); }
 
-  std::function<bool(std::uint64_t)> on_vertex_count;
+  std::function<bool(std::uint64_t, std::uint64_t)> on_vertex_count;
   std::vector<std::array<double, 3>> positions;
   std::vector<std::int32_t> refs;
   std::vector<Triangle> triangles;
@@ -171,7 +174,8 @@ class FieldWindow {
 CutResult cut_input(const std::string& input, ScratchFolder& scratch,
                     const std::function<std::uint32_t(const InputCounts&)>& choose_pieces,
                     const std::function<void(const std::string&)>& log,
-                    const std::function<bool(std::uint64_t)>& on_vertex_count, const CellRemapOptions& cell_kinds) {
+                    const std::function<bool(std::uint64_t, std::uint64_t)>& on_vertex_count,
+                    const CellRemapOptions& cell_kinds) {
   using Clock = std::chrono::steady_clock;
   const auto say = [&](const std::string& s) {
     if (log) log(s);

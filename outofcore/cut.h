@@ -54,16 +54,17 @@ struct CutResult {
   std::vector<CellField> cell_fields;
 };
 
-// on_vertex_count(n) runs as soon as the vertex count is read (before any work: the memory check);
-// it returns true when it checked n against a memory limit (then the cut reserves n vertices at
-// once), and throws when the limit is too small.
+// on_vertex_count(n, reader_bytes) runs as soon as the vertex count is read (before any work: the
+// memory check), with the bytes the reader holds beside the cut while it streams (a .msh's node
+// tag map; 0 for MEDIT); it returns true when it checked them against a memory limit (then the
+// cut, and the reader, reserve them at once), and throws when the limit is too small.
 // choose_pieces(counts) -> the number of pieces (a power of two <= kMaxPieces), called once the
 // mesh pass has counted the input; it may throw (a limit too small for this input). `log` gets
 // one line per step (may be empty).
 CutResult cut_input(const std::string& input, ScratchFolder& scratch,
                     const std::function<std::uint32_t(const InputCounts&)>& choose_pieces,
                     const std::function<void(const std::string&)>& log,
-                    const std::function<bool(std::uint64_t vertices)>& on_vertex_count,
+                    const std::function<bool(std::uint64_t vertices, std::uint64_t reader_bytes)>& on_vertex_count,
                     const CellRemapOptions& cell_kinds);  // the kinds of the cell fields (--extensive...)
 
 }  // namespace topotet::ooc

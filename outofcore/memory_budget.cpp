@@ -49,7 +49,9 @@ std::uint64_t bytes_per_piece_tet(const InputCounts& counts) {
 
 std::uint64_t bytes_per_field_sample(const InputCounts& counts) {
   const auto k = static_cast<std::uint64_t>(std::max(counts.vertex_stride, 0));
-  return 2 * (32 + 8 * k);
+  // Position (24), values (8k), tet (4) and, in the engine, a list link and the released tet
+  // (4 + 4 over the carried 28 + 8k); a merge copies one array at a time: + the largest array.
+  return std::max(36 + 8 * k, 28 + 8 * k + std::max<std::uint64_t>(24, 8 * k));
 }
 
 std::uint64_t MemoryBudget::usable() const {
@@ -57,13 +59,15 @@ std::uint64_t MemoryBudget::usable() const {
   return after_headroom > baseline ? after_headroom - baseline : 0;
 }
 
-void MemoryBudget::check_vertices(std::uint64_t vertices, const std::string& input) const {
-  const std::uint64_t cut = vertices * kCutBytesPerVertex + kMinPieceTets * kBytesPerPieceTet / 8;
+void MemoryBudget::check_vertices(std::uint64_t vertices, std::uint64_t reader_bytes, const std::string& input) const {
+  const std::uint64_t cut = vertices * kCutBytesPerVertex + reader_bytes + kMinPieceTets * kBytesPerPieceTet / 8;
   if (cut > usable()) {
     const auto needed = static_cast<std::uint64_t>(static_cast<double>(baseline + cut) / (1.0 - kHeadroom)) + 1;
     throw InputError(input + ": --memory-limit " + format_bytes(limit) + " is below what cutting " +
                      std::to_string(vertices) + " vertices out of core needs: at least " + format_bytes(needed) +
-                     " (" + format_bytes(baseline) + " of it counted for the process itself)");
+                     " (" + format_bytes(baseline) + " of it counted for the process itself" +
+                     (reader_bytes > 0 ? ", " + format_bytes(reader_bytes) + " for the reader's node tag map" : std::string()) +
+                     ")");
   }
 }
 

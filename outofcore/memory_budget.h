@@ -6,7 +6,9 @@
 //                 of kBaselineStep, so that the few MiB it varies by between runs (and between
 //                 thread counts) do not change the piece count;
 //   cut phase     per input vertex: position and ref (28 bytes), the cut's local index (4) and
-//                 the holder count (1); per listed triangle (edge) 16 (12) bytes;
+//                 the holder count (1); per listed triangle (edge) 16 (12) bytes; while the mesh
+//                 streams, what the reader holds beside (a .msh's node tag map: 4 bytes a tag
+//                 up to the largest, or 48 bytes a node when the tags are sparse);
 //   levels        per input vertex: the holder count (1 byte); per piece tet: kBytesPerPieceTet,
 //                 what the engine needs to simplify a piece with the default guarantees (the
 //                 model, the tolerance's reference and coverage, the piece's own arrays in and
@@ -16,9 +18,10 @@
 //                 vertex, at most one vertex per kTetsPerVertex tets;
 //   field bounds  with field error bounds (SimplifyOptions::max_field_error...), every input vertex
 //                 is a sample carried through the levels, and the last merge holds them all:
-//                 bytes_per_field_sample per input vertex (position, values and tet, twice: a
-//                 merge's vectors while they grow), plus 4 + 12 k bytes per piece tet (its list
-//                 head and its bounds in the piece, the engine and the output), k = vertex field
+//                 bytes_per_field_sample per input vertex (position, values and tet: 28 + 8k; in
+//                 the engine a list link and the released tet, + 8; a merge copies one array at a
+//                 time, + the largest: 24 or 8k), plus 4 + 12 k bytes per piece tet (its list head
+//                 and its bounds in the piece, the engine and the output), k = vertex field
 //                 components;
 //   headroom      kHeadroom of the limit for the allocator's slack and the I/O buffers.
 // A limit that leaves fewer than kMinPieceTets per piece is refused before any work, with the
@@ -51,8 +54,9 @@ struct MemoryBudget {
   // The most tets a piece may have once the input's counts are known; throws InputError with the
   // limit that would be needed when it is below kMinPieceTets.
   std::uint64_t piece_tets(const InputCounts& counts) const;
-  // The first check, as soon as the vertex count is known (the cut holds them): throws likewise.
-  void check_vertices(std::uint64_t vertices, const std::string& input) const;
+  // The first check, as soon as the vertex count is known (the cut holds them, and the reader
+  // holds reader_bytes beside them while it streams: a .msh's node tag map): throws likewise.
+  void check_vertices(std::uint64_t vertices, std::uint64_t reader_bytes, const std::string& input) const;
   std::uint64_t usable() const;
 };
 

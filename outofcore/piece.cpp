@@ -134,6 +134,20 @@ std::array<GlobalId, 3> segment_key(const Segment& s, const std::vector<GlobalId
   return {std::min(ids[s.v[0]], ids[s.v[1]]), std::max(ids[s.v[0]], ids[s.v[1]]), static_cast<GlobalId>(s.ref)};
 }
 
+// mine += theirs, one array at a time, each freed as soon as it is copied: the samples are the
+// largest arrays of a late merge (every input vertex at the last), and growing `mine` in place
+// would hold its old and new buffers and `theirs` at once (memory_budget.h counts this way).
+template <class T>
+void append_releasing(std::vector<T>& mine, std::vector<T>& theirs) {
+  std::vector<T> joined;
+  joined.reserve(mine.size() + theirs.size());
+  joined.insert(joined.end(), mine.begin(), mine.end());
+  std::vector<T>().swap(mine);
+  joined.insert(joined.end(), theirs.begin(), theirs.end());
+  std::vector<T>().swap(theirs);
+  mine = std::move(joined);
+}
+
 }  // namespace
 
 Piece merge_pieces(Piece a, Piece b) {
@@ -184,13 +198,11 @@ Piece merge_pieces(Piece a, Piece b) {
     throw std::logic_error("merge_pieces: one piece has field samples, the other not");
   if (a.samples.components != 0) {
     const auto a_tets = static_cast<std::uint32_t>(m.tets.size());
-    FieldBoundSamples& f = a.samples;
-    const FieldBoundSamples& g = b.samples;
-    f.positions.insert(f.positions.end(), g.positions.begin(), g.positions.end());
-    f.values.insert(f.values.end(), g.values.begin(), g.values.end());
-    for (std::uint32_t t : g.tet) f.tet.push_back(a_tets + t);
-    f.bounds.insert(f.bounds.end(), g.bounds.begin(), g.bounds.end());
-    b.samples = FieldBoundSamples{};
+    for (std::uint32_t& t : b.samples.tet) t += a_tets;
+    append_releasing(a.samples.positions, b.samples.positions);
+    append_releasing(a.samples.values, b.samples.values);
+    append_releasing(a.samples.tet, b.samples.tet);
+    append_releasing(a.samples.bounds, b.samples.bounds);
   }
   for (const auto& t : n.tets) m.tets.push_back({map[t[0]], map[t[1]], map[t[2]], map[t[3]]});
   m.tet_material.insert(m.tet_material.end(), n.tet_material.begin(), n.tet_material.end());

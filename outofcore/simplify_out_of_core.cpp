@@ -326,8 +326,8 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
                        std::to_string(kMaxPieces) + " pieces for " + std::to_string(counts.tets) + " tets");
     return pieces;
   };
-  const auto on_vertices = [&](std::uint64_t vertices) {
-    if (limited) budget.check_vertices(vertices, input);
+  const auto on_vertices = [&](std::uint64_t vertices, std::uint64_t reader_bytes) {
+    if (limited) budget.check_vertices(vertices, reader_bytes, input);
     return limited;
   };
   const auto cut_start = Clock::now();

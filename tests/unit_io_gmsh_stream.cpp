@@ -191,5 +191,41 @@ TEST(GmshStream, CellViewsNeedConsecutiveTetTags) {
   }
 }
 
+// The reader announces its node tag map with the vertex count (the out-of-core budget counts it
+// beside the cut's arrays): 4 bytes a tag up to the largest when the tags are compact, a hash
+// node each when they are sparse; a visitor that checked it (returns true) gets the same vertices.
+TEST(GmshStream, TheNodeTagMapIsAnnouncedWithTheVertices) {
+  struct Holding : test::Recorder {
+    std::uint64_t announced = 0, bytes = 0;
+    bool checked = false;
+    bool begin_vertices_holding(std::uint64_t count, std::uint64_t reader_bytes) override {
+      announced = count;
+      bytes = reader_bytes;
+      begin_vertices(count);
+      return checked;
+    }
+  };
+  TempDir dir;
+  const auto one_tet = [&](const std::string& name, std::uint64_t last_tag) {
+    const std::string path = dir.file(name);
+    std::ofstream(path) << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 " << last_tag
+                        << "\n3 1 0 4\n1\n2\n3\n" << last_tag << "\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n"
+                        << "$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 " << last_tag << "\n$EndElements\n";
+    return path;
+  };
+  for (const bool checked : {false, true}) {
+    for (const std::uint64_t last : {std::uint64_t{4}, std::uint64_t{4'000'000'000}}) {
+      Holding h;
+      h.checked = checked;
+      ReadNotes notes;
+      stream_mesh(one_tet("t" + std::to_string(last) + ".msh", last), h, ReadOptions{}, notes);
+      EXPECT_EQ(h.announced, 4u);
+      EXPECT_EQ(h.bytes, last == 4 ? 4u * 5u : 48u * 4u) << last;
+      ASSERT_EQ(h.m.tets.size(), 1u);
+      EXPECT_EQ(h.m.tets[0], (std::array<VertId, 4>{0, 1, 2, 3}));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace topotet

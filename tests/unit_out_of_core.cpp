@@ -235,6 +235,24 @@ TEST(OutOfCoreLimit, ATinyLimitCutsIntoPiecesAndOneTooSmallIsRefusedBeforeAnyWor
   expect_same_topology(input, read_mesh(out));
 }
 
+// What the reader holds while the mesh streams (a .msh's node tag map, sparse: 48 bytes a node)
+// is counted beside the cut's own arrays, and named when it is what does not fit.
+TEST(OutOfCoreLimit, TheReadersNodeTagMapIsCountedInTheFirstCheck) {
+  ooc::MemoryBudget budget;
+  budget.baseline = ooc::kBaselineStep;
+  const std::uint64_t vertices = 1'000'000;
+  const double cut = static_cast<double>(vertices * ooc::kCutBytesPerVertex + ooc::kMinPieceTets * ooc::kBytesPerPieceTet / 8);
+  budget.limit = static_cast<std::uint64_t>((static_cast<double>(budget.baseline) + cut + 10e6) / (1.0 - ooc::kHeadroom));
+  EXPECT_NO_THROW(budget.check_vertices(vertices, 0, "in.msh"));
+  EXPECT_NO_THROW(budget.check_vertices(vertices, 4 * vertices, "in.msh"));  // compact tags: 4 MB
+  try {
+    budget.check_vertices(vertices, 48 * vertices, "in.msh");
+    FAIL() << "a 48 MB node tag map fit in 10 MB";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("node tag map"), std::string::npos) << e.what();
+  }
+}
+
 // A Gmsh MSH 4.1 input (ASCII, binary, gzipped ASCII) streams as the same mesh: the output has
 // the bytes of the run on that mesh written as MEDIT.
 TEST(OutOfCoreGmsh, AnMsh41InputGivesTheBytesOfTheSameMeshAsMedit) {

@@ -114,15 +114,15 @@ TEST(OutOfCoreFieldBounds, TrackedWithoutALimitTheyStillBoundEveryInputVertex) {
 
 TEST(OutOfCoreFieldBounds, TheBudgetCountsTheSamplesAndNamesThemWhenTheLimitIsTooSmall) {
   ooc::InputCounts counts;
-  counts.vertices = 2'000'000;
-  counts.tets = 12'000'000;
+  counts.vertices = 3'000'000;
+  counts.tets = 18'000'000;
   counts.vertex_stride = 3;
   ooc::MemoryBudget budget;
   budget.baseline = ooc::kBaselineStep;
   budget.limit = 256ull << 20;
   const std::uint64_t without = budget.piece_tets(counts);
   budget.field_samples = true;
-  // 2M samples of 3 components: 2 x (32 + 24) bytes each, 224 MB: more than 256M leaves.
+  // 3M samples of 3 components: 76 bytes each (memory_budget.h), 228 MB: more than 256M leaves.
   try {
     budget.piece_tets(counts);
     FAIL() << "field samples of 2M vertices fit in 256M";
@@ -130,6 +130,7 @@ TEST(OutOfCoreFieldBounds, TheBudgetCountsTheSamplesAndNamesThemWhenTheLimitIsTo
     EXPECT_NE(std::string(e.what()).find("field error bounds"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("at least"), std::string::npos) << e.what();
   }
+  EXPECT_EQ(ooc::bytes_per_field_sample(counts), 28u + 24u + 24u);
   budget.limit = 1ull << 30;
   const std::uint64_t with = budget.piece_tets(counts);
   budget.field_samples = false;

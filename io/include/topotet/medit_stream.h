@@ -20,6 +20,15 @@ namespace topotet {
 struct MeditVisitor {
   virtual ~MeditVisitor() = default;
   virtual void begin_vertices(std::uint64_t /*count*/) {}
+  // A reader that holds memory of its own while it streams (a .msh's node tag -> index map, which
+  // lives until the fields after the elements are read) begins the vertices through this instead,
+  // with the bytes it will hold: a visitor that checks the counts against a memory limit counts
+  // them too and returns true, and the reader then allocates them at once (no growth by doubling).
+  // The default begins the vertices and returns false (the reader grows as it reads).
+  virtual bool begin_vertices_holding(std::uint64_t count, std::uint64_t /*reader_bytes*/) {
+    begin_vertices(count);
+    return false;
+  }
   virtual void vertex(const std::array<double, 3>& /*p*/, std::int32_t /*ref*/) {}
   virtual void begin_tets(std::uint64_t /*count*/) {}
   virtual void tet(const std::array<VertId, 4>& /*v*/, std::int32_t /*material*/) {}
