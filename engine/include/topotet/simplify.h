@@ -193,9 +193,10 @@ struct SimplifyOptions {
   bool track_field_bounds = false;
   // Runs in passes (out of core) carry the bounds (FieldBoundSamples above). When set and the
   // bounds are kept: the run starts from these samples (the mesh passed, in its tet order) instead
-  // of taking the mesh's vertices as samples at bound 0, moves them out, and leaves the output's
-  // here (its tets in output order; empty when the run fails). Samples that do not fit the mesh
-  // (components, a tet out of range, sizes): kInvalidInput.
+  // of taking the mesh's vertices as samples at bound 0 (empty samples, components 0: it takes
+  // them, as without), moves them out, and leaves the output's here (its tets in output order).
+  // Samples that do not fit the mesh (components, a tet out of range, sizes): kInvalidInput, the
+  // samples left as given; after an internal error or running out of memory they are lost.
   FieldBoundSamples* field_samples = nullptr;
   Engine engine = Engine::kParallel;
   // Smoothing and flips of badly shaped stars after the collapses (Optimize above).
