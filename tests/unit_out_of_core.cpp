@@ -13,7 +13,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "io_test_files.h"
 #include "outofcore/cut.h"
@@ -100,10 +99,7 @@ Outcome run(const MeshData& input, const test::TempDir& folder, std::uint32_t pi
   Outcome r;
   r.report = simplify_out_of_core(in, out, options, ooc);
   r.output = read_mesh(out);
-  std::ifstream f(out, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  r.bytes = ss.str();
+  r.bytes = test::read_text(out);
   return r;
 }
 

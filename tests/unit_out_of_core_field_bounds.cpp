@@ -8,8 +8,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include "io_test_files.h"
 #include "outofcore/cut.h"
@@ -56,10 +54,7 @@ Outcome run_out_of_core(const MeshData& input, const test::TempDir& folder, cons
   Outcome r;
   r.report = simplify_out_of_core(in, out, options, ooc);
   r.output = read_mesh(out);
-  std::ifstream f(out, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  r.bytes = ss.str();
+  r.bytes = test::read_text(out);
   return r;
 }
 
