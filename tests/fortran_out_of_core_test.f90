@@ -1,7 +1,7 @@
 ! The Fortran binding's out-of-core call (topotet_simplify_out_of_core): a grid of 12^3 cells built
 ! from Fortran arrays and written as MEDIT, simplified out of core in 4 pieces with a vertex map
-! given as a Fortran string; the reports, the output read back and the map file agree; a limit too
-! small is an error with a message.
+! given as a Fortran string; the reports, the output read back and the map file agree; a field
+! error limit holds (the report's bound); a limit too small is an error with a message.
 !   usage: fortran_out_of_core_test FOLDER
 program fortran_out_of_core_test
   use, intrinsic :: iso_c_binding
@@ -9,8 +9,10 @@ program fortran_out_of_core_test
   use fortran_test_grid
   implicit none
   integer, parameter :: n = 12, nv = (n + 1)**3, nt = 6 * n**3
-  real(c_double), target :: xyz(3, nv)
+  real(c_double), target :: xyz(3, nv), r(nv)
   integer(c_int32_t), target :: tets(4, nt)
+  character(kind=c_char, len=2), target :: name = "r"//c_null_char
+  type(topotet_field_view), target :: field(1)
   type(topotet_mesh_arrays) :: in
   type(topotet_options) :: options
   type(topotet_out_of_core_options) :: ooc
@@ -18,7 +20,7 @@ program fortran_out_of_core_test
   type(topotet_report) :: report
   type(c_ptr) :: mesh, out
   integer(c_int) :: status
-  integer :: unit, o, entries
+  integer :: unit, o, entries, v
   logical :: hit(nv)
   character(4096) :: folder
   character(:), allocatable :: input, output, map, message
@@ -28,12 +30,18 @@ program fortran_out_of_core_test
   output = trim(folder)//"/fortran_ooc_out.mesh"
   map = trim(folder)//"/fortran_ooc_map.txt"
   call kuhn_grid(n, xyz, tets)
+  do v = 1, nv
+    r(v) = norm2(xyz(:, v) - n / 2d0)
+  end do
+  field(1) = topotet_field_view(c_loc(name), 1, topotet_view(c_loc(r), TOPOTET_FLOAT64, 0))
   call topotet_mesh_arrays_init(in)
   in%vertex_count = nv
   in%positions = topotet_view(c_loc(xyz), TOPOTET_FLOAT64, 0)
   in%tet_count = nt
   in%tets = topotet_view(c_loc(tets), TOPOTET_INT32, 0)
   in%index_base = 1
+  in%field_count = 1
+  in%fields = c_loc(field)
   if (topotet_mesh_build(in, 0, mesh) /= TOPOTET_OK) error stop "build"
   if (topotet_mesh_write(mesh, input) /= TOPOTET_OK) error stop "write"
   call topotet_mesh_free(mesh)
@@ -70,6 +78,13 @@ program fortran_out_of_core_test
   end do
 10 close (unit)
   if (entries /= nv .or. count(hit) /= report%vertices_after) error stop "the map is not one entry per input vertex, onto"
+  if (report%field_bounds /= 0) error stop "field bounds reported without being asked for"
+  ! A field error limit out of core: the bound the report gives is within it.
+  options%max_field_error_rel = 0.002d0
+  status = topotet_simplify_out_of_core(input, output, options, ooc, report, ooc_report)
+  if (status /= TOPOTET_OK .and. status /= TOPOTET_STOPPED_EARLY) error stop "out of core with a field error limit failed"
+  if (report%field_bounds /= 1 .or. report%field_bound_rel <= 0 .or. report%field_bound_rel > 0.002d0) &
+    error stop "the field error bound out of core"
   print '("fortran_out_of_core_test: ", i0, " -> ", i0, " vertices in ", i0, " pieces: pass")', nv, &
     report%vertices_after, ooc_report%pieces
   ! A main program's variables are saved: free them, or LeakSanitizer reports them at exit.

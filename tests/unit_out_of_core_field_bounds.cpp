@@ -138,6 +138,30 @@ TEST(OutOfCoreFieldBounds, TheBudgetCountsTheSamplesAndNamesThemWhenTheLimitIsTo
   EXPECT_EQ(budget.piece_tets(counts), plain);
 }
 
+// A memory limit (not a piece count) that leaves room for the samples and pieces of about 22,000
+// tets: several pieces, the samples counted, the bound still holds at every input vertex.
+TEST(OutOfCoreFieldBounds, UnderAMemoryLimitTheSamplesAreCountedAndTheBoundHolds) {
+  const MeshData input = input_with_two_fields(70000);
+  test::TempDir folder;
+  const std::string in = folder.file("in.mesh"), out = folder.file("out.mesh");
+  write_mesh(in, input);
+  ooc::InputCounts counts;
+  counts.vertices = input.vertex_count();
+  counts.vertex_stride = 4;
+  const double per_tet = static_cast<double>(ooc::bytes_per_piece_tet(counts) + 4 + 12 * 4);
+  const double samples = static_cast<double>(counts.vertices * (ooc::bytes_per_field_sample(counts) + ooc::kLevelBytesPerVertex));
+  OutOfCoreOptions ooc;
+  ooc.memory_limit_bytes = static_cast<std::uint64_t>(
+      (static_cast<double>(ooc::budget_baseline(ooc::resident_bytes())) + samples + 22000.0 * per_tet) / (1.0 - ooc::kHeadroom));
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.2;
+  options.track_field_bounds = true;
+  const OutOfCoreReport r = simplify_out_of_core(in, out, options, ooc);
+  EXPECT_GE(r.pieces, 4u);
+  EXPECT_LE(r.piece_tet_limit, 26000u);
+  expect_bounded(input, read_mesh(out), r.report);
+}
+
 // In core, through the public options: a second run that carries the first run's samples bounds
 // the error against the first run's input; one that does not bounds it against its own input only.
 TEST(CarriedFieldBounds, TwoRunsBoundTheErrorAgainstTheFirstInput) {
