@@ -190,11 +190,14 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
     target = std::max<std::uint64_t>(target, 4);
     parallel::run_with_threads(options.num_threads, [&] {
       // Neighbours in space become neighbours in memory: every phase walks stars (reorder.h).
-      const bool want_bounds = options.max_field_error > 0.0 || options.max_field_error_rel > 0.0 || options.track_field_bounds;
-      const bool carried_bounds = want_bounds && mesh.field_stride() > 0 && options.field_samples != nullptr;
-      std::vector<TetId> tet_old2new;  // for the carried samples' tets
+      const bool want_bounds = options.keeps_field_bounds() && mesh.field_stride() > 0;
+      // The caller's samples: handed back at the end (`carried`), and taken instead of the mesh's
+      // vertices when given (`start_from`), their tets renumbered with the mesh's.
+      FieldBoundSamples* const carried = want_bounds ? options.field_samples : nullptr;
+      const bool start_from = carried != nullptr && carried->components != 0;
+      std::vector<TetId> tet_old2new;
       reorder_for_locality(mesh, vertex_map != nullptr || log != nullptr || given.quadrics_in != nullptr ? &new2old : nullptr,
-                           carried_bounds && options.field_samples->components != 0 ? &tet_old2new : nullptr);
+                           start_from ? &tet_old2new : nullptr);
       if (new2old_out != nullptr) *new2old_out = new2old;
       if (given.quadrics_in != nullptr) {
         // Per vertex in the caller's order -> per vertex in the renumbered order; a wrong count is
@@ -253,17 +256,16 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
       // Field error bounds, only when asked for (they cost memory and a point location per sample
       // of every checked stencil). Taken after the renumbering: they are keyed by tet and vertex ids.
       std::unique_ptr<FieldBounds> bounds;
-      if (want_bounds && mesh.field_stride() > 0) {
+      if (want_bounds) {
         const auto setup_start = std::chrono::steady_clock::now();
-        if (carried_bounds && options.field_samples->components != 0) {
-          FieldBoundSamples& carried = *options.field_samples;
-          const std::size_t k = static_cast<std::size_t>(carried.components);
+        if (start_from) {
+          const std::size_t k = static_cast<std::size_t>(carried->components);
           std::vector<float> bound(tet_old2new.size() * k, 0.0f);  // [new tet * k + c]
           for (std::size_t t = 0; t < tet_old2new.size(); ++t)
-            if (tet_old2new[t] != kInvalid) std::copy_n(carried.bounds.begin() + t * k, k, bound.begin() + tet_old2new[t] * k);
-          carried.bounds = std::move(bound);
-          for (std::uint32_t& t : carried.tet) t = tet_old2new[t];
-          bounds = std::make_unique<FieldBounds>(mesh, std::move(carried), options.max_field_error, options.max_field_error_rel);
+            if (tet_old2new[t] != kInvalid) std::copy_n(carried->bounds.begin() + t * k, k, bound.begin() + tet_old2new[t] * k);
+          carried->bounds = std::move(bound);
+          for (std::uint32_t& t : carried->tet) t = tet_old2new[t];
+          bounds = std::make_unique<FieldBounds>(mesh, std::move(*carried), options.max_field_error, options.max_field_error_rel);
         } else {
           bounds = std::make_unique<FieldBounds>(mesh, options.max_field_error, options.max_field_error_rel);
         }
@@ -329,12 +331,12 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
       if (bounds != nullptr) {
         report.field_bound = bounds->max_bounds(mesh);
         report.field_bound_rel = bounds->max_bound_rel(mesh);
-        // In the order compact() keeps: the live tets by id.
-        for (TetId t = 0; t < mesh.tets.size(); ++t) {
-          if (mesh.flags[t] & tet_flag::kDead) continue;
-          for (int c = 0; c < bounds->components(); ++c) report.tet_field_bound.push_back(bounds->bound(t, c));
+        if (carried != nullptr) {
+          bounds->release(mesh, *carried);
+          report.tet_field_bound = carried->bounds;
+        } else {
+          report.tet_field_bound = bounds->live_bounds(mesh);
         }
-        if (carried_bounds) bounds->release(mesh, *options.field_samples);
       }
       // Said only where the census does not clear it (after relaxing, the tolerance has refused
       // collapses on the way and may hold few of the vertices left: under 5%, it is not said).

@@ -144,8 +144,7 @@ class NodeMap {
         return true;
       }
       if (dense_fits(count_, tag)) {
-        const std::uint64_t limit = 16 * count_ + (std::uint64_t{1} << 20);
-        dense_.resize(static_cast<std::size_t>(std::min<std::uint64_t>(std::max<std::uint64_t>(tag + 1, 2 * dense_.size()), limit)),
+        dense_.resize(static_cast<std::size_t>(std::min<std::uint64_t>(std::max<std::uint64_t>(tag + 1, 2 * dense_.size()), dense_limit(count_))),
                       kInvalid);
         dense_[tag] = index;
         ++count_;
@@ -168,7 +167,9 @@ class NodeMap {
 
  private:
   static constexpr std::uint64_t kSparseBytesPerNode = 48;
-  static bool dense_fits(std::uint64_t count, std::uint64_t tag) { return tag < 16 * count + (std::uint64_t{1} << 20); }
+  // Dense up to 16 slots a node (and a first 2^20): beyond, a hash map.
+  static std::uint64_t dense_limit(std::uint64_t count) { return 16 * count + (std::uint64_t{1} << 20); }
+  static bool dense_fits(std::uint64_t count, std::uint64_t tag) { return tag < dense_limit(count); }
 
   std::vector<VertId> dense_;
   std::unordered_map<std::uint64_t, VertId> sparse_;

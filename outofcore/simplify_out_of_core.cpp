@@ -50,16 +50,18 @@ using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-bool wants_field_bounds(const SimplifyOptions& o) {
-  return o.max_field_error > 0.0 || o.max_field_error_rel > 0.0 || o.track_field_bounds;
-}
-
 void refuse_unsupported(const SimplifyOptions& o) {
   if (!o.isosurfaces.empty())
     throw InputError("isosurfaces are not available out of core: embed them in core first (topotet simplify "
                      "--isosurface at --ratio 1), then simplify that mesh out of core");
   if (!(o.target_vertex_ratio > 0.0 && o.target_vertex_ratio <= 1.0))
     throw InputError("target_vertex_ratio must be in (0, 1]");
+}
+
+// into[c] = max(into[c], from[c]): the largest bound per component over several pieces.
+void raise_to(std::vector<double>& into, const std::vector<double>& from) {
+  if (into.size() < from.size()) into.resize(from.size(), 0.0);
+  for (std::size_t c = 0; c < from.size(); ++c) into[c] = std::max(into[c], from[c]);
 }
 
 struct PieceSlot {
@@ -309,7 +311,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   Report& report = result.report;
   MemoryBudget budget;
   budget.limit = ooc.memory_limit_bytes;
-  budget.field_samples = wants_field_bounds(options);
+  budget.field_samples = options.keeps_field_bounds();
   budget.baseline = budget_baseline(resident_bytes());
   const bool limited = budget.limit > 0;
 
@@ -345,7 +347,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   std::optional<VertexMapLog> map;
   if (!ooc.vertex_map_path.empty()) map.emplace(scratch.file_path("vertex-map.bin"), holders.size());
   std::optional<FieldSampling> sampling;
-  if (wants_field_bounds(options) && cut.counts.vertex_stride > 0) {
+  if (options.keeps_field_bounds() && cut.counts.vertex_stride > 0) {
     sampling.emplace();
     sampling->taken.assign(holders.size(), false);
     for (int c = 0; c < cut.counts.vertex_stride; ++c) {
@@ -461,8 +463,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
         piece = merge_pieces(std::move(a), std::move(b));
         slot.region = slots[step.a].region + slots[step.b].region + made_interior;
         slot.field_bound = slots[step.a].field_bound;  // until its run says (it may have nothing to remove)
-        for (std::size_t c = 0; c < slot.field_bound.size() && c < slots[step.b].field_bound.size(); ++c)
-          slot.field_bound[c] = std::max(slot.field_bound[c], slots[step.b].field_bound[c]);
+        raise_to(slot.field_bound, slots[step.b].field_bound);
       }
       std::uint64_t interior = 0;
       for (GlobalId g : piece.global_ids) interior += holders[g] == 1;
@@ -515,9 +516,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
     // The largest bound over the output's tets: over the pieces' (each piece's are its tets').
     report.field_bounds = true;
     report.field_bound.assign(sampling->range.size(), 0.0);
-    for (const PieceSlot& s : slots)
-      for (std::size_t c = 0; c < s.field_bound.size() && c < report.field_bound.size(); ++c)
-        report.field_bound[c] = std::max(report.field_bound[c], s.field_bound[c]);
+    for (const PieceSlot& s : slots) raise_to(report.field_bound, s.field_bound);
     report.field_bound_rel = 0.0;
     for (std::size_t c = 0; c < report.field_bound.size(); ++c)
       report.field_bound_rel = std::max(report.field_bound_rel, report.field_bound[c] / sampling->range[c]);

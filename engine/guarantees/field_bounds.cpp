@@ -206,13 +206,12 @@ void FieldBounds::release(const MeshModel& mesh, FieldBoundSamples& out) {
   const std::size_t k = static_cast<std::size_t>(k_);
   out = FieldBoundSamples{};
   out.components = k_;
+  out.bounds = live_bounds(mesh);
   std::vector<std::uint32_t> tet_of(next_.size(), kInvalid);
-  out.bounds.reserve(mesh.live_tet_count() * k);
   std::uint32_t o = 0;
   for (TetId t = 0; t < mesh.tets.size(); ++t) {
     if (mesh.flags[t] & tet_flag::kDead) continue;
     for (std::uint32_t w = head_[t]; w != kInvalid; w = next_[w]) tet_of[w] = o;
-    out.bounds.insert(out.bounds.end(), bound_.begin() + static_cast<std::ptrdiff_t>(t * k), bound_.begin() + static_cast<std::ptrdiff_t>((t + 1) * k));
     ++o;
   }
   // Dropping the samples no live tet holds, in place (the kept ones keep their order).
@@ -325,6 +324,16 @@ float FieldBounds::commit(std::span<const TetId> removed, FieldBoundsScratch& s)
       worst_rel = std::max(worst_rel, round_up(static_cast<double>(b) / range_[c]));
     }
   return worst_rel;
+}
+
+std::vector<float> FieldBounds::live_bounds(const MeshModel& mesh) const {
+  const std::size_t k = static_cast<std::size_t>(k_);
+  std::vector<float> out;
+  out.reserve(mesh.live_tet_count() * k);
+  for (TetId t = 0; t < mesh.tets.size(); ++t)
+    if (!(mesh.flags[t] & tet_flag::kDead))
+      out.insert(out.end(), bound_.begin() + static_cast<std::ptrdiff_t>(t * k), bound_.begin() + static_cast<std::ptrdiff_t>((t + 1) * k));
+  return out;
 }
 
 std::vector<double> FieldBounds::max_bounds(const MeshModel& mesh) const {

@@ -112,6 +112,8 @@ class FieldBounds {
   // component): the collapse's error bound, for a hierarchy of collapses.
   float commit(std::span<const TetId> removed, FieldBoundsScratch& s);
 
+  // Every live tet's bounds, the tets in the order compact() keeps (by id): [tet * k + c].
+  std::vector<float> live_bounds(const MeshModel& mesh) const;
   // Largest bound over the live tets, per component (field units), and relative to the range.
   std::vector<double> max_bounds(const MeshModel& mesh) const;
   double max_bound_rel(const MeshModel& mesh) const;

@@ -191,6 +191,8 @@ struct SimplifyOptions {
   double max_field_error = 0.0;
   double max_field_error_rel = 0.0;
   bool track_field_bounds = false;
+  // The bounds are kept: a limit or track_field_bounds (and the mesh has fields).
+  bool keeps_field_bounds() const { return max_field_error > 0.0 || max_field_error_rel > 0.0 || track_field_bounds; }
   // Runs in passes (out of core) carry the bounds (FieldBoundSamples above). When set and the
   // bounds are kept: the run starts from these samples (the mesh passed, in its tet order) instead
   // of taking the mesh's vertices as samples at bound 0 (empty samples, components 0: it takes
