@@ -178,7 +178,7 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
                                          "Also record every collapse into this hierarchy file (.tth): `topotet "
                                          "extract` then gives any level, uniform or fine in a volume of interest; "
                                          "with fields, each collapse's field error bound too (levels by a guaranteed "
-                                         "error)")
+                                         "error); out of core too, recorded on disk")
                              ->excludes(levels));
   keep(cmd->add_option("--vertex-map", args.vertex_map,
                        "Also write, for every input vertex in input order, the 0-based index of the output vertex it "
@@ -232,7 +232,7 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
                                       "benchmarks); without --memory-limit nothing limits the merges")
                           ->check(CLI::Range(1u, 4096u)));
   for (CLI::Option* out_of_core : {memory_limit, pieces})
-    for (const char* not_out_of_core : {"--levels", "--hierarchy", "--levels-error", "--isosurface", "--feature-ref"})
+    for (const char* not_out_of_core : {"--levels", "--levels-error", "--isosurface", "--feature-ref"})
       out_of_core->excludes(not_out_of_core);
   scratch->check(CLI::ExistingDirectory);
   return set;

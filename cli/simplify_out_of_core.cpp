@@ -4,6 +4,7 @@
 // points at `topotet check IN OUT` for the topology verdict (--fast at large sizes), which needs
 // both meshes in memory.
 #include <cstdio>
+#include <filesystem>
 
 #include "common.h"
 #include "simplify_options.h"
@@ -48,6 +49,11 @@ Json json_report(const SimplifyArgs& args, const OutOfCoreOptions& ooc, const Ou
                                                        {"setup_seconds", rep.field_bounds_setup_seconds}}
                                                  : Json()},
               {"vertex_map", ooc.vertex_map_path},
+              {"hierarchy", ooc.hierarchy_path.empty() ? Json()
+                                                       : Json{{"path", ooc.hierarchy_path},
+                                                              {"collapses", r.hierarchy_collapses},
+                                                              {"bytes", r.hierarchy_bytes},
+                                                              {"write_seconds", r.hierarchy_write_seconds}}},
               {"topology", "not checked: topotet check IN OUT"}};
 }
 
@@ -68,8 +74,17 @@ int run_simplify_out_of_core(const SimplifyArgs& args) {
   ooc.cell_remap.categorical = args.categorical;
   ooc.vertex_map_path = args.vertex_map;
   if (!ooc.vertex_map_path.empty()) check_output_folder(ooc.vertex_map_path);
+  ooc.hierarchy_path = args.hierarchy;
+  if (!ooc.hierarchy_path.empty()) {
+    check_output_folder(ooc.hierarchy_path);
+    if (std::filesystem::path(ooc.hierarchy_path).lexically_normal() == std::filesystem::path(args.output).lexically_normal())
+      throw InputError("--hierarchy " + ooc.hierarchy_path + " is the output file too: give it another name");
+  }
   if (verbosity() >= Verbosity::kVerbose) ooc.log = [](const std::string& line) { print_note(line); };
-  const SimplifyOptions options = engine_options(args);
+  SimplifyOptions options = engine_options(args);
+  // As in core: a hierarchy records each collapse's field error bound (for `extract --max-error`);
+  // a mesh without vertex fields has none to record (the run then ignores this).
+  if (!ooc.hierarchy_path.empty() && !args.no_field_bounds) options.track_field_bounds = true;
   OutOfCoreReport r;
   run_with_thread_limit(options.num_threads, [&] { r = simplify_out_of_core(args.input, args.output, options, ooc); });
   const Report& rep = r.report;
@@ -116,6 +131,11 @@ int run_simplify_out_of_core(const SimplifyArgs& args) {
                  args.input.c_str(), args.output.c_str(), rep.tets_before > 2'000'000 ? " --fast" : "");
     if (!ooc.vertex_map_path.empty())
       std::fprintf(out, "vertex map   %s: every input vertex -> its output vertex\n", ooc.vertex_map_path.c_str());
+    if (!ooc.hierarchy_path.empty())
+      std::fprintf(out, "hierarchy    %s: %s collapses, %s (written in %s); levels: topotet extract %s\n",
+                   ooc.hierarchy_path.c_str(), format_count(r.hierarchy_collapses).c_str(),
+                   format_bytes(r.hierarchy_bytes).c_str(), format_seconds(r.hierarchy_write_seconds).c_str(),
+                   ooc.hierarchy_path.c_str());
     if (rep.status != Status::kOk) std::fprintf(out, "status       %s\n", rep.message.c_str());
   }
   if (!args.report.empty()) write_json_atomically(args.report, json_report(args, ooc, r));

@@ -151,9 +151,10 @@ void resolve_vertex_map(const MeshModel& mesh, std::size_t input_count, const st
 }
 
 // `log` (simplify_with_hierarchy) records the collapses in the renumbered ids; new2old_out then
-// receives the renumbering.
+// receives the renumbering, and log_tets_out each output tet's last collapse (CollapseLog::keep_live_tets).
 Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<VertId>* vertex_map,
-                     detail::CollapseLog* log = nullptr, std::vector<VertId>* new2old_out = nullptr) noexcept {
+                     detail::CollapseLog* log = nullptr, std::vector<VertId>* new2old_out = nullptr,
+                     std::vector<std::uint32_t>* log_tets_out = nullptr) noexcept {
   Report report;
   // The run's options: the caller's, with the carried quadrics in the renumbered vertex order
   // (quadrics_in, set below) and quadrics_out filled here at the end, not by the engines.
@@ -196,9 +197,11 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
       FieldBoundSamples* const carried = want_bounds ? options.field_samples : nullptr;
       const bool start_from = carried != nullptr && carried->components != 0;
       std::vector<TetId> tet_old2new;
+      const bool seeded_log = log != nullptr && log->seeded();  // a log continuing earlier runs (out of core)
       reorder_for_locality(mesh, vertex_map != nullptr || log != nullptr || given.quadrics_in != nullptr ? &new2old : nullptr,
-                           start_from ? &tet_old2new : nullptr);
+                           start_from || seeded_log ? &tet_old2new : nullptr);
       if (new2old_out != nullptr) *new2old_out = new2old;
+      if (seeded_log) log->renumber_tets(tet_old2new, mesh.tet_capacity());
       if (given.quadrics_in != nullptr) {
         // Per vertex in the caller's order -> per vertex in the renumbered order; a wrong count is
         // left for CostModel to refuse.
@@ -358,6 +361,7 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
         map_done = true;
         std::vector<VertId>().swap(mesh.merged_into);
       }
+      if (log != nullptr && log_tets_out != nullptr) *log_tets_out = log->keep_live_tets(mesh);  // compact keeps their order
       // Once, at the end: renumbering mid-run would have to remap every per-vertex array of the
       // engines (proposals, quadrics, orders) for a locality gain the runs here did not need.
       compact(mesh);
@@ -391,8 +395,8 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
 }  // namespace
 
 Report detail::simplify_recorded(MeshModel& mesh, const SimplifyOptions& options, CollapseLog& log,
-                                 std::vector<VertId>& new2old) noexcept {
-  return simplify_impl(mesh, options, nullptr, &log, &new2old);
+                                 std::vector<VertId>& new2old, std::vector<std::uint32_t>* last_change_out) noexcept {
+  return simplify_impl(mesh, options, nullptr, &log, &new2old, last_change_out);
 }
 
 Report simplify(MeshModel& mesh, const SimplifyOptions& options) noexcept { return simplify_impl(mesh, options, nullptr); }

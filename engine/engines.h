@@ -56,9 +56,11 @@ void simplify_parallel(MeshModel& mesh, const SimplifyOptions& options, const Co
                        FieldBounds* bounds, std::uint64_t target_vertices, Report& report, CollapseLog* log = nullptr,
                        const FinishStep& finish = {}, const RelaxStep& relax = {});
 
-// simplify() with a collapse log (topotet::simplify_with_hierarchy). new2old receives the
-// locality renumbering (reorder.h) that the log's vertex ids are in (old = the mesh as passed).
+// simplify() with a collapse log (topotet::simplify_with_hierarchy; out of core, a log seeded
+// from the levels before). new2old receives the locality renumbering (reorder.h) that the log's
+// vertex ids are in (old = the mesh as passed); last_change_out, when given, each output tet's
+// last collapse (in the output's tet order), for a next run's seeds.
 Report simplify_recorded(MeshModel& mesh, const SimplifyOptions& options, CollapseLog& log,
-                         std::vector<VertId>& new2old) noexcept;
+                         std::vector<VertId>& new2old, std::vector<std::uint32_t>* last_change_out = nullptr) noexcept;
 
 }  // namespace topotet::detail

@@ -22,6 +22,7 @@
 
 #include "hierarchy/hierarchy_log.h"
 #include "io/atomic_file.h"
+#include "io/tth_layout.h"
 #include "topotet/error.h"
 #include "topotet/hierarchy.h"
 
@@ -30,9 +31,9 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "the .tth writer stores the host's little-endian layout");
 
-constexpr char kMagic[8] = {'T', 'O', 'P', 'O', 'T', 'E', 'T', 'H'};
-constexpr char kEnd[8] = {'T', 'T', 'H', '_', 'E', 'N', 'D', '!'};
-constexpr std::uint32_t kVersion = 1;
+using io::tth::kEnd;
+using io::tth::kMagic;
+using io::tth::kVersion;
 
 class Writer {
  public:

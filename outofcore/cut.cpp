@@ -14,6 +14,7 @@
 
 #include "mesh/morton.h"
 #include "field_views.h"
+#include "hierarchy_spool.h"
 #include "piece.h"
 #include "topotet/cell_fields.h"
 #include "topotet/error.h"
@@ -169,13 +170,32 @@ class FieldWindow {
   std::uint64_t first_ = 0, count_ = 0;
 };
 
+// The input as read, for a hierarchy file (hierarchy_spool.h): from what the mesh pass keeps, its
+// tet spill (read twice: tets, then materials) and the spilled vertex fields.
+void write_original(HierarchySpool& out, const MeshPass& pass, const ScratchFolder& scratch,
+                    const std::vector<VertexField>& fields, const InputCounts& counts) {
+  out.original_vertices(pass.positions, pass.refs);
+  out.original_tet_count(counts.tets);
+  for (int part = 0; part < 2; ++part) {
+    ScratchReader tets(scratch.file_path("tets.bin"));
+    for (std::uint64_t t = 0; t < counts.tets; ++t) {
+      const TetRecord r = tets.get<TetRecord>();
+      if (part == 0) out.original_tet(r.v);
+      else out.original_material(r.material);
+    }
+  }
+  out.original_listed(pass.triangles, pass.segments, pass.ridges, pass.corners, pass.required);
+  out.original_fields(fields, scratch.file_path("vertex-fields.bin"), counts.vertex_stride, counts.vertices);
+  out.original_done();
+}
+
 }  // namespace
 
 CutResult cut_input(const std::string& input, ScratchFolder& scratch,
                     const std::function<std::uint32_t(const InputCounts&)>& choose_pieces,
                     const std::function<void(const std::string&)>& log,
                     const std::function<bool(std::uint64_t, std::uint64_t)>& on_vertex_count,
-                    const CellRemapOptions& cell_kinds) {
+                    const CellRemapOptions& cell_kinds, HierarchySpool* original) {
   using Clock = std::chrono::steady_clock;
   const auto say = [&](const std::string& s) {
     if (log) log(s);
@@ -252,6 +272,8 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
     }
     out.close();
   }
+
+  if (original != nullptr) write_original(*original, pass, scratch, result.vertex_fields, counts);
 
   // Units of the whole input (CostUnits; field order = field_stride order = the .sol's).
   CostUnits& units = result.units;

@@ -17,6 +17,8 @@
 //               listed triangle (edge) that is a face (edge) of one of its tets; corners and
 //               required vertices among its vertices. A listed triangle or edge that no piece
 //               holds is not a face (edge) of any tet: the input error read_mesh would give.
+// With a hierarchy asked for, the input as read goes to its original section between the .sol pass
+// and the split (hierarchy_spool.h), while the cut holds the input's vertices anyway.
 // The number of pieces is chosen by the caller from the counts (choose_pieces), between the mesh
 // pass and the split, so that it depends on the input and the limit only (determinism).
 #pragma once
@@ -33,6 +35,8 @@
 #include "topotet/simplify.h"
 
 namespace topotet::ooc {
+
+class HierarchySpool;
 
 struct InputCounts {
   std::uint64_t vertices = 0, tets = 0, triangles = 0, segments = 0;
@@ -65,6 +69,7 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
                     const std::function<std::uint32_t(const InputCounts&)>& choose_pieces,
                     const std::function<void(const std::string&)>& log,
                     const std::function<bool(std::uint64_t vertices, std::uint64_t reader_bytes)>& on_vertex_count,
-                    const CellRemapOptions& cell_kinds);  // the kinds of the cell fields (--extensive...)
+                    const CellRemapOptions& cell_kinds,  // the kinds of the cell fields (--extensive...)
+                    HierarchySpool* original = nullptr);  // given: the input written as a .tth's original
 
 }  // namespace topotet::ooc

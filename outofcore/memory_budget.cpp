@@ -54,6 +54,11 @@ std::uint64_t bytes_per_field_sample(const InputCounts& counts) {
   return std::max(36 + 8 * k, 28 + 8 * k + std::max<std::uint64_t>(24, 8 * k));
 }
 
+std::uint64_t bytes_per_hierarchy_tet(const InputCounts& counts) {
+  const auto k = static_cast<std::uint64_t>(std::max(counts.vertex_stride, 0));
+  return 12 + (2 * (148 + 16 * k) + kTetsPerVertex - 1) / kTetsPerVertex;
+}
+
 std::uint64_t MemoryBudget::usable() const {
   const auto after_headroom = static_cast<std::uint64_t>(static_cast<double>(limit) * (1.0 - kHeadroom));
   return after_headroom > baseline ? after_headroom - baseline : 0;
@@ -80,7 +85,8 @@ std::uint64_t MemoryBudget::piece_tets(const InputCounts& counts) const {
   const std::uint64_t level_held = counts.vertices * kLevelBytesPerVertex + samples_held;
   const std::uint64_t u = usable();
   const auto k = static_cast<std::uint64_t>(std::max(counts.vertex_stride, 0));
-  const std::uint64_t per_tet = bytes_per_piece_tet(counts) + (samples ? 4 + 12 * k : 0);
+  const std::uint64_t per_tet =
+      bytes_per_piece_tet(counts) + (samples ? 4 + 12 * k : 0) + (hierarchy ? bytes_per_hierarchy_tet(counts) : 0);
   const std::uint64_t during_cut = u > cut_held ? (u - cut_held) * 8 / kBytesPerPieceTet : 0;
   const std::uint64_t during_levels = u > level_held ? (u - level_held) / per_tet : 0;
   const std::uint64_t tets = std::min(during_cut, during_levels);

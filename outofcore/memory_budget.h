@@ -23,6 +23,11 @@
 //                 time, + the largest: 24 or 8k), plus 4 + 12 k bytes per piece tet (its list head
 //                 and its bounds in the piece, the engine and the output), k = vertex field
 //                 components;
+//   hierarchy     with a hierarchy file, per piece tet: its last collapse in the piece, the log and
+//                 the output (12 bytes), and the log's records, at most one collapse per
+//                 kTetsPerVertex tets, each 2 x (148 + 16k) bytes (u, v, three positions, cost,
+//                 bound, offset, ~10 parents, fields before and after; twice, as the log's arrays
+//                 grow by doubling); the original and the records go to disk, not to memory;
 //   headroom      kHeadroom of the limit for the allocator's slack and the I/O buffers.
 // A limit that leaves fewer than kMinPieceTets per piece is refused before any work, with the
 // smallest limit that would do.
@@ -50,6 +55,7 @@ struct MemoryBudget {
   std::uint64_t limit = 0;     // bytes
   std::uint64_t baseline = 0;  // bytes (resident at the start)
   bool field_samples = false;  // field error bounds kept (see the top)
+  bool hierarchy = false;      // a hierarchy file recorded (see the top)
 
   // The most tets a piece may have once the input's counts are known; throws InputError with the
   // limit that would be needed when it is below kMinPieceTets.
@@ -70,5 +76,7 @@ std::string format_bytes(std::uint64_t bytes);  // "1.50 GiB", "256 MiB"
 std::uint64_t bytes_per_piece_tet(const InputCounts& counts);
 // What one field error sample costs at the peak (see the top).
 std::uint64_t bytes_per_field_sample(const InputCounts& counts);
+// What recording a hierarchy adds per piece tet (see the top).
+std::uint64_t bytes_per_hierarchy_tet(const InputCounts& counts);
 
 }  // namespace topotet::ooc

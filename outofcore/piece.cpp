@@ -12,7 +12,7 @@ namespace topotet::ooc {
 
 namespace {
 
-constexpr std::uint64_t kMagic = 0x33656365'6970746fULL;  // "otpiece3"
+constexpr std::uint64_t kMagic = 0x34656365'6970746fULL;  // "otpiece4"
 
 template <class T>
 void put_vector(ScratchWriter& out, const std::vector<T>& v) {
@@ -76,6 +76,7 @@ void save_piece(const std::string& path, const Piece& piece) {
   put_vector(out, f.values);
   put_vector(out, f.tet);
   put_vector(out, f.bounds);
+  put_vector(out, piece.last_collapse);
   out.close();
 }
 
@@ -117,6 +118,7 @@ Piece load_piece(const std::string& path) {
   get_vector(in, f.values);
   get_vector(in, f.tet);
   get_vector(in, f.bounds);
+  get_vector(in, piece.last_collapse);
   return piece;
 }
 
@@ -203,6 +205,13 @@ Piece merge_pieces(Piece a, Piece b) {
     append_releasing(a.samples.values, b.samples.values);
     append_releasing(a.samples.tet, b.samples.tet);
     append_releasing(a.samples.bounds, b.samples.bounds);
+  }
+  // b's tets follow a's, and so do their last collapses.
+  if (a.last_collapse.size() != m.tets.size() || b.last_collapse.size() != n.tets.size()) {
+    if (!a.last_collapse.empty() || !b.last_collapse.empty())
+      throw std::logic_error("merge_pieces: one piece has its tets' last collapses, the other not");
+  } else {
+    append_releasing(a.last_collapse, b.last_collapse);
   }
   for (const auto& t : n.tets) m.tets.push_back({map[t[0]], map[t[1]], map[t[2]], map[t[3]]});
   m.tet_material.insert(m.tet_material.end(), n.tet_material.begin(), n.tet_material.end());

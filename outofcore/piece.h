@@ -33,6 +33,9 @@ struct Piece {
   // bounds (SimplifyOptions::field_samples), carried from level to level; components = 0 before
   // the first run, or without bounds.
   FieldBoundSamples samples;
+  // With a hierarchy file: [tet] the (run-wide) id of the collapse that last changed it, kInvalid
+  // for none; the next level's log is seeded with it (hierarchy_spool.h). Empty otherwise.
+  std::vector<std::uint32_t> last_collapse;
 };
 
 void save_piece(const std::string& path, const Piece& piece);  // throws InputError (disk full...)
@@ -41,8 +44,9 @@ Piece load_piece(const std::string& path);
 // The union of a and b: common vertices (same global id) once, a's vertices first in a's order,
 // then b's new ones; tets of both (a piece's tets are its own); triangles, edges, corners and
 // required vertices that both list (those on the common border) once, a's copy first; the
-// quadrics of common vertices added; the field samples of both (a sample is in one piece only). The field layouts must agree (they come from one input), and
-// so must the quadrics' (both or neither).
+// quadrics of common vertices added; the field samples of both (a sample is in one piece only);
+// each tet's last collapse. The field layouts must agree (they come from one input), and so must
+// the quadrics' (both or neither).
 Piece merge_pieces(Piece a, Piece b);
 
 }  // namespace topotet::ooc

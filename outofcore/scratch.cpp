@@ -18,7 +18,11 @@ namespace topotet::ooc {
 namespace {
 
 constexpr const char* kFixedNames[] = {"tets.bin", "vertex-fields.bin", "tet-fields.bin", "vertex-map.bin", "node-data.bin",
-                                       "element-data.bin"};
+                                       "element-data.bin",
+                                       // the hierarchy file's sections (hierarchy_spool.h)
+                                       "tth-original.bin", "tth-u.bin", "tth-v.bin", "tth-u-before.bin", "tth-u-after.bin",
+                                       "tth-v-position.bin", "tth-fields-before.bin", "tth-fields-after.bin", "tth-cost.bin",
+                                       "tth-bound.bin", "tth-offsets.bin", "tth-parents.bin"};
 
 // Live scratch folders, for remove_scratch_folders() in a signal handler; 32 bytes are kept for
 // the names the handler appends.

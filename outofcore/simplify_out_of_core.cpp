@@ -28,7 +28,10 @@
 #include <filesystem>
 
 #include "cut.h"
+#include "engines.h"
 #include "entry_points.h"
+#include "hierarchy/hierarchy_log.h"
+#include "hierarchy_spool.h"
 #include "memory_budget.h"
 #include "mesh/mesh_model.h"
 #include "piece.h"
@@ -111,10 +114,12 @@ struct PieceRun {
 // simplified piece (topotet/cell_fields.h; exact overlaps: the piece's region is the same before and
 // after, its border frozen), so an extensive array's sum is conserved level after level.
 // With a vertex map asked for, the vertices the run merged go to `map` (global ids). With field
-// bounds (`sampling`), the piece's samples go through the run (taken first, at level 0).
+// bounds (`sampling`), the piece's samples go through the run (taken first, at level 0). With a
+// hierarchy file (`spool`), the run's collapses are recorded, continuing the run's ids from the
+// tets' last collapses (hierarchy_spool.h).
 PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, SimplifyOptions options,
                         std::uint64_t remove, const CellRemapOptions& cell_remap, VertexMapLog* map,
-                        FieldSampling* sampling) {
+                        FieldSampling* sampling, HierarchySpool* spool) {
   PieceRun run;
   MeshData& data = piece.mesh;
   const std::size_t before = data.positions.size();
@@ -146,10 +151,26 @@ PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, 
     options.field_samples = &piece.samples;
   }
   std::vector<VertId> local_map;
-  run.report = map != nullptr ? simplify(model, options, local_map) : simplify(model, options);
+  std::optional<detail::CollapseLog> log;
+  std::vector<VertId> new2old;  // the log's vertex ids -> the piece's
+  std::vector<std::uint32_t> last_collapse;
+  if (spool != nullptr) {
+    log.emplace(model.tet_capacity(), model.field_stride(), spool->next_id());
+    if (!piece.last_collapse.empty()) log->seed_tets(std::move(piece.last_collapse));
+    run.report = detail::simplify_recorded(model, options, *log, new2old, &last_collapse);
+  } else {
+    run.report = map != nullptr ? simplify(model, options, local_map) : simplify(model, options);
+  }
   if (run.report.status == Status::kInvalidInput || run.report.status == Status::kInternalError ||
       run.report.status == Status::kOutOfMemory || run.report.status == Status::kCancelled)
     throw InputError("out-of-core piece: " + run.report.message);
+  if (log) {
+    std::vector<GlobalId> global(new2old.empty() ? before : new2old.size());
+    for (VertId x = 0; x < global.size(); ++x) global[x] = piece.global_ids[new2old.empty() ? x : new2old[x]];
+    spool->append(*log, global);
+    log.reset();
+    piece.last_collapse = std::move(last_collapse);
+  }
   MeshData out = model.to_mesh_data();
   model = MeshModel{};
   if (!cells_before.cell_fields.empty()) remap_cell_fields(cells_before, out, cell_remap);
@@ -297,6 +318,9 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   const auto start = Clock::now();
   refuse_unsupported(options);
   if (!ooc.vertex_map_path.empty()) check_vertex_map_path(ooc.vertex_map_path);
+  if (!ooc.hierarchy_path.empty() && !ooc.vertex_map_path.empty())
+    throw InputError("a hierarchy file and a vertex map exclude each other (as in core): the hierarchy's levels are "
+                     "extracted with topotet extract, which maps their vertices");
   if (const MeshFormat f = format_from_path(input); f != MeshFormat::kMedit && f != MeshFormat::kGmsh)
     throw InputError(input + ": out of core streams MEDIT (.mesh, .meshb) and Gmsh MSH 4.1 (.msh), optionally .gz: convert it "
                      "first (topotet convert " + input + " in.mesh), or run in core without --memory-limit");
@@ -312,11 +336,14 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   MemoryBudget budget;
   budget.limit = ooc.memory_limit_bytes;
   budget.field_samples = options.keeps_field_bounds();
+  budget.hierarchy = !ooc.hierarchy_path.empty();
   budget.baseline = budget_baseline(resident_bytes());
   const bool limited = budget.limit > 0;
 
   ScratchFolder scratch(ooc.scratch_parent.empty() ? parent_folder(output) : ooc.scratch_parent);
   say("scratch folder " + scratch.path());
+  std::optional<HierarchySpool> spool;
+  if (!ooc.hierarchy_path.empty()) spool.emplace(scratch);
   std::uint64_t piece_limit = 0;
   const auto choose = [&](const InputCounts& counts) -> std::uint32_t {
     piece_limit = limited ? budget.piece_tets(counts) : counts.tets;
@@ -333,7 +360,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
     return limited;
   };
   const auto cut_start = Clock::now();
-  CutResult cut = cut_input(input, scratch, choose, ooc.log, on_vertices, ooc.cell_remap);
+  CutResult cut = cut_input(input, scratch, choose, ooc.log, on_vertices, ooc.cell_remap, spool ? &*spool : nullptr);
   result.cut_seconds = since(cut_start);
   result.pieces = cut.pieces;
   result.piece_tet_limit = piece_limit;
@@ -471,8 +498,8 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
       std::uint64_t remove = interior > keep ? interior - keep : 0;
       if (last) remove = live > target ? live - target : 0;
       stats.largest_piece_tets = std::max<std::uint64_t>(stats.largest_piece_tets, piece.mesh.tets.size());
-      const PieceRun run =
-          simplify_piece(piece, holders, o, remove, ooc.cell_remap, map ? &*map : nullptr, sampling ? &*sampling : nullptr);
+      const PieceRun run = simplify_piece(piece, holders, o, remove, ooc.cell_remap, map ? &*map : nullptr,
+                                          sampling ? &*sampling : nullptr, spool ? &*spool : nullptr);
       add_run_counts(report, run.report);
       if (run.report.field_bounds) {
         slot.field_bound = run.report.field_bound;
@@ -512,6 +539,13 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   // holders[g] != 0: used by a tet (a merge takes a holder from a border vertex, never the last).
   if (map) map->write(ooc.vertex_map_path, holders);
   result.write_seconds = since(write_start);
+  if (spool) {
+    const auto hierarchy_start = Clock::now();
+    spool->write(ooc.hierarchy_path, cut.counts.vertex_stride);
+    result.hierarchy_collapses = spool->collapses();
+    result.hierarchy_bytes = spool->bytes_written();
+    result.hierarchy_write_seconds = since(hierarchy_start);
+  }
   if (sampling) {
     // The largest bound over the output's tets: over the pieces' (each piece's are its tets').
     report.field_bounds = true;

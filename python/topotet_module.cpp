@@ -627,7 +627,7 @@ PYBIND11_MODULE(_core, m) {
          double tolerance, double min_quality, double min_dihedral, double size_weight, double max_cost,
          double feature_angle, int threads, const std::string& optimize, const std::vector<std::string>& extensive,
          const std::vector<std::string>& categorical, const std::string& vertex_map, double max_field_error,
-         double max_field_error_rel, bool field_bounds) {
+         double max_field_error_rel, bool field_bounds, const std::string& hierarchy) {
         topotet::OutOfCoreOptions ooc;
         if (py::isinstance<py::str>(memory_limit)) ooc.memory_limit_bytes = topotet::parse_memory_size(memory_limit.cast<std::string>());
         else if (!memory_limit.is_none()) ooc.memory_limit_bytes = memory_limit.cast<std::uint64_t>();
@@ -636,9 +636,12 @@ PYBIND11_MODULE(_core, m) {
         ooc.cell_remap.extensive = extensive;
         ooc.cell_remap.categorical = categorical;
         ooc.vertex_map_path = vertex_map;
+        ooc.hierarchy_path = hierarchy;
+        // As simplify(hierarchy=...): each collapse records its field error bound (a mesh without
+        // vertex fields has none).
         const topotet::SimplifyOptions o = run_options(ratio, target_vertices, tolerance_rel, tolerance, min_quality,
                                                        min_dihedral, size_weight, max_cost, threads, feature_angle, optimize,
-                                                       max_field_error, max_field_error_rel, field_bounds);
+                                                       max_field_error, max_field_error_rel, field_bounds || !hierarchy.empty());
         topotet::OutOfCoreReport r;
         {
           py::gil_scoped_release release;
@@ -665,6 +668,8 @@ PYBIND11_MODULE(_core, m) {
         d["scratch_peak_bytes"] = r.scratch_peak_bytes;
         d["cut_seconds"] = r.cut_seconds;
         d["write_seconds"] = r.write_seconds;
+        d["hierarchy_collapses"] = r.hierarchy_collapses;
+        d["hierarchy_bytes"] = r.hierarchy_bytes;
         return d;
       },
       py::arg("input"), py::arg("output"), py::kw_only(), py::arg("memory_limit") = py::none(), py::arg("pieces") = 0,
@@ -677,6 +682,7 @@ PYBIND11_MODULE(_core, m) {
       py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
       py::arg("vertex_map") = "", py::arg("max_field_error") = defaults.max_field_error,
       py::arg("max_field_error_rel") = defaults.max_field_error_rel, py::arg("field_bounds") = defaults.track_field_bounds,
+      py::arg("hierarchy") = "",
       "Simplifies a MEDIT file (.mesh / .meshb, optionally .gz, + .sol / .solb) or a Gmsh MSH 4.1 file with its fields (.msh / .msh.gz) "
       "larger than memory into `output`, out of core "
       "(topotet/out_of_core.h, `topotet simplify --memory-limit`): streamed, cut into pieces in a scratch folder "
@@ -685,9 +691,11 @@ PYBIND11_MODULE(_core, m) {
       "exactly this many (a power of two) instead. vertex_map: a path (.npy or .txt) to write, for every input "
       "vertex, the output vertex it became or merged into (-1: used by no tet; numpy.load reads the .npy), as "
       "simplify() returns it in core. max_field_error(_rel) and field_bounds as in simplify(): the bound "
-      "holds at every input vertex (report['field_bound_rel']). The topology is not checked here (read both and compare, or "
+      "holds at every input vertex (report['field_bound_rel']). hierarchy='h.tth' records every collapse into that file "
+      "as simplify(hierarchy=...) does (on disk during the run; topotet.extract reads levels from it; excludes vertex_map). The topology is not checked here (read both and compare, or "
       "`topotet check IN OUT`). Returns the report dict of simplify() plus pieces, pieces_left, piece_tet_limit, "
-      "levels (one dict per level), peak_rss_bytes, scratch_peak_bytes, cut_seconds, write_seconds.");
+      "levels (one dict per level), peak_rss_bytes, scratch_peak_bytes, cut_seconds, write_seconds, hierarchy_collapses, "
+      "hierarchy_bytes.");
   m.def(
       "extract",
       [](const std::string& path, std::uint64_t vertices, std::optional<double> max_error) {

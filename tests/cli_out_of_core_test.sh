@@ -2,7 +2,8 @@
 # topotet simplify --memory-limit / --pieces (out of core) through the command-line tool: a run
 # passes `topotet check`; SIGINT midway leaves no scratch folder and no output; a scratch folder
 # that fills up (a file-size ulimit) is one clear error and leaves nothing; options out of core
-# cannot honour are refused before any work; a field error limit holds at every input vertex. Meshes of ~100k tets at most (a few seconds).
+# cannot honour are refused before any work; a field error limit holds at every input vertex; a
+# hierarchy file is recorded and gives levels. Meshes of ~100k tets at most (a few seconds).
 #   usage: bash tests/cli_out_of_core_test.sh path/to/topotet
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -56,6 +57,27 @@ bound, measured = run["field_bounds"]["max_bound_rel"], check["field_error"]["ma
 assert 0 < measured <= bound <= 0.005, (measured, bound)
 ' 2>bounds_json.err; then pass "bounds: measured at the input vertices within the bound"; else fail "bounds: measured"; cat bounds_json.err; fi
 no_litter bounds
+
+# A hierarchy file out of core: recorded on disk, read by `topotet extract` (which checks the
+# level's topology against the original); its coarsest level is the run's output; with a vertex
+# map it is refused before any work, and a hierarchy named as the output is refused.
+expect 0 hierarchy -- "$topotet" simplify small.mesh -o hy.mesh --pieces 8 --ratio 0.2 --hierarchy hy.tth --json hy.json
+contains hierarchy_report hierarchy.out "hierarchy    hy.tth: .* collapses"
+expect 0 hierarchy_extract -- "$topotet" extract hy.tth -o hy_half.mesh --vertices 3000
+contains hierarchy_extract_check hierarchy_extract.out "topology  PASS against the original"
+expect 0 hierarchy_coarsest -- "$topotet" extract hy.tth -o hy_all.mesh --vertices 1
+expect 0 hierarchy_same -- "$topotet" check hy.mesh hy_all.mesh --json hy_same.json
+if python3 -c '
+import json
+run, check = json.load(open("hy.json")), json.load(open("hy_same.json"))
+assert run["hierarchy"]["collapses"] > 0 and run["hierarchy"]["path"] == "hy.tth", run["hierarchy"]
+before, after = check["before"], check["after"]
+assert before["vertices"] == after["vertices"] and before["tets"] == after["tets"], (before, after)
+assert check["surface_distance"]["hausdorff_rel"] < 1e-12 and check["field_error"]["max_rel"] < 1e-12, check
+' 2>hierarchy_json.err; then pass "hierarchy: the coarsest level is the output"; else fail "hierarchy: coarsest level"; cat hierarchy_json.err; fi
+expect_error hierarchy_map "exclude" -- "$topotet" simplify small.mesh -o x.mesh --pieces 8 --hierarchy x.tth --vertex-map x.txt
+expect_error hierarchy_is_output "is the output file too" -- "$topotet" simplify small.mesh -o x.mesh --pieces 8 --hierarchy x.mesh
+no_litter hierarchy
 
 # SIGINT midway: the run is killed while pieces are on disk. (Job control on: a background job of
 # a non-interactive shell would otherwise start with SIGINT ignored, and topotet keeps it so.)

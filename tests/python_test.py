@@ -306,5 +306,16 @@ with tempfile.TemporaryDirectory() as d:
     renamed = renamed[(np.diff(renamed, axis=1) != 0).all(axis=1)]
     check(sorted(map(tuple, renamed)) == sorted(map(tuple, np.sort(vm_out["tets"], axis=1))),
           "out-of-core vertex map renames the input tets into the output's")
+    # A hierarchy file out of core: its coarsest level is the output, a finer one has more points.
+    hy = topotet.simplify_out_of_core(os.path.join(d, "in.mesh"), os.path.join(d, "hy.mesh"), pieces=4, ratio=0.2,
+                                      hierarchy=os.path.join(d, "hy.tth"))
+    hy_out = topotet.read(os.path.join(d, "hy.mesh"))
+    coarsest = topotet.extract(os.path.join(d, "hy.tth"), vertices=1)
+    check(hy["hierarchy_collapses"] == len(big_points) - len(hy_out["points"]) and hy["hierarchy_bytes"] > 0,
+          f"out-of-core hierarchy report: {hy['hierarchy_collapses']} collapses")
+    check(sorted(map(tuple, coarsest["points"])) == sorted(map(tuple, hy_out["points"])) and
+          len(coarsest["tets"]) == len(hy_out["tets"]), "out-of-core hierarchy: the coarsest level is the output")
+    check(len(topotet.extract(os.path.join(d, "hy.tth"), vertices=len(big_points) // 2)["points"]) == len(big_points) // 2,
+          "out-of-core hierarchy: a level by vertex count")
 check(topotet.__version__.count(".") == 2, "version")
 print(f"python_test: {len(points)} -> {nv} vertices, {len(tets)} -> {len(out['tets'])} tets: pass")

@@ -26,6 +26,7 @@
 #include <cmath>
 #include <limits>
 #include <new>
+#include <stdexcept>
 
 #include "hierarchy/hierarchy_log.h"
 #include "mesh/glm_convert.h"
@@ -35,8 +36,30 @@
 namespace topotet {
 namespace detail {
 
-CollapseLog::CollapseLog(std::size_t tet_capacity, int field_stride)
-    : stride_(field_stride), last_change_(tet_capacity, kInvalid) {}
+CollapseLog::CollapseLog(std::size_t tet_capacity, int field_stride, std::uint32_t first_id)
+    : stride_(field_stride), first_id_(first_id), last_change_(tet_capacity, kInvalid) {}
+
+void CollapseLog::seed_tets(std::vector<std::uint32_t> last_change) {
+  if (last_change.size() != last_change_.size()) throw std::logic_error("CollapseLog::seed_tets: one seed per tet");
+  last_change_ = std::move(last_change);
+  seeded_ = true;
+}
+
+void CollapseLog::renumber_tets(const std::vector<TetId>& tet_old2new, std::size_t tet_capacity) {
+  if (tet_old2new.size() != last_change_.size()) throw std::logic_error("CollapseLog::renumber_tets: one entry per tet");
+  std::vector<std::uint32_t> renumbered(tet_capacity, kInvalid);
+  for (std::size_t t = 0; t < tet_old2new.size(); ++t)
+    if (tet_old2new[t] != kInvalid) renumbered[tet_old2new[t]] = last_change_[t];
+  last_change_ = std::move(renumbered);
+}
+
+std::vector<std::uint32_t> CollapseLog::keep_live_tets(const MeshModel& mesh) const {
+  std::vector<std::uint32_t> live;
+  live.reserve(mesh.live_tet_count());
+  for (TetId t = 0; t < mesh.tet_capacity(); ++t)
+    if (!mesh.is_dead_tet(t)) live.push_back(last_change_[t]);
+  return live;
+}
 
 void CollapseLog::begin_batch(std::size_t slots) {
   batch_size_ = slots;
@@ -63,8 +86,8 @@ void CollapseLog::record(std::size_t slot, const MeshModel& mesh, VertId cu, Ver
 
 void CollapseLog::depend(std::size_t slot, const std::vector<TetId>& star_u, const std::vector<TetId>& star_v) {
   Slot& s = slots_[slot];
-  // The collapses of earlier batches are committed, so u.size() is this batch's first id.
-  const auto id = static_cast<std::uint32_t>(u.size() + slot);
+  // The collapses of earlier batches are committed, so first_id_ + u.size() is this batch's first id.
+  const auto id = static_cast<std::uint32_t>(first_id_ + u.size() + slot);
   s.parents.clear();
   for (const auto* star : {&star_u, &star_v})
     for (TetId t : *star) {

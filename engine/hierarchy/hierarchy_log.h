@@ -10,6 +10,13 @@
 // different slots: they write only their slot and the last_change_ entries of their own tets, and
 // read entries no other slot of the batch writes. Collapse ids are the batch's first id plus the
 // slot, so the log is the same for any thread count.
+//
+// A log can continue another run's (out of core: a piece's run continues the records of the
+// levels before it, outofcore/hierarchy_spool.h): its collapse ids start at `first_id`, and
+// seed_tets gives each tet the (global) id of the collapse that last changed it, so the first
+// collapses of this run find their parents in the earlier runs. The driver renumbers the seeds
+// with the tets (renumber_tets) and, at the end, keeps those of the live tets in their order
+// (keep_live_tets), which a next run seeds from.
 #pragma once
 
 #include <cstdint>
@@ -31,7 +38,16 @@ void fill_running_error(Hierarchy& hierarchy);
 
 class CollapseLog {
  public:
-  CollapseLog(std::size_t tet_capacity, int field_stride);
+  CollapseLog(std::size_t tet_capacity, int field_stride, std::uint32_t first_id = 0);
+
+  // [tet] the collapse that last changed it in an earlier run (kInvalid: none); one per tet.
+  void seed_tets(std::vector<std::uint32_t> last_change);
+  bool seeded() const { return seeded_; }
+  // The tets renumbered (old -> new, reorder_for_locality): the seeds follow them.
+  void renumber_tets(const std::vector<TetId>& tet_old2new, std::size_t tet_capacity);
+  // At the end, before compact(): each live tet's last collapse, in the live tets' order (the
+  // output's). The log is not used after.
+  std::vector<std::uint32_t> keep_live_tets(const MeshModel& mesh) const;
 
   void begin_batch(std::size_t slots);
   void record(std::size_t slot, const MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p,
@@ -59,6 +75,8 @@ class CollapseLog {
     std::vector<std::uint32_t> parents;  // capacity kept between batches: no allocation per collapse
   };
   int stride_;
+  std::uint32_t first_id_;
+  bool seeded_ = false;
   std::vector<std::uint32_t> last_change_;  // [tet] the latest collapse that changed it (kInvalid: none)
   std::vector<Slot> slots_;
   std::vector<double> slot_fields_;  // [slot * 2 * stride_]: before, then after

@@ -29,8 +29,11 @@
 // vertex's quadric travels with its piece (SimplifyOptions::quadrics_in/_out), so every level ranks
 // collapses by their error against the input, as one run would: on the cube-sphere the field
 // error is an in-core run's (docs/performance.md, "Out of core").
+//   - the hierarchy file (hierarchy_path below): each piece's run records its collapses with their
+//     dependencies, continuing the run's ids across pieces and levels (outofcore/hierarchy_spool.h);
+//     the file is the one an in-core run writes, its original the input as read.
 // Not available out of core (refused with kInvalidInput-like InputError): isosurfaces (embed them
-// in core first), hierarchies.
+// in core first).
 //
 // Memory. The pieces' size comes from the limit by a model of bytes per tet and per vertex
 // (outofcore/memory_budget.h); a limit below what the model needs for this input is refused before
@@ -67,6 +70,14 @@ struct OutOfCoreOptions {
   // input vertex the output vertex it became or merged into, as simplify()'s vertex map gives it
   // in core. Kept on disk during the run (8 bytes an input vertex in the scratch folder).
   std::string vertex_map_path;
+  // Non-empty: write the collapse hierarchy there (.tth, topotet/hierarchy.h: `topotet extract`
+  // reads it), recorded as an in-core simplify_with_hierarchy would: its original is the input as
+  // read (without group names), every collapse of every piece and level with its parents. Kept
+  // on disk during the run (the original and ~127 + 16k bytes a collapse, k vertex field
+  // components); the memory budget counts a piece's records. As in core, excludes the vertex map
+  // and disables the optimisation after the collapses. With vertex fields, set
+  // SimplifyOptions::track_field_bounds to record each collapse's field error bound.
+  std::string hierarchy_path;
 };
 
 struct OutOfCoreLevel {
@@ -89,6 +100,9 @@ struct OutOfCoreReport {
   std::uint64_t peak_rss_bytes = 0;    // VmHWM at the end
   std::uint64_t scratch_peak_bytes = 0;
   double cut_seconds = 0.0, write_seconds = 0.0;
+  // With a hierarchy file: its collapses and bytes, and the time to assemble it at the end.
+  std::uint64_t hierarchy_collapses = 0, hierarchy_bytes = 0;
+  double hierarchy_write_seconds = 0.0;
 };
 
 // Throws InputError for bad input, a limit too small, an option not available out of core, or a

@@ -1,0 +1,302 @@
+// The hierarchy file out of core (OutOfCoreOptions::hierarchy_path, `simplify --memory-limit
+// --hierarchy`): every piece's collapses are recorded with their parents, continuing across pieces
+// and levels (outofcore/hierarchy_spool.h). Checked here on meshes whose substructures cross many
+// piece borders (the cube-sphere's sphere, a polyline straight through every piece) or lie inside
+// one (a disc in the first cut plane):
+//   - the file reads back and validates; its original is the input as read; nothing applied gives
+//     the input, everything applied gives the run's output;
+//   - levels the file offers (random downward-closed sets, prefixes, by error, fine in a volume of
+//     interest) have the input's topology by the independent checker (metrics/), substructures
+//     included, and no inverted tet; replayed through the kernel on the WHOLE original, every
+//     collapse of such a set passes the link conditions (the pieces' runs never saw the whole);
+//   - collapses of the merge levels depend on collapses of the levels before (the seeds work);
+//   - with fields, each collapse's bound holds: a level by error e has its measured error <= e;
+//   - 1 and 2 threads write the same bytes; the memory budget counts the records; a vertex map
+//     and a hierarchy together are refused.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+
+#include "io_test_files.h"
+#include "kernel/collapse.h"
+#include "mesh/glm_convert.h"
+#include "mesh/mesh_model.h"
+#include "out_of_core_test_meshes.h"
+#include "outofcore/cut.h"
+#include "outofcore/memory_budget.h"
+#include "topotet/error.h"
+#include "topotet/hierarchy.h"
+#include "topotet/io.h"
+#include "topotet/metrics/field_error.h"
+#include "topotet/metrics/quality.h"
+#include "topotet/metrics/topology.h"
+#include "topotet/out_of_core.h"
+#include "topotet/simplify.h"
+
+namespace topotet {
+namespace {
+
+// A polyline straight through the mesh in x: the shortest edge path from the vertex nearest the
+// middle of the x = min face to the one nearest the middle of the x = max face, so that every cut
+// plane of constant x crosses it.
+void plant_line_across(MeshData& m) {
+  std::array<double, 3> lo = m.positions[0], hi = m.positions[0];
+  for (const auto& p : m.positions)
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+  const auto nearest = [&](double x) {
+    const std::array<double, 3> q = {x, 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    VertId best = 0;
+    double best_d = 1e300;
+    for (VertId v = 0; v < m.positions.size(); ++v) {
+      double d = 0;
+      for (int k = 0; k < 3; ++k) d += (m.positions[v][k] - q[k]) * (m.positions[v][k] - q[k]);
+      if (d < best_d) best_d = d, best = v;
+    }
+    return best;
+  };
+  std::vector<std::vector<VertId>> neighbours(m.positions.size());
+  for (const auto& t : m.tets)
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        if (a != b) neighbours[t[a]].push_back(t[b]);
+  const VertId from = nearest(lo[0]), to = nearest(hi[0]);
+  std::vector<double> dist(m.positions.size(), 1e300);
+  std::vector<VertId> previous(m.positions.size(), kInvalid);
+  std::vector<std::pair<double, VertId>> heap = {{0.0, from}};
+  dist[from] = 0;
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+    const auto [d, v] = heap.back();
+    heap.pop_back();
+    if (d > dist[v]) continue;
+    for (VertId w : neighbours[v]) {
+      double len = 0;
+      for (int k = 0; k < 3; ++k) len += (m.positions[v][k] - m.positions[w][k]) * (m.positions[v][k] - m.positions[w][k]);
+      if (d + std::sqrt(len) < dist[w]) {
+        dist[w] = d + std::sqrt(len);
+        previous[w] = v;
+        heap.push_back({dist[w], w});
+        std::push_heap(heap.begin(), heap.end(), std::greater<>());
+      }
+    }
+  }
+  std::int32_t ref = 0;
+  for (const Segment& s : m.segments) ref = std::max(ref, s.ref);
+  std::size_t edges = 0;
+  for (VertId v = to; previous[v] != kInvalid; v = previous[v], ++edges) m.segments.push_back({{previous[v], v}, ref + 1});
+  ASSERT_GT(edges, 8u);
+}
+
+MeshData planted_input(std::uint64_t tets) {
+  MeshData m = test::generated("cube-sphere", tets);
+  test::plant_in_mid_plane(m);
+  plant_line_across(m);
+  return m;
+}
+
+struct Recorded {
+  OutOfCoreReport report;
+  MeshData input;   // as written to the input file and read back
+  MeshData output;
+  Hierarchy hierarchy;
+  std::string bytes;  // the .tth
+};
+
+Recorded run_recorded(const MeshData& input, const test::TempDir& folder, std::uint32_t pieces, int threads,
+                      bool field_bounds = false) {
+  const std::string in = folder.file("in.mesh"), out = folder.file("out.mesh"), tth = folder.file("h.tth");
+  write_mesh(in, input);
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.15;
+  options.num_threads = threads;
+  options.track_field_bounds = field_bounds;
+  OutOfCoreOptions ooc;
+  ooc.pieces = pieces;
+  ooc.hierarchy_path = tth;
+  Recorded r;
+  r.report = simplify_out_of_core(in, out, options, ooc);
+  r.input = read_mesh(in);
+  r.output = read_mesh(out);
+  r.hierarchy = read_hierarchy(tth);
+  r.bytes = test::read_text(tth);
+  return r;
+}
+
+const Recorded& cube_sphere_16() {
+  static const test::TempDir folder;
+  static const Recorded r = run_recorded(planted_input(16000), folder, 16, 2);
+  return r;
+}
+
+// Positions of a mesh's vertices, sorted: two meshes with the same vertices in another order agree.
+std::vector<std::array<double, 3>> sorted_positions(const MeshData& m) {
+  std::vector<std::array<double, 3>> p = m.positions;
+  std::sort(p.begin(), p.end());
+  return p;
+}
+
+// The largest downward-closed subset of a random wish list.
+std::vector<std::uint8_t> random_closed(const Hierarchy& h, double p, std::mt19937& rng) {
+  std::bernoulli_distribution want(p);
+  std::vector<std::uint8_t> applied(h.collapse_count(), 0);
+  for (std::size_t i = 0; i < applied.size(); ++i) {
+    bool ok = want(rng);
+    for (std::uint32_t k = h.parent_offsets[i]; k < h.parent_offsets[i + 1] && ok; ++k) ok = applied[h.parents[k]];
+    applied[i] = ok;
+  }
+  return applied;
+}
+
+void expect_valid_level(const metrics::TopologyReport& input_topology, const MeshData& level, const std::string& what) {
+  SCOPED_TRACE(what);
+  const QualityStats q = compute_quality(level);
+  EXPECT_EQ(q.inverted, 0u);
+  EXPECT_EQ(q.zero_volume, 0u);
+  std::string differences;
+  EXPECT_TRUE(metrics::same_topology(input_topology, metrics::compute_topology(level), &differences)) << differences;
+}
+
+TEST(OutOfCoreHierarchy, TheFileHoldsTheInputAndEveryCollapseUpToTheOutput) {
+  const Recorded& r = cube_sphere_16();
+  const Hierarchy& h = r.hierarchy;
+  EXPECT_EQ(r.report.pieces, 16u);
+  EXPECT_EQ(r.report.output_pieces, 1u);
+  EXPECT_EQ(r.report.hierarchy_collapses, h.collapse_count());
+  EXPECT_EQ(h.collapse_count(), r.report.report.collapses);
+  EXPECT_EQ(h.collapse_count(), r.input.vertex_count() - r.output.vertex_count());
+  EXPECT_EQ(r.report.hierarchy_bytes, r.bytes.size());
+  // The original is the input as read, in its numbering.
+  EXPECT_EQ(h.original.positions, r.input.positions);
+  EXPECT_EQ(h.original.tets, r.input.tets);
+  EXPECT_EQ(h.original.tet_material, r.input.tet_material);
+  EXPECT_EQ(h.original.triangles.size(), r.input.triangles.size());
+  EXPECT_EQ(h.original.segments.size(), r.input.segments.size());
+  EXPECT_EQ(h.original.fields.size(), r.input.fields.size());
+  // Nothing applied: the input; everything: the output (up to the vertices' order).
+  const MeshData none = extract(h, select_prefix(h, 0));
+  EXPECT_EQ(none.positions, r.input.positions);
+  EXPECT_EQ(none.tets, r.input.tets);
+  const MeshData all = extract(h, select_prefix(h, h.collapse_count()));
+  EXPECT_EQ(sorted_positions(all), sorted_positions(r.output));
+  EXPECT_EQ(all.tets.size(), r.output.tets.size());
+  EXPECT_EQ(all.triangles.size(), r.output.triangles.size());
+  EXPECT_EQ(all.segments.size(), r.output.segments.size());
+}
+
+TEST(OutOfCoreHierarchy, MergeLevelsDependOnTheLevelsBefore) {
+  const Recorded& r = cube_sphere_16();
+  const Hierarchy& h = r.hierarchy;
+  ASSERT_GE(r.report.levels.size(), 3u);
+  const std::uint64_t level0 = r.report.levels[0].collapses;
+  ASSERT_GT(level0, 0u);
+  ASSERT_LT(level0, h.collapse_count());
+  std::uint64_t crossing = 0;  // collapses of a merge level with a parent in level 0
+  for (std::size_t i = level0; i < h.collapse_count(); ++i)
+    for (std::uint32_t k = h.parent_offsets[i]; k < h.parent_offsets[i + 1]; ++k) crossing += h.parents[k] < level0;
+  EXPECT_GT(crossing, 0u);
+}
+
+TEST(OutOfCoreHierarchy, EveryLevelItOffersKeepsTheTopologyOfTheMeshAndItsSubstructures) {
+  const Recorded& r = cube_sphere_16();
+  const Hierarchy& h = r.hierarchy;
+  const metrics::TopologyReport input_topology = metrics::compute_topology(r.input);
+  ASSERT_GE(input_topology.surfaces.size() + input_topology.interfaces.size(), 2u);  // the sphere, the disc
+  ASSERT_GE(input_topology.polylines.size(), 1u);                                     // the line
+  std::mt19937 rng(5);
+  for (double p : {0.3, 0.7, 0.95}) expect_valid_level(input_topology, extract(h, random_closed(h, p, rng)), "p " + std::to_string(p));
+  for (double f : {0.25, 0.5, 0.9}) {
+    const auto k = static_cast<std::size_t>(f * static_cast<double>(h.collapse_count()));
+    expect_valid_level(input_topology, extract(h, select_prefix(h, k)), "prefix " + std::to_string(k));
+  }
+  const double top = h.error.back();
+  expect_valid_level(input_topology, extract(h, select_error(h, 0.3 * top)), "by error");
+  const Voi voi = parse_voi("sphere:0.5,0.5,0.5,0.3");
+  expect_valid_level(input_topology, extract(h, select_voi(h, voi, 0.0, top)), "fine voi");
+  expect_valid_level(input_topology, extract(h, select_voi(h, voi, 0.0, top, VoiClosure::kReachCoarse)), "coarse voi");
+}
+
+// The pieces' runs checked each collapse on their piece; the hierarchy promises it is legal on the
+// whole mesh, in any closed set: replayed on the whole original, every applied collapse passes
+// the kernel's link conditions and orientation check, and the kernel's mesh is extract()'s.
+TEST(OutOfCoreHierarchy, ClosedSetsReplayLegallyThroughTheKernelOnTheWholeMesh) {
+  const Recorded& r = cube_sphere_16();
+  const Hierarchy& h = r.hierarchy;
+  std::mt19937 rng(9);
+  for (double p : {0.5, 0.9, 1.0}) {
+    SCOPED_TRACE("p " + std::to_string(p));
+    const std::vector<std::uint8_t> applied = random_closed(h, p, rng);
+    MeshModel mesh = build_mesh_model(h.original);
+    CollapseOptions kernel;  // topology and orientation: the tolerance and floors were the levels' own
+    CollapseScratch scratch;
+    std::uint32_t refs_used = static_cast<std::uint32_t>(mesh.refs_table.size());
+    for (std::size_t i = 0; i < applied.size(); ++i) {
+      if (!applied[i]) continue;
+      const CollapseReason reason = may_collapse(mesh, h.u[i], h.v[i], to_glm(h.u_after[i]), kernel, scratch);
+      ASSERT_EQ(reason, CollapseReason::kOk) << "collapse " << i << ": " << to_string(reason);
+      reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
+      collapse(mesh, h.u[i], h.v[i], to_glm(h.u_after[i]), h.fields_after.data() + i * h.field_stride, scratch,
+               refs_used, nullptr, nullptr);
+    }
+    const MeshData replayed = mesh.to_mesh_data();
+    const MeshData extracted = extract(h, applied);
+    EXPECT_EQ(sorted_positions(replayed), sorted_positions(extracted));
+    EXPECT_EQ(replayed.tets.size(), extracted.tets.size());
+  }
+}
+
+TEST(OutOfCoreHierarchy, SameBytesForOneAndTwoThreads) {
+  const MeshData input = planted_input(8000);
+  test::TempDir a, b;
+  const Recorded one = run_recorded(input, a, 8, 1);
+  const Recorded two = run_recorded(input, b, 8, 2);
+  EXPECT_EQ(one.bytes, two.bytes);
+  EXPECT_GT(one.hierarchy.collapse_count(), 0u);
+}
+
+// With fields, each collapse records its bound: a level by error e (relative to the range) has
+// every input vertex's error within e, measured by metrics/ against the input.
+TEST(OutOfCoreHierarchy, LevelsByErrorHoldTheirFieldBound) {
+  const MeshData input = planted_input(8000);
+  ASSERT_FALSE(input.fields.empty());
+  test::TempDir folder;
+  const Recorded r = run_recorded(input, folder, 8, 2, true);
+  const Hierarchy& h = r.hierarchy;
+  ASSERT_GT(h.collapse_count(), 0u);
+  EXPECT_TRUE(std::none_of(h.error_bound.begin(), h.error_bound.end(), [](float b) { return std::isnan(b); }));
+  for (double e : {0.01, 0.05}) {
+    const MeshData level = extract(h, select_error(h, e));
+    EXPECT_LT(level.vertex_count(), r.input.vertex_count());
+    EXPECT_LE(compare_fields(r.input, level).worst_max_rel_at_original(), e * (1 + 1e-6)) << "e " << e;
+  }
+}
+
+TEST(OutOfCoreHierarchy, TheBudgetCountsTheRecordsAndAVertexMapIsRefused) {
+  ooc::InputCounts counts;
+  counts.vertices = 2'000'000;
+  counts.tets = 12'000'000;
+  counts.vertex_stride = 1;
+  ooc::MemoryBudget budget;
+  budget.limit = 1ull << 30;
+  budget.baseline = 64ull << 20;
+  const std::uint64_t without = budget.piece_tets(counts);
+  budget.hierarchy = true;
+  const std::uint64_t with = budget.piece_tets(counts);
+  EXPECT_LT(with, without);
+  EXPECT_GT(ooc::bytes_per_hierarchy_tet(counts), ooc::bytes_per_hierarchy_tet(ooc::InputCounts{}));
+
+  test::TempDir folder;
+  const std::string in = folder.file("in.mesh");
+  write_mesh(in, test::generated("cube-sphere", 3000));
+  OutOfCoreOptions ooc;
+  ooc.pieces = 2;
+  ooc.hierarchy_path = folder.file("h.tth");
+  ooc.vertex_map_path = folder.file("map.npy");
+  EXPECT_THROW(simplify_out_of_core(in, folder.file("out.mesh"), SimplifyOptions{}, ooc), InputError);
+  for (const std::string& e : folder.entries()) EXPECT_TRUE(e == "in.mesh" || e == "in.sol" || e == "in.sol.fields.txt") << e;
+}
+
+}  // namespace
+}  // namespace topotet
