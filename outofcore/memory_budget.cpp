@@ -54,9 +54,11 @@ std::uint64_t bytes_per_field_sample(const InputCounts& counts) {
   return std::max(36 + 8 * k, 28 + 8 * k + std::max<std::uint64_t>(24, 8 * k));
 }
 
-std::uint64_t bytes_per_hierarchy_tet(const InputCounts& counts) {
+std::uint64_t bytes_per_hierarchy_tet(const InputCounts&) { return 13; }
+
+std::uint64_t hierarchy_batch_bytes(const InputCounts& counts) {
   const auto k = static_cast<std::uint64_t>(std::max(counts.vertex_stride, 0));
-  return 12 + (2 * (148 + 16 * k) + kTetsPerVertex - 1) / kTetsPerVertex;
+  return kHierarchyBatch * 2 * (148 + 16 * k);
 }
 
 std::uint64_t MemoryBudget::usable() const {
@@ -82,7 +84,8 @@ std::uint64_t MemoryBudget::piece_tets(const InputCounts& counts) const {
   const std::uint64_t cut_held = counts.vertices * kCutBytesPerVertex + counts.triangles * 16 + counts.segments * 12;
   const bool samples = field_samples && counts.vertex_stride > 0;  // a mesh without fields has nothing to bound
   const std::uint64_t samples_held = samples ? counts.vertices * bytes_per_field_sample(counts) : 0;
-  const std::uint64_t level_held = counts.vertices * kLevelBytesPerVertex + samples_held;
+  const std::uint64_t level_held =
+      counts.vertices * kLevelBytesPerVertex + samples_held + (hierarchy ? hierarchy_batch_bytes(counts) : 0);
   const std::uint64_t u = usable();
   const auto k = static_cast<std::uint64_t>(std::max(counts.vertex_stride, 0));
   const std::uint64_t per_tet =

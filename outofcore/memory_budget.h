@@ -24,10 +24,10 @@
 //                 and its bounds in the piece, the engine and the output), k = vertex field
 //                 components;
 //   hierarchy     with a hierarchy file, per piece tet: its last collapse in the piece, the log and
-//                 the output (12 bytes), and the log's records, at most one collapse per
-//                 kTetsPerVertex tets, each 2 x (148 + 16k) bytes (u, v, three positions, cost,
-//                 bound, offset, ~10 parents, fields before and after; twice, as the log's arrays
-//                 grow by doubling); the original and the records go to disk, not to memory;
+//                 the output, and the global id of its vertices (13 bytes); and the log's records
+//                 until they go to disk, kHierarchyBatch collapses at a time, each 2 x (148 + 16k)
+//                 bytes (u, v, three positions, cost, bound, offset, ~10 parents, fields before
+//                 and after; twice, as the arrays grow by doubling); the original goes to disk too;
 //   headroom      kHeadroom of the limit for the allocator's slack and the I/O buffers.
 // A limit that leaves fewer than kMinPieceTets per piece is refused before any work, with the
 // smallest limit that would do.
@@ -47,6 +47,7 @@ inline constexpr std::uint64_t kTetsPerVertex = 4;  // a tet mesh has ~5-6; fewe
 inline constexpr std::uint64_t kMinPieceTets = 20000;
 inline constexpr double kHeadroom = 0.15;
 inline constexpr std::uint64_t kBaselineStep = 64ull << 20;
+inline constexpr std::uint64_t kHierarchyBatch = 1u << 14;  // collapses a piece's log holds at most
 
 // The resident size `rss` as the budget counts it: rounded up to kBaselineStep (at least one step).
 std::uint64_t budget_baseline(std::uint64_t rss);
@@ -76,7 +77,8 @@ std::string format_bytes(std::uint64_t bytes);  // "1.50 GiB", "256 MiB"
 std::uint64_t bytes_per_piece_tet(const InputCounts& counts);
 // What one field error sample costs at the peak (see the top).
 std::uint64_t bytes_per_field_sample(const InputCounts& counts);
-// What recording a hierarchy adds per piece tet (see the top).
+// What recording a hierarchy adds per piece tet, and once (see the top).
 std::uint64_t bytes_per_hierarchy_tet(const InputCounts& counts);
+std::uint64_t hierarchy_batch_bytes(const InputCounts& counts);
 
 }  // namespace topotet::ooc

@@ -154,9 +154,21 @@ PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, 
   std::optional<detail::CollapseLog> log;
   std::vector<VertId> new2old;  // the log's vertex ids -> the piece's
   std::vector<std::uint32_t> last_collapse;
+  // The log's vertex ids -> global ids: new2old is set (by the driver's renumbering) before the
+  // first collapse, so before the first hand-over.
+  std::vector<GlobalId> global;
+  const auto to_global = [&]() -> const std::vector<GlobalId>& {
+    if (global.empty())
+      for (VertId x = 0; x < (new2old.empty() ? before : new2old.size()); ++x)
+        global.push_back(piece.global_ids[new2old.empty() ? x : new2old[x]]);
+    return global;
+  };
   if (spool != nullptr) {
     log.emplace(model.tet_capacity(), model.field_stride(), spool->next_id());
     if (!piece.last_collapse.empty()) log->seed_tets(std::move(piece.last_collapse));
+    // The records go to the spool as they come (kHierarchyBatch collapses at a time), not at the
+    // end of the piece: memory_budget.h counts that batch, not the piece's collapses.
+    log->set_sink([&](const detail::CollapseLog& records) { spool->append(records, to_global()); }, kHierarchyBatch);
     run.report = detail::simplify_recorded(model, options, *log, new2old, &last_collapse);
   } else {
     run.report = map != nullptr ? simplify(model, options, local_map) : simplify(model, options);
@@ -165,9 +177,7 @@ PieceRun simplify_piece(Piece& piece, const std::vector<std::uint8_t>& holders, 
       run.report.status == Status::kOutOfMemory || run.report.status == Status::kCancelled)
     throw InputError("out-of-core piece: " + run.report.message);
   if (log) {
-    std::vector<GlobalId> global(new2old.empty() ? before : new2old.size());
-    for (VertId x = 0; x < global.size(); ++x) global[x] = piece.global_ids[new2old.empty() ? x : new2old[x]];
-    spool->append(*log, global);
+    log->flush();
     log.reset();
     piece.last_collapse = std::move(last_collapse);
   }

@@ -19,6 +19,7 @@
 #include "kernel/collapse.h"
 #include "mesh/glm_convert.h"
 #include "entry_points.h"
+#include "hierarchy_levels.h"
 #include "mesh/mesh_model.h"
 #include "guarantees/surface_tolerance.h"
 #include "topotet/error.h"
@@ -32,6 +33,9 @@
 
 namespace topotet {
 namespace {
+
+using test::expect_valid_level;
+using test::random_closed;
 
 struct Built {
   MeshData input;  // the model's own view of the input (what the records refer to)
@@ -106,30 +110,6 @@ Canonical canonical(const MeshData& m) {
   std::sort(c.corners.begin(), c.corners.end());
   std::sort(c.required.begin(), c.required.end());
   return c;
-}
-
-// The largest downward-closed subset of a random wish list.
-std::vector<std::uint8_t> random_closed(const Hierarchy& h, double p, std::mt19937& rng) {
-  std::bernoulli_distribution want(p);
-  std::vector<std::uint8_t> applied(h.collapse_count(), 0);
-  for (std::size_t i = 0; i < applied.size(); ++i) {
-    bool ok = want(rng);
-    for (std::uint32_t k = h.parent_offsets[i]; k < h.parent_offsets[i + 1] && ok; ++k) ok = applied[h.parents[k]];
-    applied[i] = ok;
-  }
-  return applied;
-}
-
-void expect_valid_level(const MeshData& input, const metrics::TopologyReport& input_topology, const MeshData& level,
-                        const std::string& what) {
-  SCOPED_TRACE(what);
-  EXPECT_NO_THROW(build_mesh_model(level, BuildOptions{.reorient_inverted = false}));
-  const QualityStats q = compute_quality(level);
-  EXPECT_EQ(q.inverted, 0u);
-  EXPECT_EQ(q.zero_volume, 0u);
-  std::string differences;
-  EXPECT_TRUE(metrics::same_topology(input_topology, metrics::compute_topology(level), &differences)) << differences;
-  EXPECT_EQ(level.fields.size(), input.fields.size());
 }
 
 TEST(Hierarchy, records_one_collapse_per_removed_vertex_with_parents_before_children) {

@@ -20,7 +20,10 @@
 #include <functional>
 #include <random>
 
+#include "hierarchy_levels.h"
 #include "io_test_files.h"
+#include "engines.h"
+#include "hierarchy/hierarchy_log.h"
 #include "kernel/collapse.h"
 #include "mesh/glm_convert.h"
 #include "mesh/mesh_model.h"
@@ -38,6 +41,9 @@
 
 namespace topotet {
 namespace {
+
+using test::expect_valid_level;
+using test::random_closed;
 
 // A polyline straight through the mesh in x: the shortest edge path from the vertex nearest the
 // middle of the x = min face to the one nearest the middle of the x = max face, so that every cut
@@ -138,27 +144,6 @@ std::vector<std::array<double, 3>> sorted_positions(const MeshData& m) {
   return p;
 }
 
-// The largest downward-closed subset of a random wish list.
-std::vector<std::uint8_t> random_closed(const Hierarchy& h, double p, std::mt19937& rng) {
-  std::bernoulli_distribution want(p);
-  std::vector<std::uint8_t> applied(h.collapse_count(), 0);
-  for (std::size_t i = 0; i < applied.size(); ++i) {
-    bool ok = want(rng);
-    for (std::uint32_t k = h.parent_offsets[i]; k < h.parent_offsets[i + 1] && ok; ++k) ok = applied[h.parents[k]];
-    applied[i] = ok;
-  }
-  return applied;
-}
-
-void expect_valid_level(const metrics::TopologyReport& input_topology, const MeshData& level, const std::string& what) {
-  SCOPED_TRACE(what);
-  const QualityStats q = compute_quality(level);
-  EXPECT_EQ(q.inverted, 0u);
-  EXPECT_EQ(q.zero_volume, 0u);
-  std::string differences;
-  EXPECT_TRUE(metrics::same_topology(input_topology, metrics::compute_topology(level), &differences)) << differences;
-}
-
 TEST(OutOfCoreHierarchy, TheFileHoldsTheInputAndEveryCollapseUpToTheOutput) {
   const Recorded& r = cube_sphere_16();
   const Hierarchy& h = r.hierarchy;
@@ -206,16 +191,16 @@ TEST(OutOfCoreHierarchy, EveryLevelItOffersKeepsTheTopologyOfTheMeshAndItsSubstr
   ASSERT_GE(input_topology.surfaces.size() + input_topology.interfaces.size(), 2u);  // the sphere, the disc
   ASSERT_GE(input_topology.polylines.size(), 1u);                                     // the line
   std::mt19937 rng(5);
-  for (double p : {0.3, 0.7, 0.95}) expect_valid_level(input_topology, extract(h, random_closed(h, p, rng)), "p " + std::to_string(p));
+  for (double p : {0.3, 0.7, 0.95}) expect_valid_level(r.input, input_topology, extract(h, random_closed(h, p, rng)), "p " + std::to_string(p));
   for (double f : {0.25, 0.5, 0.9}) {
     const auto k = static_cast<std::size_t>(f * static_cast<double>(h.collapse_count()));
-    expect_valid_level(input_topology, extract(h, select_prefix(h, k)), "prefix " + std::to_string(k));
+    expect_valid_level(r.input, input_topology, extract(h, select_prefix(h, k)), "prefix " + std::to_string(k));
   }
   const double top = h.error.back();
-  expect_valid_level(input_topology, extract(h, select_error(h, 0.3 * top)), "by error");
+  expect_valid_level(r.input, input_topology, extract(h, select_error(h, 0.3 * top)), "by error");
   const Voi voi = parse_voi("sphere:0.5,0.5,0.5,0.3");
-  expect_valid_level(input_topology, extract(h, select_voi(h, voi, 0.0, top)), "fine voi");
-  expect_valid_level(input_topology, extract(h, select_voi(h, voi, 0.0, top, VoiClosure::kReachCoarse)), "coarse voi");
+  expect_valid_level(r.input, input_topology, extract(h, select_voi(h, voi, 0.0, top)), "fine voi");
+  expect_valid_level(r.input, input_topology, extract(h, select_voi(h, voi, 0.0, top, VoiClosure::kReachCoarse)), "coarse voi");
 }
 
 // The pieces' runs checked each collapse on their piece; the hierarchy promises it is legal on the
@@ -273,6 +258,43 @@ TEST(OutOfCoreHierarchy, LevelsByErrorHoldTheirFieldBound) {
   }
 }
 
+// A piece's log hands its records to the spool every kHierarchyBatch collapses (pieces here are too
+// small to reach it): with a sink every 7 collapses, from a seeded id, the records handed over are
+// the ones a log that keeps them all holds, ids and parents included.
+TEST(OutOfCoreHierarchy, ALogHandsOverItsRecordsInBatchesAsOneLogHoldsThem) {
+  SimplifyOptions options;
+  options.target_vertex_ratio = 0.3;
+  options.num_threads = 2;
+  const MeshData input = test::generated("cube-sphere", 3000);
+  MeshModel whole = build_mesh_model(input);
+  detail::CollapseLog kept(whole.tet_capacity(), whole.field_stride(), 1000);
+  std::vector<VertId> new2old;
+  ASSERT_EQ(detail::simplify_recorded(whole, options, kept, new2old).status, Status::kOk);
+  MeshModel batched_mesh = build_mesh_model(input);
+  detail::CollapseLog batched(batched_mesh.tet_capacity(), batched_mesh.field_stride(), 1000);
+  std::vector<VertId> u, v;
+  std::vector<std::uint32_t> parents, offsets{0};
+  int handovers = 0;
+  batched.set_sink(
+      [&](const detail::CollapseLog& r) {
+        ++handovers;
+        u.insert(u.end(), r.u.begin(), r.u.end());
+        v.insert(v.end(), r.v.begin(), r.v.end());
+        for (std::size_t i = 1; i < r.parent_offsets.size(); ++i) offsets.push_back(static_cast<std::uint32_t>(parents.size()) + r.parent_offsets[i]);
+        parents.insert(parents.end(), r.parents.begin(), r.parents.end());
+      },
+      7);
+  ASSERT_EQ(detail::simplify_recorded(batched_mesh, options, batched, new2old).status, Status::kOk);
+  batched.flush();
+  EXPECT_GT(handovers, 10);
+  EXPECT_TRUE(batched.u.empty());
+  EXPECT_EQ(u, kept.u);
+  EXPECT_EQ(v, kept.v);
+  EXPECT_EQ(parents, kept.parents);
+  EXPECT_EQ(offsets, kept.parent_offsets);
+  EXPECT_TRUE(std::all_of(parents.begin(), parents.end(), [](std::uint32_t p) { return p >= 1000; }));
+}
+
 TEST(OutOfCoreHierarchy, TheBudgetCountsTheRecordsAndAVertexMapIsRefused) {
   ooc::InputCounts counts;
   counts.vertices = 2'000'000;
@@ -285,7 +307,7 @@ TEST(OutOfCoreHierarchy, TheBudgetCountsTheRecordsAndAVertexMapIsRefused) {
   budget.hierarchy = true;
   const std::uint64_t with = budget.piece_tets(counts);
   EXPECT_LT(with, without);
-  EXPECT_GT(ooc::bytes_per_hierarchy_tet(counts), ooc::bytes_per_hierarchy_tet(ooc::InputCounts{}));
+  EXPECT_GT(ooc::hierarchy_batch_bytes(counts), ooc::hierarchy_batch_bytes(ooc::InputCounts{}));
 
   test::TempDir folder;
   const std::string in = folder.file("in.mesh");

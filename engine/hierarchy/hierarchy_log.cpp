@@ -53,6 +53,23 @@ void CollapseLog::renumber_tets(const std::vector<TetId>& tet_old2new, std::size
   last_change_ = std::move(renumbered);
 }
 
+void CollapseLog::set_sink(std::function<void(const CollapseLog&)> sink, std::size_t every) {
+  sink_ = std::move(sink);
+  sink_every_ = every;
+}
+
+void CollapseLog::flush() {
+  if (!sink_ || u.empty()) return;
+  sink_(*this);
+  handed_over_ += u.size();
+  for (auto* ids : {&u, &v}) ids->clear();
+  for (auto* points : {&u_before, &u_after, &v_position}) points->clear();
+  for (auto* values : {&fields_before, &fields_after, &cost}) values->clear();
+  error_bound.clear();
+  parents.clear();
+  parent_offsets.assign(1, 0);
+}
+
 std::vector<std::uint32_t> CollapseLog::keep_live_tets(const MeshModel& mesh) const {
   std::vector<std::uint32_t> live;
   live.reserve(mesh.live_tet_count());
@@ -86,8 +103,9 @@ void CollapseLog::record(std::size_t slot, const MeshModel& mesh, VertId cu, Ver
 
 void CollapseLog::depend(std::size_t slot, const std::vector<TetId>& star_u, const std::vector<TetId>& star_v) {
   Slot& s = slots_[slot];
-  // The collapses of earlier batches are committed, so first_id_ + u.size() is this batch's first id.
-  const auto id = static_cast<std::uint32_t>(first_id_ + u.size() + slot);
+  // The collapses of earlier batches are committed (in the records or handed over), so
+  // first_id_ + handed_over_ + u.size() is this batch's first id.
+  const auto id = static_cast<std::uint32_t>(first_id_ + handed_over_ + u.size() + slot);
   s.parents.clear();
   for (const auto* star : {&star_u, &star_v})
     for (TetId t : *star) {
@@ -129,6 +147,7 @@ void CollapseLog::end_batch() {
     parent_offsets.push_back(static_cast<std::uint32_t>(parents.size()));
   }
   batch_size_ = 0;
+  if (sink_ && u.size() >= sink_every_) flush();
 }
 
 }  // namespace detail

@@ -16,10 +16,13 @@
 // seed_tets gives each tet the (global) id of the collapse that last changed it, so the first
 // collapses of this run find their parents in the earlier runs. The driver renumbers the seeds
 // with the tets (renumber_tets) and, at the end, keeps those of the live tets in their order
-// (keep_live_tets), which a next run seeds from.
+// (keep_live_tets), which a next run seeds from. Such a log can also hand its records over as it
+// goes (set_sink: every `every` collapses, at the end of a batch, and once more by flush()), so
+// that they need not stay in memory: the records then hold the collapses since the last hand-over.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -48,6 +51,10 @@ class CollapseLog {
   // At the end, before compact(): each live tet's last collapse, in the live tets' order (the
   // output's). The log is not used after.
   std::vector<std::uint32_t> keep_live_tets(const MeshModel& mesh) const;
+  // Calls sink(*this) and clears the records once they hold `every` collapses or more (at the end
+  // of a batch), and in flush(); collapse ids go on from where they were.
+  void set_sink(std::function<void(const CollapseLog&)> sink, std::size_t every);
+  void flush();
 
   void begin_batch(std::size_t slots);
   void record(std::size_t slot, const MeshModel& mesh, VertId u, VertId v, const glm::dvec3& p,
@@ -75,7 +82,10 @@ class CollapseLog {
     std::vector<std::uint32_t> parents;  // capacity kept between batches: no allocation per collapse
   };
   int stride_;
-  std::uint32_t first_id_;
+  std::uint32_t first_id_;  // + handed_over_: the id of the first collapse in the records
+  std::uint64_t handed_over_ = 0;
+  std::function<void(const CollapseLog&)> sink_;
+  std::size_t sink_every_ = 0;
   bool seeded_ = false;
   std::vector<std::uint32_t> last_change_;  // [tet] the latest collapse that changed it (kInvalid: none)
   std::vector<Slot> slots_;

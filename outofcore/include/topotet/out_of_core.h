@@ -74,9 +74,9 @@ struct OutOfCoreOptions {
   // reads it), recorded as an in-core simplify_with_hierarchy would: its original is the input as
   // read (without group names), every collapse of every piece and level with its parents. Kept
   // on disk during the run (the original and ~127 + 16k bytes a collapse, k vertex field
-  // components); the memory budget counts a piece's records. As in core, excludes the vertex map
-  // and disables the optimisation after the collapses. With vertex fields, set
-  // SimplifyOptions::track_field_bounds to record each collapse's field error bound.
+  // components); a piece's records go to disk in batches, which the memory budget counts. As in
+  // core, excludes the vertex map and disables the optimisation after the collapses. With vertex
+  // fields, set SimplifyOptions::track_field_bounds to record each collapse's field error bound.
   std::string hierarchy_path;
 };
 

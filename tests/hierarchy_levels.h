@@ -1,0 +1,44 @@
+// Levels of a hierarchy for the tests that check them (property_hierarchy.cpp in core,
+// unit_out_of_core_hierarchy.cpp out of core): random downward-closed selections, and the checks
+// every level must pass.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "mesh/mesh_model.h"
+#include "topotet/hierarchy.h"
+#include "topotet/metrics/quality.h"
+#include "topotet/metrics/topology.h"
+
+namespace topotet::test {
+
+// The largest downward-closed subset of a random wish list.
+inline std::vector<std::uint8_t> random_closed(const Hierarchy& h, double p, std::mt19937& rng) {
+  std::bernoulli_distribution want(p);
+  std::vector<std::uint8_t> applied(h.collapse_count(), 0);
+  for (std::size_t i = 0; i < applied.size(); ++i) {
+    bool ok = want(rng);
+    for (std::uint32_t k = h.parent_offsets[i]; k < h.parent_offsets[i + 1] && ok; ++k) ok = applied[h.parents[k]];
+    applied[i] = ok;
+  }
+  return applied;
+}
+
+inline void expect_valid_level(const MeshData& input, const metrics::TopologyReport& input_topology, const MeshData& level,
+                        const std::string& what) {
+  SCOPED_TRACE(what);
+  EXPECT_NO_THROW(build_mesh_model(level, BuildOptions{.reorient_inverted = false}));
+  const QualityStats q = compute_quality(level);
+  EXPECT_EQ(q.inverted, 0u);
+  EXPECT_EQ(q.zero_volume, 0u);
+  std::string differences;
+  EXPECT_TRUE(metrics::same_topology(input_topology, metrics::compute_topology(level), &differences)) << differences;
+  EXPECT_EQ(level.fields.size(), input.fields.size());
+}
+
+}  // namespace topotet::test
