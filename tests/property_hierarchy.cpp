@@ -174,16 +174,7 @@ void expect_kernel_replay(const Built& b, const std::vector<std::uint8_t>& appli
   // which a downward-closed set contains: the replay holds the same items as the run did.
   SurfaceCoverage coverage(mesh, *surfaces, b.report.tolerance);
   kernel.coverage = &coverage;
-  CollapseScratch scratch;
-  std::uint32_t refs_used = static_cast<std::uint32_t>(mesh.refs_table.size());
-  for (std::size_t i = 0; i < applied.size(); ++i) {
-    if (!applied[i]) continue;
-    const CollapseReason reason = may_collapse(mesh, h.u[i], h.v[i], to_glm(h.u_after[i]), kernel, scratch);
-    ASSERT_EQ(reason, CollapseReason::kOk) << "collapse " << i << ": " << to_string(reason);
-    reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
-    collapse(mesh, h.u[i], h.v[i], to_glm(h.u_after[i]), h.fields_after.data() + i * h.field_stride, scratch,
-             refs_used, nullptr, &coverage);
-  }
+  test::replay_through_kernel(h, applied, kernel, &coverage, mesh);
   EXPECT_TRUE(canonical(mesh.to_mesh_data()) == canonical(extract(h, applied)));
 }
 

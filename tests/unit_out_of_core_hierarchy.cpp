@@ -214,17 +214,8 @@ TEST(OutOfCoreHierarchy, ClosedSetsReplayLegallyThroughTheKernelOnTheWholeMesh) 
     SCOPED_TRACE("p " + std::to_string(p));
     const std::vector<std::uint8_t> applied = random_closed(h, p, rng);
     MeshModel mesh = build_mesh_model(h.original);
-    CollapseOptions kernel;  // topology and orientation: the tolerance and floors were the levels' own
-    CollapseScratch scratch;
-    std::uint32_t refs_used = static_cast<std::uint32_t>(mesh.refs_table.size());
-    for (std::size_t i = 0; i < applied.size(); ++i) {
-      if (!applied[i]) continue;
-      const CollapseReason reason = may_collapse(mesh, h.u[i], h.v[i], to_glm(h.u_after[i]), kernel, scratch);
-      ASSERT_EQ(reason, CollapseReason::kOk) << "collapse " << i << ": " << to_string(reason);
-      reserve_refs_headroom(mesh, refs_used, scratch.star_u.size() + scratch.star_v.size());
-      collapse(mesh, h.u[i], h.v[i], to_glm(h.u_after[i]), h.fields_after.data() + i * h.field_stride, scratch,
-               refs_used, nullptr, nullptr);
-    }
+    const CollapseOptions kernel;  // topology and orientation: the tolerance and floors were the levels' own
+    test::replay_through_kernel(h, applied, kernel, nullptr, mesh);
     const MeshData replayed = mesh.to_mesh_data();
     const MeshData extracted = extract(h, applied);
     EXPECT_EQ(sorted_positions(replayed), sorted_positions(extracted));
