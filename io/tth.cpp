@@ -18,6 +18,9 @@
 #include <bit>
 #include <cstring>
 #include <fstream>
+#include <iterator>
+#include <memory>
+#include <sstream>
 #include <limits>
 
 #include "hierarchy/hierarchy_log.h"
@@ -60,32 +63,50 @@ class Writer {
   io::AtomicFile& file_;
 };
 
+// Reads the file as a stream, straight into the arrays (the file is as large as the hierarchy it
+// holds: reading it whole first would hold it twice). Every count is checked against the bytes
+// left before anything is allocated.
 class Reader {
  public:
-  Reader(std::string path, std::string bytes) : path_(std::move(path)), bytes_(std::move(bytes)) {}
+  explicit Reader(std::string path) : path_(std::move(path)) {
+    auto file = std::make_unique<std::ifstream>(path_, std::ios::binary);
+    if (!*file) throw InputError(path_ + ": cannot open");
+    file->seekg(0, std::ios::end);
+    const std::streamoff end = file->tellg();
+    if (end >= 0 && file->seekg(0, std::ios::beg)) {
+      size_ = static_cast<std::uint64_t>(end);
+      in_ = std::move(file);
+    } else {  // not seekable (a pipe): read it whole first
+      file->clear();
+      std::string bytes((std::istreambuf_iterator<char>(*file)), std::istreambuf_iterator<char>());
+      if (file->bad()) throw InputError(path_ + ": read error");
+      size_ = bytes.size();
+      in_ = std::make_unique<std::istringstream>(std::move(bytes));
+    }
+  }
   [[noreturn]] void fail(const std::string& what) const {
     throw InputError(path_ + ": byte " + std::to_string(offset_) + ": " + what);
   }
   void need(std::uint64_t count, std::uint64_t size, const char* what) {
-    const std::uint64_t left = bytes_.size() - offset_;
+    const std::uint64_t left = size_ - offset_;
     if (size != 0 && count > left / size)
       fail(std::string("truncated: ") + what + " needs " + std::to_string(count) + " x " + std::to_string(size) +
            " bytes, " + std::to_string(left) + " left");
   }
   template <class T>
   T value(const char* what) {
-    need(1, sizeof(T), what);
     T x;
-    std::memcpy(&x, bytes_.data() + offset_, sizeof(T));
-    offset_ += sizeof(T);
+    raw(&x, 1, what);
     return x;
   }
   template <class T>
   void raw(T* data, std::size_t count, const char* what) {
     need(count, sizeof(T), what);
-    if (count == 0) return;  // data() of an empty vector may be null, which memcpy must not get
-    std::memcpy(data, bytes_.data() + offset_, count * sizeof(T));
-    offset_ += count * sizeof(T);
+    if (count == 0) return;
+    const auto bytes = static_cast<std::streamsize>(count * sizeof(T));
+    if (!in_->read(reinterpret_cast<char*>(data), bytes) || in_->gcount() != bytes)
+      fail(std::string("read error in ") + what + " (was the file changed while it was read?)");
+    offset_ += static_cast<std::uint64_t>(bytes);
   }
   template <class T>
   std::vector<T> array(std::uint64_t count, const char* what) {
@@ -101,17 +122,17 @@ class Reader {
   std::string text(const char* what) {
     const auto n = value<std::uint32_t>(what);
     need(n, 1, what);
-    std::string s(bytes_.data() + offset_, n);
-    offset_ += n;
+    std::string s(n, '\0');
+    raw(s.data(), n, what);
     return s;
   }
   std::uint64_t offset() const { return offset_; }
-  std::uint64_t size() const { return bytes_.size(); }
-  const char* at() const { return bytes_.data() + offset_; }
+  std::uint64_t size() const { return size_; }
 
  private:
   std::string path_;
-  std::string bytes_;
+  std::unique_ptr<std::istream> in_;
+  std::uint64_t size_ = 0;
   std::uint64_t offset_ = 0;
 };
 
@@ -181,11 +202,7 @@ std::uint64_t hierarchy_collapse_bytes(const Hierarchy& h) {
 }
 
 Hierarchy read_hierarchy(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open");
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw InputError(path + ": read error");
-  Reader r(path, std::move(bytes));
+  Reader r(path);
   char magic[8];
   r.raw(magic, 8, "the magic number");
   if (std::memcmp(magic, kMagic, 8) != 0) r.fail("not a topotet hierarchy (.tth) file: bad magic number");
