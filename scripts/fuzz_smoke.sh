@@ -32,6 +32,18 @@ keyword(6, struct.pack("<i", 1) + struct.pack("<4i", 2, 3, 4, 7))
 out.extend(struct.pack("<iq", 54, 0))
 open(sys.argv[1], "wb").write(out)
 EOF
+# A hierarchy seed (.tth, docs/formats.md: two tets, one collapse that removes one of them).
+python3 - "$corpus/seed.tth" <<'EOF'
+import struct, sys
+q = lambda n: struct.pack("<Q", n)
+out = b"TOPOTETH" + struct.pack("<II", 1, 0)
+out += q(5) + struct.pack("<15d", 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1) + q(0)
+out += q(2) + struct.pack("<8I", 0, 1, 2, 3, 1, 2, 3, 4) + struct.pack("<2i", 1, 2)
+out += q(0) + q(0) + q(0) + q(0) + q(0) + q(0) + q(0)  # triangles .. fields, group names
+out += q(1) + struct.pack("<I", 0) + struct.pack("<II", 3, 4) + struct.pack("<9d", 0, 0, 1, 0, 0, 1, 1, 1, 1)
+out += struct.pack("<d", 0.5) + struct.pack("<f", float("nan")) + struct.pack("<II", 0, 0) + b"TTH_END!"
+open(sys.argv[1], "wb").write(out)
+EOF
 # A vertex map seed (.npy: read as every format, and as a map).
 python3 - "$corpus/seed_map.npy" <<'EOF'
 import struct, sys

@@ -1,6 +1,6 @@
 // libFuzzer target for the mesh readers and writers: the input bytes are written to a temporary
 // file and read as .mesh, as .meshb (binary MEDIT), as .msh, as the .sol beside a fixed valid .mesh, and as each TetGen file
-// (.node, .ele, .face) beside fixed valid others, and as a vertex map (.npy, .txt); a .mesh or .msh that reads is streamed too
+// (.node, .ele, .face) beside fixed valid others, as a vertex map (.npy, .txt), and as a hierarchy (.tth); a .mesh or .msh that reads is streamed too
 // (topotet/mesh_stream.h), which must refuse it or give the same counts. Every mesh that parses is written as .mesh,
 // .msh 4.1 and .msh 2.2 and read back: the .mesh must give the same MeshData, and every file
 // must read, and as .meshb, which must give the same MeshData; and as .vtu (ASCII and binary; write-only), which must be complete. It is also built into the model (which may refuse it). Every outcome but these or an
@@ -16,6 +16,7 @@
 #include <string>
 
 #include "topotet/error.h"
+#include "topotet/hierarchy.h"
 #include "topotet/io.h"
 #include "topotet/mesh_stream.h"
 #include "topotet/tet_mesh.h"
@@ -163,6 +164,29 @@ void read_vertex_map_as(const std::string& path, const std::uint8_t* data, std::
   if (topotet::read_vertex_map(path) != map) std::abort();
 }
 
+// The hierarchy reader (.tth, io/tth.cpp): an InputError, or a valid hierarchy that writes back
+// and reads again to the same records, and whose levels extract (or are refused with an InputError).
+void read_hierarchy_as(const std::string& path, const std::uint8_t* data, std::size_t size) {
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  }
+  topotet::Hierarchy h;
+  try {
+    h = topotet::read_hierarchy(path);
+  } catch (const topotet::InputError&) {
+    return;
+  }
+  topotet::write_hierarchy(path + ".out", h);  // a hierarchy that read is valid: must write
+  const topotet::Hierarchy back = topotet::read_hierarchy(path + ".out");
+  if (!(back.original == h.original) || back.u != h.u || back.v != h.v || back.parents != h.parents) std::abort();
+  try {
+    for (std::size_t count : {std::size_t{0}, h.collapse_count() / 2, h.collapse_count()})
+      topotet::extract(h, topotet::select_prefix(h, count));
+  } catch (const topotet::InputError&) {
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -176,5 +200,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   read_as(dir + "/f.face", dir + "/f.face", data, size);
   read_vertex_map_as(dir + "/map.npy", data, size);
   read_vertex_map_as(dir + "/map.txt", data, size);
+  read_hierarchy_as(dir + "/h.tth", data, size);
   return 0;
 }
