@@ -15,7 +15,6 @@
 // Hierarchy::error is not stored: it is the running maximum of the costs.
 // Reading checks every count against the bytes left before allocating, so a truncated or lying
 // file is an InputError naming the file and the byte offset, never a crash or a huge allocation.
-#include <bit>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -32,7 +31,6 @@
 namespace topotet {
 namespace {
 
-static_assert(std::endian::native == std::endian::little, "the .tth writer stores the host's little-endian layout");
 
 using io::tth::kEnd;
 using io::tth::kMagic;
@@ -143,9 +141,7 @@ void write_hierarchy(const std::string& path, const Hierarchy& h) {
   io::AtomicFile file(path);
   Writer w(file);
   const MeshData& m = h.original;
-  w.raw(kMagic, 8);
-  w.value<std::uint32_t>(kVersion);
-  w.value<std::uint32_t>(0);
+  io::tth::write_header(file);
   w.counted(m.positions);
   w.counted(m.vertex_refs);
   w.counted(m.tets);
@@ -189,7 +185,7 @@ void write_hierarchy(const std::string& path, const Hierarchy& h) {
   w.raw(h.error_bound.data(), n);
   w.raw(h.parent_offsets.data(), n + 1);
   w.raw(h.parents.data(), h.parents.size());
-  w.raw(kEnd, 8);
+  io::tth::write_end(file);
   file.commit();
 }
 

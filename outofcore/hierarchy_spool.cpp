@@ -2,7 +2,6 @@
 #include "hierarchy_spool.h"
 
 #include <algorithm>
-#include <bit>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
@@ -14,41 +13,20 @@
 
 namespace topotet::ooc {
 
-static_assert(std::endian::native == std::endian::little, "the .tth stores the host's little-endian layout");
-
-// One scratch file per collapse array of the .tth, in its order.
+// One scratch file per collapse array of the .tth, in the file's order.
 struct HierarchySpool::Columns {
-  explicit Columns(const ScratchFolder& s)
-      : u(s.file_path("tth-u.bin")),
-        v(s.file_path("tth-v.bin")),
-        u_before(s.file_path("tth-u-before.bin")),
-        u_after(s.file_path("tth-u-after.bin")),
-        v_position(s.file_path("tth-v-position.bin")),
-        fields_before(s.file_path("tth-fields-before.bin")),
-        fields_after(s.file_path("tth-fields-after.bin")),
-        cost(s.file_path("tth-cost.bin")),
-        bound(s.file_path("tth-bound.bin")),
-        offsets(s.file_path("tth-offsets.bin")),
-        parents(s.file_path("tth-parents.bin")) {}
-  ScratchWriter u, v, u_before, u_after, v_position, fields_before, fields_after, cost, bound, offsets, parents;
-  ScratchWriter* all[11] = {&u, &v, &u_before, &u_after, &v_position, &fields_before, &fields_after, &cost, &bound, &offsets, &parents};
-  static constexpr const char* kNames[11] = {"tth-u.bin", "tth-v.bin", "tth-u-before.bin", "tth-u-after.bin",
-                                             "tth-v-position.bin", "tth-fields-before.bin", "tth-fields-after.bin",
-                                             "tth-cost.bin", "tth-bound.bin", "tth-offsets.bin", "tth-parents.bin"};
+  enum Index { kU, kV, kUBefore, kUAfter, kVPosition, kFieldsBefore, kFieldsAfter, kCost, kBound, kOffsets, kParents, kCount };
+  static constexpr const char* kNames[kCount] = {"tth-u.bin", "tth-v.bin", "tth-u-before.bin", "tth-u-after.bin",
+                                                 "tth-v-position.bin", "tth-fields-before.bin", "tth-fields-after.bin",
+                                                 "tth-cost.bin", "tth-bound.bin", "tth-offsets.bin", "tth-parents.bin"};
+  explicit Columns(const ScratchFolder& s) {
+    for (int c = 0; c < kCount; ++c) files[c] = std::make_unique<ScratchWriter>(s.file_path(kNames[c]));
+  }
+  ScratchWriter& operator[](Index c) { return *files[c]; }
+  std::unique_ptr<ScratchWriter> files[kCount];
 };
 
 namespace {
-
-template <class T>
-void put_array(ScratchWriter& out, const std::vector<T>& v) {
-  out.write(v.data(), v.size() * sizeof(T));
-}
-
-template <class T>
-void put_counted(ScratchWriter& out, const std::vector<T>& v) {
-  out.put<std::uint64_t>(v.size());
-  put_array(out, v);
-}
 
 // Copies a scratch file's bytes to the .tth.
 void copy_into(io::AtomicFile& file, const std::string& path) {
@@ -68,15 +46,15 @@ HierarchySpool::HierarchySpool(const ScratchFolder& scratch)
     : scratch_(scratch),
       original_(std::make_unique<ScratchWriter>(scratch.file_path("tth-original.bin"))),
       columns_(std::make_unique<Columns>(scratch)) {
-  columns_->offsets.put<std::uint32_t>(0);
+  (*columns_)[Columns::kOffsets].put<std::uint32_t>(0);
 }
 
 HierarchySpool::~HierarchySpool() = default;
 
 void HierarchySpool::original_vertices(const std::vector<std::array<double, 3>>& positions,
                                        const std::vector<std::int32_t>& refs) {
-  put_counted(*original_, positions);
-  put_counted(*original_, refs);
+  original_->put_counted(positions);
+  original_->put_counted(refs);
 }
 
 void HierarchySpool::original_tet_count(std::uint64_t tets) {
@@ -109,9 +87,9 @@ void HierarchySpool::original_listed(const std::vector<Triangle>& triangles, con
     original_->write(s.v.data(), sizeof s.v);
     original_->put(s.ref);
   }
-  put_counted(*original_, ridges);
-  put_counted(*original_, corners);
-  put_counted(*original_, required);
+  original_->put_counted(ridges);
+  original_->put_counted(corners);
+  original_->put_counted(required);
 }
 
 void HierarchySpool::original_fields(const std::vector<VertexField>& fields, const std::string& values, int stride,
@@ -147,42 +125,37 @@ void HierarchySpool::append(const detail::CollapseLog& log, const std::vector<Gl
   Columns& c = *columns_;
   std::vector<GlobalId> ids(n);
   for (std::size_t i = 0; i < n; ++i) ids[i] = global[log.u[i]];
-  put_array(c.u, ids);
+  c[Columns::kU].put_array(ids);
   for (std::size_t i = 0; i < n; ++i) ids[i] = global[log.v[i]];
-  put_array(c.v, ids);
-  put_array(c.u_before, log.u_before);
-  put_array(c.u_after, log.u_after);
-  put_array(c.v_position, log.v_position);
-  put_array(c.fields_before, log.fields_before);
-  put_array(c.fields_after, log.fields_after);
-  put_array(c.cost, log.cost);
-  put_array(c.bound, log.error_bound);
+  c[Columns::kV].put_array(ids);
+  c[Columns::kUBefore].put_array(log.u_before);
+  c[Columns::kUAfter].put_array(log.u_after);
+  c[Columns::kVPosition].put_array(log.v_position);
+  c[Columns::kFieldsBefore].put_array(log.fields_before);
+  c[Columns::kFieldsAfter].put_array(log.fields_after);
+  c[Columns::kCost].put_array(log.cost);
+  c[Columns::kBound].put_array(log.error_bound);
   // The log's offsets start at 0 for its own parents; the file's continue the run's.
-  for (std::size_t i = 1; i <= n; ++i) c.offsets.put<std::uint32_t>(static_cast<std::uint32_t>(parents_ + log.parent_offsets[i]));
-  put_array(c.parents, log.parents);  // already the run's ids (the log's first_id)
+  for (std::size_t i = 1; i <= n; ++i)
+    c[Columns::kOffsets].put<std::uint32_t>(static_cast<std::uint32_t>(parents_ + log.parent_offsets[i]));
+  c[Columns::kParents].put_array(log.parents);  // already the run's ids (the log's first_id)
   collapses_ += n;
   parents_ += log.parents.size();
 }
 
 void HierarchySpool::write(const std::string& path, int field_stride) {
   if (!original_done_) throw std::logic_error("HierarchySpool::write before the original was written");
-  for (ScratchWriter* w : columns_->all) w->close();
+  for (auto& column : columns_->files) column->close();
   io::AtomicFile file(path);
-  file.put(std::string_view(io::tth::kMagic, 8));
-  const std::uint32_t version = io::tth::kVersion, flags = 0;
-  file.put(std::string_view(reinterpret_cast<const char*>(&version), 4));
-  file.put(std::string_view(reinterpret_cast<const char*>(&flags), 4));
+  io::tth::write_header(file);
   copy_into(file, scratch_.file_path("tth-original.bin"));
-  const std::uint64_t n = collapses_;
-  const auto k = static_cast<std::uint32_t>(field_stride);
-  file.put(std::string_view(reinterpret_cast<const char*>(&n), 8));
-  file.put(std::string_view(reinterpret_cast<const char*>(&k), 4));
+  file.put_raw(std::uint64_t{collapses_});
+  file.put_raw(static_cast<std::uint32_t>(field_stride));
   for (const char* name : Columns::kNames) copy_into(file, scratch_.file_path(name));
-  file.put(std::string_view(io::tth::kEnd, 8));
+  io::tth::write_end(file);
   file.commit();
-  bytes_written_ = 0;
-  for (ScratchWriter* w : columns_->all) bytes_written_ += w->bytes();
-  bytes_written_ += original_->bytes() + 8 + 8 + 12 + 8;
+  bytes_written_ = io::tth::kHeaderBytes + original_->bytes() + 12 + io::tth::kEndBytes;  // 12: the count and stride
+  for (const auto& column : columns_->files) bytes_written_ += column->bytes();
 }
 
 }  // namespace topotet::ooc

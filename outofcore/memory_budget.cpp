@@ -54,8 +54,6 @@ std::uint64_t bytes_per_field_sample(const InputCounts& counts) {
   return std::max(36 + 8 * k, 28 + 8 * k + std::max<std::uint64_t>(24, 8 * k));
 }
 
-std::uint64_t bytes_per_hierarchy_tet(const InputCounts&) { return 13; }
-
 std::uint64_t hierarchy_batch_bytes(const InputCounts& counts) {
   const auto k = static_cast<std::uint64_t>(std::max(counts.vertex_stride, 0));
   return kHierarchyBatch * 2 * (148 + 16 * k);
@@ -89,7 +87,7 @@ std::uint64_t MemoryBudget::piece_tets(const InputCounts& counts) const {
   const std::uint64_t u = usable();
   const auto k = static_cast<std::uint64_t>(std::max(counts.vertex_stride, 0));
   const std::uint64_t per_tet =
-      bytes_per_piece_tet(counts) + (samples ? 4 + 12 * k : 0) + (hierarchy ? bytes_per_hierarchy_tet(counts) : 0);
+      bytes_per_piece_tet(counts) + (samples ? 4 + 12 * k : 0) + (hierarchy ? kHierarchyBytesPerTet : 0);
   const std::uint64_t during_cut = u > cut_held ? (u - cut_held) * 8 / kBytesPerPieceTet : 0;
   const std::uint64_t during_levels = u > level_held ? (u - level_held) / per_tet : 0;
   const std::uint64_t tets = std::min(during_cut, during_levels);

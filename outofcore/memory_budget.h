@@ -47,6 +47,7 @@ inline constexpr std::uint64_t kTetsPerVertex = 4;  // a tet mesh has ~5-6; fewe
 inline constexpr std::uint64_t kMinPieceTets = 20000;
 inline constexpr double kHeadroom = 0.15;
 inline constexpr std::uint64_t kBaselineStep = 64ull << 20;
+inline constexpr std::uint64_t kHierarchyBytesPerTet = 13;
 inline constexpr std::uint64_t kHierarchyBatch = 1u << 14;  // collapses a piece's log holds at most
 
 // The resident size `rss` as the budget counts it: rounded up to kBaselineStep (at least one step).
@@ -77,8 +78,8 @@ std::string format_bytes(std::uint64_t bytes);  // "1.50 GiB", "256 MiB"
 std::uint64_t bytes_per_piece_tet(const InputCounts& counts);
 // What one field error sample costs at the peak (see the top).
 std::uint64_t bytes_per_field_sample(const InputCounts& counts);
-// What recording a hierarchy adds per piece tet, and once (see the top).
-std::uint64_t bytes_per_hierarchy_tet(const InputCounts& counts);
+// What recording a hierarchy adds once: a batch of records (see the top; per piece tet it adds
+// kHierarchyBytesPerTet).
 std::uint64_t hierarchy_batch_bytes(const InputCounts& counts);
 
 }  // namespace topotet::ooc

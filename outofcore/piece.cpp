@@ -14,18 +14,6 @@ namespace {
 
 constexpr std::uint64_t kMagic = 0x34656365'6970746fULL;  // "otpiece4"
 
-template <class T>
-void put_vector(ScratchWriter& out, const std::vector<T>& v) {
-  out.put<std::uint64_t>(v.size());
-  out.write(v.data(), v.size() * sizeof(T));
-}
-
-template <class T>
-void get_vector(ScratchReader& in, std::vector<T>& v) {
-  v.resize(in.get<std::uint64_t>());
-  in.read(v.data(), v.size() * sizeof(T));
-}
-
 void put_string(ScratchWriter& out, const std::string& s) {
   out.put<std::uint64_t>(s.size());
   out.write(s.data(), s.size());
@@ -43,40 +31,40 @@ void save_piece(const std::string& path, const Piece& piece) {
   const MeshData& m = piece.mesh;
   ScratchWriter out(path);
   out.put(kMagic);
-  put_vector(out, piece.global_ids);
-  put_vector(out, m.positions);
-  put_vector(out, m.vertex_refs);
-  put_vector(out, m.tets);
-  put_vector(out, m.tet_material);
-  put_vector(out, m.triangles);
-  put_vector(out, m.segments);
-  put_vector(out, m.ridges);
-  put_vector(out, m.corners);
-  put_vector(out, m.required_vertices);
+  out.put_counted(piece.global_ids);
+  out.put_counted(m.positions);
+  out.put_counted(m.vertex_refs);
+  out.put_counted(m.tets);
+  out.put_counted(m.tet_material);
+  out.put_counted(m.triangles);
+  out.put_counted(m.segments);
+  out.put_counted(m.ridges);
+  out.put_counted(m.corners);
+  out.put_counted(m.required_vertices);
   out.put<std::uint64_t>(m.fields.size());
   for (const VertexField& f : m.fields) {
     put_string(out, f.name);
     out.put<std::int32_t>(f.components);
-    put_vector(out, f.values);
+    out.put_counted(f.values);
   }
   out.put<std::uint64_t>(m.cell_fields.size());
   for (const CellField& f : m.cell_fields) {
     put_string(out, f.name);
     out.put<std::int32_t>(f.components);
     out.put<std::uint8_t>(static_cast<std::uint8_t>(f.kind));
-    put_vector(out, f.values);
+    out.put_counted(f.values);
   }
   out.put<std::uint32_t>(piece.quadric_doubles);
-  put_vector(out, piece.quadrics);
+  out.put_counted(piece.quadrics);
   const FieldBoundSamples& f = piece.samples;
   out.put<std::int32_t>(f.components);
-  put_vector(out, f.range);
-  put_vector(out, f.magnitude);
-  put_vector(out, f.positions);
-  put_vector(out, f.values);
-  put_vector(out, f.tet);
-  put_vector(out, f.bounds);
-  put_vector(out, piece.last_collapse);
+  out.put_counted(f.range);
+  out.put_counted(f.magnitude);
+  out.put_counted(f.positions);
+  out.put_counted(f.values);
+  out.put_counted(f.tet);
+  out.put_counted(f.bounds);
+  out.put_counted(piece.last_collapse);
   out.close();
 }
 
@@ -85,40 +73,40 @@ Piece load_piece(const std::string& path) {
   MeshData& m = piece.mesh;
   ScratchReader in(path);
   if (in.get<std::uint64_t>() != kMagic) throw InputError("scratch file " + path + ": not a piece of this run");
-  get_vector(in, piece.global_ids);
-  get_vector(in, m.positions);
-  get_vector(in, m.vertex_refs);
-  get_vector(in, m.tets);
-  get_vector(in, m.tet_material);
-  get_vector(in, m.triangles);
-  get_vector(in, m.segments);
-  get_vector(in, m.ridges);
-  get_vector(in, m.corners);
-  get_vector(in, m.required_vertices);
+  in.get_counted(piece.global_ids);
+  in.get_counted(m.positions);
+  in.get_counted(m.vertex_refs);
+  in.get_counted(m.tets);
+  in.get_counted(m.tet_material);
+  in.get_counted(m.triangles);
+  in.get_counted(m.segments);
+  in.get_counted(m.ridges);
+  in.get_counted(m.corners);
+  in.get_counted(m.required_vertices);
   m.fields.resize(in.get<std::uint64_t>());
   for (VertexField& f : m.fields) {
     f.name = get_string(in);
     f.components = in.get<std::int32_t>();
-    get_vector(in, f.values);
+    in.get_counted(f.values);
   }
   m.cell_fields.resize(in.get<std::uint64_t>());
   for (CellField& f : m.cell_fields) {
     f.name = get_string(in);
     f.components = in.get<std::int32_t>();
     f.kind = static_cast<CellFieldKind>(in.get<std::uint8_t>());
-    get_vector(in, f.values);
+    in.get_counted(f.values);
   }
   piece.quadric_doubles = in.get<std::uint32_t>();
-  get_vector(in, piece.quadrics);
+  in.get_counted(piece.quadrics);
   FieldBoundSamples& f = piece.samples;
   f.components = in.get<std::int32_t>();
-  get_vector(in, f.range);
-  get_vector(in, f.magnitude);
-  get_vector(in, f.positions);
-  get_vector(in, f.values);
-  get_vector(in, f.tet);
-  get_vector(in, f.bounds);
-  get_vector(in, piece.last_collapse);
+  in.get_counted(f.range);
+  in.get_counted(f.magnitude);
+  in.get_counted(f.positions);
+  in.get_counted(f.values);
+  in.get_counted(f.tet);
+  in.get_counted(f.bounds);
+  in.get_counted(piece.last_collapse);
   return piece;
 }
 

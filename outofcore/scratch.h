@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 namespace topotet::ooc {
 
@@ -51,6 +52,15 @@ class ScratchWriter {
   void put(const T& value) {
     write(&value, sizeof value);
   }
+  template <class T>
+  void put_array(const std::vector<T>& v) {
+    write(v.data(), v.size() * sizeof(T));
+  }
+  template <class T>
+  void put_counted(const std::vector<T>& v) {  // its size (u64), then its elements
+    put<std::uint64_t>(v.size());
+    put_array(v);
+  }
   void close();
   std::uint64_t bytes() const { return bytes_; }
 
@@ -76,6 +86,11 @@ class ScratchReader {
     T value;
     read(&value, sizeof value);
     return value;
+  }
+  template <class T>
+  void get_counted(std::vector<T>& v) {  // what put_counted wrote
+    v.resize(get<std::uint64_t>());
+    read(v.data(), v.size() * sizeof(T));
   }
 
  private:
