@@ -649,11 +649,14 @@ topotet_status topotet_simplify_out_of_core(const char* input, const char* outpu
     topotet::SimplifyOptions o;
     if (const topotet_status converted = to_simplify_options(options, o); converted != TOPOTET_OK) return converted;
     if (o.on_progress) return fail(TOPOTET_INVALID_INPUT, "topotet_simplify_out_of_core: no progress callback out of core (set it to NULL)");
-    if (ooc->memory_limit_bytes < 0 || ooc->pieces < 0 || ooc->extensive_count < 0 || ooc->categorical_count < 0)
-      return fail(TOPOTET_INVALID_INPUT, "topotet_simplify_out_of_core: memory_limit_bytes, pieces and the counts must be >= 0");
+    if (ooc->memory_limit_bytes < 0 || ooc->pieces < 0 || ooc->piece_tets < 0 || ooc->extensive_count < 0 ||
+        ooc->categorical_count < 0)
+      return fail(TOPOTET_INVALID_INPUT,
+                  "topotet_simplify_out_of_core: memory_limit_bytes, pieces, piece_tets and the counts must be >= 0");
     topotet::OutOfCoreOptions c;
     c.memory_limit_bytes = static_cast<std::uint64_t>(ooc->memory_limit_bytes);
     c.pieces = static_cast<std::uint32_t>(ooc->pieces);
+    c.piece_tets = static_cast<std::uint64_t>(ooc->piece_tets);
     if (ooc->scratch_parent != nullptr) c.scratch_parent = ooc->scratch_parent;
     if (ooc->vertex_map_path != nullptr) c.vertex_map_path = ooc->vertex_map_path;
     const auto names = [](int count, const char* const* list, std::vector<std::string>& into) {

@@ -378,7 +378,7 @@ void embed_levels(SimplifyJob& job) {
 }
 
 int run_simplify(const SimplifyArgs& args) {
-  if (!args.memory_limit.empty() || args.pieces != 0) return run_simplify_out_of_core(args);
+  if (!args.memory_limit.empty() || args.pieces != 0 || args.piece_tets != 0) return run_simplify_out_of_core(args);
   SimplifyJob job = job_from_args(args);
   job.input = read_input(args.input, &job.read_seconds, read_options_of(args));
   if (args.input != "-" && !writes_over(job, args.input)) {

@@ -231,7 +231,12 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
                                       "Out of core in exactly N pieces (a power of two), whatever the limit (tests, "
                                       "benchmarks); without --memory-limit nothing limits the merges")
                           ->check(CLI::Range(1u, 4096u)));
-  for (CLI::Option* out_of_core : {memory_limit, pieces})
+  auto* piece_tets = keep(cmd->add_option("--piece-tets", args.piece_tets,
+                                          "Out of core with pieces of at most N tets, at the cut and in every merge, "
+                                          "whatever the limit allows (tests, benchmarks: what a small limit does on a "
+                                          "small mesh)")
+                              ->check(CLI::Range(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max())));
+  for (CLI::Option* out_of_core : {memory_limit, pieces, piece_tets})
     for (const char* not_out_of_core : {"--levels", "--levels-error", "--isosurface", "--feature-ref"})
       out_of_core->excludes(not_out_of_core);
   scratch->check(CLI::ExistingDirectory);

@@ -70,6 +70,7 @@ struct SimplifyArgs {
   std::string memory_limit;  // --memory-limit SIZE: out of core (topotet/out_of_core.h) under SIZE
   std::string scratch;       // --scratch DIR: the out-of-core scratch folder's parent
   std::uint32_t pieces = 0;  // --pieces N: out of core in exactly N pieces (tests, benchmarks)
+  std::uint64_t piece_tets = 0;  // --piece-tets N: out of core, pieces of at most N tets (tests, benchmarks)
 };
 
 // The registered options, for a tool that adds its own rules to some of them.

@@ -23,6 +23,8 @@ Json json_report(const SimplifyArgs& args, const OutOfCoreOptions& ooc, const Ou
   for (const OutOfCoreLevel& lv : r.levels)
     levels.push_back({{"pieces", lv.pieces},
                       {"pairs_left_apart", lv.unmerged},
+                      {"seams", lv.seams},
+                      {"seams_declined", lv.seams_declined},
                       {"largest_piece_tets", lv.largest_piece_tets},
                       {"vertices_after", lv.vertices_after},
                       {"collapses", lv.collapses},
@@ -70,6 +72,7 @@ int run_simplify_out_of_core(const SimplifyArgs& args) {
   if (!args.memory_limit.empty()) ooc.memory_limit_bytes = parse_memory_size(args.memory_limit);
   ooc.scratch_parent = args.scratch;
   ooc.pieces = args.pieces;
+  ooc.piece_tets = args.piece_tets;
   ooc.cell_remap.extensive = args.extensive;
   ooc.cell_remap.categorical = args.categorical;
   ooc.vertex_map_path = args.vertex_map;
@@ -99,9 +102,12 @@ int run_simplify_out_of_core(const SimplifyArgs& args) {
                  format_count(r.piece_tet_limit).c_str(), r.output_pieces);
     for (std::size_t l = 0; l < r.levels.size(); ++l) {
       const OutOfCoreLevel& lv = r.levels[l];
+      std::string apart;
+      if (lv.unmerged) apart += ", " + std::to_string(lv.unmerged) + (lv.unmerged == 1 ? " pair" : " pairs") + " left apart";
+      if (lv.seams) apart += ", " + std::to_string(lv.seams) + (lv.seams == 1 ? " seam" : " seams") + " between pieces";
+      if (lv.seams_declined) apart += " (" + std::to_string(lv.seams_declined) + " borders without: no seam fits or frees more than it freezes)";
       std::fprintf(out, "  level %zu    %u piece%s run (largest %s tets)%s, tolerance %s, %s vertices after, %s\n", l,
-                   lv.pieces, lv.pieces == 1 ? "" : "s", format_count(lv.largest_piece_tets).c_str(),
-                   lv.unmerged ? (", " + std::to_string(lv.unmerged) + " pairs left apart").c_str() : "",
+                   lv.pieces, lv.pieces == 1 ? "" : "s", format_count(lv.largest_piece_tets).c_str(), apart.c_str(),
                    format_number(lv.tolerance).c_str(), format_count(lv.vertices_after).c_str(),
                    format_seconds(lv.seconds).c_str());
     }

@@ -129,6 +129,7 @@ module topotet
     type(c_ptr) :: extensive_names
     integer(c_int) :: categorical_count
     type(c_ptr) :: categorical_names
+    integer(c_int64_t) :: piece_tets  ! pieces of at most this many tets (tests); 0 = from the limit
   end type
 
   type, bind(c), public :: topotet_out_of_core_report

@@ -396,26 +396,11 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
     cell_values = {};
     // Listed triangles and edges that are faces (edges) of the piece's tets: found through each
     // vertex's tets (a local incidence, freed with the piece).
-    std::vector<std::uint32_t> first(piece.global_ids.size() + 1, 0), incident(m.tets.size() * 4);
-    for (const auto& t : m.tets)
-      for (VertId v : t) ++first[v + 1];
-    for (std::size_t v = 0; v < piece.global_ids.size(); ++v) first[v + 1] += first[v];
-    {
-      std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-      for (std::uint32_t t = 0; t < m.tets.size(); ++t)
-        for (VertId v : m.tets[t]) incident[fill[v]++] = t;
-    }
-    const auto in_tet = [&](std::uint32_t t, VertId v) {
-      const auto& tv = m.tets[t];
-      return tv[0] == v || tv[1] == v || tv[2] == v || tv[3] == v;
-    };
+    const VertexTets at(m);
     for (std::size_t i = 0; i < pass.triangles.size(); ++i) {
       const Triangle& tri = pass.triangles[i];
       const VertId a = local[tri.v[0]], b = local[tri.v[1]], c = local[tri.v[2]];
-      if (a == kInvalid || b == kInvalid || c == kInvalid) continue;
-      bool face = false;
-      for (std::uint32_t k = first[a]; k < first[a + 1] && !face; ++k) face = in_tet(incident[k], b) && in_tet(incident[k], c);
-      if (!face) continue;
+      if (a == kInvalid || b == kInvalid || c == kInvalid || !at.has_face(m, a, b, c)) continue;
       triangle_held[i] = 1;
       m.triangles.push_back({{a, b, c}, tri.ref});
     }
@@ -423,10 +408,7 @@ CutResult cut_input(const std::string& input, ScratchFolder& scratch,
     for (std::size_t i = 0; i < pass.segments.size(); ++i) {
       const Segment& s = pass.segments[i];
       const VertId a = local[s.v[0]], b = local[s.v[1]];
-      if (a == kInvalid || b == kInvalid) continue;
-      bool edge = false;
-      for (std::uint32_t k = first[a]; k < first[a + 1] && !edge; ++k) edge = in_tet(incident[k], b);
-      if (!edge) continue;
+      if (a == kInvalid || b == kInvalid || !at.has_edge(m, a, b)) continue;
       segment_held[i] = 1;
       segment_local[i] = static_cast<std::uint32_t>(m.segments.size());
       m.segments.push_back({{a, b}, s.ref});

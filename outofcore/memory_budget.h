@@ -9,7 +9,8 @@
 //                 the holder count (1); per listed triangle (edge) 16 (12) bytes; while the mesh
 //                 streams, what the reader holds beside (a .msh's node tag map: 4 bytes a tag
 //                 up to the largest, or 48 bytes a node when the tags are sparse);
-//   levels        per input vertex: the holder count (1 byte); per piece tet: kBytesPerPieceTet,
+//   levels        per input vertex: the holder count (1 byte; the seams' level adds a bit: the
+//                 headroom's); per piece tet: kBytesPerPieceTet,
 //                 what the engine needs to simplify a piece with the default guarantees (the
 //                 model, the tolerance's reference and coverage, the piece's own arrays in and
 //                 out; docs/performance.md "Out of core" has the measurements it comes from),

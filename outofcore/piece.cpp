@@ -249,3 +249,164 @@ Piece merge_pieces(Piece a, Piece b) {
 }
 
 }  // namespace topotet::ooc
+
+namespace topotet::ooc {
+
+VertexTets::VertexTets(const MeshData& mesh) : first(mesh.positions.size() + 1, 0), incident(mesh.tets.size() * 4) {
+  for (const auto& t : mesh.tets)
+    for (VertId v : t) ++first[v + 1];
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) first[v + 1] += first[v];
+  std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+  for (std::uint32_t t = 0; t < mesh.tets.size(); ++t)
+    for (VertId v : mesh.tets[t]) incident[fill[v]++] = t;
+}
+
+namespace {
+bool in_tet(const std::array<VertId, 4>& tv, VertId v) { return tv[0] == v || tv[1] == v || tv[2] == v || tv[3] == v; }
+}  // namespace
+
+bool VertexTets::has_face(const MeshData& mesh, VertId a, VertId b, VertId c) const {
+  for (std::uint32_t k = first[a]; k < first[a + 1]; ++k)
+    if (in_tet(mesh.tets[incident[k]], b) && in_tet(mesh.tets[incident[k]], c)) return true;
+  return false;
+}
+
+bool VertexTets::has_edge(const MeshData& mesh, VertId a, VertId b) const {
+  for (std::uint32_t k = first[a]; k < first[a + 1]; ++k)
+    if (in_tet(mesh.tets[incident[k]], b)) return true;
+  return false;
+}
+
+Piece sub_piece(const Piece& piece, const std::vector<std::uint32_t>& tets) {
+  const MeshData& m = piece.mesh;
+  Piece out;
+  MeshData& s = out.mesh;
+  // Vertices in the piece's order (their relative order, and so the runs, do not depend on how
+  // the tets were chosen).
+  std::vector<VertId> local(m.positions.size(), kInvalid);
+  for (std::uint32_t t : tets)
+    for (VertId v : m.tets[t]) local[v] = 0;
+  std::vector<VertId> kept;
+  for (VertId v = 0; v < local.size(); ++v)
+    if (local[v] == 0) {
+      local[v] = static_cast<VertId>(kept.size());
+      kept.push_back(v);
+    }
+  const std::size_t qs = piece.quadrics.empty() ? 0 : piece.quadric_doubles;
+  out.quadric_doubles = qs != 0 ? piece.quadric_doubles : 0;
+  for (VertId v : kept) {
+    s.positions.push_back(m.positions[v]);
+    if (!m.vertex_refs.empty()) s.vertex_refs.push_back(m.vertex_refs[v]);
+    out.global_ids.push_back(piece.global_ids[v]);
+    out.quadrics.insert(out.quadrics.end(), piece.quadrics.begin() + v * qs, piece.quadrics.begin() + (v + 1) * qs);
+  }
+  for (const VertexField& f : m.fields) {
+    VertexField g = f;
+    g.values.clear();
+    for (VertId v : kept)
+      g.values.insert(g.values.end(), f.values.begin() + std::size_t{v} * f.components,
+                      f.values.begin() + (std::size_t{v} + 1) * f.components);
+    s.fields.push_back(std::move(g));
+  }
+  std::vector<std::uint32_t> new_tet(m.tets.size(), kInvalid);
+  for (std::uint32_t t : tets) {
+    new_tet[t] = static_cast<std::uint32_t>(s.tets.size());
+    const auto& tv = m.tets[t];
+    s.tets.push_back({local[tv[0]], local[tv[1]], local[tv[2]], local[tv[3]]});
+    s.tet_material.push_back(m.tet_material[t]);
+    if (!piece.last_collapse.empty()) out.last_collapse.push_back(piece.last_collapse[t]);
+  }
+  for (const CellField& f : m.cell_fields) {
+    CellField g = f;
+    g.values.clear();
+    for (std::uint32_t t : tets)
+      g.values.insert(g.values.end(), f.values.begin() + std::size_t{t} * f.components,
+                      f.values.begin() + (std::size_t{t} + 1) * f.components);
+    s.cell_fields.push_back(std::move(g));
+  }
+  // A sample stays with its tet; the tets' bounds follow them.
+  const FieldBoundSamples& in = piece.samples;
+  FieldBoundSamples& samples = out.samples;
+  samples.components = in.components;
+  samples.range = in.range;
+  samples.magnitude = in.magnitude;
+  const auto k = static_cast<std::size_t>(in.components);
+  if (k != 0) {
+    for (std::size_t i = 0; i < in.tet.size(); ++i) {
+      if (new_tet[in.tet[i]] == kInvalid) continue;
+      samples.positions.insert(samples.positions.end(), in.positions.begin() + 3 * i, in.positions.begin() + 3 * i + 3);
+      samples.values.insert(samples.values.end(), in.values.begin() + k * i, in.values.begin() + k * (i + 1));
+      samples.tet.push_back(new_tet[in.tet[i]]);
+    }
+    if (!in.bounds.empty())  // (none before the piece's first run)
+      for (std::uint32_t t : tets)
+        samples.bounds.insert(samples.bounds.end(), in.bounds.begin() + k * t, in.bounds.begin() + k * (t + 1));
+  }
+  // Listed triangles and edges that are faces (edges) of the kept tets, as the cut takes them.
+  const VertexTets at(s);
+  for (const Triangle& tri : m.triangles) {
+    const VertId a = local[tri.v[0]], b = local[tri.v[1]], c = local[tri.v[2]];
+    if (a != kInvalid && b != kInvalid && c != kInvalid && at.has_face(s, a, b, c)) s.triangles.push_back({{a, b, c}, tri.ref});
+  }
+  std::vector<std::uint32_t> segment_local(m.segments.size(), kInvalid);
+  for (std::size_t i = 0; i < m.segments.size(); ++i) {
+    const VertId a = local[m.segments[i].v[0]], b = local[m.segments[i].v[1]];
+    if (a == kInvalid || b == kInvalid || !at.has_edge(s, a, b)) continue;
+    segment_local[i] = static_cast<std::uint32_t>(s.segments.size());
+    s.segments.push_back({{a, b}, m.segments[i].ref});
+  }
+  for (std::uint32_t r : m.ridges)
+    if (segment_local[r] != kInvalid) s.ridges.push_back(segment_local[r]);
+  std::sort(s.ridges.begin(), s.ridges.end());
+  for (VertId v : m.corners)
+    if (local[v] != kInvalid) s.corners.push_back(local[v]);
+  for (VertId v : m.required_vertices)
+    if (local[v] != kInvalid) s.required_vertices.push_back(local[v]);
+  return out;
+}
+
+std::vector<std::uint32_t> band_tets(const Piece& piece, const std::vector<GlobalId>& seeds, std::uint64_t max_tets,
+                                     int max_rings) {
+  const MeshData& m = piece.mesh;
+  const VertexTets at(m);
+  std::vector<bool> taken_vertex(m.positions.size(), false), taken_tet(m.tets.size(), false);
+  std::vector<VertId> ring;
+  for (VertId v = 0; v < piece.global_ids.size(); ++v)
+    if (std::binary_search(seeds.begin(), seeds.end(), piece.global_ids[v])) {
+      ring.push_back(v);
+      taken_vertex[v] = true;
+    }
+  std::uint64_t count = 0;
+  // Ring after ring: the tets at the ring's vertices; a ring that would pass max_tets is not taken
+  // (the first is taken whole all the same: without it the seeds would stay on the band's border).
+  for (int rings = 0; !ring.empty() && rings < max_rings; ++rings) {
+    const bool first_ring = rings == 0;
+    std::vector<std::uint32_t> added;
+    for (VertId v : ring)
+      for (std::uint32_t i = at.first[v]; i < at.first[v + 1]; ++i)
+        if (!taken_tet[at.incident[i]]) {
+          taken_tet[at.incident[i]] = true;
+          added.push_back(at.incident[i]);
+        }
+    if (!first_ring && count + added.size() > max_tets) {
+      for (std::uint32_t t : added) taken_tet[t] = false;
+      break;
+    }
+    count += added.size();
+    std::vector<VertId> next;
+    for (std::uint32_t t : added)
+      for (VertId v : m.tets[t])
+        if (!taken_vertex[v]) {
+          taken_vertex[v] = true;
+          next.push_back(v);
+        }
+    ring = std::move(next);
+  }
+  std::vector<std::uint32_t> tets;
+  tets.reserve(count);
+  for (std::uint32_t t = 0; t < m.tets.size(); ++t)
+    if (taken_tet[t]) tets.push_back(t);
+  return tets;
+}
+
+}  // namespace topotet::ooc

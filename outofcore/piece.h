@@ -6,7 +6,9 @@
 //
 // Pieces live in the scratch folder between levels (save_piece / load_piece: a raw binary dump,
 // read back only by the same run) and two neighbours become one (merge_pieces) at each level of
-// paper 002's binary hierarchy.
+// paper 002's binary hierarchy. When two neighbours no longer fit together, a band on each side of
+// their common border is cut out of each (band_tets, sub_piece) and the two bands become one
+// piece, a seam, in which that border is simplified (simplify_out_of_core.cpp).
 #pragma once
 
 #include <cstdint>
@@ -38,6 +40,15 @@ struct Piece {
   std::vector<std::uint32_t> last_collapse;
 };
 
+// Each vertex's tets, for finding which listed triangles (edges) are faces (edges) of a piece's
+// tets: the cut, sub_piece and band_tets need it for a piece at a time (freed with it).
+struct VertexTets {
+  std::vector<std::uint32_t> first, incident;  // vertex v's tets: incident[first[v] .. first[v + 1])
+  explicit VertexTets(const MeshData& mesh);
+  bool has_face(const MeshData& mesh, VertId a, VertId b, VertId c) const;
+  bool has_edge(const MeshData& mesh, VertId a, VertId b) const;
+};
+
 void save_piece(const std::string& path, const Piece& piece);  // throws InputError (disk full...)
 Piece load_piece(const std::string& path);
 
@@ -48,5 +59,20 @@ Piece load_piece(const std::string& path);
 // each tet's last collapse. The field layouts must agree (they come from one input), and so must
 // the quadrics' (both or neither).
 Piece merge_pieces(Piece a, Piece b);
+
+// The piece made of the listed tets of `piece` (increasing indices), as the cut would have made
+// it: the vertices they use (in the piece's order, with their global ids, fields and quadrics),
+// their materials, cell fields, last collapses, field samples and bounds, and the listed
+// triangles and edges that are faces (edges) of them, corners and required vertices among their
+// vertices. A vertex the rest of the piece uses too is in both parts (the caller counts the new
+// holder).
+Piece sub_piece(const Piece& piece, const std::vector<std::uint32_t>& tets);
+
+// The tets within max_rings rings of the vertices whose global ids are `seeds` (sorted): the tets
+// at those vertices (all of them, whatever max_tets: so that the seeds are inside the band), then
+// ring after ring of the tets at the vertices reached, while the band stays within max_tets.
+// Increasing indices.
+std::vector<std::uint32_t> band_tets(const Piece& piece, const std::vector<GlobalId>& seeds, std::uint64_t max_tets,
+                                     int max_rings);
 
 }  // namespace topotet::ooc

@@ -14,6 +14,9 @@
 // spend its vertices by its local ranking of the collapses, not the whole mesh's; each merge
 // widens the ranking, and the last, over the whole mesh, chooses the final collapses as in core.
 // A level that can merge no pair (the limit) ends the merges: every piece left then goes to r.
+// At that last level (or the last merge level) pieces left apart would keep their common borders
+// as the input had them; a seam between every two neighbours (seams.h: a band of each around
+// their border, made one piece) lets that border be simplified too, within the same level.
 // The ranking stays the whole run's because each vertex's quadric travels with its piece from
 // level to level (Piece::quadrics, SimplifyOptions::quadrics_in/_out): a level that rebuilt them
 // from its already simplified input would measure errors against that input, not the original
@@ -35,6 +38,8 @@
 #include "memory_budget.h"
 #include "mesh/mesh_model.h"
 #include "piece.h"
+#include "piece_slot.h"
+#include "seams.h"
 #include "topotet/cell_fields.h"
 #include "scratch.h"
 #include "topotet/error.h"
@@ -60,19 +65,6 @@ void refuse_unsupported(const SimplifyOptions& o) {
   if (!(o.target_vertex_ratio > 0.0 && o.target_vertex_ratio <= 1.0))
     throw InputError("target_vertex_ratio must be in (0, 1]");
 }
-
-// into[c] = max(into[c], from[c]): the largest bound per component over several pieces.
-void raise_to(std::vector<double>& into, const std::vector<double>& from) {
-  if (into.size() < from.size()) into.resize(from.size(), 0.0);
-  for (std::size_t c = 0; c < from.size(); ++c) into[c] = std::max(into[c], from[c]);
-}
-
-struct PieceSlot {
-  std::uint32_t file = 0;  // piece_path(file)
-  std::uint64_t tets = 0;
-  std::uint64_t region = 0;  // input vertices that this piece alone holds (see the top)
-  std::vector<double> field_bound;  // [component] the largest bound of its tets (with field bounds)
-};
 
 // Field error bounds out of core: every input vertex is a sample of exactly one piece (the first,
 // at level 0, that holds it: a border vertex is in several), in the first of that piece's tets
@@ -334,7 +326,7 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   if (const MeshFormat f = format_from_path(input); f != MeshFormat::kMedit && f != MeshFormat::kGmsh)
     throw InputError(input + ": out of core streams MEDIT (.mesh, .meshb) and Gmsh MSH 4.1 (.msh), optionally .gz: convert it "
                      "first (topotet convert " + input + " in.mesh), or run in core without --memory-limit");
-  if (ooc.memory_limit_bytes == 0 && ooc.pieces == 0)
+  if (ooc.memory_limit_bytes == 0 && ooc.pieces == 0 && ooc.piece_tets == 0)
     throw InputError("out of core needs a memory limit (--memory-limit) or a piece count");
   if (ooc.pieces != 0 && (ooc.pieces > kMaxPieces || (ooc.pieces & (ooc.pieces - 1)) != 0))
     throw InputError("the piece count must be a power of two up to " + std::to_string(kMaxPieces));
@@ -348,7 +340,8 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   budget.field_samples = options.keeps_field_bounds();
   budget.hierarchy = !ooc.hierarchy_path.empty();
   budget.baseline = budget_baseline(resident_bytes());
-  const bool limited = budget.limit > 0;
+  // Pieces of bounded size: from the memory limit, or forced (OutOfCoreOptions::piece_tets).
+  const bool limited = budget.limit > 0 || ooc.piece_tets > 0;
 
   ScratchFolder scratch(ooc.scratch_parent.empty() ? parent_folder(output) : ooc.scratch_parent);
   say("scratch folder " + scratch.path());
@@ -356,7 +349,8 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   if (!ooc.hierarchy_path.empty()) spool.emplace(scratch);
   std::uint64_t piece_limit = 0;
   const auto choose = [&](const InputCounts& counts) -> std::uint32_t {
-    piece_limit = limited ? budget.piece_tets(counts) : counts.tets;
+    piece_limit = budget.limit > 0 ? budget.piece_tets(counts) : counts.tets;
+    if (ooc.piece_tets > 0) piece_limit = std::min(piece_limit, ooc.piece_tets);
     if (ooc.pieces != 0) return ooc.pieces;
     std::uint32_t pieces = 1;
     while (pieces < kMaxPieces && counts.tets > pieces * piece_limit) pieces *= 2;
@@ -366,8 +360,8 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
     return pieces;
   };
   const auto on_vertices = [&](std::uint64_t vertices, std::uint64_t reader_bytes) {
-    if (limited) budget.check_vertices(vertices, reader_bytes, input);
-    return limited;
+    if (budget.limit > 0) budget.check_vertices(vertices, reader_bytes, input);
+    return budget.limit > 0;
   };
   const auto cut_start = Clock::now();
   CutResult cut = cut_input(input, scratch, choose, ooc.log, on_vertices, ooc.cell_remap, spool ? &*spool : nullptr);
@@ -473,40 +467,56 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
       }
     }
     const bool last = steps.size() == 1;
+    bool seamed = false;
+    // The last level with pieces left apart: the pairs that fit are merged first, then every two
+    // pieces that share a border get a seam (seams.h), and all are run, each to the ratio.
+    if (limited && !last && (finishing || level == merge_levels)) {
+      std::vector<PieceSlot> pieces;
+      for (Step& step : steps) {
+        if (step.b >= 0) {
+          PieceSlot merged;
+          Piece piece = merge_slots(scratch, holders, slots[step.a], slots[step.b], merged);
+          merged.tets = piece.mesh.tets.size();
+          save_piece(scratch.piece_path(merged.file), piece);
+          step.slot = merged;
+        }
+        pieces.push_back(step.slot);
+      }
+      Seams seams = cut_seams(std::move(pieces), scratch, holders, piece_limit);
+      seamed = true;
+      stats.seams = seams.made;
+      stats.seams_declined = seams.declined;
+      steps.clear();
+      for (std::size_t i = 0; i < seams.slots.size(); ++i) steps.push_back({seams.slots[i], static_cast<int>(i), -1});
+      result.scratch_peak_bytes = std::max(result.scratch_peak_bytes, folder_bytes(scratch.path()));
+    }
     const double kept = finishing || level == merge_levels ? ratio : kept_fraction(level);
     std::vector<PieceSlot> next;
-    for (Step& step : steps) {
+    for (std::size_t s = 0; s < steps.size(); ++s) {
+      Step& step = steps[s];
       PieceSlot& slot = step.slot;
       if (step.a < 0) {
         next.push_back(slot);
         continue;
       }
       Piece piece;
-      std::uint64_t made_interior = 0;
       if (step.b < 0) {
         piece = load_piece(scratch.piece_path(slot.file));
         if (level == 0)
           for (GlobalId g : piece.global_ids) slot.region += holders[g] == 1;
       } else {
-        Piece a = load_piece(scratch.piece_path(slots[step.a].file));
-        Piece b = load_piece(scratch.piece_path(slots[step.b].file));
-        ::unlink(scratch.piece_path(slots[step.b].file).c_str());
-        // Vertices both hold lose a holder; those left with one are interior now.
-        std::vector<GlobalId> sa = a.global_ids, sb = b.global_ids, common;
-        std::sort(sa.begin(), sa.end());
-        std::sort(sb.begin(), sb.end());
-        std::set_intersection(sa.begin(), sa.end(), sb.begin(), sb.end(), std::back_inserter(common));
-        for (GlobalId g : common) made_interior += --holders[g] == 1;
-        piece = merge_pieces(std::move(a), std::move(b));
-        slot.region = slots[step.a].region + slots[step.b].region + made_interior;
-        slot.field_bound = slots[step.a].field_bound;  // until its run says (it may have nothing to remove)
-        raise_to(slot.field_bound, slots[step.b].field_bound);
+        piece = merge_slots(scratch, holders, slots[step.a], slots[step.b], slot);
       }
       std::uint64_t interior = 0;
       for (GlobalId g : piece.global_ids) interior += holders[g] == 1;
-      const auto keep = static_cast<std::uint64_t>(std::llround(kept * static_cast<double>(slot.region)));
+      auto keep = static_cast<std::uint64_t>(std::llround(kept * static_cast<double>(slot.region)));
+      keep -= std::min(keep, slot.kept_frozen);
       std::uint64_t remove = interior > keep ? interior - keep : 0;
       if (last) remove = live > target ? live - target : 0;
+      // Each piece's share is rounded; the level's last run takes what the roundings left (one
+      // vertex a piece at most: not what pieces that stopped short of their share left).
+      if (seamed && s + 1 == steps.size() && live > target)
+        remove = std::max(remove, std::min(live - target, remove + steps.size()));
       stats.largest_piece_tets = std::max<std::uint64_t>(stats.largest_piece_tets, piece.mesh.tets.size());
       const PieceRun run = simplify_piece(piece, holders, o, remove, ooc.cell_remap, map ? &*map : nullptr,
                                           sampling ? &*sampling : nullptr, spool ? &*spool : nullptr);
@@ -570,8 +580,10 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   report.status = live <= target ? Status::kOk : Status::kStoppedEarly;
   if (report.status == Status::kStoppedEarly)
     report.message = "stopped at " + std::to_string(live) + " vertices (target " + std::to_string(target) + ")" +
-                     (slots.size() > 1 ? ": the memory limit kept " + std::to_string(slots.size()) +
-                                             " pieces apart, their common borders frozen"
+                     (slots.size() > 1 ? ": the memory limit kept " + std::to_string(slots.size()) + " pieces apart (" +
+                                             std::to_string(result.levels.back().seams) +
+                                             (result.levels.back().seams == 1 ? " seam" : " seams") +
+                                             " between them; borders without one frozen)"
                                        : ": no legal collapse left");
   report.seconds = since(start);
   result.peak_rss_bytes = peak_resident_bytes();

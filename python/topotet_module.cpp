@@ -627,11 +627,12 @@ PYBIND11_MODULE(_core, m) {
          double tolerance, double min_quality, double min_dihedral, double size_weight, double max_cost,
          double feature_angle, int threads, const std::string& optimize, const std::vector<std::string>& extensive,
          const std::vector<std::string>& categorical, const std::string& vertex_map, double max_field_error,
-         double max_field_error_rel, bool field_bounds, const std::string& hierarchy) {
+         double max_field_error_rel, bool field_bounds, const std::string& hierarchy, std::uint64_t piece_tets) {
         topotet::OutOfCoreOptions ooc;
         if (py::isinstance<py::str>(memory_limit)) ooc.memory_limit_bytes = topotet::parse_memory_size(memory_limit.cast<std::string>());
         else if (!memory_limit.is_none()) ooc.memory_limit_bytes = memory_limit.cast<std::uint64_t>();
         ooc.pieces = pieces;
+        ooc.piece_tets = piece_tets;
         ooc.scratch_parent = scratch;
         ooc.cell_remap.extensive = extensive;
         ooc.cell_remap.categorical = categorical;
@@ -653,6 +654,8 @@ PYBIND11_MODULE(_core, m) {
           py::dict l;
           l["pieces"] = lv.pieces;
           l["pairs_left_apart"] = lv.unmerged;
+          l["seams"] = lv.seams;
+          l["seams_declined"] = lv.seams_declined;
           l["largest_piece_tets"] = lv.largest_piece_tets;
           l["vertices_after"] = lv.vertices_after;
           l["collapses"] = lv.collapses;
@@ -682,13 +685,15 @@ PYBIND11_MODULE(_core, m) {
       py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
       py::arg("vertex_map") = "", py::arg("max_field_error") = defaults.max_field_error,
       py::arg("max_field_error_rel") = defaults.max_field_error_rel, py::arg("field_bounds") = defaults.track_field_bounds,
-      py::arg("hierarchy") = "",
+      py::arg("hierarchy") = "", py::arg("piece_tets") = 0,
       "Simplifies a MEDIT file (.mesh / .meshb, optionally .gz, + .sol / .solb) or a Gmsh MSH 4.1 file with its fields (.msh / .msh.gz) "
       "larger than memory into `output`, out of core "
       "(topotet/out_of_core.h, `topotet simplify --memory-limit`): streamed, cut into pieces in a scratch folder "
       "(next to the output, or in `scratch`), simplified with frozen borders and merged pairwise. memory_limit: "
       "bytes or a size such as '2G' (the peak stays under it; too small is a ValueError before any work); pieces: "
-      "exactly this many (a power of two) instead. vertex_map: a path (.npy or .txt) to write, for every input "
+      "exactly this many (a power of two) instead; piece_tets: pieces of at most this many tets, at the cut and in "
+      "every merge (tests: what a small limit does on a small mesh; pieces the limit keeps apart at the end are "
+      "joined by seams, report['levels'][-1]['seams']). vertex_map: a path (.npy or .txt) to write, for every input "
       "vertex, the output vertex it became or merged into (-1: used by no tet; numpy.load reads the .npy), as "
       "simplify() returns it in core. max_field_error(_rel) and field_bounds as in simplify(): the bound "
       "holds at every input vertex (report['field_bound_rel']). hierarchy='h.tth' records every collapse into that file "

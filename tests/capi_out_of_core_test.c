@@ -118,6 +118,18 @@ int main(int argc, char** argv) {
   CHECK(report.field_bounds == 1 && report.field_bound_rel > 0.0 && report.field_bound_rel <= 0.001);
   remove(output);
   options.max_field_error_rel = 0.0;
+  /* Pieces of at most 30% of the tets (piece_tets): two halves at 30% of their vertices no longer
+     fit together; a seam joins them (more than two pieces left) and the target is reached. */
+  ooc.pieces = 2;
+  ooc.piece_tets = NT * 3 / 10;
+  options.target_vertex_ratio = 0.3;
+  CHECK(topotet_simplify_out_of_core(input, output, &options, &ooc, &report, &pieces) == TOPOTET_OK);
+  CHECK(pieces.pieces_left >= 3 && report.vertices_after <= NV * 31 / 100);
+  remove(output);
+  ooc.piece_tets = -1;
+  CHECK(topotet_simplify_out_of_core(input, output, &options, &ooc, NULL, NULL) == TOPOTET_INVALID_INPUT);
+  CHECK(strstr(topotet_last_error(), "piece_tets") != NULL);
+  ooc.piece_tets = 0;
   ooc.pieces = 3;
   CHECK(topotet_simplify_out_of_core(input, output, &options, &ooc, NULL, NULL) == TOPOTET_INVALID_INPUT);
   CHECK(strstr(topotet_last_error(), "power of two") != NULL);

@@ -3,7 +3,7 @@
 # passes `topotet check`; SIGINT midway leaves no scratch folder and no output; a scratch folder
 # that fills up (a file-size ulimit) is one clear error and leaves nothing; options out of core
 # cannot honour are refused before any work; a field error limit holds at every input vertex; a
-# hierarchy file is recorded and gives levels. Meshes of ~100k tets at most (a few seconds).
+# hierarchy file is recorded and gives levels; pieces kept apart are joined by seams. Meshes of ~100k tets at most (a few seconds).
 #   usage: bash tests/cli_out_of_core_test.sh path/to/topotet
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -78,6 +78,23 @@ assert check["surface_distance"]["hausdorff_rel"] < 1e-12 and check["field_error
 expect_error hierarchy_map "exclude" -- "$topotet" simplify small.mesh -o x.mesh --pieces 8 --hierarchy x.tth --vertex-map x.txt
 expect_error hierarchy_is_output "is the output file too" -- "$topotet" simplify small.mesh -o x.mesh --pieces 8 --hierarchy x.mesh
 no_litter hierarchy
+
+# Pieces the limit keeps apart (--piece-tets: pieces of at most 9,000 tets, so the two halves at
+# 30% no longer fit together): a seam joins them, the output (written from the pieces, MEDIT)
+# reaches the target and passes `topotet check`; a format that needs the mesh whole is refused.
+expect 0 seams -- "$topotet" simplify small.mesh -o seams.mesh --pieces 2 --piece-tets 9000 --ratio 0.3 --json seams.json
+contains seams_report seams.out "1 seam between pieces"
+if python3 -c '
+import json
+j = json.load(open("seams.json"))
+last = j["levels"][-1]
+assert last["pairs_left_apart"] == 1 and last["seams"] == 1, last
+assert j["pieces"]["left"] >= 3, j["pieces"]
+assert abs(j["vertices"]["after"] - round(0.3 * j["vertices"]["before"])) <= 0.02 * j["vertices"]["before"], j["vertices"]
+' 2>seams_json.err; then pass "seams: --json gives the seam, the target is reached"; else fail "seams: --json"; cat seams_json.err; fi
+expect 0 seams_check -- "$topotet" check small.mesh seams.mesh
+expect_error seams_vtu "MEDIT" -- "$topotet" simplify small.mesh -o seams.vtu --pieces 2 --piece-tets 9000 --ratio 0.3
+no_litter seams
 
 # SIGINT midway: the run is killed while pieces are on disk. (Job control on: a background job of
 # a non-interactive shell would otherwise start with SIGINT ignored, and topotet keeps it so.)

@@ -317,5 +317,17 @@ with tempfile.TemporaryDirectory() as d:
           len(coarsest["tets"]) == len(hy_out["tets"]), "out-of-core hierarchy: the coarsest level is the output")
     check(len(topotet.extract(os.path.join(d, "hy.tth"), vertices=len(big_points) // 2)["points"]) == len(big_points) // 2,
           "out-of-core hierarchy: a level by vertex count")
+    # Pieces kept apart (piece_tets: at most 30% of the tets, so the halves at 30% of their points
+    # no longer fit together) are joined by a seam: the target is reached, the box's volume kept.
+    sm = topotet.simplify_out_of_core(os.path.join(d, "in.mesh"), os.path.join(d, "seam.mesh"), pieces=2,
+                                      piece_tets=len(big_tets) * 3 // 10, ratio=0.3)
+    sm_out = topotet.read(os.path.join(d, "seam.mesh"))
+    check(sm["levels"][-1]["seams"] == 1 and sm["levels"][-1]["pairs_left_apart"] == 1 and sm["pieces_left"] >= 3,
+          f"out-of-core seams: {sm['levels'][-1]}, {sm['pieces_left']} pieces left")
+    check(abs(len(sm_out["points"]) - round(0.3 * len(big_points))) <= 0.02 * len(big_points),
+          f"out-of-core seams reach the target: {len(sm_out['points'])} of {len(big_points)}")
+    corners = sm_out["points"][sm_out["tets"]]
+    volume = np.abs(np.linalg.det(corners[:, 1:] - corners[:, :1])).sum() / 6.0
+    check(np.isclose(volume, 12.0**3, rtol=1e-9), f"out-of-core seams keep the box's volume: {volume}")
 check(topotet.__version__.count(".") == 2, "version")
 print(f"python_test: {len(points)} -> {nv} vertices, {len(tets)} -> {len(out['tets'])} tets: pass")

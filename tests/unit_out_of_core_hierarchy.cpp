@@ -45,63 +45,6 @@ namespace {
 using test::expect_valid_level;
 using test::random_closed;
 
-// A polyline straight through the mesh in x: the shortest edge path from the vertex nearest the
-// middle of the x = min face to the one nearest the middle of the x = max face, so that every cut
-// plane of constant x crosses it.
-void plant_line_across(MeshData& m) {
-  std::array<double, 3> lo = m.positions[0], hi = m.positions[0];
-  for (const auto& p : m.positions)
-    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
-  const auto nearest = [&](double x) {
-    const std::array<double, 3> q = {x, 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
-    VertId best = 0;
-    double best_d = 1e300;
-    for (VertId v = 0; v < m.positions.size(); ++v) {
-      double d = 0;
-      for (int k = 0; k < 3; ++k) d += (m.positions[v][k] - q[k]) * (m.positions[v][k] - q[k]);
-      if (d < best_d) best_d = d, best = v;
-    }
-    return best;
-  };
-  std::vector<std::vector<VertId>> neighbours(m.positions.size());
-  for (const auto& t : m.tets)
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b)
-        if (a != b) neighbours[t[a]].push_back(t[b]);
-  const VertId from = nearest(lo[0]), to = nearest(hi[0]);
-  std::vector<double> dist(m.positions.size(), 1e300);
-  std::vector<VertId> previous(m.positions.size(), kInvalid);
-  std::vector<std::pair<double, VertId>> heap = {{0.0, from}};
-  dist[from] = 0;
-  while (!heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), std::greater<>());
-    const auto [d, v] = heap.back();
-    heap.pop_back();
-    if (d > dist[v]) continue;
-    for (VertId w : neighbours[v]) {
-      double len = 0;
-      for (int k = 0; k < 3; ++k) len += (m.positions[v][k] - m.positions[w][k]) * (m.positions[v][k] - m.positions[w][k]);
-      if (d + std::sqrt(len) < dist[w]) {
-        dist[w] = d + std::sqrt(len);
-        previous[w] = v;
-        heap.push_back({dist[w], w});
-        std::push_heap(heap.begin(), heap.end(), std::greater<>());
-      }
-    }
-  }
-  std::int32_t ref = 0;
-  for (const Segment& s : m.segments) ref = std::max(ref, s.ref);
-  std::size_t edges = 0;
-  for (VertId v = to; previous[v] != kInvalid; v = previous[v], ++edges) m.segments.push_back({{previous[v], v}, ref + 1});
-  ASSERT_GT(edges, 8u);
-}
-
-MeshData planted_input(std::uint64_t tets) {
-  MeshData m = test::generated("cube-sphere", tets);
-  test::plant_in_mid_plane(m);
-  plant_line_across(m);
-  return m;
-}
 
 struct Recorded {
   OutOfCoreReport report;
@@ -133,7 +76,7 @@ Recorded run_recorded(const MeshData& input, const test::TempDir& folder, std::u
 
 const Recorded& cube_sphere_16() {
   static const test::TempDir folder;
-  static const Recorded r = run_recorded(planted_input(16000), folder, 16, 2);
+  static const Recorded r = run_recorded(test::planted_cube_sphere(16000), folder, 16, 2);
   return r;
 }
 
@@ -224,7 +167,7 @@ TEST(OutOfCoreHierarchy, ClosedSetsReplayLegallyThroughTheKernelOnTheWholeMesh) 
 }
 
 TEST(OutOfCoreHierarchy, SameBytesForOneAndTwoThreads) {
-  const MeshData input = planted_input(8000);
+  const MeshData input = test::planted_cube_sphere(8000);
   test::TempDir a, b;
   const Recorded one = run_recorded(input, a, 8, 1);
   const Recorded two = run_recorded(input, b, 8, 2);
@@ -235,7 +178,7 @@ TEST(OutOfCoreHierarchy, SameBytesForOneAndTwoThreads) {
 // With fields, each collapse records its bound: a level by error e (relative to the range) has
 // every input vertex's error within e, measured by metrics/ against the input.
 TEST(OutOfCoreHierarchy, LevelsByErrorHoldTheirFieldBound) {
-  const MeshData input = planted_input(8000);
+  const MeshData input = test::planted_cube_sphere(8000);
   ASSERT_FALSE(input.fields.empty());
   test::TempDir folder;
   const Recorded r = run_recorded(input, folder, 8, 2, true);

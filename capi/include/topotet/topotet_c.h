@@ -314,6 +314,9 @@ typedef struct topotet_out_of_core_options {
   const char* const* extensive_names;
   int categorical_count;
   const char* const* categorical_names;
+  /* pieces of at most this many tets, at the cut and in every merge, whatever the limit allows
+     (tests, benchmarks); 0 = from the limit */
+  int64_t piece_tets;
 } topotet_out_of_core_options;
 
 typedef struct topotet_out_of_core_report {

@@ -1,7 +1,9 @@
 // Out-of-core simplification (paper 002; issue #25): a mesh larger than the memory it may use is
 // streamed from its file, cut into spatial pieces kept in a scratch folder, each piece simplified
 // with its border frozen, and neighbouring pieces merged pairwise, level by level, so that their
-// former borders are simplified in turn, until one piece is left or the limit forbids a merge.
+// former borders are simplified in turn, until one piece is left or the limit forbids a merge;
+// then the borders between the pieces left are simplified in seams (outofcore/seams.h: a band on
+// each side of a border, made one piece).
 // Only one piece (or one merged pair) is in memory at a time; the output is written from the
 // pieces. `topotet simplify IN -o OUT --memory-limit 2G` runs it.
 //
@@ -43,7 +45,7 @@
 // (topotet/mesh_stream.h). Output: any format when the
 // pieces merged into one (it is then in memory and goes through write_mesh); MEDIT .mesh written
 // from the pieces, streaming, when the limit stopped the merges before (then the borders between
-// the remaining pieces kept their vertices).
+// the remaining pieces were simplified in seams; those no seam fits kept their vertices).
 #pragma once
 
 #include <cstdint>
@@ -62,6 +64,9 @@ struct OutOfCoreOptions {
   // Cut into exactly this many pieces (a power of two, <= 4096) whatever the limit (tests,
   // benchmarks); 0 = from the limit.
   std::uint32_t pieces = 0;
+  // At most this many tets a piece, at the cut and in every merge, whatever the limit allows
+  // (tests, benchmarks: the merges a small limit forbids, on a small mesh); 0 = from the limit.
+  std::uint64_t piece_tets = 0;
   std::function<void(const std::string&)> log;  // one line per step; may be empty
   // How cell fields are carried (topotet/cell_fields.h: extensive sums conserved, categorical
   // labels by largest overlap, the rest volume-averaged), remapped piece by piece at every level.
@@ -83,6 +88,10 @@ struct OutOfCoreOptions {
 struct OutOfCoreLevel {
   std::uint32_t pieces = 0;             // pieces simplified at this level
   std::uint32_t unmerged = 0;           // pairs left apart because together they would not fit
+  // At the last level, when pieces are left apart: seams cut between neighbours (their common
+  // border simplified in a piece of its own: outofcore/seams.h), and neighbours left without one
+  // (their bands would not fit in a piece, or would freeze more vertices than the seam frees).
+  std::uint32_t seams = 0, seams_declined = 0;
   std::uint64_t largest_piece_tets = 0;  // tets of the largest piece simplified
   std::uint64_t vertices_after = 0;      // of the whole mesh
   std::uint64_t collapses = 0;
