@@ -265,6 +265,12 @@ namespace {
 bool in_tet(const std::array<VertId, 4>& tv, VertId v) { return tv[0] == v || tv[1] == v || tv[2] == v || tv[3] == v; }
 }  // namespace
 
+std::uint64_t interior_vertices(const Piece& piece, const std::vector<std::uint8_t>& holders) {
+  std::uint64_t n = 0;
+  for (GlobalId g : piece.global_ids) n += holders[g] == 1;
+  return n;
+}
+
 bool VertexTets::has_face(const MeshData& mesh, VertId a, VertId b, VertId c) const {
   for (std::uint32_t k = first[a]; k < first[a + 1]; ++k)
     if (in_tet(mesh.tets[incident[k]], b) && in_tet(mesh.tets[incident[k]], c)) return true;

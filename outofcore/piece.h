@@ -49,6 +49,10 @@ struct VertexTets {
   bool has_edge(const MeshData& mesh, VertId a, VertId b) const;
 };
 
+// The piece's vertices no other piece holds (holders[g]: how many pieces hold global vertex g, as
+// the cut counts them): the ones its run may move.
+std::uint64_t interior_vertices(const Piece& piece, const std::vector<std::uint8_t>& holders);
+
 void save_piece(const std::string& path, const Piece& piece);  // throws InputError (disk full...)
 Piece load_piece(const std::string& path);
 

@@ -30,12 +30,6 @@ std::vector<GlobalId> border_of(const Piece& piece, const std::vector<std::uint8
   return border;
 }
 
-std::uint64_t interior_of(const Piece& piece, const std::vector<std::uint8_t>& holders) {
-  std::uint64_t n = 0;
-  for (GlobalId g : piece.global_ids) n += holders[g] == 1;
-  return n;
-}
-
 // A piece split into a band and the rest: the vertices both use (their new common border) and
 // each part's share of the region, by its share of the interior vertices (the earlier levels left
 // the interior about evenly simplified). The new border's vertices are frozen in both parts, kept
@@ -70,12 +64,12 @@ Split split(const Piece& piece, const std::vector<std::uint32_t>& band, const st
       if (std::binary_search(s.between.begin(), s.between.end(), p->global_ids[v]))
         p->quadrics[std::size_t{v} * p->quadric_doubles] = std::numeric_limits<double>::quiet_NaN();
   }
-  const std::uint64_t interior = interior_of(piece, holders);
+  const std::uint64_t interior = interior_vertices(piece, holders);
   std::uint64_t between_interior = 0;
   for (GlobalId g : s.between) between_interior += holders[g] == 1;
   if (interior > 0) {
-    s.band_region = region * interior_of(s.band, holders) / interior;
-    s.rest_region = region * (interior_of(s.rest, holders) - between_interior) / interior;
+    s.band_region = region * interior_vertices(s.band, holders) / interior;
+    s.rest_region = region * (interior_vertices(s.rest, holders) - between_interior) / interior;
   }
   s.between_kept = between_interior;
   return s;
@@ -171,8 +165,8 @@ Seams cut_seams(std::vector<PieceSlot> pieces, const ScratchFolder& scratch, std
         if (holders[g] == 1) carved[g] = true;
         ++holders[g];
       }
-    const PieceSlot band_i{*band_i_file, si.band.mesh.tets.size(), si.band_region, pieces[i].field_bound};
-    const PieceSlot band_j{*band_j_file, sj.band.mesh.tets.size(), sj.band_region, pieces[j].field_bound};
+    const PieceSlot band_i{*band_i_file, si.band.mesh.tets.size(), si.band_region, pieces[i].field_bound, si.between_kept};
+    const PieceSlot band_j{*band_j_file, sj.band.mesh.tets.size(), sj.band_region, pieces[j].field_bound, sj.between_kept};
     save_piece(scratch.piece_path(band_i.file), si.band);
     save_piece(scratch.piece_path(band_j.file), sj.band);
     pieces[i].region = si.rest_region;
@@ -181,14 +175,12 @@ Seams cut_seams(std::vector<PieceSlot> pieces, const ScratchFolder& scratch, std
     save_or_drop(sj.rest, j);
     if (alive[i]) borders[i] = seam_border(si.rest);
     if (alive[j]) borders[j] = seam_border(sj.rest);
-    const std::uint64_t between_kept = si.between_kept + sj.between_kept;
     si = Split{};
     sj = Split{};
     PieceSlot joined;
     const Piece merged = merge_slots(scratch, holders, band_i, band_j, joined);
     used[band_j.file] = false;
     joined.tets = merged.mesh.tets.size();
-    joined.kept_frozen = between_kept;
     save_piece(scratch.piece_path(joined.file), merged);
     pieces.push_back(joined);
     alive.push_back(true);

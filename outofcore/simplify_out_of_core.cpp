@@ -502,13 +502,11 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
       Piece piece;
       if (step.b < 0) {
         piece = load_piece(scratch.piece_path(slot.file));
-        if (level == 0)
-          for (GlobalId g : piece.global_ids) slot.region += holders[g] == 1;
+        if (level == 0) slot.region = interior_vertices(piece, holders);
       } else {
         piece = merge_slots(scratch, holders, slots[step.a], slots[step.b], slot);
       }
-      std::uint64_t interior = 0;
-      for (GlobalId g : piece.global_ids) interior += holders[g] == 1;
+      const std::uint64_t interior = interior_vertices(piece, holders);
       auto keep = static_cast<std::uint64_t>(std::llround(kept * static_cast<double>(slot.region)));
       keep -= std::min(keep, slot.kept_frozen);
       std::uint64_t remove = interior > keep ? interior - keep : 0;
