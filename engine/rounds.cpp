@@ -573,7 +573,7 @@ class Rounds {
       if (x == c.v)
         proposals_.removed(x, round_);
       else
-        redo.push_back({x, proposals_.star_changed(x, c.u, c.v, round_)});
+        redo.push_back({x, proposals_.star_changed(x, c.u, c.v, round_, s.proposal.collapse.star_u, s.proposal.collapse.star_v)});
     }
     for (TetId t : s.proposal.collapse.star_uv)
       for (VertId x : mesh_.tets[t])

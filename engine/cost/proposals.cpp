@@ -34,6 +34,13 @@ void neighbours_above(const MeshModel& mesh, VertId a, std::vector<VertId>& out)
 
 }  // namespace
 
+void Proposals::clear_lifted(Bans& bans) {
+  for (std::size_t k = 0; k < bans.edge.size(); ++k)
+    if (bans.lifted >> k & 1) bans.edge[k] = kInvalid;
+  bans.certified &= static_cast<std::uint8_t>(~bans.lifted);
+  bans.lifted = 0;
+}
+
 Proposals::Proposals(const MeshModel& mesh, CostModel& cost, const CollapseOptions& kernel)
     : mesh_(mesh),
       cost_(cost),
@@ -76,6 +83,7 @@ void Proposals::cost_owned_edges(VertId a, ProposalScratch& s) {
 
 void Proposals::propose(VertId a, ProposalScratch& s) {
   cost_owned_edges(a, s);
+  clear_lifted(bans_[a]);  // their edges were costed with the others
   Proposal p;
   for (const ProposalScratch::EdgeCost& e : s.edges) {
     if (cheaper(e.cost, e.b, p.cost, p.b)) {
@@ -128,17 +136,28 @@ bool Proposals::is_verified(VertId a) const {
 
 bool Proposals::is_banned(VertId a, VertId b) const {
   const Bans& bans = bans_[a];
-  if (bans.lifted) return false;
-  return bans.exhausted || std::find(bans.edge.begin(), bans.edge.end(), b) != bans.edge.end();
+  if (bans.exhausted) return true;
+  for (std::size_t k = 0; k < bans.edge.size(); ++k)
+    if (bans.edge[k] == b && !(bans.lifted >> k & 1)) return true;
+  return false;
 }
 
-void Proposals::ban(VertId a, VertId b, double cost) {
+void Proposals::ban(VertId a, VertId b, double cost, const CollapseScratch::Refusal* refusal) {
   Bans& bans = bans_[a];
-  if (bans.lifted) bans = Bans{};  // a fresh failure after a lift: the old list is void
   for (std::size_t k = 0; k < bans.edge.size(); ++k)
-    if (bans.edge[k] == kInvalid) {
+    // A lifted slot is free: a fresh failure before update() forgets the lifted edge, which the
+    // next proposal from scratch finds again.
+    if (bans.edge[k] == kInvalid || (bans.lifted >> k & 1)) {
+      const std::uint8_t bit = static_cast<std::uint8_t>(1u << k);
       bans.edge[k] = b;
       bans.cost[k] = static_cast<float>(cost);
+      bans.lifted &= static_cast<std::uint8_t>(~bit);
+      if (refusal != nullptr && refusal->certified) {
+        bans.certified |= bit;
+        bans.witness[k] = refusal->witness;
+      } else {
+        bans.certified &= static_cast<std::uint8_t>(~bit);
+      }
       return;
     }
   bans.exhausted = true;  // a vertex whose edges keep failing waits until its star changes
@@ -146,16 +165,21 @@ void Proposals::ban(VertId a, VertId b, double cost) {
 
 void Proposals::restore_lifted_bans(VertId a, Proposal& p, VertId u) {
   Bans& bans = bans_[a];
-  if (!bans.lifted) return;
+  if (bans.lifted == 0) return;
   double best_cost = p.cost, second_cost = p.second_cost;
   VertId best = p.b, second = p.second;
+  const auto restored = [&](std::size_t k) {
+    const VertId b = bans.edge[k];
+    return (bans.lifted >> k & 1) && b != kInvalid && b != u && !mesh_.is_dead_vertex(b);
+  };
   if (best == kInvalid) {
-    // No proposal: the banned edges were all the edges left, so best and runner-up are exact.
+    // No proposal: the banned edges were all the edges left (those still banned stay out), so
+    // best and runner-up are exact.
     second_cost = kNoCost;
     second = kInvalid;
     for (std::size_t k = 0; k < bans.edge.size(); ++k) {
+      if (!restored(k)) continue;
       const VertId b = bans.edge[k];
-      if (b == kInvalid || b == u || mesh_.is_dead_vertex(b)) continue;
       if (cheaper(bans.cost[k], b, best_cost, best)) {
         second_cost = best_cost;
         second = best;
@@ -167,16 +191,13 @@ void Proposals::restore_lifted_bans(VertId a, Proposal& p, VertId u) {
       }
     }
   } else {
-    for (std::size_t k = 0; k < bans.edge.size(); ++k) {
-      const VertId b = bans.edge[k];
-      if (b == kInvalid || b == u || mesh_.is_dead_vertex(b)) continue;
-      insert_edge(bans.cost[k], b, best_cost, best, second_cost, second);
-    }
+    for (std::size_t k = 0; k < bans.edge.size(); ++k)
+      if (restored(k)) insert_edge(bans.cost[k], bans.edge[k], best_cost, best, second_cost, second);
   }
   if (best != p.b) p.set_best(best_cost, best);
   p.second_cost = second_cost;
   p.second = second;
-  bans = Bans{};
+  clear_lifted(bans);
 }
 
 int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
@@ -208,7 +229,7 @@ int Proposals::prove(VertId a, ProposalScratch& s) {
   const int k = first_acceptable(mesh_, placements, n - from, prove_kernel_, s.collapse, &s.rejected, false);
   if (k < 0) {
     verify_with_proof_[a] = 1;
-    ban(a, p.b, p.cost);
+    ban(a, p.b, p.cost, nullptr);  // a tolerance refusal: not certified
     p.placement = -1;
     rank_cost_[a] = p.cost;
     return -1;
@@ -232,7 +253,7 @@ bool Proposals::try_edge(VertId a, VertId b, const Ranked& threshold, std::uint3
   if (!(Ranked{p.cost, a, b} < threshold)) return true;
   const int chosen = check(a, b, n, s);
   if (chosen < 0) {
-    ban(a, b, p.cost);
+    ban(a, b, p.cost, &s.collapse.refusal);
     return false;
   }
   proposals_[a].verified_round = round;
@@ -272,7 +293,8 @@ void Proposals::verify(VertId a, const Ranked& threshold, std::uint32_t round, P
 
 // --- after a collapse ------------------------------------------------------------------------
 
-Proposals::Redo Proposals::star_changed(VertId x, VertId u, VertId v, std::uint32_t round) {
+Proposals::Redo Proposals::star_changed(VertId x, VertId u, VertId v, std::uint32_t round,
+                                        const std::vector<TetId>& star_u, const std::vector<TetId>& star_v) {
   changed_round_[x] = round;
   const Proposal& p = proposals_[x];
   Bans& bans = bans_[x];
@@ -281,11 +303,20 @@ Proposals::Redo Proposals::star_changed(VertId x, VertId u, VertId v, std::uint3
     bans = Bans{};
     return Redo::kPropose;
   }
-  // Failed edges may be legal now: update() puts them back (their costs are kept).
-  if (bans.edge[0] != kInvalid) {
-    bans.lifted = true;
-    return Redo::kUpdate;
+  // Failed edges may be legal now: update() puts them back (their costs are kept). A certified
+  // ban stays while the collapse touched neither its far end nor its witnesses (proposals.h).
+  const auto touched = [&](TetId t) {
+    return t != kInvalid && (std::binary_search(star_u.begin(), star_u.end(), t) ||
+                             std::binary_search(star_v.begin(), star_v.end(), t));
+  };
+  for (std::size_t k = 0; k < bans.edge.size(); ++k) {
+    const VertId b = bans.edge[k];
+    if (b == kInvalid || (bans.lifted >> k & 1)) continue;
+    const bool holds = (bans.certified >> k & 1) && b != u && b != v && !touched(bans.witness[k][0]) &&
+                       !touched(bans.witness[k][1]);
+    if (!holds) bans.lifted |= static_cast<std::uint8_t>(1u << k);
   }
+  if (bans.lifted != 0) return Redo::kUpdate;
   if (!std::isfinite(p.cost)) return Redo::kPropose;
   // x owns xu, or its best or runner-up went through u or v.
   if (x < u || p.b == u || p.b == v || p.second == u || p.second == v) return Redo::kUpdate;

@@ -92,8 +92,10 @@ class Proposals {
   // --- after a collapse u <- v (apply phase) ---
   enum class Redo : std::uint8_t { kNothing, kUpdate, kPropose };
   // x's star changed in `round` (x in the collapse's stencil, x != v): its verification is void
-  // and its bans are lifted. Says what x must redo in the next evaluate phase.
-  Redo star_changed(VertId x, VertId u, VertId v, std::uint32_t round);
+  // and its bans are lifted, but for the certified ones the collapse left alone (the collapse's
+  // old stars, sorted tet ids, tell). Says what x must redo in the next evaluate phase.
+  Redo star_changed(VertId x, VertId u, VertId v, std::uint32_t round, const std::vector<TetId>& star_u,
+                    const std::vector<TetId>& star_v);
   void removed(VertId v, std::uint32_t round);
   void lift_all_bans();
 
@@ -119,7 +121,6 @@ class Proposals {
 
   void cost_owned_edges(VertId a, ProposalScratch& s);
   bool is_banned(VertId a, VertId b) const;
-  void ban(VertId a, VertId b, double cost);
   int check(VertId a, VertId b, int n, ProposalScratch& s);
   bool try_edge(VertId a, VertId b, const Ranked& threshold, std::uint32_t round, ProposalScratch& s);
   void set(VertId a, const Proposal& p);
@@ -142,14 +143,27 @@ class Proposals {
   // more failures than slots is exhausted: it proposes nothing until its star changes, and then
   // from scratch (on meshes where most cheap collapses invert, this keeps the rounds from
   // checking the same hopeless edges again).
+  // A certified ban (CollapseScratch::Refusal: every placement was inverted by one of two witness
+  // tets) survives a star change that leaves its witnesses and its far end alone: its placements
+  // depend only on the quadrics, positions and orders of its two ends, which a collapse u <- v
+  // changes for u alone (cost.h, CostModel::on_collapse), and each placement still inverts its
+  // witness. (Like every ban it is not lifted by a change at b alone, which x does not see; the
+  // refresh before a run gives up looks at every edge again: rounds.cpp.) Measured at 10%, 2
+  // threads: 37-80% of the kernel's refusals are certified; keeping those bans took 5-21% of the
+  // legality checks off the real meshes of ../shared/data (docs/performance.md). Five slots, not
+  // three: a vertex in a constrained tail fails more edges than three (torus: -10% checks).
   struct Bans {
-    std::array<VertId, 3> edge{kInvalid, kInvalid, kInvalid};
-    std::array<float, 3> cost{};  // ranking only: verification recomputes exact costs
+    std::array<VertId, 5> edge{kInvalid, kInvalid, kInvalid, kInvalid, kInvalid};
+    std::array<float, 5> cost{};  // ranking only: verification recomputes exact costs
+    std::array<std::array<TetId, 2>, 5> witness{};  // for certified slots (kInvalid pads)
+    std::uint8_t certified = 0;  // bit k: slot k is certified
+    std::uint8_t lifted = 0;     // bit k: slot k's edge is free again; update() restores it
     bool exhausted = false;
-    bool lifted = false;
   };
   std::vector<Bans> bans_;
   void restore_lifted_bans(VertId a, Proposal& p, VertId u);
+  static void clear_lifted(Bans& bans);  // frees the lifted slots
+  void ban(VertId a, VertId b, double cost, const CollapseScratch::Refusal* refusal);
   std::vector<std::uint32_t> changed_round_;  // last round a collapse changed the vertex's star
 };
 

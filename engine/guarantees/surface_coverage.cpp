@@ -55,6 +55,9 @@ float round_up(double x) {
   return static_cast<double>(f) >= x ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
 }
 
+// Two vertex pairs alike (std::array's == calls memcmp here: millions of calls a run).
+bool same_pair(const std::array<VertId, 2>& x, const std::array<VertId, 2>& y) { return x[0] == y[0] && x[1] == y[1]; }
+
 bool face_has(const std::array<VertId, 4>& tet, std::uint8_t local, VertId x) {
   for (int k = 0; k < 4; ++k)
     if (k != local && tet[k] == x) return true;
@@ -245,7 +248,7 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
     const SurfaceStencil::NewFace& f = stencil.new_faces[i];
     if (f.holder.tet == kInvalid) continue;
     bool seen = false;
-    for (const auto& g : s.targets) seen = seen || (g.label == f.label && g.others == f.others);
+    for (const auto& g : s.targets) seen = seen || (g.label == f.label && same_pair(g.others, f.others));
     if (seen) continue;
     const glm::dvec3 c = (f.pts[0] + f.pts[1] + f.pts[2]) / 3.0;
     const double r = std::sqrt(std::max({glm::dot(f.pts[0] - c, f.pts[0] - c), glm::dot(f.pts[1] - c, f.pts[1] - c),
@@ -296,7 +299,7 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
       if (n == 2) {
         const std::array<VertId, 2> key{std::min(others[0], others[1]), std::max(others[0], others[1])};
         for (std::size_t k = 0; k < s.targets.size() && guess == kNoGuess; ++k)
-          if (s.targets[k].others == key) guess = static_cast<std::uint8_t>(k);
+          if (same_pair(s.targets[k].others, key)) guess = static_cast<std::uint8_t>(k);
         if (guess != kNoGuess) bound = round_up(static_cast<double>(item.bound) + moved_by(guess, at_u));
       } else if (n == 1) {
         // Its face u v x vanishes into the edge p x: first try the new face through p x nearest to

@@ -1071,7 +1071,8 @@ bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& r
     const SurfaceStencil::NewFace& f = s.new_faces[i];
     bool seen = false;
     for (std::size_t j = 0; j < i && !seen; ++j)
-      seen = s.new_faces[j].label == f.label && s.new_faces[j].others == f.others;
+      seen = s.new_faces[j].label == f.label && s.new_faces[j].others[0] == f.others[0] &&
+             s.new_faces[j].others[1] == f.others[1];
     if (!seen && !triangle_within(reference, f.pts[0], f.pts[1], f.pts[2], f.label, h, hint)) return false;
   }
   for (const SurfaceStencil::NewEdge& e : s.new_edges)

@@ -280,6 +280,18 @@ int first_acceptable(const MeshModel& mesh, const Placement* placements, int cou
   double old_dihedral = -1.0;  // likewise
   bool quality_refused = false;  // the quality fallbacks are tried only then
   std::array<VertId, 2> surface_edge{kInvalid, kInvalid};  // edge whose surface stencil s.surface holds
+  s.refusal = CollapseScratch::Refusal{true, 0, {kInvalid, kInvalid}};
+  const auto uncertain = [&] { s.refusal.certified = false; };
+  // An inversion by the tet new_star_geometry moved to the front: a witness of the refusal.
+  const auto witness = [&](TetId t) {
+    CollapseScratch::Refusal& r = s.refusal;
+    if (!r.certified || (r.count > 0 && r.witness[0] == t) || (r.count > 1 && r.witness[1] == t)) return;
+    if (r.count == r.witness.size()) {
+      r.certified = false;
+    } else {
+      r.witness[r.count++] = t;
+    }
+  };
   for (int i = 0; i < count; ++i) {
     const Placement& pl = placements[i];
     if (pl.quality_fallback && !quality_refused) continue;
@@ -305,13 +317,16 @@ int first_acceptable(const MeshModel& mesh, const Placement* placements, int cou
     const VertId staying = pl.p == mesh.positions[pl.u] ? pl.u : (pl.p == mesh.positions[pl.v] ? pl.v : kInvalid);
     if (!need_stars(mesh, pl.u, pl.v, staying != pl.u, staying != pl.v, s)) {
       reject(CollapseReason::kLinkK);  // not an edge
+      uncertain();
       return -1;
     }
     double new_quality = 0.0, new_dihedral = 1.0;
     if (!new_star_geometry(mesh, s, pl.p, staying, options.dihedral_floor, new_quality, new_dihedral)) {
       reject(CollapseReason::kInversion);
+      witness(s.new_star.front().tet);  // moved to the front by new_star_geometry
       continue;
     }
+    uncertain();  // whatever refuses this placement from here on may change with the stencil
     need_stars(mesh, pl.u, pl.v, true, true, s);  // the rest needs the whole stencil
     // Quality: the new star may not be worse than min(floor, worst of the old star). Above the
     // floor that holds whatever the old star was, so the old star is measured only below it.

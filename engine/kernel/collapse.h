@@ -122,6 +122,18 @@ struct CollapseScratch {
     glm::dvec3 p{0.0};
   } coverage_for;
   FieldBoundsScratch bounds;
+  // Why the last first_acceptable refused every placement, when the refusal is sure to repeat:
+  // each placement tried was pinned or inverted one of `witness` (at most two tets; an inversion
+  // depends only on the three corners of that tet that stay and on the placement). The same
+  // placements of the same edge are refused again while those tets keep their corners, so the
+  // engine keeps such an edge banned through collapses that do not touch them (cost/proposals.h).
+  // certified = false: some placement was refused for another reason (quality, links, tolerance,
+  // field error), or by more than two tets.
+  struct Refusal {
+    bool certified = false;
+    std::uint8_t count = 0;
+    std::array<TetId, 2> witness{kInvalid, kInvalid};
+  } refusal;
 };
 
 // One way to collapse an edge: v merges into u, which moves to p with field values `fields`

@@ -160,7 +160,7 @@ void InputSamples::inside(const MeshModel& mesh, std::span<const FieldTet> befor
           if (q.x < lo.x || q.y < lo.y || q.z < lo.z || q.x > hi.x || q.y > hi.y || q.z > hi.z) continue;
           std::size_t i = 0;
           std::array<double, 4> l{};
-          if (locator.locate(q, i, l) < -kInsideSlack) continue;
+          if (locator.locate_if_inside(q, i, l) < -kInsideSlack) continue;
           out.vertices.push_back(s);
           out.places.push_back(q);
           out.error += squared_error(mesh, before[i], l, s);

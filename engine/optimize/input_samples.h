@@ -39,6 +39,13 @@ class RegionLocator {
   // The smallest barycentric coordinate of x in the tet found (>= 0 up to rounding when x lies in
   // the region); `tet` and `l` receive that tet's index and coordinates.
   double locate(const glm::dvec3& x, std::size_t& tet, std::array<double, 4>& l) const;
+  // The same for a point that only matters when it lies in the region: -infinity, at once, when no
+  // tet's box holds it (its smallest barycentric coordinate is then below -1e-9 in every tet).
+  // Most points a region is asked about lie outside it, where locate() would try every tet again.
+  double locate_if_inside(const glm::dvec3& x, std::size_t& tet, std::array<double, 4>& l) const {
+    tet = 0;
+    return search(x, true, tet, l);
+  }
 
  private:
   struct Map {
