@@ -249,8 +249,20 @@ topotet::TopologyReport verify_levels(const SimplifyJob& job, bool fast, std::ve
   return input_topology;
 }
 
+// Whether the field error measured at the original vertices stays within the bounds the run
+// kept (metrics' field_bound_violations, component by component): a broken bound fails the run.
+void check_field_bounds(LevelResult& l) {
+  const Report& r = l.report;
+  if (!r.field_bounds || !l.field_error || l.field_error->original_in_simplified.outside > 0) return;
+  l.field_bound_failure.clear();
+  for (const std::string& v : field_bound_violations(*l.field_error, r.field_bound))
+    l.field_bound_failure += "field error bound exceeded: " + v + "\n";
+  l.field_bound_ok = l.field_bound_failure.empty();
+}
+
 // Quality, field error, distance and topology of every level (as --no-metrics and --no-verify
-// allow), and the verdict: a level fails on a changed topology or an inverted tet.
+// allow), and the verdict: a level fails on a changed topology, an inverted tet or a field error
+// above the bound the run kept.
 void measure_outputs(const SimplifyJob& job, SimplifyRun& run) {
   MeasureTimes& times = run.times;
   if (job.metrics) {
@@ -275,7 +287,8 @@ void measure_outputs(const SimplifyJob& job, SimplifyRun& run) {
     times.field_error += l.field_error_seconds;
     times.distance += l.distance_seconds;
     times.topology += l.topology_seconds;
-    run.all_ok = run.all_ok && l.topology_ok;
+    if (l.measured) check_field_bounds(l);
+    run.all_ok = run.all_ok && l.topology_ok && l.field_bound_ok.value_or(true);
   }
 }
 

@@ -72,6 +72,9 @@ Json field_bounds_json(const LevelResult& l) {
           // The bound covers these only up to the tet they were attached to (engine/guarantees/field_bounds.h).
           {"original_vertices_outside",
            l.field_error ? Json(l.field_error->original_in_simplified.outside) : Json(nullptr)},
+          // "pass" / "fail" (a measured error above its bound: the run fails), null when unchecked.
+          {"check", l.field_bound_ok ? Json(*l.field_bound_ok ? "pass" : "fail") : Json(nullptr)},
+          {"check_failures", split_lines(l.field_bound_failure)},
           {"bytes", r.field_bounds_bytes},
           {"setup_seconds", r.field_bounds_setup_seconds}};
 }
@@ -441,6 +444,7 @@ void print_field_bounds(const SimplifyJob& job, const LevelResult& last) {
                          ? " (" + format_count(last.field_error->original_in_simplified.outside) +
                                " of them outside the output: bounded only approximately)"
                          : "") +
+                    (last.field_bound_ok == false ? " FAIL: above the bound" : "") +
                     (limited ? "; limit " + limit + ", refused " +
                                    format_count(r.rejected_by(RejectReason::kFieldError)) + " collapses"
                              : "") +
@@ -448,15 +452,16 @@ void print_field_bounds(const SimplifyJob& job, const LevelResult& last) {
 }
 
 void print_topology(const SimplifyJob& job, const SimplifyRun& run) {
+  const bool ok = std::all_of(run.levels.begin(), run.levels.end(), [](const LevelResult& l) { return l.topology_ok; });
   if (!job.metrics) {
     row("topology", "not checked (--no-metrics: no quality, field error, distance or topology)");
   } else if (!job.verify) {
-    row("topology", std::string("not checked (--no-verify)") + (run.all_ok ? "" : "; FAIL: inverted tets"));
+    row("topology", std::string("not checked (--no-verify)") + (ok ? "" : "; FAIL: inverted tets"));
   } else {
     const std::string how = run.fast_topology
                                 ? "fast mode for inputs > 2M tets: Euler characteristics and components only"
                                 : std::to_string(complex_count(run.input_topology)) + " complexes, Betti numbers over Z2";
-    row("topology", std::string(run.all_ok ? "PASS" : "FAIL") + (job.levels.empty() ? "" : " at every level") + " (" +
+    row("topology", std::string(ok ? "PASS" : "FAIL") + (job.levels.empty() ? "" : " at every level") + " (" +
                         how + ", " + format_seconds(run.times.input_topology + run.times.topology) + ")");
   }
 }
@@ -464,9 +469,12 @@ void print_topology(const SimplifyJob& job, const SimplifyRun& run) {
 // Each failing level's differences: on the report stream, or alone on stderr with -q.
 void print_failures(const SimplifyJob& job, const SimplifyRun& run) {
   std::FILE* out = job.quiet ? stderr : report_stream();
-  if (job.quiet) std::fprintf(out, "topology: FAIL\n");
+  const auto any = [&](auto failed) { return std::any_of(run.levels.begin(), run.levels.end(), failed); };
+  if (job.quiet && any([](const LevelResult& l) { return !l.topology_ok; })) std::fprintf(out, "topology: FAIL\n");
+  if (job.quiet && any([](const LevelResult& l) { return l.field_bound_ok == false; }))
+    std::fprintf(out, "field bounds: FAIL\n");
   for (const LevelResult& l : run.levels)
-    for (const std::string& line : split_lines(l.differences))
+    for (const std::string& line : split_lines(l.differences + l.field_bound_failure))
       std::fprintf(out, "  %s%s\n", job.levels.empty() ? "" : ("level " + format_ratio(l.target_ratio) + ": ").c_str(),
                    line.c_str());
 }
@@ -566,7 +574,10 @@ void write_json_report(const SimplifyJob& job, const SimplifyRun& run) {
   j["metrics_seconds"] = times.total();
   j["metrics_share_of_simplify"] = per(times.total(), run.cumulative_seconds);
   j["topology_mode"] = !run.verify ? "skipped" : (run.fast_topology ? "fast" : "full");
-  j["topology"] = !run.verify ? (run.all_ok ? "skipped" : "fail") : (run.all_ok ? "pass" : "fail");
+  const bool topology_ok = std::all_of(run.levels.begin(), run.levels.end(), [](const LevelResult& l) { return l.topology_ok; });
+  j["topology"] = !run.verify ? (topology_ok ? "skipped" : "fail") : (topology_ok ? "pass" : "fail");
+  // Every check of the run: the topology (inverted tets included) and the field error bounds.
+  j["checks"] = run.all_ok ? "pass" : "fail";
   Json cells = Json::array();
   for (const CellField& f : run.cell_arrays)
     cells.push_back({{"name", f.name}, {"components", f.components}, {"kind", cell_kind_name(f.kind)}});

@@ -607,4 +607,16 @@ FieldError compare_fields(const MeshData& original, const MeshData& simplified) 
   return FieldErrorReference(original).compare(simplified);
 }
 
+std::vector<std::string> field_bound_violations(const FieldError& measured, const std::vector<double>& bounds) {
+  std::vector<std::string> violations;
+  for (std::size_t c = 0; c < bounds.size() && c < measured.components.size(); ++c) {
+    const ComponentError& m = measured.components[c];
+    const double error = m.original_to_simplified.max_abs;
+    if (error > bounds[c] * (1.0 + 1e-9) + 1e-12 * m.range)
+      violations.push_back(m.field + "[" + std::to_string(m.component) + "] measured " + std::to_string(error) +
+                           " at an original vertex, bound " + std::to_string(bounds[c]));
+  }
+  return violations;
+}
+
 }  // namespace topotet

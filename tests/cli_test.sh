@@ -231,7 +231,8 @@ if python3 -c '
 import json, sys
 l = json.load(open(sys.argv[1]))["levels"][0]
 b = l["field_bounds"]
-ok = b["max_bound_rel"] <= 0.01 and b["measured_max_rel"] <= b["max_bound_rel"] and "field_error" in l["rejected"]
+ok = b["max_bound_rel"] <= 0.01 and b["measured_max_rel"] <= b["max_bound_rel"] and "field_error" in l["rejected"] \
+    and b["check"] == "pass" and not b["check_failures"] and json.load(open(sys.argv[1]))["checks"] == "pass"
 sys.exit(0 if ok else 1)' fb.json && grep -q '^bounds .*field error bound' simplify_field_bounds.out; then
   pass "--max-field-error-rel: bound <= E, measured <= bound, reported"
 else

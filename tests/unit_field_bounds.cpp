@@ -238,6 +238,26 @@ TEST(FieldBounds, BoundHoldsAtOriginalVerticesAndDenselyInContainedTets) {
     }
 }
 
+// The verdict the CLI gives a run (field_bound_violations, metrics): none for the bounds the run
+// kept, and a planted fault (the bounds halved, as if a collapse had under-estimated them) is caught.
+TEST(FieldBounds, ViolationsAreFoundAgainstTheMeasuredError) {
+  MeshData input = box();
+  set_field(input, kFront);
+  SimplifyOptions options;
+  options.max_field_error_rel = 0.02;
+  const Outcome r = run(input, Engine::kParallel, options, 0.1);
+  ASSERT_TRUE(r.report.field_bounds);
+  const FieldError e = compare_fields(input, r.output);
+  ASSERT_EQ(e.original_in_simplified.outside, 0u);
+  EXPECT_TRUE(field_bound_violations(e, r.report.field_bound).empty());
+  std::vector<double> halved = r.report.field_bound;
+  for (double& b : halved) b *= 0.5;
+  ASSERT_GT(e.components[0].original_to_simplified.max_abs, halved[0]) << "the planted fault must be below the error";
+  const std::vector<std::string> found = field_bound_violations(e, halved);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_NE(found[0].find("measured"), std::string::npos) << found[0];
+}
+
 TEST(FieldBounds, MaxFieldErrorIsNeverExceeded) {
   for (const Field& f : {kQuadratic, kFront}) {
     MeshData input = cube_sphere();

@@ -88,6 +88,15 @@ struct FieldError {
 // vertex, or a field's value count is not vertex_count * components.
 FieldError compare_fields(const MeshData& original, const MeshData& simplified);
 
+// The components whose error at the original vertices (original_to_simplified.max_abs) exceeds
+// the bound a run kept for it (`bounds`: field units, in `measured.components`' order, as
+// Report::field_bound lists them): one line each, "field[c] measured E at an original vertex,
+// bound B"; empty when every bound holds. The simplifier's bounds are exact at the original
+// vertices (engine/guarantees/field_bounds.h), but this measurement interpolates on its own, so
+// rounding may put it a hair above: 1e-9 of the bound and 1e-12 of the range are allowed. Only
+// meaningful when no original vertex lies outside the simplified mesh (LocationStats::outside).
+std::vector<std::string> field_bound_violations(const FieldError& measured, const std::vector<double>& bounds);
+
 // The original prepared once (its checked tets, its used vertices, and its point locator, built
 // on the first comparison that needs it), for comparing several simplified meshes with it, as
 // `simplify --levels` does: compare() gives what compare_fields gives. `original` must outlive
