@@ -298,8 +298,8 @@ Proposals::Redo Proposals::star_changed(VertId x, VertId u, VertId v, std::uint3
   changed_round_[x] = round;
   const Proposal& p = proposals_[x];
   Bans& bans = bans_[x];
-  // u's edges all changed; an exhausted vertex forgot some of its failed edges.
-  if (x == u || bans.exhausted) {
+  // u's edges all changed.
+  if (x == u) {
     bans = Bans{};
     return Redo::kPropose;
   }
@@ -315,6 +315,13 @@ Proposals::Redo Proposals::star_changed(VertId x, VertId u, VertId v, std::uint3
     const bool holds = (bans.certified >> k & 1) && b != u && b != v && !touched(bans.witness[k][0]) &&
                        !touched(bans.witness[k][1]);
     if (!holds) bans.lifted |= static_cast<std::uint8_t>(1u << k);
+  }
+  // An exhausted vertex forgot some of its failed edges: it proposes from scratch, past the bans
+  // that still hold.
+  if (bans.exhausted) {
+    bans.exhausted = false;
+    clear_lifted(bans);
+    return Redo::kPropose;
   }
   if (bans.lifted != 0) return Redo::kUpdate;
   if (!std::isfinite(p.cost)) return Redo::kPropose;

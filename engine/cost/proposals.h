@@ -143,13 +143,13 @@ class Proposals {
   // more failures than slots is exhausted: it proposes nothing until its star changes, and then
   // from scratch (on meshes where most cheap collapses invert, this keeps the rounds from
   // checking the same hopeless edges again).
-  // A certified ban (CollapseScratch::Refusal: every placement was inverted by one of two witness
-  // tets) survives a star change that leaves its witnesses and its far end alone: its placements
+  // A certified ban (CollapseScratch::Refusal: every placement was inverted, or pushed below a
+  // quality floor, by one of two witness tets) survives a star change that leaves its witnesses and its far end alone: its placements
   // depend only on the quadrics, positions and orders of its two ends, which a collapse u <- v
   // changes for u alone (cost.h, CostModel::on_collapse), and each placement still inverts its
   // witness. (Like every ban it is not lifted by a change at b alone, which x does not see; the
   // refresh before a run gives up looks at every edge again: rounds.cpp.) Measured at 10%, 2
-  // threads: 37-80% of the kernel's refusals are certified; keeping those bans took 5-21% of the
+  // threads: 47-80% of the kernel's refusals are certified; keeping those bans took 5-21% of the
   // legality checks off the real meshes of ../shared/data (docs/performance.md). Five slots, not
   // three: a vertex in a constrained tail fails more edges than three (torus: -10% checks).
   struct Bans {

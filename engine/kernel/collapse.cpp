@@ -190,10 +190,13 @@ void prepare_moved_tet(const MeshModel& mesh, CollapseScratch& s, std::size_t i)
 // Most placements fail on one of the first tets, so the per-tet data is prepared lazily: tet i
 // is prepared the first time a placement of this edge gets that far.
 // With a dihedral floor, `worst_sine_sq` is the smallest sin^2 of a dihedral angle among the new
-// tets its screen does not clear (1 if none).
+// tets its screen does not clear (1 if none). `worst_at` receives the tets where the two minima
+// are reached (kInvalid: none below 1), the witnesses of a quality refusal.
 bool new_star_geometry(const MeshModel& mesh, CollapseScratch& s, const glm::dvec3& p, VertId staying,
-                       const DihedralFloor& floor, double& worst_q3, double& worst_sine_sq) {
+                       const DihedralFloor& floor, double& worst_q3, double& worst_sine_sq,
+                       std::array<TetId, 2>& worst_at) {
   double worst = 1.0, worst_sine = 1.0;
+  worst_at = {kInvalid, kInvalid};
   if (s.moved.size() < s.new_star.size()) s.moved.resize(s.new_star.size());
   if (s.prepared.size() < s.new_star.size()) s.prepared.resize(s.new_star.size(), 0);
   for (std::size_t i = 0; i < s.new_star.size(); ++i) {
@@ -214,10 +217,17 @@ bool new_star_geometry(const MeshModel& mesh, CollapseScratch& s, const glm::dve
       }
       return false;
     }
-    worst = std::min(worst, q3);
+    if (q3 < worst) {
+      worst = q3;
+      worst_at[0] = s.new_star[i].tet;
+    }
     if (q3 < floor.screen_q3) {
       const MovedCorner& m = s.moved[i];
-      worst_sine = std::min(worst_sine, min_dihedral_sine_sq(m.a, p, m.c, m.d));
+      const double sine = min_dihedral_sine_sq(m.a, p, m.c, m.d);
+      if (sine < worst_sine) {
+        worst_sine = sine;
+        worst_at[1] = s.new_star[i].tet;
+      }
     }
   }
   worst_q3 = worst;
@@ -282,9 +292,11 @@ int first_acceptable(const MeshModel& mesh, const Placement* placements, int cou
   std::array<VertId, 2> surface_edge{kInvalid, kInvalid};  // edge whose surface stencil s.surface holds
   s.refusal = CollapseScratch::Refusal{true, 0, {kInvalid, kInvalid}};
   const auto uncertain = [&] { s.refusal.certified = false; };
-  // An inversion by the tet new_star_geometry moved to the front: a witness of the refusal.
+  // A tet that refuses a placement alone (it inverts, or falls below a floor the old star was
+  // above): a witness of the refusal.
   const auto witness = [&](TetId t) {
     CollapseScratch::Refusal& r = s.refusal;
+    if (t == kInvalid) r.certified = false;
     if (!r.certified || (r.count > 0 && r.witness[0] == t) || (r.count > 1 && r.witness[1] == t)) return;
     if (r.count == r.witness.size()) {
       r.certified = false;
@@ -321,21 +333,27 @@ int first_acceptable(const MeshModel& mesh, const Placement* placements, int cou
       return -1;
     }
     double new_quality = 0.0, new_dihedral = 1.0;
-    if (!new_star_geometry(mesh, s, pl.p, staying, options.dihedral_floor, new_quality, new_dihedral)) {
+    std::array<TetId, 2> worst_at{};
+    if (!new_star_geometry(mesh, s, pl.p, staying, options.dihedral_floor, new_quality, new_dihedral, worst_at)) {
       reject(CollapseReason::kInversion);
       witness(s.new_star.front().tet);  // moved to the front by new_star_geometry
       continue;
     }
-    uncertain();  // whatever refuses this placement from here on may change with the stencil
     need_stars(mesh, pl.u, pl.v, true, true, s);  // the rest needs the whole stencil
     // Quality: the new star may not be worse than min(floor, worst of the old star). Above the
     // floor that holds whatever the old star was, so the old star is measured only below it.
+    // A refusal by the floor itself (the old star above it) is witnessed by the new tet below
+    // it; one by the old star's worst is not (the old star changes with every nearby collapse).
+    // (The floor's witness holds while the stars keep no tet worse than that new one: collapses
+    // keep every new star above min(floor, its old worst), so a tet below the floor reaches a
+    // star only from a worse one nearby, which is rare. A ban is never a safety matter.)
     const double floor3 = options.quality_floor * options.quality_floor * options.quality_floor;
     if (new_quality < floor3) {
       if (old_quality < 0.0) old_quality = old_star_quality(mesh, s);
       if (new_quality < std::min(floor3, old_quality)) {
         reject(CollapseReason::kQuality);
         quality_refused = true;
+        if (old_quality >= floor3) witness(worst_at[0]); else uncertain();
         continue;
       }
     }
@@ -345,9 +363,11 @@ int first_acceptable(const MeshModel& mesh, const Placement* placements, int cou
       if (new_dihedral < std::min(options.dihedral_floor.sine_sq, old_dihedral)) {
         reject(CollapseReason::kQuality);
         quality_refused = true;
+        if (old_dihedral >= options.dihedral_floor.sine_sq) witness(worst_at[1]); else uncertain();
         continue;
       }
     }
+    uncertain();  // whatever refuses this placement from here on may change with the stencil
     if (check_topology && !link_done) {
       s.link.known_interior = hints;  // consumed (reset) by check_link_conditions
       const LinkResult link = check_link_conditions(mesh, pl.u, pl.v, s.star_uv, s.link);

@@ -122,13 +122,16 @@ struct CollapseScratch {
     glm::dvec3 p{0.0};
   } coverage_for;
   FieldBoundsScratch bounds;
-  // Why the last first_acceptable refused every placement, when the refusal is sure to repeat:
-  // each placement tried was pinned or inverted one of `witness` (at most two tets; an inversion
-  // depends only on the three corners of that tet that stay and on the placement). The same
-  // placements of the same edge are refused again while those tets keep their corners, so the
-  // engine keeps such an edge banned through collapses that do not touch them (cost/proposals.h).
-  // certified = false: some placement was refused for another reason (quality, links, tolerance,
-  // field error), or by more than two tets.
+  // Why the last first_acceptable refused every placement, when the refusal is bound to repeat:
+  // each placement tried was pinned, or refused by one of `witness` (at most two tets) alone: the
+  // tet inverts, or falls below a quality or dihedral floor that the old star was above (then the
+  // floor, not the old star, set the bar). Either depends only on the three corners of that tet
+  // that stay and on the placement, so the same placements of the same edge are refused again
+  // while those tets keep their corners (for a floor: while no tet worse than the witness enters
+  // the stars, which collapses make rare; first_acceptable says why). The engine keeps such an
+  // edge banned through collapses that do not touch its witnesses (cost/proposals.h).
+  // certified = false: some placement was refused for another reason (links, tolerance, field
+  // error, the old star's own worst tet), or by more than two tets.
   struct Refusal {
     bool certified = false;
     std::uint8_t count = 0;
