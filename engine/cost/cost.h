@@ -225,6 +225,8 @@ class CostModel {
   template <int kN>
   double edge_cost_n(const MeshModel& mesh, VertId a, VertId b, LinkScratch& scratch);
   void normalise(const MeshModel& mesh, VertId v, double* x) const;
+  // The field part of every vertex's quadric (the constructor's first step; cost.cpp says why so).
+  void add_star_field_quadrics(const MeshModel& mesh, double v_ref, const std::vector<double>& weights);
   // x = p normalised, with the field values v's quadric likes best there (fields_at_point, point_cost).
   void best_at_point(const MeshModel& mesh, VertId v, const glm::dvec3& p, double* x) const;
 
