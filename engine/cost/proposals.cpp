@@ -26,12 +26,6 @@ void insert_edge(double c, VertId b, double& best_cost, VertId& best, double& se
   }
 }
 
-// The neighbours b > a: the edges a owns.
-void neighbours_above(const MeshModel& mesh, VertId a, std::vector<VertId>& out) {
-  mesh.neighbours(a, out);
-  out.erase(out.begin(), std::upper_bound(out.begin(), out.end(), a));
-}
-
 }  // namespace
 
 void Proposals::clear_lifted(Bans& bans) {
@@ -70,7 +64,9 @@ void Proposals::set(VertId a, const Proposal& p) {
 // --- costs -----------------------------------------------------------------------------------
 
 void Proposals::cost_owned_edges(VertId a, ProposalScratch& s) {
-  neighbours_above(mesh_, a, s.nbrs);
+  // Unsorted: the best and runner-up below, and verify()'s order, are taken by the total order
+  // (cost, b), whatever the order the edges come in.
+  mesh_.neighbours_above(a, s.nbrs);
   for (VertId b : s.nbrs) cost_.prefetch(b);  // the records' cache misses overlap
   s.edges.clear();
   for (std::size_t k = 0; k < s.nbrs.size(); ++k) {

@@ -49,6 +49,20 @@ void MeshModel::neighbours(VertId v, std::vector<VertId>& out) const {
   std::sort(out.begin(), out.end());
 }
 
+void MeshModel::neighbours_above(VertId v, std::vector<VertId>& out) const {
+  out.clear();
+  const std::size_t slots = probe_slots_for(3 * static_cast<std::size_t>(v2t_count[v]));
+  std::array<VertId, 512> on_stack;
+  std::vector<VertId> on_heap;
+  if (slots > on_stack.size()) on_heap.resize(slots);
+  ProbeSet<VertId> seen(slots > on_stack.size() ? std::span<VertId>(on_heap) : std::span<VertId>(on_stack.data(), slots));
+  prefetch_star(*this, v);
+  for_each_tet_of(v, [&](TetId t) {
+    for (VertId x : tets[t])
+      if (x > v && seen.insert(x).second) out.push_back(x);
+  });
+}
+
 std::size_t MeshModel::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   return bytes(positions) + bytes(field_values) + bytes(vertex_refs) + bytes(vertex_states) + bytes(tets) +

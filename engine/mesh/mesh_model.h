@@ -167,6 +167,9 @@ struct MeshModel {
 
   // The vertices sharing a live tet with v (v excluded), sorted and unique; `out` is cleared first.
   void neighbours(VertId v, std::vector<VertId>& out) const;
+  // The same restricted to the vertices above v (the edges v owns), each once, in the order the
+  // star meets them (not sorted: for callers whose result does not depend on the order).
+  void neighbours_above(VertId v, std::vector<VertId>& out) const;
 
   // Bytes held by the model's arrays (capacity, not size: what the process really pays).
   std::size_t memory_bytes() const;
