@@ -32,10 +32,12 @@ int MeshModel::field_stride() const {
   return s;
 }
 
-void MeshModel::neighbours(VertId v, std::vector<VertId>& out) const {
+// The vertices x of v's live tets with keep(x), each once, in the order the star meets them.
+// Every neighbour appears in several tets of the star (about 5 times in the interior): a probe
+// set drops the repeats. This runs for every candidate edge.
+template <class Keep>
+void MeshModel::gather_neighbours(VertId v, std::vector<VertId>& out, Keep&& keep) const {
   out.clear();
-  // Every neighbour appears in several tets of the star (about 5 times in the interior): a probe
-  // set drops the repeats, so only the distinct ones are sorted. This runs for every candidate edge.
   const std::size_t slots = probe_slots_for(3 * static_cast<std::size_t>(v2t_count[v]));
   std::array<VertId, 512> on_stack;  // stars of up to 85 tets
   std::vector<VertId> on_heap;
@@ -44,23 +46,17 @@ void MeshModel::neighbours(VertId v, std::vector<VertId>& out) const {
   prefetch_star(*this, v);
   for_each_tet_of(v, [&](TetId t) {
     for (VertId x : tets[t])
-      if (x != v && seen.insert(x).second) out.push_back(x);
+      if (keep(x) && seen.insert(x).second) out.push_back(x);
   });
-  std::sort(out.begin(), out.end());
+}
+
+void MeshModel::neighbours(VertId v, std::vector<VertId>& out) const {
+  gather_neighbours(v, out, [v](VertId x) { return x != v; });
+  std::sort(out.begin(), out.end());  // only the distinct ones are sorted
 }
 
 void MeshModel::neighbours_above(VertId v, std::vector<VertId>& out) const {
-  out.clear();
-  const std::size_t slots = probe_slots_for(3 * static_cast<std::size_t>(v2t_count[v]));
-  std::array<VertId, 512> on_stack;
-  std::vector<VertId> on_heap;
-  if (slots > on_stack.size()) on_heap.resize(slots);
-  ProbeSet<VertId> seen(slots > on_stack.size() ? std::span<VertId>(on_heap) : std::span<VertId>(on_stack.data(), slots));
-  prefetch_star(*this, v);
-  for_each_tet_of(v, [&](TetId t) {
-    for (VertId x : tets[t])
-      if (x > v && seen.insert(x).second) out.push_back(x);
-  });
+  gather_neighbours(v, out, [v](VertId x) { return x > v; });
 }
 
 std::size_t MeshModel::memory_bytes() const {

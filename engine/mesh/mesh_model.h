@@ -170,6 +170,11 @@ struct MeshModel {
   // The same restricted to the vertices above v (the edges v owns), each once, in the order the
   // star meets them (not sorted: for callers whose result does not depend on the order).
   void neighbours_above(VertId v, std::vector<VertId>& out) const;
+ private:
+  template <class Keep>
+  void gather_neighbours(VertId v, std::vector<VertId>& out, Keep&& keep) const;
+
+ public:
 
   // Bytes held by the model's arrays (capacity, not size: what the process really pays).
   std::size_t memory_bytes() const;
