@@ -451,8 +451,13 @@ void print_field_bounds(const SimplifyJob& job, const LevelResult& last) {
                     " (" + format_bytes(r.field_bounds_bytes) + ")");
 }
 
+// Every level kept the topology (and has no inverted tet); run.all_ok also counts the field bounds.
+bool topology_ok(const SimplifyRun& run) {
+  return std::all_of(run.levels.begin(), run.levels.end(), [](const LevelResult& l) { return l.topology_ok; });
+}
+
 void print_topology(const SimplifyJob& job, const SimplifyRun& run) {
-  const bool ok = std::all_of(run.levels.begin(), run.levels.end(), [](const LevelResult& l) { return l.topology_ok; });
+  const bool ok = topology_ok(run);
   if (!job.metrics) {
     row("topology", "not checked (--no-metrics: no quality, field error, distance or topology)");
   } else if (!job.verify) {
@@ -574,8 +579,8 @@ void write_json_report(const SimplifyJob& job, const SimplifyRun& run) {
   j["metrics_seconds"] = times.total();
   j["metrics_share_of_simplify"] = per(times.total(), run.cumulative_seconds);
   j["topology_mode"] = !run.verify ? "skipped" : (run.fast_topology ? "fast" : "full");
-  const bool topology_ok = std::all_of(run.levels.begin(), run.levels.end(), [](const LevelResult& l) { return l.topology_ok; });
-  j["topology"] = !run.verify ? (topology_ok ? "skipped" : "fail") : (topology_ok ? "pass" : "fail");
+  const bool topology_passed = topology_ok(run);
+  j["topology"] = !run.verify ? (topology_passed ? "skipped" : "fail") : (topology_passed ? "pass" : "fail");
   // Every check of the run: the topology (inverted tets included) and the field error bounds.
   j["checks"] = run.all_ok ? "pass" : "fail";
   Json cells = Json::array();

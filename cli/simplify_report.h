@@ -41,7 +41,7 @@ struct LevelResult {
   bool topology_ok = true;
   // The field error bounds (Report::field_bounds) against the error measured at the original
   // vertices: false when a component's measured error exceeds its bound (a broken guarantee, which
-  // fails the run like a changed topology: field_bound_exceeded()). Unchecked: no bounds kept, no
+  // fails the run like a changed topology). Unchecked: no bounds kept, no
   // metrics, or original vertices outside the output (bounded only approximately there).
   std::optional<bool> field_bound_ok;
   std::string field_bound_failure;  // what exceeded which bound, when field_bound_ok is false
