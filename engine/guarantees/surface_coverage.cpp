@@ -163,6 +163,34 @@ glm::dvec3 bisector_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::
   return glm::dot(n, n) > 1e-12 ? n : glm::dvec3(0.0);
 }
 
+// The squared distance from x to new face f, exact, or any value above `cutoff2` when a lower
+// bound shows the distance is (the distance to the face's plane; that and the distance to the
+// line of an edge x lies beyond). Most queries fall inside the face's prism (the plane distance)
+// or are rejected by the bounds; the rest lie beyond one or two edges, and the closest point of
+// the face is then on one of those edges (outside the triangle's shadow the closest point is on
+// its boundary, and no point beyond edge k alone lies in the region of the other edges or of the
+// opposite corner), so two segment distances at most replace the general closest-point search.
+double face_distance2(const glm::dvec3& x, const CoverageScratch::Target& f, double cutoff2) {
+  if (!(f.inv_normal2 > 0.0)) return squared_distance_to_triangle(x, f.pts[0], f.pts[1], f.pts[2]);  // degenerate
+  const glm::dvec3 ax = x - f.pts[0];
+  const double height = glm::dot(f.normal, ax);
+  const double plane2 = height * height * f.inv_normal2;
+  if (plane2 > cutoff2) return plane2;
+  const double e0 = glm::dot(f.edge_in[0], ax), e1 = glm::dot(f.edge_in[1], x - f.pts[1]),
+               e2 = glm::dot(f.edge_in[2], x - f.pts[2]);
+  if (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) return plane2;
+  double out2 = 0.0;
+  if (e0 < 0.0) out2 = std::max(out2, e0 * e0 * f.inv_edge_in2[0]);
+  if (e1 < 0.0) out2 = std::max(out2, e1 * e1 * f.inv_edge_in2[1]);
+  if (e2 < 0.0) out2 = std::max(out2, e2 * e2 * f.inv_edge_in2[2]);
+  if (plane2 + out2 > cutoff2) return plane2 + out2;
+  double d2 = std::numeric_limits<double>::infinity();
+  if (e0 < 0.0) d2 = std::min(d2, squared_distance_to_segment(x, f.pts[0], f.pts[1]));
+  if (e1 < 0.0) d2 = std::min(d2, squared_distance_to_segment(x, f.pts[1], f.pts[2]));
+  if (e2 < 0.0) d2 = std::min(d2, squared_distance_to_segment(x, f.pts[2], f.pts[0]));
+  return d2;
+}
+
 }  // namespace
 
 // Splits an item no single new face holds. Preferably along the bisecting plane of two adjacent
@@ -174,39 +202,48 @@ void SurfaceCoverage::cut(const CoverageItem& item, int label, CoverageScratch& 
   const glm::dvec3 centre = (q[0] + q[1] + q[2]) / 3.0;
   const double size = std::sqrt(std::max({glm::dot(q[1] - q[0], q[1] - q[0]), glm::dot(q[2] - q[1], q[2] - q[1]),
                                           glm::dot(q[0] - q[2], q[0] - q[2])}));
+  if (!s.hinges_found) {
+    s.hinges.clear();
+    for (std::size_t i = 0; i < s.targets.size(); ++i)
+      for (std::size_t j = i + 1; j < s.targets.size(); ++j) {
+        const auto& f = s.targets[i];
+        const auto& g = s.targets[j];
+        if (f.label != g.label) continue;
+        // Shared edge p-x: one "other" vertex in common (new faces all contain p = pts[0]).
+        for (int a = 0; a < 2; ++a)
+          for (int b = 0; b < 2; ++b) {
+            if (f.others[a] != g.others[b]) continue;
+            const glm::dvec3 n = bisector_normal(f.pts[0], f.pts[1 + a], f.pts[2 - a], g.pts[2 - b]);
+            if (n == glm::dvec3(0.0)) continue;
+            s.hinges.push_back({f.pts[0], f.pts[1 + a], n, glm::length(n), f.label, static_cast<std::uint8_t>(i), static_cast<std::uint8_t>(j)});
+          }
+      }
+    s.hinges_found = true;
+  }
   double best = std::numeric_limits<double>::infinity();
   glm::dvec3 best_normal(0.0), best_point(0.0);
   std::uint8_t side_pos = kNoGuess, side_neg = kNoGuess;  // the faces on either side of the cut
   glm::dvec3 best_edge(0.0);
-  for (std::size_t i = 0; i < s.targets.size(); ++i)
-    for (std::size_t j = i + 1; j < s.targets.size(); ++j) {
-      const auto& f = s.targets[i];
-      const auto& g = s.targets[j];
-      if (f.label != label || g.label != label) continue;
-      // Shared edge p-x: one "other" vertex in common (new faces all contain p = pts[0]).
-      for (int a = 0; a < 2; ++a)
-        for (int b = 0; b < 2; ++b) {
-          if (f.others[a] != g.others[b]) continue;
-          const glm::dvec3 p = f.pts[0], x = f.pts[1 + a];
-          const glm::dvec3 n = bisector_normal(p, x, f.pts[2 - a], g.pts[2 - b]);
-          if (n == glm::dvec3(0.0)) continue;
-          // Corners within a rounding margin of the plane are on it: a piece cut there is not cut
-          // again by the same plane because its cut points came out a few ulps off.
-          const double eps = 1e-9 * size * glm::length(n);
-          const double s0 = glm::dot(n, q[0] - p), s1 = glm::dot(n, q[1] - p), s2 = glm::dot(n, q[2] - p);
-          const bool pos = s0 > eps || s1 > eps || s2 > eps, neg = s0 < -eps || s1 < -eps || s2 < -eps;
-          if (!pos || !neg) continue;
-          const double d = squared_distance_to_segment(centre, p, x);
-          if (d < best || (d == best && less(x, best_edge))) {
-            best_edge = x;
-            best = d;
-            best_normal = n;
-            best_point = p;
-            side_pos = static_cast<std::uint8_t>(i);
-            side_neg = static_cast<std::uint8_t>(j);
-          }
-        }
+  for (const CoverageScratch::Hinge& hinge : s.hinges) {
+    if (hinge.label != label) continue;
+    const glm::dvec3& n = hinge.normal;
+    const glm::dvec3& p = hinge.p;
+    // Corners within a rounding margin of the plane are on it: a piece cut there is not cut
+    // again by the same plane because its cut points came out a few ulps off.
+    const double eps = 1e-9 * size * hinge.normal_length;
+    const double s0 = glm::dot(n, q[0] - p), s1 = glm::dot(n, q[1] - p), s2 = glm::dot(n, q[2] - p);
+    const bool pos = s0 > eps || s1 > eps || s2 > eps, neg = s0 < -eps || s1 < -eps || s2 < -eps;
+    if (!pos || !neg) continue;
+    const double d = squared_distance_to_segment(centre, p, hinge.x);
+    if (d < best || (d == best && less(hinge.x, best_edge))) {
+      best_edge = hinge.x;
+      best = d;
+      best_normal = n;
+      best_point = p;
+      side_pos = hinge.first;
+      side_neg = hinge.second;
     }
+  }
   const auto depth = static_cast<std::uint8_t>(item.depth + 1);
   auto push = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, std::uint8_t guess = kNoGuess) {
     s.pending.push_back({sorted({a, b, c}), item.triangle, std::numeric_limits<float>::infinity(), depth, guess});
@@ -255,11 +292,18 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
                                          glm::dot(f.pts[2] - c, f.pts[2] - c)}));
     const glm::dvec3 n = glm::cross(f.pts[1] - f.pts[0], f.pts[2] - f.pts[0]);
     const double n2 = glm::dot(n, n);
-    s.targets.push_back({f.pts, f.others, f.label, f.holder, c, r, n, n2 > 0.0 ? 1.0 / n2 : 0.0,
-                         {glm::cross(n, f.pts[1] - f.pts[0]), glm::cross(n, f.pts[2] - f.pts[1]),
-                          glm::cross(n, f.pts[0] - f.pts[2])}});
+    CoverageScratch::Target target{f.pts, f.others, f.label, f.holder, c, r, n, n2 > 0.0 ? 1.0 / n2 : 0.0,
+                                   {glm::cross(n, f.pts[1] - f.pts[0]), glm::cross(n, f.pts[2] - f.pts[1]),
+                                    glm::cross(n, f.pts[0] - f.pts[2])},
+                                   {}};
+    for (int k = 0; k < 3; ++k) {
+      const double l2 = glm::dot(target.edge_in[k], target.edge_in[k]);
+      target.inv_edge_in2[k] = l2 > 0.0 ? 1.0 / l2 : 0.0;
+    }
+    s.targets.push_back(target);
   }
   if (s.targets.size() >= kNoGuess) return false;  // item indices are bytes: refuse a fan that large
+  s.hinges_found = false;
   s.pending.clear();
   s.placed.clear();
   const SurfaceSoup& soup = reference_.soup();
@@ -276,7 +320,7 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
     double& d = s.moved_by[2 * target + (at_u ? 0 : 1)];
     if (d < 0.0) {
       const auto& f = s.targets[target];
-      d = std::sqrt(squared_distance_to_triangle(mesh.positions[at_u ? u : v], f.pts[0], f.pts[1], f.pts[2]));
+      d = std::sqrt(face_distance2(mesh.positions[at_u ? u : v], f, std::numeric_limits<double>::infinity()));
     }
     return d;
   };
@@ -310,7 +354,7 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
         for (std::size_t k = 0; k < s.targets.size(); ++k) {
           const auto& f = s.targets[k];
           if (f.label != label || (f.others[0] != others[0] && f.others[1] != others[0])) continue;
-          const double d = squared_distance_to_triangle(c, f.pts[0], f.pts[1], f.pts[2]);
+          const double d = face_distance2(c, f, std::numeric_limits<double>::infinity());
           if (d < best || (d == best && guess != kNoGuess && face_less(f.pts, s.targets[guess].pts))) {
             best = d;
             guess = static_cast<std::uint8_t>(k);
@@ -321,20 +365,13 @@ bool SurfaceCoverage::place(const MeshModel& mesh, VertId u, VertId v, const std
     }
   });
   const double h2 = h_ * h_;
-  // The exact squared distance, or any value above h^2 when the bounding sphere shows it is.
+  // The exact squared distance, or any value above h^2 when a lower bound shows it is (the
+  // bounding sphere first, then face_distance2's).
   auto dist2 = [&](const glm::dvec3& x, const CoverageScratch::Target& f) {
     const double reach = h_ + f.radius;
     const glm::dvec3 d = x - f.centre;
     if (glm::dot(d, d) > reach * reach * (1.0 + 1e-12)) return std::numeric_limits<double>::infinity();
-    if (f.inv_normal2 > 0.0) {
-      const glm::dvec3 ax = x - f.pts[0];
-      if (glm::dot(f.edge_in[0], ax) >= 0.0 && glm::dot(f.edge_in[1], x - f.pts[1]) >= 0.0 &&
-          glm::dot(f.edge_in[2], x - f.pts[2]) >= 0.0) {
-        const double height = glm::dot(f.normal, ax);
-        return height * height * f.inv_normal2;
-      }
-    }
-    return squared_distance_to_triangle(x, f.pts[0], f.pts[1], f.pts[2]);
+    return face_distance2(x, f, h2);
   };
   auto near = [&](const glm::dvec3& x, const CoverageScratch::Target& f) { return dist2(x, f) <= h2; };
   // The largest distance of the corners to f, if all are within h; negative otherwise.

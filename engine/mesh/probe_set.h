@@ -32,6 +32,15 @@ class ProbeSet {
     for (Key& k : slots_) k = kEmpty;
   }
 
+  // Storage whose slots are all kEmpty already (a large table reused across calls): not cleared
+  // here. The caller empties the slots it filled (erase_slots) before the next use.
+  struct AlreadyEmpty {};
+  ProbeSet(std::span<Key> storage, AlreadyEmpty) : slots_(storage), mask_(static_cast<std::uint32_t>(storage.size() - 1)) {}
+  // Empties the given slots (those insert() returned): the whole table, when they are all.
+  void erase_slots(std::span<const std::uint32_t> slots) {
+    for (std::uint32_t h : slots) slots_[h] = kEmpty;
+  }
+
   // The slot of `key` and whether it was inserted now (false: it was already there).
   std::pair<std::uint32_t, bool> insert(Key key) {
     std::uint32_t h = hash(key) & mask_;
