@@ -389,6 +389,7 @@ void topotet_options_init(topotet_options* options) {
   options->field_weights = nullptr;
   options->optimize = static_cast<int>(d.optimize);
   options->track_field_bounds = d.track_field_bounds ? 1 : 0;
+  options->field_bound_mode = static_cast<int>(d.field_bound_mode);
   options->progress = nullptr;  // d.on_progress is empty
   options->progress_user_data = nullptr;
   options->size_weight = d.size_weight;
@@ -515,6 +516,9 @@ topotet_status to_simplify_options(const topotet_options* options, topotet::Simp
     o.field_weights[c.field_weight_names[i]] = c.field_weights[i];  // the library checks names and values
   }
   o.track_field_bounds = c.track_field_bounds != 0;
+  if (c.field_bound_mode < 0 || c.field_bound_mode > 1)
+    return fail(TOPOTET_INVALID_INPUT, "field_bound_mode must be 0 (vertices) or 1 (everywhere)");
+  o.field_bound_mode = static_cast<topotet::FieldBoundMode>(c.field_bound_mode);
   if (c.progress != nullptr) {
     const auto progress = c.progress;
     void* const user_data = c.progress_user_data;

@@ -251,12 +251,24 @@ topotet::TopologyReport verify_levels(const SimplifyJob& job, bool fast, std::ve
 
 // Whether the field error measured at the original vertices stays within the bounds the run
 // kept (metrics' field_bound_violations, component by component): a broken bound fails the run.
-void check_field_bounds(LevelResult& l) {
+// With --field-bound-mode everywhere, also at points between them (check_bounds_densely).
+constexpr std::uint64_t kDenseBoundPoints = 100000;
+void check_field_bounds(const SimplifyJob& job, LevelResult& l) {
   const Report& r = l.report;
-  if (!r.field_bounds || !l.field_error || l.field_error->original_in_simplified.outside > 0) return;
+  if (!r.field_bounds || !l.field_error) return;
   l.field_bound_failure.clear();
-  for (const std::string& v : field_bound_violations(*l.field_error, r.field_bound))
-    l.field_bound_failure += "field error bound exceeded: " + v + "\n";
+  std::size_t stride = 0;
+  for (const topotet::VertexField& f : l.output.fields) stride += static_cast<std::size_t>(f.components);
+  if (stride > 0 && r.tet_field_bound.size() == l.output.tets.size() * stride) {
+    l.dense_bounds = topotet::check_bounds_densely(job.input, l.output, r.tet_field_bound, kDenseBoundPoints, 1);
+    if (r.field_bound_mode == FieldBoundMode::kEverywhere && l.dense_bounds->violations > 0)
+      l.field_bound_failure += "field error bound exceeded between the original vertices: " +
+                               std::to_string(l.dense_bounds->violations) + " samples, first " +
+                               l.dense_bounds->first_violation + "\n";
+  }
+  if (l.field_error->original_in_simplified.outside == 0)
+    for (const std::string& v : field_bound_violations(*l.field_error, r.field_bound))
+      l.field_bound_failure += "field error bound exceeded: " + v + "\n";
   l.field_bound_ok = l.field_bound_failure.empty();
 }
 
@@ -287,7 +299,7 @@ void measure_outputs(const SimplifyJob& job, SimplifyRun& run) {
     times.field_error += l.field_error_seconds;
     times.distance += l.distance_seconds;
     times.topology += l.topology_seconds;
-    if (l.measured) check_field_bounds(l);
+    if (l.measured) check_field_bounds(job, l);
     run.all_ok = run.all_ok && l.topology_ok && l.field_bound_ok.value_or(true);
   }
 }

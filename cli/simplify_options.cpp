@@ -105,6 +105,12 @@ SimplifyOptionSet add_simplify_options(CLI::App* cmd, SimplifyArgs& args) {
                            "The same, relative to each field component's range (both given: the smaller)")
                ->type_name("E")
                ->check(number_in(0.0, kInfinity, false)));
+  keep(cmd->add_option("--field-bound-mode", args.field_bound_mode,
+                       "What the field error bound covers: the original vertices (exact there), or every point of "
+                       "the input the output covers (paper 003's rule; needs a limit, and keeps a curved boundary "
+                       "from moving)")
+           ->check(CLI::IsMember({"vertices", "everywhere"}))
+           ->capture_default_str());
   auto* field_bounds = keep(cmd->add_flag("--field-bounds", args.field_bounds,
                                           "Keep the per-tet field error bounds and report them, without a limit"));
   keep(cmd->add_option("--feature-angle", args.feature_angle,
@@ -263,6 +269,7 @@ SimplifyOptions engine_options(const SimplifyArgs& args) {
   o.relax_features = !args.hard_limits && !args.features_given && !args.feature_ref;
   o.max_field_error = args.max_field_error;
   o.max_field_error_rel = args.max_field_error_rel;
+  o.field_bound_mode = args.field_bound_mode == "everywhere" ? FieldBoundMode::kEverywhere : FieldBoundMode::kVertices;
   o.track_field_bounds = args.field_bounds;
   o.feature_angle = args.feature_angle;
   o.engine = args.sequential ? Engine::kSequential : Engine::kParallel;

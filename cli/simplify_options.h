@@ -46,6 +46,7 @@ struct SimplifyArgs {
   double max_field_error = 0.0;
   double max_field_error_rel = 0.0;
   bool field_bounds = false;
+  std::string field_bound_mode = "vertices";  // --field-bound-mode
   bool no_field_bounds = false;  // --hierarchy without the bounds (cheaper; levels by cost)
   double feature_angle = SimplifyOptions{}.feature_angle;
   std::optional<std::int32_t> feature_ref;

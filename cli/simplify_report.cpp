@@ -67,12 +67,20 @@ Json field_bounds_json(const LevelResult& l) {
     components.push_back(e);
   }
   return {{"max_bound_rel", r.field_bound_rel},
+          {"mode", to_string(r.field_bound_mode)},  // "vertices" or "everywhere": where the bound holds
           {"components", components},
           {"measured_max_rel", l.field_error ? Json(l.field_error->worst_max_rel_at_original()) : Json(nullptr)},
           // The bound covers these only up to the tet they were attached to (engine/guarantees/field_bounds.h).
           {"original_vertices_outside",
            l.field_error ? Json(l.field_error->original_in_simplified.outside) : Json(nullptr)},
           // "pass" / "fail" (a measured error above its bound: the run fails), null when unchecked.
+          // Sampled inside the input's tets (check_bounds_densely): the largest error relative to
+          // the range, and how many samples exceed their tet's bound (a failure in everywhere mode).
+          {"dense", l.dense_bounds ? Json{{"points", l.dense_bounds->points},
+                                          {"outside", l.dense_bounds->outside},
+                                          {"max_error_rel", l.dense_bounds->worst_error_rel},
+                                          {"above_bound", l.dense_bounds->violations}}
+                                   : Json(nullptr)},
           {"check", l.field_bound_ok ? Json(*l.field_bound_ok ? "pass" : "fail") : Json(nullptr)},
           {"check_failures", split_lines(l.field_bound_failure)},
           {"bytes", r.field_bounds_bytes},
@@ -436,7 +444,9 @@ void print_field_bounds(const SimplifyJob& job, const LevelResult& last) {
   if (job.options.max_field_error > 0) limit += format_number(job.options.max_field_error) + " (field units)";
   if (job.options.max_field_error_rel > 0)
     limit += (limit.empty() ? "" : " and ") + format_number(job.options.max_field_error_rel) + " of the range";
-  row("bounds", "field error bound " + format_number(r.field_bound_rel) + " (relative to the range, worst component)" +
+  const bool everywhere = job.options.field_bound_mode == FieldBoundMode::kEverywhere;
+  row("bounds", "field error bound " + format_number(r.field_bound_rel) + " (relative to the range, worst component" +
+                    (everywhere ? ", at every point the output covers)" : ", at the original vertices)") +
                     (last.field_error ? ", measured " + format_number(last.field_error->worst_max_rel_at_original()) +
                                             " at the original vertices"
                                       : "") +
@@ -444,6 +454,13 @@ void print_field_bounds(const SimplifyJob& job, const LevelResult& last) {
                          ? " (" + format_count(last.field_error->original_in_simplified.outside) +
                                " of them outside the output: bounded only approximately)"
                          : "") +
+                    (last.dense_bounds ? ", " + format_number(last.dense_bounds->worst_error_rel) + " at " +
+                                             format_count(last.dense_bounds->points) + " points inside (" +
+                                             (last.dense_bounds->violations == 0
+                                                  ? std::string("none above its tet's bound")
+                                                  : format_count(last.dense_bounds->violations) + " above their tet's bound") +
+                                             ")"
+                                       : "") +
                     (last.field_bound_ok == false ? " FAIL: above the bound" : "") +
                     (limited ? "; limit " + limit + ", refused " +
                                    format_count(r.rejected_by(RejectReason::kFieldError)) + " collapses"

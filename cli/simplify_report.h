@@ -44,6 +44,10 @@ struct LevelResult {
   // fails the run like a changed topology). Unchecked: no bounds kept, no
   // metrics, or original vertices outside the output (bounded only approximately there).
   std::optional<bool> field_bound_ok;
+  // The bounds checked at kDenseBoundPoints points inside the input's tets and its vertices
+  // (metrics' check_bounds_densely): with --field-bound-mode everywhere an excess fails the run;
+  // with vertices it shows how far the error goes between the original vertices.
+  std::optional<topotet::DenseBoundCheck> dense_bounds;
   std::string field_bound_failure;  // what exceeded which bound, when field_bound_ok is false
   std::string differences;
   topotet::TopologyReport topology;

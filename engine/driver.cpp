@@ -49,6 +49,14 @@ const char* to_string(Optimize optimize) {
   return "?";
 }
 
+const char* to_string(FieldBoundMode mode) {
+  switch (mode) {
+    case FieldBoundMode::kVertices: return "vertices";
+    case FieldBoundMode::kEverywhere: return "everywhere";
+  }
+  return "?";
+}
+
 const char* to_string(RejectReason reason) { return to_string(static_cast<CollapseReason>(reason)); }
 
 // RejectReason is the public face of the kernel's CollapseReason: same values.
@@ -76,6 +84,14 @@ std::string check_options(const SimplifyOptions& o) {
   if (!(o.max_field_error >= 0.0) || !std::isfinite(o.max_field_error)) return "max_field_error must be finite and >= 0";
   if (!(o.max_field_error_rel >= 0.0) || !std::isfinite(o.max_field_error_rel))
     return "max_field_error_rel must be finite and >= 0";
+  if (o.field_bound_mode != FieldBoundMode::kVertices && o.field_bound_mode != FieldBoundMode::kEverywhere)
+    return "field_bound_mode must be vertices or everywhere";
+  if (o.field_bound_mode == FieldBoundMode::kEverywhere && o.field_samples != nullptr)
+    return "field_bound_mode everywhere is not available out of core: the passes carry the original vertices, not "
+           "the original tets the bound is measured on";
+  if (o.field_bound_mode == FieldBoundMode::kEverywhere && !(o.max_field_error > 0.0 || o.max_field_error_rel > 0.0))
+    return "field_bound_mode everywhere needs a limit (max_field_error or max_field_error_rel): only a checked "
+           "collapse can be kept from moving a curved boundary, past which the bound would not hold";
   if (o.num_threads < 0) return "num_threads must be >= 0";
   if (!(o.round_fraction > 0.0 && o.round_fraction <= 1.0)) return "round_fraction must be in (0, 1]";
   if (!(o.feature_angle >= 0.0 && o.feature_angle <= 180.0)) return "feature_angle must be in [0, 180] degrees";
@@ -269,11 +285,14 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
           carried->bounds = std::move(bound);
           for (std::uint32_t& t : carried->tet) t = tet_old2new[t];
           bounds = std::make_unique<FieldBounds>(mesh, std::move(*carried), options.max_field_error, options.max_field_error_rel);
+          if (options.field_bound_mode == FieldBoundMode::kEverywhere) bounds->set_everywhere(mesh);
         } else {
           bounds = std::make_unique<FieldBounds>(mesh, options.max_field_error, options.max_field_error_rel);
+          if (options.field_bound_mode == FieldBoundMode::kEverywhere) bounds->set_everywhere(mesh);
         }
         kernel.field_bounds = bounds.get();
         report.field_bounds = true;
+        report.field_bound_mode = options.field_bound_mode;
         report.field_bounds_bytes = bounds->memory_bytes();
         report.field_bounds_setup_seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();

@@ -92,6 +92,7 @@ module topotet
     ! the run before its target, the report gives the values that hold; 0: hard limits
     integer(c_int) :: relax_tolerance, relax_quality
     integer(c_int) :: relax_features  ! 1 (default): feature curves dropped where they would stop the run short
+    integer(c_int) :: field_bound_mode  ! 0 = bound at the original vertices (default), 1 = everywhere (needs a limit)
   end type
 
   type, bind(c), public :: topotet_report

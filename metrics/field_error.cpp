@@ -18,6 +18,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -605,6 +606,121 @@ FieldError FieldErrorReference::compare(const MeshData& simplified) const {
 
 FieldError compare_fields(const MeshData& original, const MeshData& simplified) {
   return FieldErrorReference(original).compare(simplified);
+}
+
+DenseBoundCheck check_bounds_densely(const MeshData& original, const MeshData& simplified, const std::vector<float>& tet_bounds,
+                                     std::uint64_t points, std::uint64_t seed) {
+  check_tets(original, "original");
+  check_tets(simplified, "simplified");
+  // The matched components: (original field, simplified field, component, offset in the bounds).
+  struct Match {
+    const VertexField* orig;
+    const VertexField* simp;
+    int component;
+    std::size_t offset;
+    double range;
+  };
+  std::vector<Match> matches;
+  std::size_t stride = 0;
+  for (const VertexField& f : simplified.fields) stride += static_cast<std::size_t>(f.components);
+  std::size_t offset = 0;
+  const std::vector<VertId> used = used_vertices(original);
+  for (const VertexField& f : simplified.fields) {
+    const VertexField* o = nullptr;
+    for (const VertexField& g : original.fields)
+      if (g.name == f.name && g.components == f.components && o == nullptr) o = &g;
+    if (o != nullptr) {
+      check_field(original, *o, "original");
+      check_field(simplified, f, "simplified");
+      for (int c = 0; c < f.components; ++c) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (VertId x : used) {
+          const double v = o->values[x * static_cast<std::size_t>(o->components) + c];
+          lo = std::min(lo, v);
+          hi = std::max(hi, v);
+        }
+        matches.push_back({o, &f, c, offset + static_cast<std::size_t>(c), hi > lo ? hi - lo : 1.0});
+      }
+    }
+    offset += static_cast<std::size_t>(f.components);
+  }
+  if (tet_bounds.size() != simplified.tets.size() * stride)
+    throw std::invalid_argument("check_bounds_densely: " + std::to_string(tet_bounds.size()) + " bounds for " +
+                                std::to_string(simplified.tets.size()) + " tets of " + std::to_string(stride) + " components");
+  DenseBoundCheck out;
+  if (matches.empty() || original.tets.empty() || simplified.tets.empty()) return out;
+  const TetLocator locator(simplified);
+  std::vector<std::pair<TetId, int>> corner_of(original.positions.size(), {kInvalid, 0});  // a tet of each vertex
+  for (TetId t = original.tets.size(); t-- > 0;)
+    for (int k = 0; k < 4; ++k) corner_of[original.tets[t][k]] = {t, k};
+  const std::uint64_t total = points + used.size();
+  const std::size_t blocks = static_cast<std::size_t>((total + kBlock - 1) / kBlock);
+  std::vector<DenseBoundCheck> part(blocks);
+  const auto orig_points = [&](TetId t) {
+    const auto& tv = original.tets[t];
+    const auto& P = original.positions;
+    return std::array<glm::dvec3, 4>{to_glm(P[tv[0]]), to_glm(P[tv[1]]), to_glm(P[tv[2]]), to_glm(P[tv[3]])};
+  };
+  parallel::for_range<std::size_t>(0, blocks, 1, "dense_bounds", [&](std::size_t b0, std::size_t b1) {
+    for (std::size_t b = b0; b < b1; ++b) {
+      DenseBoundCheck& r = part[b];
+      std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + b);  // one stream per block: any thread count
+      std::uniform_real_distribution<double> uniform(0.0, 1.0);
+      for (std::uint64_t i = b * kBlock; i < std::min<std::uint64_t>(total, (b + 1) * kBlock); ++i) {
+        // The point, its original tet and its barycentric coordinates there.
+        TetId t;
+        Bary w{};
+        if (i < points) {
+          t = static_cast<TetId>(i % original.tets.size());
+          double sum = 0.0;
+          for (double& x : w) sum += (x = -std::log(1.0 - uniform(rng)));  // uniform in the tet (Dirichlet(1,1,1,1))
+          for (double& x : w) x /= sum;
+        } else {
+          // An original vertex: as a corner of the first tet that has it.
+          const auto [s, k] = corner_of[used[i - points]];
+          t = s;
+          w[static_cast<std::size_t>(k)] = 1.0;
+        }
+        const auto p = orig_points(t);
+        const glm::dvec3 q = w[0] * p[0] + w[1] * p[1] + w[2] * p[2] + w[3] * p[3];
+        const Location loc = locator.locate(q);
+        if (loc.outside) {
+          ++r.outside;
+          continue;
+        }
+        ++r.points;
+        const auto& ov = original.tets[t];
+        const auto& sv = simplified.tets[loc.tet];
+        for (const Match& m : matches) {
+          const std::size_t ok = static_cast<std::size_t>(m.orig->components), sk = static_cast<std::size_t>(m.simp->components);
+          double f = 0.0, g = 0.0;
+          for (int k = 0; k < 4; ++k) {
+            f += w[k] * m.orig->values[ov[k] * ok + m.component];
+            g += loc.bary[k] * m.simp->values[sv[k] * sk + m.component];
+          }
+          const double error = std::abs(f - g);
+          const double bound = tet_bounds[loc.tet * stride + m.offset];
+          r.worst_error_rel = std::max(r.worst_error_rel, error / m.range);
+          r.worst_excess_rel = std::max(r.worst_excess_rel, (error - bound) / m.range);
+          if (error > bound * (1.0 + 1e-9) + 1e-12 * m.range) {
+            if (r.violations++ == 0)
+              r.first_violation = m.simp->name + "[" + std::to_string(m.component) + "] error " + std::to_string(error) +
+                                  " at (" + std::to_string(q.x) + ", " + std::to_string(q.y) + ", " + std::to_string(q.z) +
+                                  ") in tet " + std::to_string(loc.tet) + ", bound " + std::to_string(bound);
+          }
+        }
+      }
+    }
+  });
+  for (const DenseBoundCheck& r : part) {  // in block order: the first violation is the same for any thread count
+    out.points += r.points;
+    out.outside += r.outside;
+    if (out.violations == 0 && r.violations > 0) out.first_violation = r.first_violation;
+    out.violations += r.violations;
+    out.worst_error_rel = std::max(out.worst_error_rel, r.worst_error_rel);
+    out.worst_excess_rel = std::max(out.worst_excess_rel, r.worst_excess_rel);
+  }
+  return out;
 }
 
 std::vector<std::string> field_bound_violations(const FieldError& measured, const std::vector<double>& bounds) {

@@ -329,8 +329,13 @@ topotet::Optimize optimize_of(const std::string& name) {
 topotet::SimplifyOptions run_options(double ratio, std::uint64_t target_vertices, double tolerance_rel, double tolerance,
                                      double min_quality, double min_dihedral, double size_weight, double max_cost,
                                      int threads, double feature_angle, const std::string& optimize,
-                                     double max_field_error, double max_field_error_rel, bool field_bounds) {
+                                     double max_field_error, double max_field_error_rel, bool field_bounds,
+                                     const std::string& field_bound_mode = "vertices") {
   topotet::SimplifyOptions o;
+  if (field_bound_mode == "everywhere")
+    o.field_bound_mode = topotet::FieldBoundMode::kEverywhere;
+  else if (field_bound_mode != "vertices")
+    throw py::value_error("field_bound_mode must be 'vertices' or 'everywhere', got '" + field_bound_mode + "'");
   o.target_vertex_ratio = ratio;
   o.target_vertices = target_vertices;
   o.tolerance_rel = tolerance_rel;
@@ -397,6 +402,7 @@ py::dict report_dict(const topotet::Report& r) {
   // (field units, fields in order) and relative to the range; None when not kept.
   d["field_bound"] = r.field_bounds ? py::cast(r.field_bound) : py::none();
   d["field_bound_rel"] = r.field_bounds ? py::cast(r.field_bound_rel) : py::none();
+  d["field_bound_mode"] = r.field_bounds ? py::cast(std::string(topotet::to_string(r.field_bound_mode))) : py::none();
   return d;
 }
 
@@ -455,7 +461,8 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
                   const std::optional<std::string>& hierarchy, const std::string& optimize,
                   const py::object& isosurfaces, const py::object& cell_fields, const py::object& cell_kinds,
                   const std::vector<std::string>& extensive, const std::vector<std::string>& categorical,
-                  bool relax_tolerance, bool relax_quality, bool relax_features, bool field_bounds) {
+                  bool relax_tolerance, bool relax_quality, bool relax_features, bool field_bounds,
+                  const std::string& field_bound_mode) {
   std::vector<py::array> keep;
   keep.reserve(4 + (fields.is_none() ? 0 : py::len(fields)));  // the views point into these arrays
   const topotet::MeshView input =
@@ -476,7 +483,7 @@ py::dict simplify(const py::object& points, const py::object& tets, const py::ob
   remap.categorical = categorical;
   topotet::SimplifyOptions options = run_options(ratio, target_vertices, tolerance_rel, tolerance, min_quality, min_dihedral,
                                                   size_weight, max_cost, threads, feature_angle, optimize, max_field_error,
-                                                  max_field_error_rel, field_bounds);
+                                                  max_field_error_rel, field_bounds, field_bound_mode);
   options.relax_tolerance = relax_tolerance;
   options.relax_quality = relax_quality;
   options.relax_features = relax_features;
@@ -576,6 +583,7 @@ PYBIND11_MODULE(_core, m) {
         d["max_field_error"] = defaults.max_field_error;
         d["max_field_error_rel"] = defaults.max_field_error_rel;
         d["field_bounds"] = defaults.track_field_bounds;
+        d["field_bound_mode"] = topotet::to_string(defaults.field_bound_mode);
         d["boundary_weight"] = defaults.boundary_weight;
         d["polyline_weight"] = defaults.polyline_weight;
         d["round_fraction"] = defaults.round_fraction;
@@ -605,6 +613,7 @@ PYBIND11_MODULE(_core, m) {
         py::arg("extensive") = std::vector<std::string>{}, py::arg("categorical") = std::vector<std::string>{},
         py::arg("relax_tolerance") = defaults.relax_tolerance, py::arg("relax_quality") = defaults.relax_quality,
         py::arg("relax_features") = defaults.relax_features, py::arg("field_bounds") = defaults.track_field_bounds,
+        py::arg("field_bound_mode") = topotet::to_string(defaults.field_bound_mode),
         "Simplifies the mesh, keeping its topology and that of every substructure. The options and their "
         "defaults are topotet::SimplifyOptions': the geometric tolerance (tolerance_rel, 0.4% of the diagonal; "
         "0 turns it off; where it would stop the run before its target H doubles unless relax_tolerance=False, and "
@@ -613,7 +622,8 @@ PYBIND11_MODULE(_core, m) {
         "short, unless relax_features=False) (180 turns them off), field_weights {name: weight}, "
         "field error limits (max_field_error in the field's units, max_field_error_rel relative to its range; "
         "0 = none; field_bounds=True keeps the bounds without a limit; report['field_bound'] / ['field_bound_rel'] "
-        "give them), optimize ('none', 'light' or 'full': smoothing and flips after the collapses), isosurfaces (the "
+        "give them; field_bound_mode='everywhere' makes them hold at every point the output covers, not only at the "
+        "original vertices, for a price: docs/guarantees.md), optimize ('none', 'light' or 'full': smoothing and flips after the collapses), isosurfaces (the "
         "list embed_isosurfaces returns: the vertices of those levels' triangles keep the level exactly), cell_fields "
         "{name: (m,) or (m, components)} per-tet arrays carried onto the output tets by overlap volume with their "
         "cell_kinds {name: 'intensive' (default) | 'categorical' | 'extensive'} (or the names listed in extensive / "

@@ -26,7 +26,8 @@ done
 # parallel engine with a limit. Their other tests measure with compare_fields, whose Embree scene
 # is built by Embree's own threads (invisible to TSan, which then reports races inside Embree).
 echo "--- TSan: unit_field_bounds (parallel engine with bounds)"
-build-tsan/tests/unit_field_bounds --gtest_brief=1 --gtest_filter='FieldBounds.SameOutputAndBoundsForAnyThreadCount'
+build-tsan/tests/unit_field_bounds --gtest_brief=1 \
+  --gtest_filter='FieldBounds.SameOutputAndBoundsForAnyThreadCount:FieldBoundsEverywhere.SameOutputAndBoundsForAnyThreadCount'
 # The tolerance's surface items (engine/guarantees/surface_coverage.h) move in the parallel apply phase.
 echo "--- TSan: unit_surface_tolerance (parallel engine with the tolerance, 1/2/4 threads)"
 build-tsan/tests/unit_surface_tolerance --gtest_brief=1 --gtest_filter='SimplifyTolerance.ParallelOutputIsIdenticalForEveryThreadCount'

@@ -239,6 +239,20 @@ else
   fail "--max-field-error-rel: bound above E, measured above the bound, or not reported"
 fi
 expect_any_error field_bounds_with_levels -- "$topotet" simplify in.mesh -o lv.mesh --levels 0.5,0.3 --max-field-error 1
+# --field-bound-mode everywhere: the bound holds at the dense samples between the vertices too.
+expect 0 simplify_field_bounds_everywhere -- "$topotet" simplify in.mesh -o fe.mesh --ratio 0.05 --max-field-error-rel 0.01 \
+  --field-bound-mode everywhere --no-verify --report fe.json
+if python3 -c '
+import json, sys
+b = json.load(open(sys.argv[1]))["levels"][0]["field_bounds"]
+ok = b["mode"] == "everywhere" and b["max_bound_rel"] <= 0.01 and b["check"] == "pass" and b["dense"]["points"] > 0 \
+    and b["dense"]["above_bound"] == 0 and b["dense"]["max_error_rel"] <= 0.01 * (1 + 1e-9)
+sys.exit(0 if ok else 1)' fe.json && grep -q '^bounds .*at every point the output covers.*none above' simplify_field_bounds_everywhere.out; then
+  pass "--field-bound-mode everywhere: no dense sample above its tet's bound, reported"
+else
+  fail "--field-bound-mode everywhere: a dense sample above the bound, or not reported"
+fi
+expect_any_error everywhere_without_limit -- "$topotet" simplify in.mesh -o never.mesh --field-bound-mode everywhere --field-bounds
 expect 0 simplify_feature_ref -- "$topotet" simplify in.mesh -o fr.mesh --ratio 0.3 --feature-ref 99
 expect 0 convert_features -- "$topotet" convert in.mesh feat.mesh --features 99
 if grep -q ' 99$' feat.mesh && grep -q ' 99$' fr.mesh; then pass "feature edges written with their ref"; else fail "no feature edges with ref 99"; fi

@@ -41,7 +41,7 @@ program fortran_cell_fields_test
       integer(c_int), value :: capacity
     end function
   end interface
-  integer, parameter :: n = 4, nv = (n + 1)**3, nt = 6 * n**3, nopt = 26
+  integer, parameter :: n = 4, nv = (n + 1)**3, nt = 6 * n**3, nopt = 27
   real(c_double), target :: xyz(3, nv), density(nt), mass(1, nt), c_values(32), bad(nt)
   integer(c_int32_t), target :: tets(4, nt), material(nt), label(nt)
   integer(c_int), target :: progress_calls
@@ -70,19 +70,19 @@ program fortran_cell_fields_test
   call topotet_options_init(options)
   if (probe_options(c_null_ptr, c_values, size(c_values)) /= nopt) error stop "the C probe knows another field count"
   if (maxval(abs(options_as_reals(options) - c_values(1:nopt))) > 0d0) then
-    print '("Fortran: ", 26g12.5)', options_as_reals(options)
-    print '("C:       ", 26g12.5)', c_values(1:nopt)
+    print '("Fortran: ", 27g12.5)', options_as_reals(options)
+    print '("C:       ", 27g12.5)', c_values(1:nopt)
     error stop "topotet_options_init from Fortran differs from C's"
   end if
   ! Every field set through its Fortran name to its position (pointers: to something) reads so in C.
   options = topotet_options(1d0, 2_c_int64_t, 3d0, 4d0, 5d0, 6d0, 7d0, 8d0, 9, 10, 11d0, 12d0, 13d0, 14d0, 15, &
                             c_loc(xyz), c_loc(xyz), 18, 19, c_funloc(count_progress), c_loc(progress_calls), &
-                            22d0, 23d0, 24, 25, 26)
+                            22d0, 23d0, 24, 25, 26, 27)
   expected = [(real(i, c_double), i = 1, nopt)]
   expected([16, 17, 20, 21]) = 1d0
   if (probe_options(c_loc(options), c_values, size(c_values)) /= nopt) error stop "probe"
   if (maxval(abs(c_values(1:nopt) - expected)) > 0d0) then
-    print '("C reads: ", 26f5.0)', c_values(1:nopt)
+    print '("C reads: ", 27f5.0)', c_values(1:nopt)
     error stop "a topotet_options field of the Fortran type is not where C has it"
   end if
 
@@ -182,7 +182,8 @@ contains
          merge(1d0, 0d0, c_associated(o%field_weights)), real(o%optimize, c_double), &
          real(o%track_field_bounds, c_double), merge(1d0, 0d0, c_associated(o%progress)), &
          merge(1d0, 0d0, c_associated(o%progress_user_data)), o%min_dihedral, o%size_weight, &
-         real(o%relax_tolerance, c_double), real(o%relax_quality, c_double), real(o%relax_features, c_double)]
+         real(o%relax_tolerance, c_double), real(o%relax_quality, c_double), real(o%relax_features, c_double), &
+         real(o%field_bound_mode, c_double)]
   end function
 
 end program fortran_cell_fields_test

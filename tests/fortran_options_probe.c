@@ -18,7 +18,7 @@ size_t topotet_probe_sizeof(int which) {
 }
 
 /* The fields of *options (NULL: of a fresh topotet_options_init) in declaration order, as doubles
- * (pointers as 1 = set, 0 = NULL). Returns the count (22), or -1 when capacity is too small. */
+ * (pointers as 1 = set, 0 = NULL). Returns the count (27), or -1 when capacity is too small. */
 int topotet_probe_options(const topotet_options* options, double* values, int capacity) {
   topotet_options fresh;
   if (options == NULL) {
@@ -50,7 +50,8 @@ int topotet_probe_options(const topotet_options* options, double* values, int ca
                       options->size_weight,
                       options->relax_tolerance,
                       options->relax_quality,
-                      options->relax_features};
+                      options->relax_features,
+                      options->field_bound_mode};
   const int n = (int)(sizeof v / sizeof v[0]);
   if (capacity < n) return -1;
   for (int i = 0; i < n; ++i) values[i] = v[i];

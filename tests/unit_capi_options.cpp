@@ -47,6 +47,7 @@ TEST(CapiOptions, DefaultsAreTheLibrarys) {
   EXPECT_EQ(c.round_fraction, d.round_fraction);
   EXPECT_EQ(c.feature_angle, d.feature_angle);
   EXPECT_EQ(c.max_field_error, d.max_field_error);
+  EXPECT_EQ(c.field_bound_mode, static_cast<int>(d.field_bound_mode));
   EXPECT_EQ(c.max_field_error_rel, d.max_field_error_rel);
   EXPECT_EQ(c.field_weight_count, static_cast<int>(d.field_weights.size()));
   EXPECT_EQ(c.field_weight_names, nullptr);
@@ -76,7 +77,7 @@ TEST(CapiOptions, DefaultsAreTheLibrarys) {
 //   field_samples - the field error bounds' samples carried likewise (C reaches them through
 //                   topotet_simplify_out_of_core)
 TEST(CapiOptions, FieldCountIsKnown) {
-  constexpr std::size_t in_c = 24;        // every other field
+  constexpr std::size_t in_c = 25;        // every other field
   constexpr std::size_t engine_only = 5;  // round_log, cost_units, quadrics_in, quadrics_out, field_samples
   EXPECT_EQ(field_count<topotet::SimplifyOptions>(), in_c + engine_only)
       << "SimplifyOptions changed: add the field to topotet_options (capi/include/topotet/topotet_c.h, at the end), "

@@ -24,6 +24,7 @@
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,7 @@
 
 #include "mesh/glm_convert.h"
 #include "entry_points.h"
+#include "guarantees/field_bounds.h"
 #include "mesh/mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/generate.h"
@@ -328,6 +330,187 @@ TEST(FieldBounds, OffByDefaultAndRefusesBadLimits) {
   MeshModel other = build_mesh_model(input);
   EXPECT_EQ(simplify(other, bad).status, Status::kInvalidInput);
   EXPECT_STREQ(to_string(RejectReason::kFieldError), "field_error");
+}
+
+// --- everywhere (SimplifyOptions::field_bound_mode, field_bounds.h "Everywhere") --------------------
+
+// One collapse u <- v at the edge's midpoint (u's new values the mean), as the kernel hands it to
+// the bounds: the star's tets with their moving corner, and St(uv).
+struct OneCollapse {
+  FieldBoundsScratch s;
+  std::vector<TetId> removed, old_star;
+};
+OneCollapse star_of_collapse(const MeshModel& mesh, VertId u, VertId v) {
+  OneCollapse c;
+  for (VertId end : {u, v})
+    mesh.for_each_tet_of(end, [&](TetId t) {
+      const auto& tv = mesh.tets[t];
+      const bool has_u = std::find(tv.begin(), tv.end(), u) != tv.end(), has_v = std::find(tv.begin(), tv.end(), v) != tv.end();
+      if (end == v && has_u) return;  // seen from u
+      c.old_star.push_back(t);
+      if (has_u && has_v) {
+        c.removed.push_back(t);
+        return;
+      }
+      for (std::uint8_t k = 0; k < 4; ++k)
+        if (tv[k] == end) c.s.star.push_back({t, k});
+    });
+  return c;
+}
+
+// The bounds of the new star after evaluate() against the error at `per_tet` random points of
+// each new tet, located in the old star (which the new one tiles: an interior edge). Returns how
+// many points exceed their tet's bound.
+std::size_t dense_excess_of_one_collapse(const MeshModel& mesh, const FieldBounds& bounds, VertId u, VertId v, int per_tet,
+                                         std::mt19937_64& rng, std::size_t& points) {
+  OneCollapse c = star_of_collapse(mesh, u, v);
+  const glm::dvec3 p = 0.5 * (mesh.positions[u] + mesh.positions[v]);
+  const double at_p = 0.5 * (mesh.field_values[u] + mesh.field_values[v]);
+  EXPECT_TRUE(bounds.evaluate(mesh, c.removed, u, p, &at_p, c.s, false));
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::size_t excess = 0;
+  for (std::size_t i = 0; i < c.s.star.size(); ++i) {
+    const auto& corner = c.s.corners[i];
+    for (int n = 0; n < per_tet; ++n) {
+      Bary w;
+      double sum = 0.0;
+      for (double& x : w) sum += (x = -std::log(1.0 - uniform(rng)));
+      glm::dvec3 q(0.0);
+      double simplified = 0.0;
+      for (int k = 0; k < 4; ++k) q += (w[k] / sum) * corner[k], simplified += (w[k] / sum) * c.s.values[i][k][0];
+      // The original field: the old star's tet holding q (the original mesh: no collapse yet).
+      double original = std::numeric_limits<double>::quiet_NaN(), best = -1.0;
+      for (TetId t : c.old_star) {
+        Bary l;
+        std::array<glm::dvec3, 4> pts;
+        for (int k = 0; k < 4; ++k) pts[k] = mesh.positions[mesh.tets[t][k]];
+        const glm::dvec3 a = pts[0] - q, b = pts[1] - q, cc = pts[2] - q, d = pts[3] - q;
+        auto det = [](const glm::dvec3& x, const glm::dvec3& y, const glm::dvec3& z) { return glm::dot(x, glm::cross(y, z)); };
+        l = {det(b, cc, d), -det(a, cc, d), det(a, b, d), -det(a, b, cc)};
+        const double total = l[0] + l[1] + l[2] + l[3];
+        for (double& x : l) x /= total;
+        if (smallest(l) > best) {
+          best = smallest(l);
+          original = 0.0;
+          for (int k = 0; k < 4; ++k) original += l[k] * mesh.field_values[mesh.tets[t][k]];
+        }
+      }
+      EXPECT_GE(best, -1e-9) << "a point of the new star outside the old one";
+      ++points;
+      if (std::fabs(original - simplified) > c.s.bounds[i] * (1.0 + 1e-9) + 1e-12) ++excess;
+    }
+  }
+  return excess;
+}
+
+// Interior edges of the box, in a fixed random order.
+std::vector<std::pair<VertId, VertId>> interior_edges(const MeshModel& mesh, std::size_t count, std::uint64_t seed) {
+  std::vector<std::uint8_t> boundary(mesh.vertex_capacity(), 0);
+  for (VertId x = 0; x < mesh.vertex_capacity(); ++x) {
+    const glm::dvec3& q = mesh.positions[x];
+    for (int k = 0; k < 3; ++k) boundary[x] |= q[k] < 1e-9 || q[k] > 1.0 - 1e-9;
+  }
+  std::vector<std::pair<VertId, VertId>> edges;
+  for (TetId t = 0; t < mesh.tets.size(); ++t)
+    for (const auto& e : kTetEdges) {
+      const VertId a = mesh.tets[t][e[0]], b = mesh.tets[t][e[1]];
+      if (a < b && !boundary[a] && !boundary[b]) edges.push_back({a, b});
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::shuffle(edges.begin(), edges.end(), std::mt19937_64(seed));
+  edges.resize(std::min(count, edges.size()));
+  return edges;
+}
+
+// The overlay's bound holds at a million random points of the new stars of 40 collapses on the
+// sharp front; with the crossings skipped (the planted fault) the same points find it too low.
+TEST(FieldBoundsEverywhere, OneCollapseBoundHoldsDenselyAndTheCrossingsAreNeeded) {
+  MeshData input = box();
+  set_field(input, kFront);
+  const MeshModel mesh = build_mesh_model(input);
+  FieldBounds bounds(mesh, 0.0, 0.0), faulty(mesh, 0.0, 0.0);
+  bounds.set_everywhere(mesh);
+  faulty.set_everywhere(mesh);
+  faulty.plant_fault_skip_crossings();
+  std::size_t points = 0, excess = 0, fault_excess = 0, fault_points = 0;
+  std::mt19937_64 rng(7), fault_rng(7);
+  for (const auto& [u, v] : interior_edges(mesh, 40, 3)) {
+    excess += dense_excess_of_one_collapse(mesh, bounds, u, v, 1000, rng, points);
+    fault_excess += dense_excess_of_one_collapse(mesh, faulty, u, v, 1000, fault_rng, fault_points);
+  }
+  EXPECT_GE(points, 1000000u);
+  EXPECT_EQ(excess, 0u);
+  EXPECT_GT(fault_excess, 0u) << "the planted fault (crossings skipped) went unnoticed";
+  std::printf("[ bounds ] one collapse, %zu points: %zu above the bound; crossings skipped: %zu above\n", points, excess,
+              fault_excess);
+}
+
+// Whole runs: a million points inside the input (and its vertices) find no error above the bound
+// of the output tet holding them (metrics' check_bounds_densely), where the vertex bound is
+// exceeded between the vertices; the limit holds.
+TEST(FieldBoundsEverywhere, WholeRunsHoldAtAMillionPoints) {
+  for (const auto& [name, base] : {std::pair<const char*, MeshData>{"box", box()}, {"cube-sphere", cube_sphere()}}) {
+    MeshData input = base;
+    set_field(input, kFront);
+    SimplifyOptions options;
+    options.max_field_error_rel = 0.05;
+    options.field_bound_mode = FieldBoundMode::kEverywhere;
+    const Outcome r = run(input, Engine::kParallel, options, 0.1);
+    ASSERT_EQ(r.report.status == Status::kInvalidInput, false) << r.report.message;
+    EXPECT_EQ(r.report.field_bound_mode, FieldBoundMode::kEverywhere);
+    EXPECT_LE(r.report.field_bound_rel, 0.05) << name;
+    EXPECT_LT(r.report.vertices_after, input.vertex_count() / 2) << name << ": the mode must still simplify";
+    const DenseBoundCheck dense = check_bounds_densely(input, r.output, r.report.tet_field_bound, 1000000, 11);
+    EXPECT_EQ(dense.violations, 0u) << name << ": " << dense.first_violation;
+    EXPECT_EQ(dense.outside, 0u) << name << ": the boundary may not move";
+    EXPECT_LE(dense.worst_error_rel, 0.05 * (1 + 1e-9)) << name;
+    // The vertex bound at the same limit: exceeded between the vertices (why the mode exists).
+    SimplifyOptions vertices = options;
+    vertices.field_bound_mode = FieldBoundMode::kVertices;
+    const Outcome rv = run(input, Engine::kParallel, vertices, 0.1);
+    const DenseBoundCheck dv = check_bounds_densely(input, rv.output, rv.report.tet_field_bound, 200000, 11);
+    EXPECT_GT(dv.violations, 0u) << name << ": the vertex bound held everywhere; this test no longer shows the difference";
+    std::printf("[ bounds ] %s: everywhere %zu -> %llu vertices, %llu points, worst %.4g of the range; vertices mode "
+                "%llu vertices, worst %.4g, %llu points above their bound\n",
+                name, input.vertex_count(), static_cast<unsigned long long>(r.report.vertices_after),
+                static_cast<unsigned long long>(dense.points), dense.worst_error_rel,
+                static_cast<unsigned long long>(rv.report.vertices_after), dv.worst_error_rel,
+                static_cast<unsigned long long>(dv.violations));
+  }
+}
+
+// The lists of original tets move in the parallel apply phase (scripts/tsan.sh runs this one).
+TEST(FieldBoundsEverywhere, SameOutputAndBoundsForAnyThreadCount) {
+  MeshData input = box();
+  set_field(input, kFront);
+  SimplifyOptions options;
+  options.max_field_error_rel = 0.05;
+  options.field_bound_mode = FieldBoundMode::kEverywhere;
+  std::vector<Outcome> runs;
+  for (int threads : {1, 2, 4}) {
+    options.num_threads = threads;
+    runs.push_back(run(input, Engine::kParallel, options, 0.1));
+  }
+  for (std::size_t i = 1; i < runs.size(); ++i) {
+    EXPECT_EQ(runs[i].output.positions, runs[0].output.positions);
+    EXPECT_EQ(runs[i].output.tets, runs[0].output.tets);
+    EXPECT_EQ(runs[i].report.tet_field_bound, runs[0].report.tet_field_bound);
+  }
+}
+
+TEST(FieldBoundsEverywhere, NeedsALimitAndIsNotOutOfCore) {
+  MeshData input = box();
+  set_field(input, kQuadratic);
+  SimplifyOptions options;
+  options.field_bound_mode = FieldBoundMode::kEverywhere;
+  options.track_field_bounds = true;
+  MeshModel mesh = build_mesh_model(input);
+  const Report r = simplify(mesh, options);
+  EXPECT_EQ(r.status, Status::kInvalidInput);
+  EXPECT_NE(r.message.find("needs a limit"), std::string::npos) << r.message;
+  EXPECT_STREQ(to_string(FieldBoundMode::kEverywhere), "everywhere");
+  EXPECT_STREQ(to_string(FieldBoundMode::kVertices), "vertices");
 }
 
 }  // namespace

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 namespace topotet {
@@ -142,6 +144,135 @@ std::uint32_t locate(const FieldBoundsScratch& s, const glm::dvec3& q, std::uint
   return best;
 }
 
+// --- everywhere (field_bounds.h) ----------------------------------------------------------------
+
+using AffineTet = FieldBoundsScratch::AffineTet;
+
+// A tet's barycentric functions, lambda_i(x) = dot(gradient[i], x - corner[i + 1]) (the opposite
+// face's first corner as origin: relative coordinates keep them accurate far from the origin).
+void make_affine(AffineTet& a) {
+  a.lo = a.hi = a.corner[0];
+  for (const glm::dvec3& x : a.corner) {
+    a.lo = glm::min(a.lo, x);
+    a.hi = glm::max(a.hi, x);
+  }
+  a.centre = 0.25 * (a.corner[0] + a.corner[1] + a.corner[2] + a.corner[3]);
+  a.radius = 0.0;
+  for (const glm::dvec3& x : a.corner) a.radius = std::max(a.radius, glm::length(x - a.centre));
+  a.flat = false;
+  for (int i = 0; i < 4; ++i) {
+    const glm::dvec3& x = a.corner[(i + 1) % 4];
+    const glm::dvec3 n = glm::cross(a.corner[(i + 2) % 4] - x, a.corner[(i + 3) % 4] - x);
+    const double d = glm::dot(n, a.corner[i] - x);
+    if (!(std::fabs(d) > 0.0) || !std::isfinite(d)) {
+      a.flat = true;
+      return;
+    }
+    a.gradient[i] = n / d;
+    a.gradient_length[i] = glm::length(a.gradient[i]);
+  }
+}
+
+double lambda(const AffineTet& a, int i, const glm::dvec3& x) { return glm::dot(a.gradient[i], x - a.corner[(i + 1) % 4]); }
+
+// Raises out[c] (new tet n's bounds) to |original - new| + slack at every vertex of the cell
+// o ∩ n, o an original tet (field_bounds.h, "Everywhere"): corners of either tet inside the other,
+// and the crossings of either's edges with the other's face planes that lie inside it.
+// Barycentric coordinates down to -kInsideTolerance count as inside: a vertex of the cell a
+// rounding away is taken with the cell's (the difference is affine on the cell, so this changes
+// the result by rounding only, which the slack covers). Returns whether the cell has a vertex
+// (o is then one of n's original tets). With `limit` (a check: only "within the limit?" matters),
+// the difference at o's four corners is tried first: the cell lies in o, where the difference is
+// affine, so its largest value there bounds the cell's; the cell's own vertices are found only
+// when that bound exceeds the limit.
+bool raise_by_cell(const AffineTet& o, const AffineTet& n, std::size_t k, const double* slack, const double* limit,
+                   bool skip_crossings, double* out) {
+  // o's bounding sphere beyond a face plane of n: disjoint (most pairs whose boxes meet).
+  for (int j = 0; j < 4; ++j)
+    if (lambda(n, j, o.centre) < -(o.radius * n.gradient_length[j] + kInsideTolerance)) return false;
+  double in_n[4][4], in_o[4][4];  // in_n[i][j]: lambda^n_j at o's corner i; in_o the other way
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) in_n[i][j] = lambda(n, j, o.corner[i]);
+  // A face plane of one tet with every corner of the other beyond it separates them (l[i][j]: the
+  // first's barycentric coordinate j at the other's corner i).
+  const auto separated = [](const double (*l)[4]) {
+    for (int j = 0; j < 4; ++j)
+      if (l[0][j] < -kInsideTolerance && l[1][j] < -kInsideTolerance && l[2][j] < -kInsideTolerance && l[3][j] < -kInsideTolerance)
+        return true;
+    return false;
+  };
+  if (separated(in_n)) return false;
+  const auto new_at_o = [&](int i, std::size_t c) {
+    return in_n[i][0] * n.values[0][c] + in_n[i][1] * n.values[1][c] + in_n[i][2] * n.values[2][c] + in_n[i][3] * n.values[3][c];
+  };
+  // The largest error at o's corners (o holds the cell, and the error is affine on o).
+  const auto at_corners = [&](std::size_t c) {
+    double e = 0.0;
+    for (int i = 0; i < 4; ++i) e = std::max(e, std::fabs(o.values[i][c] - new_at_o(i, c)));
+    return e + slack[c];
+  };
+  if (limit != nullptr) {
+    bool within = true;
+    for (std::size_t c = 0; c < k && within; ++c) within = at_corners(c) <= limit[c];
+    if (within) {
+      for (std::size_t c = 0; c < k; ++c) out[c] = std::max(out[c], at_corners(c));
+      return true;
+    }
+  }
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) in_o[i][j] = lambda(o, j, n.corner[i]);
+  if (separated(in_o)) return false;
+  bool found = false;
+  const auto raise = [&](auto&& old_value, auto&& new_value) {
+    found = true;
+    for (std::size_t c = 0; c < k; ++c) {
+      const double e = std::fabs(old_value(c) - new_value(c)) + slack[c];
+      if (e > out[c]) out[c] = e;
+    }
+  };
+  // A check stops at the first cell vertex above the limit (the placement is refused).
+  const auto over = [&] {
+    if (limit != nullptr)
+      for (std::size_t c = 0; c < k; ++c)
+        if (static_cast<double>(round_up(out[c])) > limit[c]) return true;
+    return false;
+  };
+  const auto inside = [](const double* l) { return std::min(std::min(l[0], l[1]), std::min(l[2], l[3])) >= -kInsideTolerance; };
+  for (int i = 0; i < 4; ++i) {
+    if (inside(in_n[i])) raise([&](std::size_t c) { return o.values[i][c]; }, [&](std::size_t c) { return new_at_o(i, c); });
+    if (inside(in_o[i]))
+      raise([&](std::size_t c) { return in_o[i][0] * o.values[0][c] + in_o[i][1] * o.values[1][c] + in_o[i][2] * o.values[2][c] + in_o[i][3] * o.values[3][c]; },
+            [&](std::size_t c) { return n.values[i][c]; });
+  }
+  if (over()) return true;
+  // Edges of `a` crossing the face planes of `b` (l[i][j]: lambda^b_j at a's corner i).
+  const auto crossings = [&](const AffineTet& a, const AffineTet& b, const double (*l)[4], bool a_is_old) {
+    for (const auto& e : kTetEdges) {
+      const int x = e[0], y = e[1];
+      for (int f = 0; f < 4; ++f) {
+        const double lx = l[x][f], ly = l[y][f];
+        if (!((lx < 0.0 && ly > 0.0) || (lx > 0.0 && ly < 0.0))) continue;
+        const double t = lx / (lx - ly);
+        double at[4];
+        for (int j = 0; j < 4; ++j) at[j] = j == f ? 0.0 : l[x][j] + t * (l[y][j] - l[x][j]);
+        if (!inside(at)) continue;
+        const auto on_edge = [&](std::size_t c) { return (1.0 - t) * a.values[x][c] + t * a.values[y][c]; };
+        const auto in_b = [&](std::size_t c) { return at[0] * b.values[0][c] + at[1] * b.values[1][c] + at[2] * b.values[2][c] + at[3] * b.values[3][c]; };
+        if (a_is_old)
+          raise(on_edge, in_b);
+        else
+          raise(in_b, on_edge);
+        if (over()) return;
+      }
+    }
+  };
+  if (!skip_crossings) {
+    crossings(o, n, in_n, true);
+    if (!over()) crossings(n, o, in_o, false);
+  }
+  return found;
+}
+
 }  // namespace
 
 FieldBounds::FieldBounds(const MeshModel& mesh, double max_abs, double max_rel) : k_(mesh.field_stride()) {
@@ -199,6 +330,7 @@ FieldBounds::FieldBounds(const MeshModel& mesh, FieldBoundSamples&& samples, dou
     head_[t] = static_cast<std::uint32_t>(w);
   }
   samples = FieldBoundSamples{};
+  carried_ = true;
   set_limits(max_abs, max_rel);
 }
 
@@ -233,6 +365,20 @@ void FieldBounds::release(const MeshModel& mesh, FieldBoundSamples& out) {
   out.values = std::move(sample_values_);
   out.tet = std::move(tet_of);
   *this = FieldBounds();
+}
+
+void FieldBounds::set_everywhere(const MeshModel& mesh) {
+  if (carried_) throw std::invalid_argument("field_bound_mode everywhere: not with samples carried from an earlier pass (out of core)");
+  everywhere_ = true;
+  // Every live tet is an original tet (its vertex ids are its samples' ids: the samples were taken
+  // from this mesh) that overlaps itself alone.
+  originals_.clear();
+  overlaps_.assign(mesh.tets.size(), {});
+  for (TetId t = 0; t < mesh.tets.size(); ++t) {
+    if (mesh.flags[t] & tet_flag::kDead) continue;
+    overlaps_[t].push_back(static_cast<std::uint32_t>(originals_.size()));
+    originals_.push_back(mesh.tets[t]);
+  }
 }
 
 void FieldBounds::set_limits(double max_abs, double max_rel) {
@@ -302,6 +448,139 @@ bool FieldBounds::evaluate(const MeshModel& mesh, std::span<const TetId> removed
       }
     }
   }
+  return !everywhere_ || overlay_bounds(mesh, removed, p, s, stop_at_limit);
+}
+
+bool FieldBounds::overlay_bounds(const MeshModel& mesh, std::span<const TetId> removed, const glm::dvec3& p,
+                                 FieldBoundsScratch& s, bool stop_at_limit) const {
+  const std::size_t n = s.star.size(), k = static_cast<std::size_t>(k_);
+  // The old stencil: the star's tets as they are, and the removed ones.
+  s.old_tets.clear();
+  VertId moving[2] = {kInvalid, kInvalid};
+  const auto add_old = [&](TetId t) {
+    AffineTet a;
+    const auto& tv = mesh.tets[t];
+    for (int j = 0; j < 4; ++j) {
+      a.corner[j] = mesh.positions[tv[j]];
+      a.values[j] = &mesh.field_values[tv[j] * k];
+    }
+    a.tet = t;
+    make_affine(a);
+    s.old_tets.push_back(a);
+  };
+  for (const BoundStarTet& st : s.star) {
+    add_old(st.tet);
+    const VertId m = mesh.tets[st.tet][st.corner];
+    if (moving[0] == kInvalid || moving[0] == m)
+      moving[0] = m;
+    else
+      moving[1] = m;
+  }
+  for (TetId t : removed) add_old(t);
+  // The stencil's boundary must stay where it is: its faces through a moving vertex are the only
+  // ones that move; they stay in place when their moving corners are at p already (and none has
+  // two), or when they all lie in one plane with p (a flat boundary retriangulated within it).
+  s.faces.clear();
+  for (const AffineTet& a : s.old_tets) {
+    const auto& tv = mesh.tets[a.tet];
+    for (const auto& f : kTetFaces) {
+      std::array<VertId, 3> face{tv[f[0]], tv[f[1]], tv[f[2]]};
+      bool through = false;
+      for (VertId x : face) through = through || x == moving[0] || x == moving[1];
+      if (!through) continue;
+      std::sort(face.begin(), face.end());
+      s.faces.push_back(face);
+    }
+  }
+  std::sort(s.faces.begin(), s.faces.end());
+  bool in_place = true, any_boundary = false;
+  glm::dvec3 plane_normal(0.0), plane_point(0.0), lo(p), hi(p);
+  bool planar = true;
+  for (std::size_t i = 0; i < s.faces.size();) {
+    std::size_t j = i + 1;
+    while (j < s.faces.size() && s.faces[j] == s.faces[i]) ++j;
+    if (j - i == 1) {  // a face of one tet: the boundary
+      const auto& face = s.faces[i];
+      int moving_corners = 0;
+      for (VertId x : face) {
+        lo = glm::min(lo, mesh.positions[x]);
+        hi = glm::max(hi, mesh.positions[x]);
+        if (x == moving[0] || x == moving[1]) {
+          ++moving_corners;
+          if (mesh.positions[x] != p) in_place = false;
+        }
+      }
+      if (moving_corners > 1) in_place = false;
+      const glm::dvec3 a = mesh.positions[face[0]];
+      const glm::dvec3 nrm = glm::cross(mesh.positions[face[1]] - a, mesh.positions[face[2]] - a);
+      if (!any_boundary) {
+        const double l = glm::length(nrm);
+        if (l > 0.0) plane_normal = nrm / l; else planar = false;
+        plane_point = a;
+      }
+      any_boundary = true;
+    }
+    i = j;
+  }
+  if (any_boundary && !in_place) {
+    const double tol = 1e-12 * glm::length(hi - lo);
+    const auto on_plane = [&](const glm::dvec3& x) { return std::fabs(glm::dot(plane_normal, x - plane_point)) <= tol; };
+    planar = planar && on_plane(p);
+    for (std::size_t i = 0; i < s.faces.size() && planar;) {
+      std::size_t j = i + 1;
+      while (j < s.faces.size() && s.faces[j] == s.faces[i]) ++j;
+      if (j - i == 1)
+        for (VertId x : s.faces[i]) planar = planar && on_plane(mesh.positions[x]);
+      i = j;
+    }
+    if (!planar) return false;
+  }
+  // The original tets that overlap the old stencil (the lists of its tets), each once.
+  s.candidates.clear();
+  for (const AffineTet& a : s.old_tets) s.candidates.insert(s.candidates.end(), overlaps_[a.tet].begin(), overlaps_[a.tet].end());
+  std::sort(s.candidates.begin(), s.candidates.end());
+  s.candidates.erase(std::unique(s.candidates.begin(), s.candidates.end()), s.candidates.end());
+  s.originals.resize(s.candidates.size());
+  for (std::size_t i = 0; i < s.candidates.size(); ++i) {
+    AffineTet& a = s.originals[i];
+    const auto& tv = originals_[s.candidates[i]];
+    for (int j = 0; j < 4; ++j) {
+      a.corner[j] = sample_position(tv[j]);
+      a.values[j] = &sample_values_[static_cast<std::size_t>(tv[j]) * k];
+    }
+    a.tet = s.candidates[i];
+    make_affine(a);
+  }
+  // The new star: each tet's error is largest at a vertex of one of its cells with the original
+  // tets, where both fields are affine.
+  s.new_tets.resize(n);
+  if (s.new_overlaps.size() < n) s.new_overlaps.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    AffineTet& t = s.new_tets[i];
+    t.corner = s.corners[i];
+    t.values = s.values[i];
+    t.tet = s.star[i].tet;
+    make_affine(t);
+    double* out = &s.bounds[i * k];
+    std::vector<std::uint32_t>& list = s.new_overlaps[i];
+    list.clear();
+    if (t.flat) {  // no tet the kernel accepts; a bound cannot be given
+      for (std::size_t c = 0; c < k; ++c) out[c] = std::numeric_limits<double>::infinity();
+    } else {
+      for (const AffineTet& o : s.originals) {
+        const bool boxes_meet = !(o.hi.x < t.lo.x || t.hi.x < o.lo.x || o.hi.y < t.lo.y || t.hi.y < o.lo.y ||
+                                  o.hi.z < t.lo.z || t.hi.z < o.lo.z);
+        if (boxes_meet && !o.flat && raise_by_cell(o, t, k, slack_.data(), stop_at_limit ? limit_.data() : nullptr, skip_crossings_, out))
+          list.push_back(o.tet);
+        if (stop_at_limit)
+          for (std::size_t c = 0; c < k; ++c)
+            if (static_cast<double>(round_up(out[c])) > limit_[c]) return false;  // refused: no need to go on
+      }
+    }
+    if (stop_at_limit)
+      for (std::size_t c = 0; c < k; ++c)
+        if (static_cast<double>(round_up(out[c])) > limit_[c]) return false;
+  }
   return true;
 }
 
@@ -315,6 +594,10 @@ float FieldBounds::commit(std::span<const TetId> removed, FieldBoundsScratch& s)
     const TetId t = s.star[s.lands[i]].tet;
     next_[w] = head_[t];
     head_[t] = w;
+  }
+  if (everywhere_) {
+    for (TetId t : removed) std::vector<std::uint32_t>().swap(overlaps_[t]);
+    for (std::size_t i = 0; i < n; ++i) overlaps_[s.star[i].tet].assign(s.new_overlaps[i].begin(), s.new_overlaps[i].end());
   }
   float worst_rel = 0.0f;
   for (std::size_t i = 0; i < n; ++i)
@@ -356,7 +639,13 @@ double FieldBounds::max_bound_rel(const MeshModel& mesh) const {
 std::size_t FieldBounds::memory_bytes() const {
   return range_.capacity() * 4 * sizeof(double) + bound_.capacity() * sizeof(float) +
          (head_.capacity() + next_.capacity()) * sizeof(std::uint32_t) + sample_xyz_.capacity() * sizeof(double) +
-         sample_values_.capacity() * sizeof(double);
+         sample_values_.capacity() * sizeof(double) + originals_.capacity() * sizeof(originals_[0]) + overlaps_bytes();
+}
+
+std::size_t FieldBounds::overlaps_bytes() const {
+  std::size_t bytes = overlaps_.capacity() * sizeof(overlaps_[0]);
+  for (const auto& list : overlaps_) bytes += list.capacity() * sizeof(std::uint32_t);
+  return bytes;
 }
 
 }  // namespace topotet

@@ -13,12 +13,12 @@
 // over several simplified tets has no such guarantee between its vertices: the simplified field
 // bends inside it (measured in tests/unit_field_bounds.cpp and docs/performance.md "Field error bounds").
 //
-// Why samples and not paper 003's accumulation rule: the paper bounds the error over the whole
-// tet by adding, at every intersection point of the old and new tets, the interpolants'
-// difference to the old bound; in 3D those are the edge-face intersections of two stars (about a
-// thousand segment-triangle tests per collapse) and the bounds only grow (each collapse adds to
-// the last). Samples are exact where the field is defined (the metrics measure at the same
-// points), never accumulate slack, and cost one point location per sample of the stencil.
+// Why samples by default and not paper 003's accumulation rule: the paper bounds the error over
+// the whole tet by adding, at every intersection point of the old and new tets, the interpolants'
+// difference to the old bound, so the bounds only grow (each collapse adds to the last: measured,
+// the 50k cube-sphere stopped at 67% of its vertices at a 2% limit). Samples are exact where the
+// field is defined (the metrics measure at the same points), never accumulate slack, and cost one
+// point location per sample of the stencil. The bound everywhere (below) is exact too, for a price.
 //
 // How they are kept. At a collapse u <- v (collapse.h), the samples of St(u) ∪ St(v) are
 // located in the new star (u at p with its new values): first in the tet that held them (most
@@ -39,6 +39,24 @@
 // refused like one that exceeds the limit: every sample then stays inside the mesh and the bound
 // holds at every original vertex. The price: a convex curved boundary cannot retreat past the
 // original vertices on it (flat boundaries and concave ones simplify freely).
+//
+// Everywhere (set_everywhere, SimplifyOptions::field_bound_mode): the bound of a tet holds at
+// every point of it inside the input domain, not only at the samples. Every live tet lists the
+// ORIGINAL tets it overlaps (at the start, itself). At a collapse, for each new tet T' and each
+// original tet τ listed by the old stencil St(u) ∪ St(v), the error f - f~ is affine on the cell
+// T' ∩ τ (f is affine on τ, f~ on T'), so its largest |value| there is at a vertex of the cell: a
+// corner of τ inside T', a corner of T' inside τ, or a crossing of an edge of one with a face of
+// the other (each an intersection of three of the eight face planes). bound(T') = the largest over
+// those vertices (and at least the samples' bound), and T' lists the τ whose cell has a vertex.
+// The cells tile T' when the stencil's region does not change, so then the bound covers all of T':
+// a collapse whose boundary faces through u or v are neither left in place (their moving corner
+// already at p) nor all in one plane with p is refused (evaluate() returns false). Unlike paper
+// 003's rule (the old bound plus |f~old - f~new| at the overlay of the old and new stars), nothing
+// accumulates: the bound is the exact maximum. A check (stop_at_limit) first bounds each cell by
+// the error at τ's four corners (the cell lies in τ) and finds the cell's vertices only where that
+// exceeds the limit. Everything read and written is in the stencil (the lists are per tet), so
+// collapses with disjoint stencils still commute. Not with carried samples (out of core: the
+// passes do not carry the original tets).
 //
 // Memory: per tet one list head and one float per component; per original vertex its position,
 // its values and a list link: (4 + 4k) bytes per tet + (28 + 8k) bytes per vertex. Carried from
@@ -72,6 +90,22 @@ struct FieldBoundsScratch {
   std::vector<std::uint32_t> home;                   // [sample] star index of its tet, or kInvalid
   std::vector<std::uint32_t> lands;                  // [sample] star index where it lands
   std::vector<double> bounds;                        // [star index * k + c]
+  // Everywhere (overlay_bounds): the old stencil's tets and their affine barycentric functions.
+  struct AffineTet {
+    std::array<glm::dvec3, 4> corner;
+    std::array<const double*, 4> values;
+    std::array<glm::dvec3, 4> gradient;  // lambda_i(x) = dot(gradient[i], x - corner[i + 1 mod 4])
+    std::array<double, 4> gradient_length;
+    glm::dvec3 lo, hi;                   // bounding box
+    glm::dvec3 centre;                   // and a bounding sphere
+    double radius;
+    TetId tet;
+    bool flat;                           // no barycentric functions (zero volume)
+  };
+  std::vector<AffineTet> old_tets, new_tets, originals;
+  std::vector<std::uint32_t> candidates;                  // original tets of the old stencil
+  std::vector<std::vector<std::uint32_t>> new_overlaps;   // [star index] original tets it overlaps
+  std::vector<std::array<VertId, 3>> faces;  // faces through a moving vertex, sorted corners
 };
 
 class FieldBounds {
@@ -89,6 +123,15 @@ class FieldBounds {
   // id); a sample no tet holds (an unused vertex) is dropped. Leaves this object empty.
   void release(const MeshModel& mesh, FieldBoundSamples& out);
 
+  // The bounds hold everywhere from now on (the header's "Everywhere"): call before the first
+  // collapse, on the mesh the samples were taken from. Otherwise at the samples only.
+  // Throws std::invalid_argument with carried samples (out of core: the original tets are not
+  // carried between passes).
+  void set_everywhere(const MeshModel& mesh);
+  // For the tests' planted fault only: the overlay then skips the crossings of edges with faces
+  // (the corners alone), which under-estimates the bounds (tests/unit_field_bounds.cpp).
+  void plant_fault_skip_crossings() { skip_crossings_ = true; }
+  bool everywhere() const { return everywhere_; }
   int components() const { return k_; }
   // Range (max - min over the samples) of component c; 1 for a constant component.
   double range(int c) const { return range_[static_cast<std::size_t>(c)]; }
@@ -102,7 +145,8 @@ class FieldBounds {
   // lists its tets with their moving corner, `removed` the tets of St(uv). `fields_at_p` are u's
   // new values (nullptr: u's current values). Pure (reads the mesh and the bounds). With
   // `stop_at_limit`, returns false as soon as one bound would exceed its limit or one sample would
-  // end up outside the new star; otherwise always true. The result is left in `s` for commit().
+  // end up outside the new star (everywhere: or the stencil's boundary would move); otherwise
+  // always true. The result is left in `s` for commit().
   bool evaluate(const MeshModel& mesh, std::span<const TetId> removed, VertId u, const glm::dvec3& p,
                 const double* fields_at_p, FieldBoundsScratch& s, bool stop_at_limit) const;
 
@@ -128,12 +172,25 @@ class FieldBounds {
 
  private:
   void set_limits(double max_abs, double max_rel);  // from range_ and magnitude_
+  // Everywhere: raises s.bounds to the overlay's bounds (header); false when the stencil's boundary
+  // would move (with stop_at_limit, also when a bound would exceed its limit).
+  bool overlay_bounds(const MeshModel& mesh, std::span<const TetId> removed, const glm::dvec3& p,
+                      FieldBoundsScratch& s, bool stop_at_limit) const;
   glm::dvec3 sample_position(std::uint32_t w) const {
     return {sample_xyz_[3 * std::size_t{w}], sample_xyz_[3 * std::size_t{w} + 1], sample_xyz_[3 * std::size_t{w} + 2]};
   }
 
   int k_ = 0;
   bool has_limit_ = false;
+  bool everywhere_ = false;
+  bool carried_ = false;
+  bool skip_crossings_ = false;  // plant_fault_skip_crossings  // samples from an earlier pass: their tets are not the original ones
+  // Everywhere: the original tets (sample ids), and per live tet the original tets it overlaps
+  // (a superset: a touching one may be listed). Each tet's list is written by its own stencil's
+  // collapse only.
+  std::vector<std::array<std::uint32_t, 4>> originals_;
+  std::vector<std::vector<std::uint32_t>> overlaps_;
+  std::size_t overlaps_bytes() const;
   std::vector<double> range_, magnitude_, limit_, slack_;  // [component]
   std::vector<float> bound_;                     // [tet * k + c]
   std::vector<std::uint32_t> head_;              // [tet] first sample, kInvalid = none

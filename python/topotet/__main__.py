@@ -3,6 +3,7 @@
     python -m topotet simplify IN -o OUT [--ratio R | --target-vertices N] [--tolerance-rel H]
         [--feature-angle A] [--hard-limits] [--threads T] [--optimize none|light|full] [--isosurface FIELD=V[,V...]]
         [--field-weight NAME=W] [--max-field-error E] [--max-field-error-rel E] [--field-bounds]
+        [--field-bound-mode vertices|everywhere]
         [--extensive NAME] [--categorical NAME] [--vertex-map MAP.npy|MAP.txt] [--quiet]
     python -m topotet info IN
 
@@ -44,7 +45,7 @@ def _simplify(args):
     read_seconds = time.perf_counter() - start
     options = {k: getattr(args, k) for k in ("ratio", "target_vertices", "tolerance_rel", "tolerance", "feature_angle",
                                              "threads", "optimize", "max_field_error", "max_field_error_rel",
-                                             "min_quality", "min_dihedral", "size_weight")
+                                             "min_quality", "min_dihedral", "size_weight", "field_bound_mode")
                if getattr(args, k) is not None}
     # A limit given holds as given; the defaults relax where they would stop the run before its
     # target (SimplifyOptions::relax_tolerance, relax_quality), as `topotet simplify` does.
@@ -136,6 +137,8 @@ def main(argv=None):
     s.add_argument("--max-field-error", type=float, help="field error bound per component, field units")
     s.add_argument("--max-field-error-rel", type=float, help="the same relative to each component's range")
     s.add_argument("--field-bounds", action="store_true", help="keep the field error bounds and report them, without a limit")
+    s.add_argument("--field-bound-mode", choices=["vertices", "everywhere"], default=None,
+                   help="where the bound holds: the original vertices (default) or every point the output covers")
     s.add_argument("--field-weight", action="append", default=[], metavar="NAME=W", help="a field's weight in the cost")
     s.add_argument("--isosurface", action="append", default=[], metavar="FIELD=V[,V...]", help="keep these level sets' topology")
     s.add_argument("--extensive", action="append", default=[], metavar="NAME", help="a cell array conserved as a sum")

@@ -159,6 +159,8 @@ typedef struct topotet_options {
   int relax_quality;          /* 1 (default): the same for min_quality and min_dihedral, halved; 0: hard */
   int relax_features;         /* 1 (default): where their corners would stop the run before its target, the
                                  feature curves lower than the relaxed H are dropped; 0: kept */
+  int field_bound_mode;       /* what the field error bound covers: 0 = the original vertices (default), 1 =
+                                 every point the output covers (needs a limit; a curved boundary stays) */
 } topotet_options;
 
 /* Same counters as topotet::Report. */

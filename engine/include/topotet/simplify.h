@@ -68,6 +68,13 @@ enum class Engine : std::uint8_t {
 enum class Optimize : std::uint8_t { kNone, kLight, kFull };
 const char* to_string(Optimize optimize);  // "none", "light", "full"
 
+// What a field error bound covers (SimplifyOptions::field_bound_mode; engine/guarantees/field_bounds.h):
+// kVertices: the original vertices (exact there; between them the simplified field may bend past
+// it); kEverywhere: every point of the input domain that the simplified mesh covers (paper 003's
+// rule, in 3D), for a price: a boundary that is not flat around a collapse cannot move.
+enum class FieldBoundMode : std::uint8_t { kVertices, kEverywhere };
+const char* to_string(FieldBoundMode mode);  // "vertices", "everywhere"
+
 // The default geometric tolerance, relative to the bounding box diagonal (SimplifyOptions).
 inline constexpr double kDefaultToleranceRel = 0.004;
 // SimplifyOptions::size_weight: any negative value means "auto", which is kAutoSizeWeight when no
@@ -191,6 +198,12 @@ struct SimplifyOptions {
   double max_field_error = 0.0;
   double max_field_error_rel = 0.0;
   bool track_field_bounds = false;
+  // kEverywhere: each tet's bound holds at every point of it inside the input domain, not only at
+  // the original vertices (paper 003 §3.1: at a collapse, the new tets' bounds are the largest
+  // old bound plus |old field - new field| over the vertices of the overlay of the old and new
+  // stars). Needs a limit (max_field_error or max_field_error_rel): a collapse that would move a
+  // boundary that is not flat around it is refused, which only a check can do.
+  FieldBoundMode field_bound_mode = FieldBoundMode::kVertices;
   // The bounds are kept: a limit or track_field_bounds (and the mesh has fields).
   bool keeps_field_bounds() const { return max_field_error > 0.0 || max_field_error_rel > 0.0 || track_field_bounds; }
   // Runs in passes (out of core) carry the bounds (FieldBoundSamples above). When set and the
@@ -343,6 +356,7 @@ struct Report {
   // tets per field component (fields in order, then components; field units), and the largest
   // relative to the component's range. Empty / 0 when the bounds were not kept.
   bool field_bounds = false;
+  FieldBoundMode field_bound_mode = FieldBoundMode::kVertices;  // what they cover (SimplifyOptions)
   std::vector<double> field_bound;
   double field_bound_rel = 0.0;
   // Per output tet (the simplified mesh's numbering) and component: [tet * field_stride() + c].

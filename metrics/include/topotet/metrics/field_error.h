@@ -26,6 +26,8 @@
 //    empty.
 #pragma once
 
+#include <limits>
+
 #include <cstddef>
 #include <memory>
 #include <string>
@@ -96,6 +98,27 @@ FieldError compare_fields(const MeshData& original, const MeshData& simplified);
 // rounding may put it a hair above: 1e-9 of the bound and 1e-12 of the range are allowed. Only
 // meaningful when no original vertex lies outside the simplified mesh (LocationStats::outside).
 std::vector<std::string> field_bound_violations(const FieldError& measured, const std::vector<double>& bounds);
+
+// A dense check of per-tet field error bounds that claim to hold at every point (simplify
+// --field-bound-mode everywhere; engine/guarantees/field_bounds.h): `points` points inside the
+// original's tets (point i in tet i mod T, uniformly distributed in it; deterministic for a
+// seed), plus every original vertex, are located in the simplified mesh (as compare_fields does);
+// at each, every field component matched by name (same component count) is interpolated in both
+// meshes, and the error is compared with the bound of the simplified tet holding the point
+// (`tet_bounds`: [tet * c_total + offset], the simplified mesh's fields in order, as
+// Report::tet_field_bound gives them). Points outside the simplified mesh (its boundary moved
+// inward past them) are counted and not compared: no tet holds them. A bound counts as exceeded
+// above bound * (1 + 1e-9) + 1e-12 * range (the interpolations round on their own).
+struct DenseBoundCheck {
+  std::uint64_t points = 0;      // points located inside the simplified mesh and compared
+  std::uint64_t outside = 0;     // points outside it (not compared)
+  std::uint64_t violations = 0;  // (point, component) pairs above their tet's bound
+  double worst_error_rel = 0.0;  // the largest error relative to its component's range
+  double worst_excess_rel = -std::numeric_limits<double>::infinity();  // max (error - bound) / range
+  std::string first_violation;   // "field[c] error E at (x, y, z) in tet T, bound B", or empty
+};
+DenseBoundCheck check_bounds_densely(const MeshData& original, const MeshData& simplified, const std::vector<float>& tet_bounds,
+                                     std::uint64_t points, std::uint64_t seed);
 
 // The original prepared once (its checked tets, its used vertices, and its point locator, built
 // on the first comparison that needs it), for comparing several simplified meshes with it, as
