@@ -181,12 +181,14 @@ double lambda(const AffineTet& a, int i, const glm::dvec3& x) { return glm::dot(
 // Barycentric coordinates down to -kInsideTolerance count as inside: a vertex of the cell a
 // rounding away is taken with the cell's (the difference is affine on the cell, so this changes
 // the result by rounding only, which the slack covers). Returns whether the cell has a vertex
-// (o is then one of n's original tets). With `limit` (a check: only "within the limit?" matters),
-// the difference at o's four corners is tried first: the cell lies in o, where the difference is
-// affine, so its largest value there bounds the cell's; the cell's own vertices are found only
-// when that bound exceeds the limit.
+// (o is then one of n's original tets). With `limit` (a run under a limit: a bound is only asked
+// to be a bound within it), two cheap bounds are tried first: the difference at o's four corners
+// (the cell lies in o, where the difference is affine) and at the box the tets' boxes share; the
+// cell's own vertices are found only when both exceed the limit. The check and the commit of a
+// placement take the same path, so the bound stored is the one the check accepted. With
+// `stop_at_limit` (a check), the search stops at the first cell vertex above the limit.
 bool raise_by_cell(const AffineTet& o, const AffineTet& n, std::size_t k, const double* slack, const double* limit,
-                   bool skip_crossings, double* out) {
+                   bool stop_at_limit, bool skip_crossings, double* out) {
   // o's bounding sphere beyond a face plane of n: disjoint (most pairs whose boxes meet).
   for (int j = 0; j < 4; ++j)
     if (lambda(n, j, o.centre) < -(o.radius * n.gradient_length[j] + kInsideTolerance)) return false;
@@ -211,11 +213,28 @@ bool raise_by_cell(const AffineTet& o, const AffineTet& n, std::size_t k, const 
     for (int i = 0; i < 4; ++i) e = std::max(e, std::fabs(o.values[i][c] - new_at_o(i, c)));
     return e + slack[c];
   };
+  // The cell lies in the box common to both tets' boxes too: on it |d| <= |d(centre)| + the
+  // gradient of d against the half-extents (d = f_o - f_n is affine). Tighter where the tets
+  // overlap in a corner only, where o's corners lie far outside n.
+  const glm::dvec3 box_lo = glm::max(o.lo, n.lo), box_hi = glm::min(o.hi, n.hi);
+  const glm::dvec3 centre = 0.5 * (box_lo + box_hi), half = 0.5 * (box_hi - box_lo);
+  double at_centre_o[4], at_centre_n[4];
+  for (int j = 0; j < 4; ++j) at_centre_o[j] = lambda(o, j, centre), at_centre_n[j] = lambda(n, j, centre);
+  const auto in_box = [&](std::size_t c) {
+    double d = 0.0;
+    glm::dvec3 g(0.0);
+    for (int j = 0; j < 4; ++j) {
+      d += o.values[j][c] * at_centre_o[j] - n.values[j][c] * at_centre_n[j];
+      g += o.values[j][c] * o.gradient[j] - n.values[j][c] * n.gradient[j];
+    }
+    return std::fabs(d) + std::fabs(g.x) * half.x + std::fabs(g.y) * half.y + std::fabs(g.z) * half.z + slack[c];
+  };
+  const auto either = [&](std::size_t c) { return std::min(at_corners(c), in_box(c)); };
   if (limit != nullptr) {
     bool within = true;
-    for (std::size_t c = 0; c < k && within; ++c) within = at_corners(c) <= limit[c];
+    for (std::size_t c = 0; c < k && within; ++c) within = either(c) <= limit[c];
     if (within) {
-      for (std::size_t c = 0; c < k; ++c) out[c] = std::max(out[c], at_corners(c));
+      for (std::size_t c = 0; c < k; ++c) out[c] = std::max(out[c], either(c));
       return true;
     }
   }
@@ -232,7 +251,7 @@ bool raise_by_cell(const AffineTet& o, const AffineTet& n, std::size_t k, const 
   };
   // A check stops at the first cell vertex above the limit (the placement is refused).
   const auto over = [&] {
-    if (limit != nullptr)
+    if (stop_at_limit && limit != nullptr)
       for (std::size_t c = 0; c < k; ++c)
         if (static_cast<double>(round_up(out[c])) > limit[c]) return true;
     return false;
@@ -570,7 +589,7 @@ bool FieldBounds::overlay_bounds(const MeshModel& mesh, std::span<const TetId> r
       for (const AffineTet& o : s.originals) {
         const bool boxes_meet = !(o.hi.x < t.lo.x || t.hi.x < o.lo.x || o.hi.y < t.lo.y || t.hi.y < o.lo.y ||
                                   o.hi.z < t.lo.z || t.hi.z < o.lo.z);
-        if (boxes_meet && !o.flat && raise_by_cell(o, t, k, slack_.data(), stop_at_limit ? limit_.data() : nullptr, skip_crossings_, out))
+        if (boxes_meet && !o.flat && raise_by_cell(o, t, k, slack_.data(), has_limit_ ? limit_.data() : nullptr, stop_at_limit, skip_crossings_, out))
           list.push_back(o.tet);
         if (stop_at_limit)
           for (std::size_t c = 0; c < k; ++c)
