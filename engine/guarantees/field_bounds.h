@@ -52,9 +52,11 @@
 // a collapse whose boundary faces through u or v are neither left in place (their moving corner
 // already at p) nor all in one plane with p is refused (evaluate() returns false). Unlike paper
 // 003's rule (the old bound plus |f~old - f~new| at the overlay of the old and new stars), nothing
-// accumulates: the bound is the exact maximum. A check (stop_at_limit) first bounds each cell by
-// the error at τ's four corners (the cell lies in τ) and finds the cell's vertices only where that
-// exceeds the limit. Everything read and written is in the stencil (the lists are per tet), so
+// accumulates. Under a limit each cell is first bounded cheaply (the error at τ's four corners,
+// and on the box τ's and T''s boxes share: the cell lies in both) and its vertices are found only
+// where both exceed the limit; check and commit take the same path, so the bound stored is the
+// one the check accepted (a bound everywhere, within the limit; without a limit: the exact
+// maximum). Everything read and written is in the stencil (the lists are per tet), so
 // collapses with disjoint stencils still commute. Not with carried samples (out of core: the
 // passes do not carry the original tets).
 //
