@@ -26,9 +26,9 @@
 //    empty.
 #pragma once
 
-#include <limits>
-
 #include <cstddef>
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
