@@ -505,6 +505,16 @@ TEST(FieldBoundsEverywhere, NeedsALimitAndIsNotOutOfCore) {
   const Report r = simplify(mesh, options);
   EXPECT_EQ(r.status, Status::kInvalidInput);
   EXPECT_NE(r.message.find("needs a limit"), std::string::npos) << r.message;
+  // Out of core the passes carry samples (SimplifyOptions::field_samples), not the original tets.
+  FieldBoundSamples carried;
+  options.track_field_bounds = false;
+  options.max_field_error_rel = 0.05;
+  options.field_samples = &carried;
+  MeshModel other = build_mesh_model(input);
+  const Report ooc = simplify(other, options);
+  EXPECT_EQ(ooc.status, Status::kInvalidInput);
+  EXPECT_NE(ooc.message.find("not available out of core"), std::string::npos) << ooc.message;
+  EXPECT_EQ(other.live_vertex_count(), input.vertex_count()) << "refused before any collapse";
   EXPECT_STREQ(to_string(FieldBoundMode::kEverywhere), "everywhere");
   EXPECT_STREQ(to_string(FieldBoundMode::kVertices), "vertices");
 }
