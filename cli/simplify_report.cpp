@@ -454,13 +454,14 @@ void print_field_bounds(const SimplifyJob& job, const LevelResult& last) {
                          ? " (" + format_count(last.field_error->original_in_simplified.outside) +
                                " of them outside the output: bounded only approximately)"
                          : "") +
-                    (last.dense_bounds ? ", " + format_number(last.dense_bounds->worst_error_rel) + " at " +
-                                             format_count(last.dense_bounds->points) + " points inside (" +
-                                             (last.dense_bounds->violations == 0
-                                                  ? std::string("none above its tet's bound")
-                                                  : format_count(last.dense_bounds->violations) + " above their tet's bound") +
-                                             ")"
-                                       : "") +
+                    (last.dense_bounds && last.dense_bounds->points > 0
+                         ? ", " + format_number(last.dense_bounds->worst_error_rel) + " at " +
+                               format_count(last.dense_bounds->points) + " points inside (" +
+                               (last.dense_bounds->violations == 0
+                                    ? std::string("none above its tet's bound")
+                                    : format_count(last.dense_bounds->violations) + " above their tet's bound") +
+                               ")"
+                         : "") +
                     (last.field_bound_ok == false ? " FAIL: above the bound" : "") +
                     (limited ? "; limit " + limit + ", refused " +
                                    format_count(r.rejected_by(RejectReason::kFieldError)) + " collapses"
