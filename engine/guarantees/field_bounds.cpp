@@ -111,6 +111,13 @@ float round_up(double x) {
   return f;
 }
 
+// Some component's bound, stored as a float, would exceed its limit (the refusal test).
+bool above_limit(const double* bound, const double* limit, std::size_t k) {
+  for (std::size_t c = 0; c < k; ++c)
+    if (static_cast<double>(round_up(bound[c])) > limit[c]) return true;
+  return false;
+}
+
 // Where sample q lands in the new star: the index and the barycentric coordinates to interpolate
 // with (field_bounds.h says which tet).
 std::uint32_t locate(const FieldBoundsScratch& s, const glm::dvec3& q, std::uint32_t home, Bary& lambda, bool& outside) {
@@ -250,12 +257,7 @@ bool raise_by_cell(const AffineTet& o, const AffineTet& n, std::size_t k, const 
     }
   };
   // A check stops at the first cell vertex above the limit (the placement is refused).
-  const auto over = [&] {
-    if (stop_at_limit && limit != nullptr)
-      for (std::size_t c = 0; c < k; ++c)
-        if (static_cast<double>(round_up(out[c])) > limit[c]) return true;
-    return false;
-  };
+  const auto over = [&] { return stop_at_limit && limit != nullptr && above_limit(out, limit, k); };
   const auto inside = [](const double* l) { return std::min(std::min(l[0], l[1]), std::min(l[2], l[3])) >= -kInsideTolerance; };
   for (int i = 0; i < 4; ++i) {
     if (inside(in_n[i])) raise([&](std::size_t c) { return o.values[i][c]; }, [&](std::size_t c) { return new_at_o(i, c); });
@@ -511,48 +513,41 @@ bool FieldBounds::overlay_bounds(const MeshModel& mesh, std::span<const TetId> r
       s.faces.push_back(face);
     }
   }
+  // A face of one tet is on the boundary: keep those (a face of two tets appears twice).
   std::sort(s.faces.begin(), s.faces.end());
-  bool in_place = true, any_boundary = false;
-  glm::dvec3 plane_normal(0.0), plane_point(0.0), lo(p), hi(p);
-  bool planar = true;
+  std::size_t boundary = 0;
   for (std::size_t i = 0; i < s.faces.size();) {
     std::size_t j = i + 1;
     while (j < s.faces.size() && s.faces[j] == s.faces[i]) ++j;
-    if (j - i == 1) {  // a face of one tet: the boundary
-      const auto& face = s.faces[i];
-      int moving_corners = 0;
-      for (VertId x : face) {
-        lo = glm::min(lo, mesh.positions[x]);
-        hi = glm::max(hi, mesh.positions[x]);
-        if (x == moving[0] || x == moving[1]) {
-          ++moving_corners;
-          if (mesh.positions[x] != p) in_place = false;
-        }
-      }
-      if (moving_corners > 1) in_place = false;
-      const glm::dvec3 a = mesh.positions[face[0]];
-      const glm::dvec3 nrm = glm::cross(mesh.positions[face[1]] - a, mesh.positions[face[2]] - a);
-      if (!any_boundary) {
-        const double l = glm::length(nrm);
-        if (l > 0.0) plane_normal = nrm / l; else planar = false;
-        plane_point = a;
-      }
-      any_boundary = true;
-    }
+    if (j - i == 1) s.faces[boundary++] = s.faces[i];
     i = j;
   }
-  if (any_boundary && !in_place) {
-    const double tol = 1e-12 * glm::length(hi - lo);
-    const auto on_plane = [&](const glm::dvec3& x) { return std::fabs(glm::dot(plane_normal, x - plane_point)) <= tol; };
-    planar = planar && on_plane(p);
-    for (std::size_t i = 0; i < s.faces.size() && planar;) {
-      std::size_t j = i + 1;
-      while (j < s.faces.size() && s.faces[j] == s.faces[i]) ++j;
-      if (j - i == 1)
-        for (VertId x : s.faces[i]) planar = planar && on_plane(mesh.positions[x]);
-      i = j;
+  s.faces.resize(boundary);
+  bool in_place = true;
+  glm::dvec3 lo(p), hi(p);
+  for (const auto& face : s.faces) {
+    int moving_corners = 0;
+    for (VertId x : face) {
+      lo = glm::min(lo, mesh.positions[x]);
+      hi = glm::max(hi, mesh.positions[x]);
+      if (x == moving[0] || x == moving[1]) {
+        ++moving_corners;
+        if (mesh.positions[x] != p) in_place = false;
+      }
     }
-    if (!planar) return false;
+    if (moving_corners > 1) in_place = false;
+  }
+  if (!in_place) {  // then all in one plane with p: the first face's
+    const glm::dvec3 a = mesh.positions[s.faces[0][0]];
+    const glm::dvec3 normal = glm::cross(mesh.positions[s.faces[0][1]] - a, mesh.positions[s.faces[0][2]] - a);
+    const double length = glm::length(normal);
+    if (!(length > 0.0)) return false;
+    const double tol = 1e-12 * glm::length(hi - lo);
+    const auto on_plane = [&](const glm::dvec3& x) { return std::fabs(glm::dot(normal / length, x - a)) <= tol; };
+    if (!on_plane(p)) return false;
+    for (const auto& face : s.faces)
+      for (VertId x : face)
+        if (!on_plane(mesh.positions[x])) return false;
   }
   // The original tets that overlap the old stencil (the lists of its tets), each once.
   s.candidates.clear();
@@ -585,20 +580,17 @@ bool FieldBounds::overlay_bounds(const MeshModel& mesh, std::span<const TetId> r
     list.clear();
     if (t.flat) {  // no tet the kernel accepts; a bound cannot be given
       for (std::size_t c = 0; c < k; ++c) out[c] = std::numeric_limits<double>::infinity();
-    } else {
-      for (const AffineTet& o : s.originals) {
-        const bool boxes_meet = !(o.hi.x < t.lo.x || t.hi.x < o.lo.x || o.hi.y < t.lo.y || t.hi.y < o.lo.y ||
-                                  o.hi.z < t.lo.z || t.hi.z < o.lo.z);
-        if (boxes_meet && !o.flat && raise_by_cell(o, t, k, slack_.data(), has_limit_ ? limit_.data() : nullptr, stop_at_limit, skip_crossings_, out))
-          list.push_back(o.tet);
-        if (stop_at_limit)
-          for (std::size_t c = 0; c < k; ++c)
-            if (static_cast<double>(round_up(out[c])) > limit_[c]) return false;  // refused: no need to go on
-      }
+      if (stop_at_limit) return false;
+      continue;
     }
-    if (stop_at_limit)
-      for (std::size_t c = 0; c < k; ++c)
-        if (static_cast<double>(round_up(out[c])) > limit_[c]) return false;
+    for (const AffineTet& o : s.originals) {
+      const bool boxes_meet = !(o.hi.x < t.lo.x || t.hi.x < o.lo.x || o.hi.y < t.lo.y || t.hi.y < o.lo.y ||
+                                o.hi.z < t.lo.z || t.hi.z < o.lo.z);
+      if (boxes_meet && !o.flat &&
+          raise_by_cell(o, t, k, slack_.data(), has_limit_ ? limit_.data() : nullptr, stop_at_limit, skip_crossings_, out))
+        list.push_back(o.tet);
+      if (stop_at_limit && above_limit(out, limit_.data(), k)) return false;  // refused: no need to go on
+    }
   }
   return true;
 }
