@@ -47,6 +47,7 @@ struct ProposalScratch {
   std::vector<std::uint32_t> edge_order;
   std::array<std::uint64_t, kCollapseReasonCount> rejected{};
   std::vector<double> fields;  // the field error check's values at each placement
+  bool proved = false;         // the last check() included the tolerance proof
   std::uint64_t evaluations = 0, checks = 0;
 };
 
@@ -112,10 +113,12 @@ class Proposals {
     VertId second = kInvalid;          // kInvalid = runner-up unknown (or none)
     std::uint32_t verified_round = 0;  // round of the last successful verification; 0 = never
     std::int8_t placement = -1;        // verified: index into CostModel::candidates(a, b)
+    bool proved = false;               // verified with the tolerance proof (prove() has nothing to do)
     void set_best(double c, VertId x) {
       cost = c;
       b = x;
       placement = -1;
+      proved = false;
     }
   };
 

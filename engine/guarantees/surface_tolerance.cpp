@@ -11,6 +11,7 @@
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
 
+#include "guarantees/facet_cover.h"
 #include "guarantees/flat_patches.h"
 #include "mesh/probe_set.h"
 #include "mesh/special_faces.h"
@@ -497,6 +498,19 @@ bool SurfaceReference::within_by_patch(const std::array<glm::dvec3, 3>& q, int l
   return !edge.found;
 }
 
+bool SurfaceReference::within_by_facets(const std::array<glm::dvec3, 3>& q, double h, std::uint32_t nearest) const {
+  return patches_ && topotet::within_by_facets(soup_, patches_->neighbour, q, h, nearest);
+}
+
+bool SurfaceReference::within_near(const std::array<glm::dvec3, 3>& q, int label, double h, std::uint32_t t) const {
+  if (!patches_) return false;
+  for (int k = 0; k < 3; ++k) {
+    const std::uint32_t n = patches_->neighbour[3 * std::size_t{t} + k];
+    if (n != kInvalid && triangle_holds(n, q, h)) return true;
+  }
+  return within_by_crease(q, label, h, t);
+}
+
 bool SurfaceReference::within_by_crease(const std::array<glm::dvec3, 3>& q, int label, double h,
                                         std::uint32_t nearest) const {
   if (!patches_ || label < 0 || static_cast<std::uint32_t>(label) >= soup_.face_labels || nearest == kInvalid)
@@ -937,7 +951,8 @@ bool triangle_within(const SurfaceReference& reference, const glm::dvec3& a, con
     const auto& piece = pieces[head++];
     // A piece of a split usually lies within h of its parent's nearest triangle alone: three
     // distances then prove it, without a search.
-    if (tried != kInvalid && reference.triangle_holds(tried, piece, h)) continue;
+    if (tried != kInvalid && (reference.triangle_holds(tried, piece, h) || reference.within_near(piece, label, h, tried)))
+      continue;
     const auto [x, y, z] = piece;
     const glm::dvec3 centre = (x + y + z) / 3.0;
     const double r = std::sqrt(std::max({glm::dot(x - centre, x - centre), glm::dot(y - centre, y - centre),
@@ -953,6 +968,7 @@ bool triangle_within(const SurfaceReference& reference, const glm::dvec3& a, con
     if (nearest != tried && reference.triangle_holds(nearest, piece, h)) continue;
     if (reference.within_by_crease(piece, label, h, nearest)) continue;
     if (reference.within_by_patch(piece, label, h, nearest)) continue;
+    if (reference.within_by_facets(piece, h, nearest)) continue;
     if (r < kFinestPiece * h || tail + 4 > kPieceBudget) {
       // The last resort, before a refusal: another original triangle within h of every corner. It
       // searches h + r around the centre and almost never succeeds on a coarse piece (sphere3: 42
