@@ -13,7 +13,11 @@ namespace {
 
 constexpr int kMaxFacets = 64;    // candidates (a bit each in a vertex's mask)
 constexpr int kMaxVertices = 12;  // of a part: a triangle after a few cuts
-constexpr int kPartBudget = 32;   // parts examined before the piece goes back to the caller
+// Parts examined before the piece goes back to the caller, which splits it and tries each quarter
+// again from scratch (sphere3 at 10%: a budget of 20, 32, 64, 128 parts ran 8.49, 7.85, 7.16,
+// 6.94 G instructions), and parts waiting at once (depth first: about the depth of the cuts).
+constexpr int kPartBudget = 128;
+constexpr int kMaxWaiting = 32;
 
 struct Facet {
   std::uint32_t tri;
@@ -110,7 +114,7 @@ class Cover {
       first.v[first.count] = vertex(x);
       if (first.v[first.count++].within == 0) return false;  // no candidate holds a corner
     }
-    std::array<Part, kPartBudget> stack;
+    std::array<Part, kMaxWaiting> stack;
     int top = 0, examined = 0;
     stack[top++] = first;
     while (top > 0) {
@@ -137,7 +141,7 @@ class Cover {
       // A part of fewer than three vertices has no area: it lies on the other part's edge.
       for (const Part* p : {&pos, &neg}) {
         if (p->count < 3) continue;
-        if (top == kPartBudget) return false;
+        if (top == kMaxWaiting) return false;
         stack[top++] = *p;
       }
     }
