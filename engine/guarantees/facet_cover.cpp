@@ -47,7 +47,8 @@ bool beyond(const glm::dvec3& x, const glm::dvec3& g, double radius, double d) {
 
 struct Vertex {
   glm::dvec3 x;
-  std::uint64_t within;  // bit k: x is within h of facet k
+  std::uint64_t within;  // bit k: x is within h of facet k, for the first `tested` facets
+  int tested;
 };
 
 struct Part {
@@ -59,67 +60,83 @@ class Cover {
  public:
   // The candidates: the triangles connected to `nearest` through the label's edges that come
   // within r + h of the piece's centre c (r: c to the farthest corner), the only ones that can be
-  // within h of a point of the piece. Breadth-first in a fixed order: one function of the piece.
+  // within h of a point of the piece. Taken a ring at a time, breadth-first in a fixed order, when
+  // a point is within h of none so far (most pieces need a few facets, not every one within
+  // reach): the candidates are one function of the piece.
   Cover(const SurfaceSoup& soup, const std::vector<std::uint32_t>& neighbour, double h, std::uint32_t nearest,
         const glm::dvec3& centre, double reach)
-      : soup_(soup), neighbour_(neighbour), h_(h), h2_(h * h) {
-    const double reach2 = reach * reach;
+      : soup_(soup), neighbour_(neighbour), h_(h), h2_(h * h), centre_(centre), reach_(reach) {
     slot_tri_.fill(kInvalid);
     add(nearest);
-    for (int i = 0; i < count_; ++i)
+  }
+
+  // The next ring of candidates; false when there is none (or too many).
+  bool grow() {
+    const int begin = ring_begin_, end = count_;
+    ring_begin_ = end;
+    const auto& P = soup_.positions;
+    for (int i = begin; i < end; ++i)
       for (int e = 0; e < 3; ++e) {
         const std::uint32_t t = neighbour_[3 * std::size_t{facets_[i].tri} + e];
         if (t == kInvalid || index_of(t) >= 0) continue;
         const auto& tv = soup_.triangles[t];
-        const auto& P = soup_.positions;
         glm::dvec3 g;
         double radius;
         bounding_sphere(P[tv[0]], P[tv[1]], P[tv[2]], g, radius);
-        if (beyond(centre, g, radius, reach) ||
-            squared_distance_to_triangle(centre, P[tv[0]], P[tv[1]], P[tv[2]]) > reach2)
+        if (beyond(centre_, g, radius, reach_) ||
+            squared_distance_to_triangle(centre_, P[tv[0]], P[tv[1]], P[tv[2]]) > reach_ * reach_)
           continue;
-        if (count_ == kMaxFacets) {
-          truncated_ = true;
-          return;
-        }
+        if (count_ == kMaxFacets) return false;  // a piece wider than the candidates: the caller splits it
         add(t);
       }
+    return count_ > end;
   }
 
-  Vertex vertex(const glm::dvec3& x) const {
-    std::uint64_t within = 0;
-    for (int k = 0; k < count_; ++k) {
+  // Brings x's mask up to the candidates found so far.
+  void update(Vertex& x) const {
+    for (int k = x.tested; k < count_; ++k) {
       const Facet& f = facets_[k];
-      if (beyond(x, f.g, f.radius, h_)) continue;      // most candidates are far from x
-      const double s = glm::dot(f.n, x) - f.offset;  // |s| is at most the distance: a cheap refusal
+      if (beyond(x.x, f.g, f.radius, h_)) continue;    // most candidates are far from x
+      const double s = glm::dot(f.n, x.x) - f.offset;  // |s| is at most the distance: a cheap refusal
       if (s * s > h2_) continue;
       // The foot inside every edge: the distance is |s|. Outside one by o: at least sqrt(s^2 + o^2)
       // (the facet lies on the inner side of the edge's line). Else measure it.
       double outside = 0.0;
-      for (int e = 0; e < 3; ++e) outside = std::max(outside, f.edge_o[e] - glm::dot(f.edge_n[e], x));
+      for (int e = 0; e < 3; ++e) outside = std::max(outside, f.edge_o[e] - glm::dot(f.edge_n[e], x.x));
       if (outside == 0.0 && !f.degenerate) {
-        within |= std::uint64_t{1} << k;
+        x.within |= std::uint64_t{1} << k;
         continue;
       }
       if (s * s + outside * outside > h2_) continue;
-      if (squared_distance_to_triangle(x, f.a, f.b, f.c) <= h2_) within |= std::uint64_t{1} << k;
+      if (squared_distance_to_triangle(x.x, f.a, f.b, f.c) <= h2_) x.within |= std::uint64_t{1} << k;
     }
-    return {x, within};
+    x.tested = count_;
+  }
+
+  // Every vertex of the part up to date and within h of some candidate, growing the candidates
+  // as needed; false when a vertex is within h of none that can be found.
+  bool settle(Part& part) {
+    for (;;) {
+      bool orphan = false;
+      for (int i = 0; i < part.count; ++i) {
+        update(part.v[i]);
+        orphan |= part.v[i].within == 0;
+      }
+      if (!orphan) return true;
+      if (!grow()) return false;
+    }
   }
 
   bool prove(const std::array<glm::dvec3, 3>& q) {
-    if (truncated_) return false;  // a piece wider than the candidates: the caller splits it first
     Part first;
-    for (const glm::dvec3& x : q) {
-      first.v[first.count] = vertex(x);
-      if (first.v[first.count++].within == 0) return false;  // no candidate holds a corner
-    }
+    for (const glm::dvec3& x : q) first.v[first.count++] = {x, 0, 0};
     std::array<Part, kMaxWaiting> stack;
     int top = 0, examined = 0;
     stack[top++] = first;
     while (top > 0) {
       if (++examined > kPartBudget) return false;
-      const Part part = stack[--top];
+      Part part = stack[--top];
+      if (!settle(part)) return false;  // a point within h of no candidate
       std::uint64_t common = ~std::uint64_t{0};
       for (int i = 0; i < part.count; ++i) common &= part.v[i].within;
       if (common != 0) continue;  // one facet holds every vertex, so the whole part
@@ -134,8 +151,9 @@ class Cover {
         if (sp <= 0.0 && !push(neg, p)) return false;
         if ((sp > 0.0 && sr < 0.0) || (sp < 0.0 && sr > 0.0)) {
           // The crossing point, computed once for both parts: they share it exactly.
-          const Vertex x = vertex(p.x + (r.x - p.x) * (sp / (sp - sr)));
-          if (x.within == 0 || !push(pos, x) || !push(neg, x)) return false;
+          Vertex x{p.x + (r.x - p.x) * (sp / (sp - sr)), 0, 0};
+          update(x);
+          if (!push(pos, x) || !push(neg, x)) return false;
         }
       }
       // A part of fewer than three vertices has no area: it lies on the other part's edge.
@@ -260,8 +278,10 @@ class Cover {
   static_assert(kSlots == 128, "slot_of() hashes to 7 bits");
   std::array<std::uint32_t, kSlots> slot_tri_;
   std::array<std::int8_t, kSlots> slot_index_;
+  glm::dvec3 centre_;
+  double reach_;
   int count_ = 0;
-  bool truncated_ = false;
+  int ring_begin_ = 0;  // the last ring's first candidate
 };
 
 }  // namespace
