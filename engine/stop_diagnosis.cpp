@@ -130,7 +130,8 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
         for (int k = 0; k < m && best != kCollapsible; ++k) {
           std::array<std::uint64_t, kCollapseReasonCount> rejected{};
           CollapseReason reason = CollapseReason::kOk;
-          if (first_acceptable(mesh, &placements[k], 1, kernel, scratch, &rejected) < 0) {
+          // The link conditions passed above, for every placement of this edge: not again.
+          if (first_acceptable(mesh, &placements[k], 1, kernel, scratch, &rejected, false) < 0) {
             reason = CollapseReason::kLinkK;
             for (int r = 1; r < kCollapseReasonCount; ++r)
               if (rejected[r] != 0) {

@@ -775,6 +775,25 @@ CoverageSegment SurfaceCoverage::decode_segment(const ItemRecord* head) {
   return item;
 }
 
+bool SurfaceCoverage::held_triangles(const std::vector<TetId>& star_u, const std::vector<TetId>& star_v,
+                                     const std::vector<TetId>& star_uv, std::size_t most,
+                                     std::vector<std::uint32_t>& out) const {
+  out.clear();
+  bool fits = true;
+  for_each_stencil_tet(star_u, star_v, star_uv, [&](TetId t) {
+    const Records& list = held_[t];
+    for (std::size_t i = 0; fits && i < list.size(); i += records_of(list[i])) {
+      if (is_segment(list[i])) continue;
+      const std::uint32_t k = list[i].triangle;
+      if (std::find(out.begin(), out.end(), k) != out.end()) continue;  // pieces of one triangle
+      if (out.size() == most) fits = false;
+      else out.push_back(k);
+    }
+  });
+  if (!fits) out.clear();
+  return fits;
+}
+
 CoverageItem SurfaceCoverage::decode(const ItemRecord* head) const {
   CoverageItem item{{}, head->triangle, head->bound, head->depth, head->local};
   if (head->depth == 0)

@@ -180,6 +180,13 @@ class SurfaceCoverage {
   // one: optimize/swap.h).
   void attach(const MeshModel& mesh, Detached&& detached);
 
+  // The original triangles (soup indices, once each, in the stars' order) that the tets of
+  // St(u) ∪ St(v) hold whole or in pieces: the original surface near the stencil (surface_
+  // tolerance.h, SurfaceStencil::near_triangles). False, and `out` empty, when there are more than
+  // `most` (the walk stops there).
+  bool held_triangles(const std::vector<TetId>& star_u, const std::vector<TetId>& star_v,
+                      const std::vector<TetId>& star_uv, std::size_t most, std::vector<std::uint32_t>& out) const;
+
   // Items and pieces held now, and the bytes their lists take.
   std::size_t item_count() const;
   std::size_t memory_bytes() const;

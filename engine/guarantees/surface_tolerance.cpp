@@ -1037,12 +1037,31 @@ bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& r
                                 VertId v, const glm::dvec3& p, SurfaceStencil& s, bool screen) {
   if (!new_surface_around(mesh, u, v, p, s)) return false;
   const auto& P = mesh.positions;
+  // Is x within h of the original surface of face label `label`? The original triangles held near
+  // the stencil first (the last one that answered first: the points asked are close together),
+  // then a search. The answer is the search's either way.
+  const SurfaceSoup& soup = reference.soup();
+  std::size_t last_near = 0;
+  const auto within = [&](const glm::dvec3& x, int label) {
+    const std::size_t n = s.near_triangles.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t k = (last_near + i) % n;
+      const std::uint32_t t = s.near_triangles[k];
+      if (soup.triangle_label[t] != static_cast<std::uint32_t>(label)) continue;
+      const auto& tv = soup.triangles[t];
+      if (squared_distance_to_triangle(x, soup.positions[tv[0]], soup.positions[tv[1]], soup.positions[tv[2]]) <= h * h) {
+        last_near = k;
+        return true;
+      }
+    }
+    return reference.within(x, label, h);
+  };
 
   // Forward: every point of the new surface near the original one. p first, once per label: it
   // refuses most placements with one query.
   int last_label = -1;
   for (const SurfaceStencil::NewFace& f : s.new_faces) {
-    if (f.label != last_label && !reference.within(p, f.label, h)) return false;
+    if (f.label != last_label && !within(p, f.label)) return false;
     last_label = f.label;
   }
   for (const SurfaceStencil::NewEdge& e : s.new_edges)
@@ -1053,8 +1072,8 @@ bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& r
   for (const SurfaceStencil::NewFace& f : s.new_faces) {
     if (!screen) break;
     const auto& q = f.pts;
-    if (!reference.within((q[0] + q[1] + q[2]) / 3.0, f.label, h) || !reference.within(0.5 * (q[0] + q[1]), f.label, h) ||
-        !reference.within(0.5 * (q[0] + q[2]), f.label, h))
+    if (!within((q[0] + q[1] + q[2]) / 3.0, f.label) || !within(0.5 * (q[0] + q[1]), f.label) ||
+        !within(0.5 * (q[0] + q[2]), f.label))
       return false;
   }
   for (const SurfaceStencil::NewEdge& e : s.new_edges)

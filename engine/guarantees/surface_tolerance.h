@@ -209,6 +209,9 @@ struct SurfaceStencil {
   std::vector<std::uint32_t> slot_group[2];
   std::vector<Face> faces;
   std::vector<Edge> edges;
+  // Original triangles held near the stencil (SurfaceCoverage::held_triangles; empty without a
+  // coverage): a point within h of one of its label's is within h of the surface, no search needed.
+  std::vector<std::uint32_t> near_triangles;
   // Per placement: the new triangles / segments around p (positions) with their labels.
   struct NewFace {
     std::array<glm::dvec3, 3> pts;  // p first
