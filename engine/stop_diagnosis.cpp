@@ -127,19 +127,16 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
           continue;  // topology: the link conditions do not depend on the placement
         if (kernel.field_bounds != nullptr && kernel.field_bounds->has_limit())
           set_placement_fields(mesh, cost, kept, m, placements, fields);
-        for (int k = 0; k < m && best != kCollapsible; ++k) {
-          std::array<std::uint64_t, kCollapseReasonCount> rejected{};
-          CollapseReason reason = CollapseReason::kOk;
-          // The link conditions passed above, for every placement of this edge: not again.
-          if (first_acceptable(mesh, &placements[k], 1, kernel, scratch, &rejected, false) < 0) {
-            reason = CollapseReason::kLinkK;
-            for (int r = 1; r < kCollapseReasonCount; ++r)
-              if (rejected[r] != 0) {
-                reason = static_cast<CollapseReason>(r);
-                break;
-              }
-          }
-          best = std::max(best, stage_of(reason));
+        // Every placement in one call (they share the stencil's surface and quality): each one the
+        // kernel tries is refused for exactly one reason, or accepted (then the call stops there:
+        // collapsible is the furthest stage), so the furthest stage is the largest reason counted.
+        // The link conditions passed above, for every placement of this edge: not again.
+        std::array<std::uint64_t, kCollapseReasonCount> rejected{};
+        if (first_acceptable(mesh, placements, m, kernel, scratch, &rejected, false) >= 0) {
+          best = kCollapsible;
+        } else {
+          for (int r = 1; r < kCollapseReasonCount; ++r)
+            if (rejected[r] != 0) best = std::max(best, stage_of(static_cast<CollapseReason>(r)));
         }
       }
       ++local[best];
