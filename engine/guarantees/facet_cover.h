@@ -31,7 +31,8 @@ struct SurfaceSoup;
 
 // Is every point of triangle q within h of the soup triangles of `nearest`'s label? Candidates:
 // `nearest` and the triangles reached from it through `neighbour` (FlatPatches::neighbour: the
-// other triangle of the label across each edge) in a few steps.
+// other triangle of the label across each edge) that come within r + h of q's centre, a ring at a
+// time as the parts need them (at most 64).
 bool within_by_facets(const SurfaceSoup& soup, const std::vector<std::uint32_t>& neighbour,
                       const std::array<glm::dvec3, 3>& q, double h, std::uint32_t nearest);
 
