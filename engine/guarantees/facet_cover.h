@@ -10,9 +10,10 @@
 // The proof: the distance to one triangle is convex, so a convex polygon whose vertices are all
 // within h of one facet lies within h of it everywhere. The piece is cut by planes (a binary space
 // partition: the parts of each cut cover the region cut) until every part has such a facet among
-// the candidates (the facets near the piece's nearest one). A cut goes through the crease between
-// two adjacent facets where it separates the two vertices that need them, else through the
-// perpendicular bisector of those two vertices, which always separates them. "Yes" is a proof
+// the candidates (the facets near the piece's nearest one). A cut keeps the vertices of the facet
+// most of them are near on one side: it goes through the crease between that facet and an adjacent
+// one a vertex outside it needs, where that separates them, else through the perpendicular
+// bisector of that vertex and the farthest inside one, which always separates them. "Yes" is a proof
 // whatever the planes are; "no" (a vertex within h of no candidate, or the budget of parts spent)
 // only sends the piece back to the caller's split.
 #pragma once
