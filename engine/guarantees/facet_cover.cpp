@@ -195,15 +195,10 @@ class Cover {
       VertId og = kInvalid;
       for (VertId x : soup_.triangles[t])
         if (x != ea && x != eb) og = x;
-      const glm::dvec3 a = P[ea], ab = P[eb] - a;
-      const double ab2 = glm::dot(ab, ab);
-      if (!(ab2 > 0.0) || og == kInvalid) continue;
-      const auto inward = [&](const glm::dvec3& o) {
-        const glm::dvec3 w = (o - a) - ab * (glm::dot(o - a, ab) / ab2);
-        const double l = glm::length(w);
-        return l > 0.0 ? w / l : glm::dvec3(0.0);
-      };
-      const glm::dvec3 nb = inward(P[ok]) - inward(P[og]);  // towards facet k (the crease test's plane)
+      if (og == kInvalid) continue;
+      const glm::dvec3 a = P[ea];
+      // Towards facet k (the crease test's plane); zero for a degenerate edge, which separates none.
+      const glm::dvec3 nb = crease_normal(a, P[eb], P[ok], P[og]);
       bool in_pos = false, out_neg = false;
       for (int i = 0; i < part.count; ++i) {
         const double s = glm::dot(nb, part.v[i].x - a);

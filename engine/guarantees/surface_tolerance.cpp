@@ -49,6 +49,18 @@ double squared_distance_to_triangle(const glm::dvec3& p, const glm::dvec3& a, co
   return sq(a + ab * (vb / denom) + ac * (vc / denom));
 }
 
+glm::dvec3 crease_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& o1, const glm::dvec3& o2) {
+  const glm::dvec3 ab = b - a;
+  const double ab2 = glm::dot(ab, ab);
+  if (!(ab2 > 0.0)) return glm::dvec3(0.0);
+  const auto inward = [&](const glm::dvec3& o) {
+    const glm::dvec3 w = (o - a) - ab * (glm::dot(o - a, ab) / ab2);
+    const double l = glm::length(w);
+    return l > 0.0 ? w / l : glm::dvec3(0.0);
+  };
+  return inward(o1) - inward(o2);
+}
+
 double squared_distance_to_segment(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
   const glm::dvec3 ab = b - a;
   const double len2 = glm::dot(ab, ab);
@@ -530,23 +542,11 @@ bool SurfaceReference::within_by_crease(const std::array<glm::dvec3, 3>& q, int 
     VertId o2 = f2[0];
     for (VertId x : f2)
       if (x != f1[k] && x != f1[(k + 1) % 3]) o2 = x;
-    const glm::dvec3 ab = b - a;
-    const double ab2 = glm::dot(ab, ab);
-    if (!(ab2 > 0.0)) continue;
-    // In-plane directions from the edge into each facet, orthogonal to the edge.
-    auto inward = [&](const glm::dvec3& o) {
-      const glm::dvec3 w = (o - a) - ab * (glm::dot(o - a, ab) / ab2);
-      const double l = glm::length(w);
-      return l > 0.0 ? w / l : glm::dvec3(0.0);
-    };
-    const glm::dvec3 w1 = inward(P[f1[(k + 2) % 3]]), w2 = inward(P[o2]);
-    // The cutting plane holds the edge and the bisector of w1 and w2: it separates the facets.
-    // Any plane would do for the proof (each side is checked against its facet); this one puts
-    // the cut where the nearest facet changes.
-    // w1 - w2 is orthogonal to the edge and to the bisector w1 + w2 (and defined for coplanar
-    // facets, where w1 + w2 vanishes): the plane's normal, towards facet 1.
-    const glm::dvec3 nb = w1 - w2;
-    if (!(glm::dot(nb, nb) > 1e-12)) continue;
+    // The cutting plane holds the edge and bisects the crease: it separates the facets. Any plane
+    // would do for the proof (each side is checked against its facet); this one puts the cut
+    // where the nearest facet changes. Its normal points towards facet 1.
+    const glm::dvec3 nb = crease_normal(a, b, P[f1[(k + 2) % 3]], P[o2]);
+    if (!(glm::dot(nb, nb) > 1e-12)) continue;  // a degenerate edge (or facet)
     auto side = [&](const glm::dvec3& x) { return glm::dot(nb, x - a); };
     std::array<double, 3> s{side(q[0]), side(q[1]), side(q[2])};
     bool ok = true;

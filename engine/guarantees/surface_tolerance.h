@@ -249,5 +249,10 @@ bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& r
 double squared_distance_to_triangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
                                     const glm::dvec3& c);
 double squared_distance_to_segment(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b);
+// The normal, towards facet (a b o1), of the plane that holds edge ab and bisects the crease
+// between facets (a b o1) and (a b o2): the difference of the two unit directions from the edge
+// into each facet, orthogonal to it (defined for coplanar facets, where their sum vanishes). Zero
+// for a degenerate edge. The crease test's cut, and the facet cover's (facet_cover.h).
+glm::dvec3 crease_normal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& o1, const glm::dvec3& o2);
 
 }  // namespace topotet
