@@ -27,7 +27,7 @@ import sys
 sys.dont_write_bytecode = True  # no __pycache__ in the checkout
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from inputs import family, shared  # noqa: E402
-from quality_vs_remesher import check, input_quality, medit_copy, run, wanted  # noqa: E402
+from quality_vs_remesher import announced_input_quality, begin, check, medit_copy, run, wanted  # noqa: E402
 
 SHARED_INPUTS = ("mfem/nested_cubes.msh", "simnibs/sphere3.msh", "palace/parallel_plate.msh",
                  "palace/circular_hole.msh", "palace/sheet_w_two_holes.msh", "mmg/torus.mesh", "mmg/tinyBoxt.mesh")
@@ -111,17 +111,11 @@ def main():
     ap.add_argument("--json", default=None, help="results (default WORK/quality_vs_omega_h.json)")
     ap.add_argument("--table-from", help="print the table of a results JSON written earlier, run nothing")
     args = ap.parse_args()
-    if args.table_from:
-        with open(args.table_from) as f:
-            print_table(json.load(f))
+    if not begin(args, print_table):
         return
-    args.topotet = args.build if os.path.isfile(args.build) else os.path.join(args.build, "cli", "topotet")
-    os.makedirs(args.work, exist_ok=True)
     results = []
     for name, path in inputs(args):
-        inq = input_quality(args, name, path)
-        print(f"## {name}: {inq['vertices']} vertices, {inq['tets']} tets, min dihedral {inq['min_dihedral']:.2f}, "
-              f"under 10: {inq['under10']}", file=sys.stderr)
+        inq = announced_input_quality(args, name, path)
         tag = re.sub(r"[^A-Za-z0-9_.-]", "_", f"{name}_{args.ratio}")
         row = {"input": name, "path": path, "ratio": args.ratio, "input_quality": inq}
         out_t = os.path.join(args.work, f"{tag}_topotet.mesh")

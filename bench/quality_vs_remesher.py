@@ -99,6 +99,26 @@ def input_quality(args, name, path):
     return check(args, path, path, tag)
 
 
+def begin(args, print_table):
+    """The start both benches share: with --table-from, print that results JSON's table and return False
+    (nothing runs); else resolve args.topotet from args.build, make the work folder, return True."""
+    if args.table_from:
+        with open(args.table_from) as f:
+            print_table(json.load(f))
+        return False
+    args.topotet = args.build if os.path.isfile(args.build) else os.path.join(args.build, "cli", "topotet")
+    os.makedirs(args.work, exist_ok=True)
+    return True
+
+
+def announced_input_quality(args, name, path):
+    """input_quality, and a line on stderr that says which input starts."""
+    inq = input_quality(args, name, path)
+    print(f"## {name}: {inq['vertices']} vertices, {inq['tets']} tets, min dihedral {inq['min_dihedral']:.2f}, "
+          f"under 10: {inq['under10']}", file=sys.stderr)
+    return inq
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("build", help="topotet build folder (holds cli/topotet) or the topotet binary")
@@ -117,18 +137,12 @@ def main():
     ap.add_argument("--json", default=None, help="results (default WORK/quality_vs_remesher.json)")
     ap.add_argument("--table-from", help="print the table of a results JSON written earlier, run nothing")
     args = ap.parse_args()
-    if args.table_from:
-        with open(args.table_from) as f:
-            print_table(json.load(f))
+    if not begin(args, print_table):
         return
-    args.topotet = args.build if os.path.isfile(args.build) else os.path.join(args.build, "cli", "topotet")
-    os.makedirs(args.work, exist_ok=True)
     ratios = [float(r) for r in args.ratios.split(",")]
     results = []
     for name, path in inputs(args):
-        inq = input_quality(args, name, path)
-        print(f"## {name}: {inq['vertices']} vertices, {inq['tets']} tets, min dihedral {inq['min_dihedral']:.2f}, "
-              f"under 10: {inq['under10']}", file=sys.stderr)
+        inq = announced_input_quality(args, name, path)
         for ratio in ratios:
             tag = re.sub(r"[^A-Za-z0-9_.-]", "_", f"{name}_{ratio}")
             row = {"input": name, "path": path, "ratio": ratio, "input_quality": inq}
