@@ -514,15 +514,6 @@ bool SurfaceReference::within_by_facets(const std::array<glm::dvec3, 3>& q, doub
   return patches_ && topotet::within_by_facets(soup_, patches_->neighbour, q, h, nearest);
 }
 
-bool SurfaceReference::within_near(const std::array<glm::dvec3, 3>& q, int label, double h, std::uint32_t t) const {
-  if (!patches_) return false;
-  for (int k = 0; k < 3; ++k) {
-    const std::uint32_t n = patches_->neighbour[3 * std::size_t{t} + k];
-    if (n != kInvalid && triangle_holds(n, q, h)) return true;
-  }
-  return within_by_crease(q, label, h, t);
-}
-
 bool SurfaceReference::within_by_crease(const std::array<glm::dvec3, 3>& q, int label, double h,
                                         std::uint32_t nearest) const {
   if (!patches_ || label < 0 || static_cast<std::uint32_t>(label) >= soup_.face_labels || nearest == kInvalid)
@@ -951,8 +942,7 @@ bool triangle_within(const SurfaceReference& reference, const glm::dvec3& a, con
     const auto& piece = pieces[head++];
     // A piece of a split usually lies within h of its parent's nearest triangle alone: three
     // distances then prove it, without a search.
-    if (tried != kInvalid && (reference.triangle_holds(tried, piece, h) || reference.within_near(piece, label, h, tried)))
-      continue;
+    if (tried != kInvalid && reference.triangle_holds(tried, piece, h)) continue;
     const auto [x, y, z] = piece;
     const glm::dvec3 centre = (x + y + z) / 3.0;
     const double r = std::sqrt(std::max({glm::dot(x - centre, x - centre), glm::dot(y - centre, y - centre),

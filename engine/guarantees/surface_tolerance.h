@@ -159,7 +159,6 @@ class SurfaceReference {
   // The same with the original triangles a few edges around `nearest`, the piece cut where the
   // nearest of them changes (facet_cover.h). Needs the patches (their triangle adjacency).
   bool within_by_facets(const std::array<glm::dvec3, 3>& corners, double h, std::uint32_t nearest) const;
-  bool within_near(const std::array<glm::dvec3, 3>& corners, int label, double h, std::uint32_t t) const;
   // The soup triangle of face label `label` nearest to p within max_distance (kInvalid: none),
   // and its distance. `nearest` above is this triangle for the piece's centre.
   // `hint` (a soup triangle near p, or kInvalid) only speeds the search up; ties in distance go to the
