@@ -311,7 +311,7 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
         // no collapse since).
         if (report.status == Status::kStoppedEarly && report.message == "no legal collapse left" &&
             mesh.live_vertex_count() > target && !report.stop.is_filled)
-          detail::diagnose_stop(mesh, options, kernel, cost, target, report);
+          detail::diagnose_stop(mesh, options, kernel, cost, target, report, true);  // the engine stalled
         if (samples != nullptr) samples->index(mesh);
         if (log == nullptr) optimize_after_collapses(mesh, options, cost, bounds.get(), samples.get(), report);
         samples.reset();

@@ -41,7 +41,9 @@ using FinishStep = std::function<void(CostModel&)>;
 // takes its next side-table slots after the table's end), or relax a limit in the kernel options
 // the engine was given, or drop the feature curves and tell the engine's cost model
 // (relax_limits.h), and return true; the engine takes the options again, looks at every edge once
-// more and goes on; false: the run stops there.
+// more and goes on; false: the run stops there. Called only at a stall: the engine has tried and
+// refused every placement of every edge since the edge's stars last changed (relax_limits'
+// census relies on it: stop_diagnosis.h).
 using RelaxStep = std::function<bool(CostModel&)>;
 
 // `kernel` carries the kernel settings derived from the options (quality floor, tolerance, the

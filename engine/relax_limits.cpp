@@ -50,7 +50,7 @@ double halved(double floor, double asked) {
 bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptions& kernel, SurfaceCoverage* coverage,
                   CostModel& cost, std::uint64_t target, Report& report, const std::function<bool()>& flip) {
   const auto start = std::chrono::steady_clock::now();
-  diagnose_stop(mesh, options, kernel, cost, target, report);
+  diagnose_stop(mesh, options, kernel, cost, target, report, true);  // at a stall (engines.h)
   report.relax_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const StopDiagnosis& d = report.stop;
   const std::uint64_t live = mesh.live_vertex_count();

@@ -95,16 +95,29 @@ void simplify_sequential(MeshModel& mesh, const SimplifyOptions& options, const 
   std::uint64_t live = mesh.live_vertex_count();
   Progress progress(options, live, target);
   std::uint64_t next_progress = 256;
+  std::uint64_t collapses_at_last_look = 0;  // report.collapses when every edge was last offered
+  const auto offer_every_edge_again = [&] {
+    for (auto& p : parked) p.fill(kInvalid);
+    std::fill(parked_overflow.begin(), parked_overflow.end(), 0);
+    push_every_edge();
+    collapses_at_last_look = report.collapses;
+  };
   while (live > target) {
     if (heap.empty()) {
+      // An edge offered no placement when it was pushed (the orders of its ends forbade it) is
+      // pushed again only with its end's new star; before stopping or relaxing, every edge gets
+      // one more look, as in the parallel engine: relax_limits' census takes the engine's
+      // refusals as a look at every edge (engines.h).
+      if (report.collapses != collapses_at_last_look) {
+        offer_every_edge_again();
+        continue;
+      }
       // A limit the caller lets relax held the edges left: the driver relaxed it (engines.h);
       // every edge is offered once more under it.
       if (!relax || !relax(cost)) break;
       // Flips at a stall (flip_at_stall.h) appended refs records past the collapses' headroom.
       refs_used = std::max(refs_used, static_cast<std::uint32_t>(mesh.refs_table.size()));
-      for (auto& p : parked) p.fill(kInvalid);
-      std::fill(parked_overflow.begin(), parked_overflow.end(), 0);
-      push_every_edge();
+      offer_every_edge_again();
       continue;
     }
     const Entry e = heap.top();

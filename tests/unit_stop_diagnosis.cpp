@@ -3,11 +3,16 @@
 // the tolerance, the quality floor, pinned vertices, the topology.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <numeric>
 #include <string>
 
+#include "engines.h"
 #include "entry_points.h"
+#include "guarantees/surface_coverage.h"
+#include "guarantees/surface_tolerance.h"
 #include "mesh/mesh_model.h"
+#include "stop_diagnosis.h"
 #include "test_meshes.h"
 #include "topotet/generate.h"
 #include "topotet/simplify.h"
@@ -150,6 +155,59 @@ TEST(StopDiagnosis, PinnedFeatureCornersSuggestTheFeatureAngle) {
   expect_consistent(r, "pinned");
   EXPECT_EQ(r.stop.pinned_features, r.vertices_after);
   EXPECT_NE(r.stop.suggestion.find("--feature-angle 75"), std::string::npos) << r.stop.suggestion;
+}
+
+// At a stall the census counts a placement the engine refused for the tolerance without proving it
+// again (diagnose_stop's every_edge_refused): its counts must be the full census's, at every stall
+// of runs whose tolerance doubles at each one (as relax_limits does), with both engines, on
+// interfaces of many materials and on a curved one.
+TEST(StopDiagnosis, TheEnginesRefusalsGiveTheFullCensus) {
+  for (const char* family : {"polycrystal", "cube-sphere"})
+    for (const Engine engine : {Engine::kParallel, Engine::kSequential}) {
+      SCOPED_TRACE(std::string(family) + (engine == Engine::kParallel ? ", parallel" : ", sequential"));
+      MeshModel mesh = build_mesh_model(generate_mesh({family, std::strcmp(family, "polycrystal") == 0 ? 20000u : 8000u, 1}));
+      SimplifyOptions options;
+      options.engine = engine;
+      options.feature_angle = 180.0;
+      const double h = 1e-4 * bounding_box_diagonal(mesh);
+      const std::unique_ptr<SurfaceReference> surfaces = SurfaceReference::from_mesh(mesh, h);
+      SurfaceCoverage coverage(mesh, *surfaces, h);
+      CollapseOptions kernel;
+      kernel.quality_floor = options.min_quality;
+      kernel.dihedral_floor = DihedralFloor::degrees(options.min_dihedral);
+      kernel.surfaces = surfaces.get();
+      kernel.coverage = &coverage;
+      kernel.tolerance = h;
+      const std::uint64_t target = mesh.live_vertex_count() / 20;
+      int stalls = 0;
+      std::uint64_t held_by_tolerance = 0;
+      const detail::RelaxStep relax = [&](CostModel& cost) {
+        Report full, taken;
+        detail::diagnose_stop(mesh, options, kernel, cost, target, full, false);
+        detail::diagnose_stop(mesh, options, kernel, cost, target, taken, true);
+        const StopDiagnosis &a = full.stop, &b = taken.stop;
+        EXPECT_EQ(a.topology, b.topology);
+        EXPECT_EQ(a.pinned, b.pinned);
+        EXPECT_EQ(a.inversion, b.inversion);
+        EXPECT_EQ(a.quality, b.quality);
+        EXPECT_EQ(a.tolerance, b.tolerance);
+        EXPECT_EQ(a.field_error, b.field_error);
+        EXPECT_EQ(a.collapsible, b.collapsible);
+        EXPECT_EQ(a.suggestion, b.suggestion);
+        held_by_tolerance += b.tolerance;
+        if (++stalls == 3) return false;
+        kernel.tolerance *= 2.0;
+        coverage.raise_tolerance(kernel.tolerance);
+        return true;
+      };
+      Report report;
+      if (engine == Engine::kParallel)
+        detail::simplify_parallel(mesh, options, kernel, nullptr, target, report, nullptr, {}, relax);
+      else
+        detail::simplify_sequential(mesh, options, kernel, nullptr, target, report, nullptr, {}, relax);
+      EXPECT_GE(stalls, 2);
+      EXPECT_GT(held_by_tolerance, 0u);  // the shortcut was taken
+    }
 }
 
 }  // namespace
