@@ -18,8 +18,9 @@
 //     5. apply (parallel over winners): collapse with the proved placement (the stencil is
 //        untouched since the verification, so the check still holds), update the quadrics, and
 //        tell the stencil's vertices that their stars changed (which of them must re-propose)
-//   stop when the target is reached or no proposal is left (after one refresh that lifts all bans,
-//   and, when the driver relaxes a limit that held the vertices left, one more: relax_limits.h)
+//   stop when the target is reached or no proposal is left (after one look at the edges whose
+//   refusals may be out of date, and, when the driver relaxes a limit that held the vertices left,
+//   a look at every edge: relax_limits.h)
 //
 // Why the output is bit-identical for any thread count: every proposal and verification is a pure
 // function of the mesh at the start of its phase and of the vertex's own state; the threshold is
@@ -149,6 +150,7 @@ class Rounds {
     bool refreshed_since_collapse = false;
     while (live_ > target_) {
       ++round_;
+      proposals_.begin_round(round_);
       // Coverage results kept for the apply phase are valid within a round only (collapse.h).
       for (ThreadScratch& s : scratch_) s.proposal.collapse.coverage_for.u = kInvalid;
       RoundStats stats;
@@ -161,11 +163,11 @@ class Rounds {
       stats.phase_seconds[1] = since(t0);
       if (candidates_.empty()) {
         // Bans are lifted only where a star changes, and an edge can become legal through a change
-        // at its other end alone: before giving up, look at every edge once more.
+        // at its other end alone: before giving up, look again at the edges whose other end
+        // changed since they failed (refresh_stale).
         if (!refreshed_since_collapse) {
-          refresh();
           refreshed_since_collapse = true;
-          continue;
+          if (refresh_stale()) continue;
         }
         // A limit the caller lets relax held the vertices left: the driver relaxed it; every edge
         // gets one more look under it (and if none passes, the next relaxation is asked for).
@@ -598,7 +600,25 @@ class Rounds {
     s.marked.push_back(x);
   }
 
-  // Lifts every ban and re-proposes every vertex (used once before stopping).
+  // Before stopping (or relaxing): the vertices whose refusals may be out of date propose again
+  // (Proposals::refresh_if_stale: a ban whose far end changed its star since). The others' edges
+  // were all refused since their stars last changed, so a look at every edge would refuse them
+  // again (polycrystal 30k at 10%: 141,913 -> 104,641 legality checks, same output). Returns whether
+  // any vertex proposes again.
+  bool refresh_stale() {
+    // The sparse filter calls its keep once per vertex (refresh_if_stale lifts bans as it goes).
+    parallel::filter_map_sparse(
+        mesh_.vertex_capacity(), dirty_list_, [](std::size_t, std::size_t) { return true; },
+        [&](std::size_t v) {
+          return !mesh_.is_dead_vertex(static_cast<VertId>(v)) &&
+                 proposals_.refresh_if_stale(static_cast<VertId>(v), scratch_.local().proposal);
+        },
+        [](std::size_t v) { return static_cast<VertId>(v); });
+    for (VertId v : dirty_list_) dirty_[v] = Dirty::kPropose;
+    return !dirty_list_.empty();
+  }
+
+  // Lifts every ban and re-proposes every vertex (after a relaxation: every verdict is void).
   void refresh() {
     proposals_.lift_all_bans();
     parallel::filter_map(

@@ -44,7 +44,8 @@ Proposals::Proposals(const MeshModel& mesh, CostModel& cost, const CollapseOptio
       proposals_(mesh.vertex_capacity()),
       rank_cost_(mesh.vertex_capacity(), kNoCost),
       bans_(mesh.vertex_capacity()),
-      changed_round_(mesh.vertex_capacity(), 0) {
+      changed_round_(mesh.vertex_capacity(), 0),
+      costed_round_(mesh.vertex_capacity(), 0) {
   kernel_changed();
   if (kernel.surfaces != nullptr) verify_with_proof_.assign(mesh.vertex_capacity(), 0);
 }
@@ -68,6 +69,7 @@ void Proposals::cost_owned_edges(VertId a, ProposalScratch& s) {
   // (cost, b), whatever the order the edges come in.
   mesh_.neighbours_above(a, s.nbrs);
   for (VertId b : s.nbrs) cost_.prefetch(b);  // the records' cache misses overlap
+  costed_round_[a] = round_;
   s.edges.clear();
   for (std::size_t k = 0; k < s.nbrs.size(); ++k) {
     if (is_banned(a, s.nbrs[k])) continue;
@@ -148,6 +150,7 @@ void Proposals::ban(VertId a, VertId b, double cost, const CollapseScratch::Refu
       const std::uint8_t bit = static_cast<std::uint8_t>(1u << k);
       bans.edge[k] = b;
       bans.cost[k] = static_cast<float>(cost);
+      bans.round[k] = round_;
       bans.lifted &= static_cast<std::uint8_t>(~bit);
       if (refusal != nullptr && refusal->certified) {
         bans.certified |= bit;
@@ -158,6 +161,7 @@ void Proposals::ban(VertId a, VertId b, double cost, const CollapseScratch::Refu
       return;
     }
   bans.exhausted = true;  // a vertex whose edges keep failing waits until its star changes
+  bans.tried_round = 0;   // verify() dates it if it tries every edge
 }
 
 void Proposals::restore_lifted_bans(VertId a, Proposal& p, VertId u) {
@@ -274,6 +278,7 @@ void Proposals::verify(VertId a, const Ranked& threshold, std::uint32_t round, P
   if (runner_up != kInvalid && !mesh_.is_dead_vertex(runner_up) && !is_banned(a, runner_up) &&
       try_edge(a, runner_up, threshold, round, s))
     return;
+  const bool listed_all = !bans_[a].exhausted;  // every edge not in a slot is in s.edges
   cost_owned_edges(a, s);
   s.edge_order.resize(s.edges.size());
   for (std::uint32_t k = 0; k < s.edges.size(); ++k) s.edge_order[k] = k;
@@ -292,6 +297,8 @@ void Proposals::verify(VertId a, const Ranked& threshold, std::uint32_t round, P
     if (try_edge(a, e.b, threshold, round, s)) return;
   }
   set(a, Proposal{});
+  // Every edge failed: in its slot, or in this call (refresh_if_stale dates the ones not kept).
+  if (listed_all && bans_[a].exhausted) bans_[a].tried_round = round;
 }
 
 // --- after a collapse ------------------------------------------------------------------------
@@ -323,6 +330,7 @@ Proposals::Redo Proposals::star_changed(VertId x, VertId u, VertId v, std::uint3
   // that still hold.
   if (bans.exhausted) {
     bans.exhausted = false;
+    bans.tried_round = 0;
     clear_lifted(bans);
     return Redo::kPropose;
   }
@@ -340,9 +348,43 @@ void Proposals::removed(VertId v, std::uint32_t round) {
 
 void Proposals::lift_all_bans() { std::fill(bans_.begin(), bans_.end(), Bans{}); }  // then everyone proposes
 
+bool Proposals::refresh_if_stale(VertId a, ProposalScratch& s) {
+  Bans& bans = bans_[a];
+  // An exhausted vertex knows when its edges outside the slots failed only if its last
+  // verification tried them all (tried_round).
+  if (bans.lifted != 0 || (bans.exhausted && bans.tried_round == 0)) {
+    bans = Bans{};
+    return true;
+  }
+  // A collapse in round r changes stars in its apply phase, after that round's verifications and
+  // costings: a change in the round a verdict was made may postdate it (>=).
+  bool stale = false;
+  mesh_.neighbours_above(a, s.nbrs);
+  for (const VertId b : s.nbrs) {
+    std::uint32_t since = bans.exhausted ? bans.tried_round : costed_round_[a];
+    std::size_t slot = bans.edge.size();
+    for (std::size_t k = 0; k < bans.edge.size(); ++k)
+      if (bans.edge[k] == b) {
+        slot = k;
+        since = bans.round[k];
+      }
+    if (changed_round_[b] < since) continue;
+    stale = true;
+    if (bans.exhausted) {  // which of its other edges failed is not known: all again
+      bans = Bans{};
+      return true;
+    }
+    if (slot < bans.edge.size()) {
+      bans.edge[slot] = kInvalid;
+      bans.certified &= static_cast<std::uint8_t>(~(1u << slot));
+    }
+  }
+  return stale;
+}
+
 std::size_t Proposals::memory_bytes() const {
   return proposals_.capacity() * sizeof(Proposal) + rank_cost_.capacity() * sizeof(double) +
-         bans_.capacity() * sizeof(Bans) + changed_round_.capacity() * sizeof(std::uint32_t) +
+         bans_.capacity() * sizeof(Bans) + (changed_round_.capacity() + costed_round_.capacity()) * sizeof(std::uint32_t) +
          verify_with_proof_.capacity();
 }
 
@@ -351,6 +393,7 @@ void Proposals::release() {
   std::vector<double>().swap(rank_cost_);
   std::vector<Bans>().swap(bans_);
   std::vector<std::uint32_t>().swap(changed_round_);
+  std::vector<std::uint32_t>().swap(costed_round_);
   std::vector<std::uint8_t>().swap(verify_with_proof_);
 }
 

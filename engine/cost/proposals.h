@@ -99,6 +99,16 @@ class Proposals {
                     const std::vector<TetId>& star_v);
   void removed(VertId v, std::uint32_t round);
   void lift_all_bans();
+  // At a stall (no proposal left), for every vertex a in turn (calls for distinct vertices may run
+  // concurrently): does a know a refusal that may be out of date? An edge ab's verdict is a
+  // function of the stars of a and b (and of the kernel options); a's own star changes lift its
+  // bans (star_changed), b's alone do not. So the bans whose far end b changed its star since they
+  // were made are lifted, and so is every edge costed before b's change (its placements may have
+  // become possible). True: a must propose again (the bans that still hold stay). An exhausted
+  // vertex forgot which edges failed: it starts afresh.
+  bool refresh_if_stale(VertId a, ProposalScratch& s);
+  // The rounds call this before each round's evaluate phase: bans and costings are dated with it.
+  void begin_round(std::uint32_t round) { round_ = round; }
 
   std::size_t memory_bytes() const;
   // Frees the per-vertex tables once the run is over (the optimisation after it allocates its own:
@@ -159,15 +169,21 @@ class Proposals {
     std::array<VertId, 5> edge{kInvalid, kInvalid, kInvalid, kInvalid, kInvalid};
     std::array<float, 5> cost{};  // ranking only: verification recomputes exact costs
     std::array<std::array<TetId, 2>, 5> witness{};  // for certified slots (kInvalid pads)
+    std::array<std::uint32_t, 5> round{};  // when slot k's edge failed (refresh_if_stale)
     std::uint8_t certified = 0;  // bit k: slot k is certified
     std::uint8_t lifted = 0;     // bit k: slot k's edge is free again; update() restores it
     bool exhausted = false;
+    // Exhausted: the round its last verification tried every edge and all failed (those past the
+    // slots are not kept); 0 = not known (refresh_if_stale).
+    std::uint32_t tried_round = 0;
   };
   std::vector<Bans> bans_;
   void restore_lifted_bans(VertId a, Proposal& p, VertId u);
   static void clear_lifted(Bans& bans);  // frees the lifted slots
   void ban(VertId a, VertId b, double cost, const CollapseScratch::Refusal* refusal);
   std::vector<std::uint32_t> changed_round_;  // last round a collapse changed the vertex's star
+  std::vector<std::uint32_t> costed_round_;   // last round all the vertex's edges were costed
+  std::uint32_t round_ = 0;                   // begin_round
 };
 
 }  // namespace topotet::detail
