@@ -97,6 +97,22 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
         if (rejected[r] != 0) stage = std::max(stage, stage_of(static_cast<CollapseReason>(r)));
       return stage;
     };
+    // Moves the placements the engine refused for the tolerance (refused_by_tolerance above: no
+    // quality fallback, a surface vertex moves) to `refused`; keeps the others first in `kept` and
+    // `placements` and returns their count.
+    const auto split_refused = [&](CollapseCandidate* kept, Placement* placements, int m, Placement* refused,
+                                   int& n_refused) {
+      int rest = 0;
+      for (int k = 0; k < m; ++k) {
+        if (!kept[k].fallback && kernel.surfaces->on_surface(placements[k].u)) {
+          refused[n_refused++] = placements[k];
+        } else {
+          kept[rest] = kept[k];
+          placements[rest++] = placements[k];
+        }
+      }
+      return rest;
+    };
     for (std::size_t i = begin; i < end; ++i) {
       const VertId v = static_cast<VertId>(i);
       if (mesh.is_dead_vertex(v) || mesh.is_frozen(v)) continue;
@@ -123,6 +139,14 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
             placements[m++] = {cands[k].u, cands[k].v, cands[k].p};
           }
         if (m == 0) continue;
+        // Held by the tolerance already: the placements the engine refused for it cannot raise
+        // that (polycrystal 30k: most of the census's edges are skipped so).
+        if (refused_by_tolerance && best >= kTolerance) {
+          Placement refused[kMaxCandidates];
+          int n_refused = 0;
+          m = split_refused(kept, placements, m, refused, n_refused);
+          if (m == 0) continue;
+        }
         // The geometry alone bounds what this edge can give (a placement that passes it reaches
         // at most "collapsible"; one it refuses, exactly its stage): when that is no more than v
         // has already, the edge cannot change v's reason, and its link conditions and tolerance
@@ -137,18 +161,10 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
           // as the kernel would: in one call, any that passes it makes the stage the tolerance);
           // the rest (no surface vertex moves, or a quality fallback) go to the kernel below.
           Placement refused[kMaxCandidates];
-          int n_refused = 0, rest = 0;
-          for (int k = 0; k < m; ++k) {
-            if (!kept[k].fallback && kernel.surfaces->on_surface(placements[k].u)) {
-              refused[n_refused++] = placements[k];
-            } else {
-              kept[rest] = kept[k];
-              placements[rest++] = placements[k];
-            }
-          }
+          int n_refused = 0;
+          m = split_refused(kept, placements, m, refused, n_refused);
           if (n_refused > 0 && best < kTolerance)
             best = std::max(best, std::min<int>(kTolerance, furthest(refused, n_refused, geometry)));
-          m = rest;
           if (m == 0) continue;
         }
         if (field_limit) set_placement_fields(mesh, cost, kept, m, placements, fields);
