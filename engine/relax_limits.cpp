@@ -40,12 +40,35 @@ constexpr double kLastFloorShare = 1.0 / 256.0;
 // box of tests/property_features.cpp at 10%: its edges went at 32 H for two vertices of target).
 constexpr int kFeatureLookAhead = 3;
 
-double halved(double floor, double asked) {
+// The least count of vertices a limit must hold to be relaxed: min(excess, 1% of the live ones).
+std::uint64_t enough_of(std::uint64_t live, std::uint64_t target) {
+  return std::max<std::uint64_t>(1, std::min<std::uint64_t>(live - target, live / 100));
+}
+
+// The most any limit an option sets holds.
+std::uint64_t most_of(const StopDiagnosis& d) { return std::max({d.quality, d.tolerance, d.field_error, d.pinned_features}); }
+
+}  // namespace
+
+double halved_floor(double floor, double asked) {
   const double h = 0.5 * floor;
   return h < asked * kLastFloorShare ? 0.0 : h;
 }
 
-}  // namespace
+bool inversion_holds_most(const StopDiagnosis& d, std::uint64_t live, std::uint64_t target) {
+  return live > target && d.inversion >= enough_of(live, target) && d.inversion >= most_of(d);
+}
+
+RelaxChoice choose_relaxation(const StopDiagnosis& d, std::uint64_t live, std::uint64_t target, bool may_tolerance,
+                              bool may_floors, bool may_features) {
+  if (live <= target || d.vertices == 0) return RelaxChoice::kNone;
+  const std::uint64_t enough = enough_of(live, target), most = most_of(d);
+  const auto stops_the_run = [&](std::uint64_t held) { return held >= enough && held == most; };
+  if (may_tolerance && stops_the_run(d.tolerance)) return RelaxChoice::kTolerance;
+  if (may_floors && stops_the_run(d.quality)) return RelaxChoice::kFloors;
+  if (may_features && stops_the_run(d.pinned_features)) return RelaxChoice::kFeatures;
+  return RelaxChoice::kNone;
+}
 
 bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptions& kernel, SurfaceCoverage* coverage,
                   CostModel& cost, std::uint64_t target, Report& report, const std::function<bool()>& flip) {
@@ -55,20 +78,16 @@ bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptio
   const StopDiagnosis& d = report.stop;
   const std::uint64_t live = mesh.live_vertex_count();
   if (live <= target || d.vertices == 0) return false;
-  const std::uint64_t enough = std::max<std::uint64_t>(1, std::min<std::uint64_t>(live - target, live / 100));
-  const std::uint64_t most = std::max({d.quality, d.tolerance, d.field_error, d.pinned_features});
-  const auto stops_the_run = [&](std::uint64_t held) { return held >= enough && held == most; };
   // Inverted tets hold the most: flips first (they cost no guarantee).
-  if (flip && d.inversion >= enough && d.inversion >= most && flip()) {
+  if (flip && inversion_holds_most(d, live, target) && flip()) {
     report.stop = StopDiagnosis{};
     return true;
   }
   const bool tolerance_can_grow = options.relax_tolerance && kernel.tolerance > 0.0 && coverage != nullptr &&
                                   kernel.tolerance < bounding_box_diagonal(mesh);
-  const bool tolerance_may = tolerance_can_grow && stops_the_run(d.tolerance);
-  const bool quality_may = options.relax_quality && (kernel.quality_floor > 0.0 || kernel.dihedral_floor.active()) &&
-                           stops_the_run(d.quality);
-  const bool features_may = options.relax_features && coverage != nullptr && stops_the_run(d.pinned_features);
+  const RelaxChoice choice = choose_relaxation(
+      d, live, target, tolerance_can_grow, options.relax_quality && (kernel.quality_floor > 0.0 || kernel.dihedral_floor.active()),
+      options.relax_features && coverage != nullptr);
   const double share_base = static_cast<double>(d.vertices);
   const auto raise_h = [&](double h, std::uint64_t held) {
     report.relaxations.push_back({"tolerance", kernel.tolerance, h, live, static_cast<double>(held) / share_base});
@@ -76,23 +95,23 @@ bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptio
     coverage->raise_tolerance(h);
     report.tolerance = h;
   };
-  if (tolerance_may) {  // ties: the tolerance first, then the floors, then the features
+  if (choice == RelaxChoice::kTolerance) {
     raise_h(2.0 * kernel.tolerance, d.tolerance);
-  } else if (quality_may) {
+  } else if (choice == RelaxChoice::kFloors) {
     const double share = static_cast<double>(d.quality) / share_base;
     if (report.min_dihedral_used > 0.0) {
-      const double to = halved(report.min_dihedral_used, options.min_dihedral);
+      const double to = halved_floor(report.min_dihedral_used, options.min_dihedral);
       report.relaxations.push_back({"min_dihedral", report.min_dihedral_used, to, live, share});
       report.min_dihedral_used = to;
       kernel.dihedral_floor = DihedralFloor::degrees(to);
     }
     if (report.min_quality_used > 0.0) {
-      const double to = halved(report.min_quality_used, options.min_quality);
+      const double to = halved_floor(report.min_quality_used, options.min_quality);
       report.relaxations.push_back({"min_quality", report.min_quality_used, to, live, share});
       report.min_quality_used = to;
       kernel.quality_floor = to;
     }
-  } else if (features_may) {
+  } else if (choice == RelaxChoice::kFeatures) {
     // Features are judged at the scale of H (features.h): the curves are judged again at 2H, 4H,
     // 8H (or at H when H may not grow), and at the first of those where some are lower than it,
     // they go and H becomes it. None: the features are shapes at those scales, and stay.

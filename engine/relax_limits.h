@@ -38,4 +38,18 @@ namespace topotet::detail {
 bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptions& kernel, SurfaceCoverage* coverage,
                   CostModel& cost, std::uint64_t target, Report& report, const std::function<bool()>& flip = {});
 
+// The rule above on a census alone, shared with topotet::mpi (whose ranks add up the censuses of
+// their parts): which limit relaxes, given which of them can (`may_*`), with `live` vertices left
+// for `target`. A limit relaxes when it holds at least min(excess, 1% of the live vertices) and no
+// fewer than any other limit an option sets (the tolerance, the floors, a field error limit, the
+// feature corners); ties go to the tolerance, then the floors, then the features.
+enum class RelaxChoice : std::uint8_t { kNone, kTolerance, kFloors, kFeatures };
+RelaxChoice choose_relaxation(const StopDiagnosis& census, std::uint64_t live, std::uint64_t target, bool may_tolerance,
+                              bool may_floors, bool may_features);
+// Inverted tets hold at least min(excess, 1% of the live vertices) and no fewer than any limit an
+// option sets: relax_limits flips first then.
+bool inversion_holds_most(const StopDiagnosis& census, std::uint64_t live, std::uint64_t target);
+// A quality floor halved, or 0 once below 1/256 of the asked one (`asked`).
+double halved_floor(double floor, double asked);
+
 }  // namespace topotet::detail

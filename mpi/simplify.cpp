@@ -17,6 +17,7 @@
 #include "local_pass.h"
 #include "migrate.h"
 #include "partition.h"
+#include "relax_limits.h"
 #include "topotet/error.h"
 #include "topotet/mpi.h"
 
@@ -113,6 +114,65 @@ void reduce_report(MPI_Comm comm, Report& r) {
   for (double& s : r.phase_seconds) s = max_over_ranks(comm, s);
 }
 
+bool all_ranks(MPI_Comm comm, bool here) {
+  int mine = here ? 1 : 0, all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, comm);
+  return all != 0;
+}
+
+// The census of the whole mesh at a stall: the sum of the parts' (each part's run takes its own
+// when it stops early, frozen vertices left out: stop_diagnosis.h).
+StopDiagnosis global_census(MPI_Comm comm, const StopDiagnosis& part) {
+  std::uint64_t counts[] = {part.vertices, part.topology, part.pinned, part.inversion, part.quality, part.tolerance,
+                            part.field_error, part.collapsible, part.pinned_features};
+  std::uint64_t sums[std::size(counts)];
+  MPI_Allreduce(counts, sums, static_cast<int>(std::size(counts)), MPI_UINT64_T, MPI_SUM, comm);
+  StopDiagnosis d;
+  d.is_filled = true;
+  d.vertices = sums[0];
+  d.topology = sums[1];
+  d.pinned = sums[2];
+  d.inversion = sums[3];
+  d.quality = sums[4];
+  d.tolerance = sums[5];
+  d.field_error = sums[6];
+  d.collapsible = sums[7];
+  d.pinned_features = sums[8];
+  return d;
+}
+
+// At a global stall, the in-core rule (relax_limits.h, choose_relaxation) on the whole mesh's
+// census: H doubled, or both floors halved, for every rank alike (`local` is the same on every
+// rank, and so is the census). The feature curves are not dropped over MPI: each part finds its
+// own, and dropping them needs the curves of the whole mesh. Returns whether a limit relaxed.
+bool relax_globally(MPI_Comm comm, const StopDiagnosis& part, std::uint64_t live, std::uint64_t target,
+                    double diagonal, const SimplifyOptions& asked, SimplifyOptions& local, Report& report) {
+  const StopDiagnosis d = global_census(comm, part);
+  const bool may_tolerance = asked.relax_tolerance && local.tolerance > 0.0 && local.tolerance < diagonal;
+  const bool may_floors = asked.relax_quality && (local.min_quality > 0.0 || local.min_dihedral > 0.0);
+  const topotet::detail::RelaxChoice choice = topotet::detail::choose_relaxation(d, live, target, may_tolerance, may_floors, false);
+  if (choice == topotet::detail::RelaxChoice::kNone) return false;
+  const double vertices = static_cast<double>(d.vertices);
+  if (choice == topotet::detail::RelaxChoice::kTolerance) {
+    report.relaxations.push_back({"tolerance", local.tolerance, 2.0 * local.tolerance, live, static_cast<double>(d.tolerance) / vertices});
+    local.tolerance *= 2.0;
+    report.tolerance = local.tolerance;
+    return true;
+  }
+  const double share = static_cast<double>(d.quality) / vertices;
+  if (local.min_dihedral > 0.0) {
+    const double to = topotet::detail::halved_floor(local.min_dihedral, asked.min_dihedral);
+    report.relaxations.push_back({"min_dihedral", local.min_dihedral, to, live, share});
+    local.min_dihedral = report.min_dihedral_used = to;
+  }
+  if (local.min_quality > 0.0) {
+    const double to = topotet::detail::halved_floor(local.min_quality, asked.min_quality);
+    report.relaxations.push_back({"min_quality", local.min_quality, to, live, share});
+    local.min_quality = report.min_quality_used = to;
+  }
+  return true;
+}
+
 bool is_failure(Status s) {
   return s == Status::kInvalidInput || s == Status::kOutOfMemory || s == Status::kInternalError || s == Status::kCancelled;
 }
@@ -142,18 +202,23 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
                                 : static_cast<std::uint64_t>(std::llround(o.target_vertex_ratio * global_vertices)));
   // The tolerance is of the whole mesh's bounding box, not of a part's.
   SimplifyOptions local = o;
-  local.tolerance = o.tolerance > 0.0 ? o.tolerance : o.tolerance_rel * global_diagonal(comm, mesh.local);
-  // The limits hold as given: a part relaxing them alone would give the ranks different guarantees
-  // (SimplifyOptions::relax_tolerance, relax_quality, relax_features; the passes stop short instead).
+  const double diagonal = global_diagonal(comm, mesh.local);
+  local.tolerance = o.tolerance > 0.0 ? o.tolerance : o.tolerance_rel * diagonal;
+  // A part relaxing a limit alone would give the ranks different guarantees: the parts hold them
+  // as given, and where the whole run stalls before its target the limits relax for every rank
+  // alike, by the in-core rule on the whole mesh's census (relax_globally).
   local.relax_tolerance = false;
   local.relax_quality = false;
   local.relax_features = false;
-  report.tolerance = local.tolerance;
+  report.tolerance = report.tolerance_asked = local.tolerance;
+  report.min_quality_used = o.min_quality;
+  report.min_dihedral_used = o.min_dihedral;
   // Per vertex: kFrozenLastPass (the partition should avoid it: pending), kFrozenOnce (sticky).
   std::vector<std::uint8_t> marks(mesh.local.vertex_count(), 0);
 
   bool unrestricted = false;
-  for (int pass = 1; pass <= options.max_passes && global_vertices > target; ++pass) {
+  // max_passes bounds the passes under each value of the limits (a relaxation starts a new count).
+  for (int pass = 1, passes_here = 1; passes_here <= options.max_passes && global_vertices > target; ++pass, ++passes_here) {
     const auto pass_start = Clock::now();
     PassStats stats;
     stats.frozen_vertices = sum_over_ranks(comm, std::count(sharing.shared.begin(), sharing.shared.end(), 1));
@@ -175,6 +240,7 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
     const CostUnits units = detail::global_cost_units(comm, mesh.local);
     local.cost_units = units.diagonal > 0.0 ? &units : nullptr;
     std::string error;
+    StopDiagnosis trial_census;  // the trial's, when it stopped early (relax_globally)
     // (One rank has nothing to split.)
     if (options.shares_by_cost && o.engine == Engine::kParallel && global_share > 0 && detail::size_of(comm) > 1) {
       // The trial (the part itself stays as it is): its curve of cost against removed vertices,
@@ -192,6 +258,7 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
           trial.round_log = &rounds;
           const Report t = detail::trial_part(mesh, sharing.shared, keep, trial, mesh.local.vertex_count() - reach);
           if (is_failure(t.status)) error = t.message;
+          trial_census = t.stop;
         } catch (const std::exception& e) {
           error = e.what();
         }
@@ -229,8 +296,17 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
     if (fell_short) unrestricted = true;
     // Without frozen vertices (one rank, or parts that share nothing) the pass saw the whole
     // problem: what it could not remove, no other partition would.
-    const bool last = global_vertices <= target || (stats.collapses == 0 && !fell_short) ||
-                      stats.frozen_vertices == 0 || pass == options.max_passes;
+    const bool stopped = (stats.collapses == 0 && !fell_short) || stats.frozen_vertices == 0;
+    const bool out_of_passes = passes_here == options.max_passes;
+    // The limits may relax for the next passes where the run stops short (no collapse left, or
+    // out of passes) or where every part stopped short of its share (each took its census then; a
+    // part given no share this pass, its trial having removed nothing, has its trial's).
+    const StopDiagnosis& census = lp.report.stop.is_filled ? lp.report.stop : trial_census;
+    const bool every_part_stalled = all_ranks(comm, census.is_filled || removable == 0);
+    const bool relaxed = global_vertices > target && (stopped || out_of_passes || every_part_stalled) &&
+                         relax_globally(comm, census, global_vertices, target, diagonal, o, local, report);
+    if (relaxed) passes_here = 0;
+    const bool last = !relaxed && (global_vertices <= target || stopped || out_of_passes);
     if (!last) {
       const auto partition_start = Clock::now();
       const std::vector<int> dest = detail::partition(comm, mesh, marks, options.metis_seed, &bytes);

@@ -7,10 +7,13 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstring>
 #include <unordered_map>
 #include <utility>
 
 #include "topotet/generate.h"
+#include "topotet/metrics/surface_distance.h"
 #include "topotet/metrics/topology.h"
 #include "topotet/mpi.h"
 
@@ -189,6 +192,58 @@ TEST(MpiSimplifyDistributed, AlreadySpreadMeshKeepsTheTopologyAndMapsEveryVertex
   std::sort(renamed.begin(), renamed.end());
   std::sort(output.begin(), output.end());
   EXPECT_TRUE(renamed == output);
+}
+
+// The limits relax over MPI as in core (relax_limits.h), for every rank alike: a tolerance far
+// below the surfaces' jitter (as RelaxLimits.TheToleranceDoublesUntilTheTarget*) stops a run held
+// to it before its target; relaxed, H doubles at each global stall until the run reaches the
+// target, the report gives the H that holds, and the surfaces stay within it.
+TEST(MpiSimplifyRelax, TheToleranceRelaxesForEveryRankAlike) {
+  const MeshData input = generated("cube-sphere", 8000);
+  const auto run_with = [&](bool relax) {
+    Options options;
+    options.simplify.target_vertex_ratio = 0.05;
+    options.simplify.tolerance_rel = 1e-4;
+    options.simplify.feature_angle = 180.0;
+    options.simplify.num_threads = 1;
+    options.simplify.relax_tolerance = options.simplify.relax_quality = relax;
+    DistributedMesh part = rank() == 0 ? from_whole(input) : DistributedMesh{};
+    distribute(MPI_COMM_WORLD, part);
+    Simplified r;
+    r.result = simplify(MPI_COMM_WORLD, part, options);
+    r.output = gather(MPI_COMM_WORLD, part, 0, &r.output_ids);
+    return r;
+  };
+  const std::uint64_t target = static_cast<std::uint64_t>(std::llround(0.05 * static_cast<double>(input.vertex_count())));
+  const Simplified held = run_with(false);
+  EXPECT_EQ(held.result.report.status, Status::kStoppedEarly);
+  EXPECT_GT(held.result.report.vertices_after, 2 * target);
+  EXPECT_TRUE(held.result.report.relaxations.empty());
+
+  const Simplified relaxed = run_with(true);
+  const Report& r = relaxed.result.report;
+  std::string relaxations;
+  for (const Relaxation& x : r.relaxations)
+    relaxations += std::string(x.limit) + " " + std::to_string(x.from) + " -> " + std::to_string(x.to) + " at " +
+                   std::to_string(x.vertices_left) + "; ";
+  ASSERT_EQ(r.status, Status::kOk) << r.message << "; relaxed: " << relaxations;
+  EXPECT_LE(r.vertices_after, target);
+  std::size_t steps = 0;
+  for (const Relaxation& x : r.relaxations)
+    if (std::strcmp(x.limit, "tolerance") == 0) {
+      EXPECT_EQ(x.to, 2.0 * x.from);
+      ++steps;
+    }
+  ASSERT_GE(steps, 1u);
+  EXPECT_EQ(r.tolerance, std::ldexp(r.tolerance_asked, static_cast<int>(steps)));
+  expect_same_topology(input, relaxed);
+  if (rank() == 0) {
+    SurfaceDistanceOptions distance_options;
+    distance_options.sample_spacing_rel = 5e-4;
+    // Each pass checks H against its own input (docs/mpi.md, Limits): H per pass at most.
+    EXPECT_LE(surface_distance(input, relaxed.output, distance_options).hausdorff,
+              r.tolerance * static_cast<double>(relaxed.result.passes.size()));
+  }
 }
 
 TEST(MpiSimplifyDeterminism, SameOutputForEveryRunAndThreadCount) {

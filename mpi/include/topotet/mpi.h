@@ -22,7 +22,12 @@
 //      coarse tet there), faces near still-unsimplified former borders weighted so that the new
 //      cut avoids them, parts matched to ranks by overlap, and migrate the tets (with their
 //      vertices, materials, listed triangles and segments, pins and fields).
-// Until the global target is reached, a pass removes nothing, or max_passes.
+// Until the global target is reached, a pass removes nothing, or max_passes. Where the run would
+// stop before its target (a pass removes nothing, max_passes, or every part stopped short of its
+// share), the limits the options let relax (relax_tolerance, relax_quality) relax as in one
+// process, by the same rule on the census of the whole mesh (the sum of the parts'): H doubled or
+// the floors halved, for every rank alike, recorded in Report::relaxations; max_passes then counts
+// again. The feature curves are not dropped over MPI (each pass's parts find their own).
 //
 // Every call is collective over `comm`. The output is identical from run to run for a fixed rank
 // count and any thread count per rank. Errors (bad input, out of memory) throw std::runtime_error
