@@ -395,7 +395,9 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
              : static_cast<std::uint64_t>(std::llround(options.target_vertex_ratio * static_cast<double>(input_vertices))));
   // Tolerance H shared by the levels (topotet/out_of_core.h): h_0 = H / 2, the merges H / (2 L).
   const double H = options.tolerance > 0.0 ? options.tolerance : options.tolerance_rel * cut.diagonal;
-  report.tolerance = H;
+  report.tolerance = report.tolerance_asked = H;
+  report.min_quality_used = options.min_quality;
+  report.min_dihedral_used = options.min_dihedral;
   int merge_levels = 0;
   while ((1u << merge_levels) < cut.pieces) ++merge_levels;
   const auto level_tolerance = [&](int level) {
@@ -405,10 +407,11 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   SimplifyOptions base = options;
   base.cost_units = &cut.units;
   base.target_vertex_ratio = 1.0;
-  // The limits hold as given: a piece stops short of its level's share instead of relaxing them,
-  // since a piece's H is its level's part of the run's (the parts add up to H) and the floors
-  // would differ from piece to piece (SimplifyOptions::relax_tolerance, relax_quality,
-  // relax_features).
+  // The limits hold as given while there are pieces: a piece stops short of its level's share
+  // instead of relaxing them, since the floors would then differ from piece to piece
+  // (SimplifyOptions::relax_tolerance, relax_quality, relax_features). The run of the last level,
+  // when it holds the whole mesh in one piece, relaxes them as in core (its share of H doubles:
+  // the levels' shares still add up to the H the report gives).
   base.relax_tolerance = false;
   base.relax_quality = false;
   base.relax_features = false;
@@ -516,9 +519,33 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
       if (seamed && s + 1 == steps.size() && live > target)
         remove = std::max(remove, std::min(live - target, remove + steps.size()));
       stats.largest_piece_tets = std::max<std::uint64_t>(stats.largest_piece_tets, piece.mesh.tets.size());
-      const PieceRun run = simplify_piece(piece, holders, o, remove, ooc.cell_remap, map ? &*map : nullptr,
+      SimplifyOptions piece_options = o;
+      if (last) {  // the whole mesh: the limits relax as in core
+        piece_options.relax_tolerance = options.relax_tolerance;
+        piece_options.relax_quality = options.relax_quality;
+        piece_options.relax_features = options.relax_features;
+      }
+      const PieceRun run = simplify_piece(piece, holders, piece_options, remove, ooc.cell_remap, map ? &*map : nullptr,
                                           sampling ? &*sampling : nullptr, spool ? &*spool : nullptr);
       add_run_counts(report, run.report);
+      if (!run.report.relaxations.empty()) {
+        // The run's H is this level's share: the run's H is the other levels' shares plus it.
+        const double others = report.tolerance - stats.tolerance;
+        for (Relaxation x : run.report.relaxations) {
+          if (std::string(x.limit) == "tolerance") {
+            x.from += others;
+            x.to += others;
+          }
+          report.relaxations.push_back(x);
+        }
+        if (o.tolerance > 0.0) {
+          stats.tolerance = run.report.tolerance;
+          report.tolerance = others + run.report.tolerance;
+        }
+        report.min_quality_used = run.report.min_quality_used;
+        report.min_dihedral_used = run.report.min_dihedral_used;
+        report.features_dropped += run.report.features_dropped;
+      }
       if (run.report.field_bounds) {
         slot.field_bound = run.report.field_bound;
         report.field_bounds_bytes = std::max(report.field_bounds_bytes, run.report.field_bounds_bytes);

@@ -100,6 +100,49 @@ TEST_P(OutOfCore, ManyPiecesKeepTheTopologyAndTheTolerance) {
   }
 }
 
+// The limits relax as in core (relax_limits.h) in the last level's run, which holds the whole mesh:
+// a tolerance far below the surfaces' jitter stops a run held to it; relaxed, the run reaches its
+// target, the report gives the H that holds (the levels' shares, the last one doubled), and the
+// surfaces stay within it.
+TEST(OutOfCoreRelax, TheLastLevelRelaxesTheToleranceAsInCore) {
+  const MeshData input = generated("cube-sphere", 8000);
+  test::TempDir folder;
+  const std::string in = folder.file("in.mesh"), out = folder.file("out.mesh");
+  write_mesh(in, input);
+  const auto run_with = [&](bool relax) {
+    SimplifyOptions options;
+    options.target_vertex_ratio = 0.05;
+    options.tolerance_rel = 1e-4;
+    options.feature_angle = 180.0;
+    options.num_threads = 2;
+    options.relax_tolerance = options.relax_quality = relax;
+    OutOfCoreOptions ooc;
+    ooc.pieces = 4;
+    return simplify_out_of_core(in, out, options, ooc);
+  };
+  const std::uint64_t target = static_cast<std::uint64_t>(std::llround(0.05 * static_cast<double>(input.vertex_count())));
+  const OutOfCoreReport held = run_with(false);
+  EXPECT_EQ(held.report.status, Status::kStoppedEarly);
+  EXPECT_GT(held.report.vertices_after, 2 * target);
+  EXPECT_TRUE(held.report.relaxations.empty());
+
+  const OutOfCoreReport relaxed = run_with(true);
+  const Report& r = relaxed.report;
+  ASSERT_EQ(r.status, Status::kOk) << r.message;
+  EXPECT_EQ(r.vertices_after, target);
+  ASSERT_FALSE(r.relaxations.empty());
+  EXPECT_STREQ(r.relaxations.front().limit, "tolerance");
+  EXPECT_EQ(r.relaxations.front().from, r.tolerance_asked);
+  EXPECT_EQ(r.relaxations.back().to, r.tolerance);
+  EXPECT_GT(r.tolerance, r.tolerance_asked);
+  const MeshData output = read_mesh(out);
+  expect_same_topology(input, output);
+  SurfaceDistanceOptions distance_options;
+  distance_options.sample_spacing_rel = 5e-4;
+  const SurfaceDistance d = surface_distance(input, output, distance_options);
+  EXPECT_LE(d.hausdorff, r.tolerance * (1 + 1e-9) + d.sampling_error);
+}
+
 // The linked tori: two interlocked rings (b1 of each, and their linking) across many pieces.
 TEST(OutOfCoreLinkedTori, InterlockedRingsAcrossManyPieces) {
   const MeshData input = generated("linked-tori", 40000);

@@ -17,6 +17,11 @@
 //     triangle inequality every point of the output's surfaces is within H of the input's of its
 //     label and the other way round (h_0 = H / 2, the rest shared equally by the merge levels);
 //   - quality floors (min_quality, min_dihedral: relative to the tets replaced, as in core);
+//   - the limits that relax (relax_tolerance, relax_quality, relax_features): they hold as given
+//     while the mesh is in pieces (floors and features would differ from piece to piece); the
+//     last level's run, when it holds the whole mesh, relaxes them as in core, its share h_L of H
+//     doubling (Report::tolerance is then the sum of the levels' shares, Report::relaxations
+//     says which limit and from what, as H); a run left in pieces by its memory limit does not;
 //   - determinism: the pieces depend on the input, the limit and the process's resident size at
 //     the start rounded up to 64 MiB (outofcore/memory_budget.h), never on timing, and each
 //     piece's run is the parallel engine's, identical for every thread count;
