@@ -96,20 +96,20 @@ std::uint64_t share_of(MPI_Comm comm, std::uint64_t removable, std::uint64_t rem
   return share[me];
 }
 
+// Each counter summed over the ranks, in place (one all-reduce).
+void sum_in_place(MPI_Comm comm, const std::vector<std::uint64_t*>& counters) {
+  std::vector<std::uint64_t> counts, sums(counters.size());
+  for (const std::uint64_t* c : counters) counts.push_back(*c);
+  MPI_Allreduce(counts.data(), sums.data(), static_cast<int>(counts.size()), MPI_UINT64_T, MPI_SUM, comm);
+  for (std::size_t k = 0; k < counters.size(); ++k) *counters[k] = sums[k];
+}
+
 // Counters summed over ranks, seconds and costs the largest.
 void reduce_report(MPI_Comm comm, Report& r) {
-  std::vector<std::uint64_t> counts = {r.collapses, r.evaluations, r.legality_checks, r.rounds, r.feature_edges,
-                                       r.feature_corners};
-  counts.insert(counts.end(), r.rejected.begin(), r.rejected.end());
-  std::vector<std::uint64_t> sums(counts.size());
-  MPI_Allreduce(counts.data(), sums.data(), static_cast<int>(counts.size()), MPI_UINT64_T, MPI_SUM, comm);
-  r.collapses = sums[0];
-  r.evaluations = sums[1];
-  r.legality_checks = sums[2];
-  r.rounds = sums[3];
-  r.feature_edges = sums[4];
-  r.feature_corners = sums[5];
-  std::copy(sums.begin() + 6, sums.end(), r.rejected.begin());
+  std::vector<std::uint64_t*> counters = {&r.collapses, &r.evaluations, &r.legality_checks, &r.rounds,
+                                          &r.feature_edges, &r.feature_corners};
+  for (std::uint64_t& x : r.rejected) counters.push_back(&x);
+  sum_in_place(comm, counters);
   r.max_cost = max_over_ranks(comm, r.max_cost);
   for (double& s : r.phase_seconds) s = max_over_ranks(comm, s);
 }
@@ -123,21 +123,14 @@ bool all_ranks(MPI_Comm comm, bool here) {
 // The census of the whole mesh at a stall: the sum of the parts' (each part's run takes its own
 // when it stops early, frozen vertices left out: stop_diagnosis.h).
 StopDiagnosis global_census(MPI_Comm comm, const StopDiagnosis& part) {
-  std::uint64_t counts[] = {part.vertices, part.topology, part.pinned, part.inversion, part.quality, part.tolerance,
-                            part.field_error, part.collapsible, part.pinned_features};
-  std::uint64_t sums[std::size(counts)];
-  MPI_Allreduce(counts, sums, static_cast<int>(std::size(counts)), MPI_UINT64_T, MPI_SUM, comm);
-  StopDiagnosis d;
+  StopDiagnosis d = part;  // its counts, summed below; its words are the part's alone
   d.is_filled = true;
-  d.vertices = sums[0];
-  d.topology = sums[1];
-  d.pinned = sums[2];
-  d.inversion = sums[3];
-  d.quality = sums[4];
-  d.tolerance = sums[5];
-  d.field_error = sums[6];
-  d.collapsible = sums[7];
-  d.pinned_features = sums[8];
+  d.beyond_reach = false;
+  d.dominant = "";
+  d.dominant_share = 0.0;
+  d.suggestion.clear();
+  sum_in_place(comm, {&d.vertices, &d.topology, &d.pinned, &d.inversion, &d.quality, &d.tolerance, &d.field_error,
+                      &d.collapsible, &d.pinned_corners, &d.pinned_required, &d.pinned_features, &d.pinned_other});
   return d;
 }
 

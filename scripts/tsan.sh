@@ -8,7 +8,8 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DTOPOTET_SANITIZE=thread \
   -DTOPOTET_BUILD_BENCH=OFF -DTOPOTET_BUILD_CLI=OFF
 tests=(unit_simplify unit_vertex_map unit_tet_mesh unit_mesh_view unit_generate property_hierarchy)
-cmake --build build-tsan -j "$(nproc)" --target "${tests[@]}" unit_field_bounds unit_surface_tolerance property_optimize
+cmake --build build-tsan -j "$(nproc)" --target "${tests[@]}" unit_field_bounds unit_surface_tolerance property_optimize \
+  unit_relax_limits
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
 # Two generator tests are the topology checker's (serial) work across many sizes, 43 s of the 63 s
 # unit_generate takes under TSan: the generators' parallel code runs in the others (the 1M-tet
@@ -34,4 +35,8 @@ build-tsan/tests/unit_surface_tolerance --gtest_brief=1 --gtest_filter='Simplify
 # The smoothing after the collapses (engine/optimize/smooth.h) moves vertices in parallel.
 echo "--- TSan: property_optimize (smoothing and flips after the parallel engine, 1 and 2 threads)"
 build-tsan/tests/property_optimize --gtest_brief=1 --gtest_filter='*seed1_half_light:*seed7_small_full'
+# At a stall the rounds look again at the edges whose refusals may be out of date, in parallel
+# (Proposals::refresh_if_stale), and the census runs in parallel: runs that stall and relax.
+echo "--- TSan: unit_relax_limits (stalls, census and relaxations, 1/2/4 threads)"
+build-tsan/tests/unit_relax_limits --gtest_brief=1 --gtest_filter='RelaxLimits.SameOutputForEveryThreadCount'
 echo "TSan: no data race reported"
