@@ -200,12 +200,12 @@ TEST(MpiSimplifyDistributed, AlreadySpreadMeshKeepsTheTopologyAndMapsEveryVertex
 // target, the report gives the H that holds, and the surfaces stay within it.
 TEST(MpiSimplifyRelax, TheToleranceRelaxesForEveryRankAlike) {
   const MeshData input = generated("cube-sphere", 8000);
-  const auto run_with = [&](bool relax) {
+  const auto run_with = [&](bool relax, int threads = 1) {
     Options options;
     options.simplify.target_vertex_ratio = 0.05;
     options.simplify.tolerance_rel = 1e-4;
     options.simplify.feature_angle = 180.0;
-    options.simplify.num_threads = 1;
+    options.simplify.num_threads = threads;
     options.simplify.relax_tolerance = options.simplify.relax_quality = relax;
     DistributedMesh part = rank() == 0 ? from_whole(input) : DistributedMesh{};
     distribute(MPI_COMM_WORLD, part);
@@ -244,6 +244,12 @@ TEST(MpiSimplifyRelax, TheToleranceRelaxesForEveryRankAlike) {
     EXPECT_LE(surface_distance(input, relaxed.output, distance_options).hausdorff,
               r.tolerance * static_cast<double>(relaxed.result.passes.size()));
   }
+  // The same relaxations and output for another thread count per rank.
+  const Simplified two_threads = run_with(true, 2);
+  EXPECT_EQ(two_threads.result.report.relaxations.size(), r.relaxations.size());
+  EXPECT_EQ(two_threads.result.report.tolerance, r.tolerance);
+  EXPECT_TRUE(two_threads.output == relaxed.output);
+  EXPECT_TRUE(two_threads.output_ids == relaxed.output_ids);
 }
 
 TEST(MpiSimplifyDeterminism, SameOutputForEveryRunAndThreadCount) {

@@ -109,12 +109,12 @@ TEST(OutOfCoreRelax, TheLastLevelRelaxesTheToleranceAsInCore) {
   test::TempDir folder;
   const std::string in = folder.file("in.mesh"), out = folder.file("out.mesh");
   write_mesh(in, input);
-  const auto run_with = [&](bool relax) {
+  const auto run_with = [&](bool relax, int threads = 2) {
     SimplifyOptions options;
     options.target_vertex_ratio = 0.05;
     options.tolerance_rel = 1e-4;
     options.feature_angle = 180.0;
-    options.num_threads = 2;
+    options.num_threads = threads;
     options.relax_tolerance = options.relax_quality = relax;
     OutOfCoreOptions ooc;
     ooc.pieces = 4;
@@ -141,6 +141,12 @@ TEST(OutOfCoreRelax, TheLastLevelRelaxesTheToleranceAsInCore) {
   distance_options.sample_spacing_rel = 5e-4;
   const SurfaceDistance d = surface_distance(input, output, distance_options);
   EXPECT_LE(d.hausdorff, r.tolerance * (1 + 1e-9) + d.sampling_error);
+  // The same bytes and relaxations on one thread.
+  const std::string bytes = test::read_text(out);
+  const OutOfCoreReport one_thread = run_with(true, 1);
+  EXPECT_EQ(one_thread.report.relaxations.size(), r.relaxations.size());
+  EXPECT_EQ(one_thread.report.tolerance, r.tolerance);
+  EXPECT_EQ(test::read_text(out), bytes);
 }
 
 // The linked tori: two interlocked rings (b1 of each, and their linking) across many pieces.
