@@ -79,6 +79,40 @@ std::string format_ratio(double x) {
   return format_number(x, 17);
 }
 
+std::string relaxations_text(const Report& r) {
+  struct Span {
+    const char* limit;
+    double from, to;
+    int steps;
+  };
+  std::vector<Span> spans;  // per limit, in the order first relaxed
+  for (const Relaxation& x : r.relaxations) {
+    auto it = std::find_if(spans.begin(), spans.end(), [&](const Span& s) { return std::string(s.limit) == x.limit; });
+    if (it == spans.end()) spans.push_back({x.limit, x.from, x.to, 1});
+    else it->to = x.to, ++it->steps;
+  }
+  std::string text;
+  for (const Span& s : spans) {
+    const std::string limit = s.limit;
+    if (limit == "features") {  // from and to: the feature edges before and after
+      text += (text.empty() ? "" : ", ") + std::string("feature edges ") + format_count(static_cast<std::uint64_t>(s.from)) +
+              " -> " + format_count(static_cast<std::uint64_t>(s.to)) + " (those lower than the relaxed H dropped)";
+      continue;
+    }
+    const std::string name = limit == "tolerance" ? "tolerance H" : limit == "min_dihedral" ? "min dihedral" : "min quality";
+    text += (text.empty() ? "" : ", ") + name + " " + format_number(s.from) + " -> " + format_number(s.to) +
+            (limit == "min_dihedral" ? " degrees" : "") + " (" + std::to_string(s.steps) + (s.steps == 1 ? " step)" : " steps)");
+  }
+  return text;
+}
+
+Json relaxations_json(const Report& r) {
+  Json a = Json::array();
+  for (const Relaxation& x : r.relaxations)
+    a.push_back({{"limit", x.limit}, {"from", x.from}, {"to", x.to}, {"vertices_left", x.vertices_left}, {"share", x.share}});
+  return a;
+}
+
 // ---- system ----
 
 std::uint64_t peak_rss_bytes() {

@@ -112,6 +112,11 @@ std::string format_count(std::uint64_t n);       // "1,234,567"
 std::string format_bytes(std::uint64_t bytes);   // "812 kB", "12.3 MB", "1.23 GB" (decimal)
 std::string format_number(double x, int digits = 3);  // %.*g
 std::string format_ratio(double x);              // "0.3" / "0.25": shortest text of a level
+// The limits a run relaxed (Report::relaxations), per limit from its first value to its last:
+// "tolerance H 1.32 -> 42.1 (5 steps), min dihedral 5 -> 0.625 degrees (3 steps), ..."; empty if
+// none. The `relaxed` row of topotet simplify (in core and out of core) and of topotet-mpi.
+std::string relaxations_text(const Report& r);
+Json relaxations_json(const Report& r);  // [{limit, from, to, vertices_left, share}], for --json
 
 // ---- system ----
 std::uint64_t peak_rss_bytes();  // VmHWM of /proc/self/status; 0 if unavailable

@@ -16,13 +16,6 @@ namespace topotet::cli {
 
 namespace {
 
-Json relaxations_json(const Report& r) {
-  Json a = Json::array();
-  for (const Relaxation& x : r.relaxations)
-    a.push_back({{"limit", x.limit}, {"from", x.from}, {"to", x.to}, {"vertices_left", x.vertices_left}, {"share", x.share}});
-  return a;
-}
-
 // The report as JSON (--json): what the text gives, in numbers.
 Json json_report(const SimplifyArgs& args, const OutOfCoreOptions& ooc, const OutOfCoreReport& r) {
   const Report& rep = r.report;
@@ -133,23 +126,9 @@ int run_simplify_out_of_core(const SimplifyArgs& args) {
                  ooc.memory_limit_bytes ? (", limit " + format_bytes(ooc.memory_limit_bytes)).c_str() : "",
                  format_bytes(r.scratch_peak_bytes).c_str());
     std::fprintf(out, "tolerance    %s (mesh units), shared by the levels\n", format_number(rep.tolerance).c_str());
-    if (!rep.relaxations.empty()) {
-      // The last level's run (the whole mesh) relaxed as in core: per limit, first -> last value.
-      std::string text;
-      for (const char* limit : {"tolerance", "min_dihedral", "min_quality", "features"}) {
-        const Relaxation *first = nullptr, *last = nullptr;
-        for (const Relaxation& x : rep.relaxations)
-          if (std::string(x.limit) == limit) {
-            if (first == nullptr) first = &x;
-            last = &x;
-          }
-        if (first == nullptr) continue;
-        text += (text.empty() ? "" : ", ") + std::string(std::string(limit) == "tolerance" ? "tolerance H" : limit) + " " +
-                format_number(first->from) + " -> " + format_number(last->to);
-      }
-      std::fprintf(out, "relaxed      %s, in the last level's run (the whole mesh), to reach the target; the output holds its "
-                   "guarantees with these values\n", text.c_str());
-    }
+    if (!rep.relaxations.empty())  // by the last level's run (the whole mesh), as in core
+      std::fprintf(out, "relaxed      %s, in the last level's run (the whole mesh), to reach the target; the output holds "
+                   "its guarantees with these values\n", relaxations_text(rep).c_str());
     if (rep.field_bounds) {
       // The bound holds at every input vertex, as in core (engine/guarantees/field_bounds.h).
       std::string per_component;

@@ -124,10 +124,7 @@ Json level_json(const LevelResult& l) {
   j["tolerance_asked"] = r.tolerance_asked;
   j["min_quality_used"] = r.min_quality_used;
   j["min_dihedral_used"] = r.min_dihedral_used;
-  Json relaxations = Json::array();
-  for (const Relaxation& x : r.relaxations)
-    relaxations.push_back({{"limit", x.limit}, {"from", x.from}, {"to", x.to}, {"vertices_left", x.vertices_left}, {"share", x.share}});
-  j["relaxations"] = relaxations;
+  j["relaxations"] = relaxations_json(r);
   j["relax_seconds"] = r.relax_seconds;
   j["features_dropped"] = r.features_dropped;
   j["stall_flips"] = r.stall_flips;
@@ -394,29 +391,7 @@ void print_optimize(const SimplifyJob& job, const Report& r) {
 // from what to what: the output's guarantees hold with the relaxed values.
 void print_relaxations(const Report& r) {
   if (r.relaxations.empty()) return;
-  struct Span {
-    const char* limit;
-    double from, to;
-    int steps;
-  };
-  std::vector<Span> spans;  // per limit, in the order first relaxed
-  for (const Relaxation& x : r.relaxations) {
-    auto it = std::find_if(spans.begin(), spans.end(), [&](const Span& s) { return std::string(s.limit) == x.limit; });
-    if (it == spans.end()) spans.push_back({x.limit, x.from, x.to, 1});
-    else it->to = x.to, ++it->steps;
-  }
-  std::string text;
-  for (const Span& s : spans) {
-    const std::string limit = s.limit;
-    if (limit == "features") {  // from and to: the feature edges before and after
-      text += (text.empty() ? "" : ", ") + std::string("feature edges ") + format_count(static_cast<std::uint64_t>(s.from)) +
-              " -> " + format_count(static_cast<std::uint64_t>(s.to)) + " (those lower than the relaxed H dropped)";
-      continue;
-    }
-    const std::string name = limit == "tolerance" ? "tolerance H" : limit == "min_dihedral" ? "min dihedral" : "min quality";
-    text += (text.empty() ? "" : ", ") + name + " " + format_number(s.from) + " -> " + format_number(s.to) +
-            (limit == "min_dihedral" ? " degrees" : "") + " (" + std::to_string(s.steps) + (s.steps == 1 ? " step)" : " steps)");
-  }
+  const std::string text = relaxations_text(r);
   row("relaxed", text + " to reach the target; the output holds its guarantees with these values (a limit given as "
                         "an option, or --hard-limits, holds as given; choosing took " + format_seconds(r.relax_seconds) + ")");
 }

@@ -50,9 +50,16 @@ std::uint64_t most_of(const StopDiagnosis& d) { return std::max({d.quality, d.to
 
 }  // namespace
 
-double halved_floor(double floor, double asked) {
-  const double h = 0.5 * floor;
-  return h < asked * kLastFloorShare ? 0.0 : h;
+void halve_floors(const SimplifyOptions& asked, std::uint64_t live, double share, Report& report) {
+  const auto halve = [&](const char* limit, double& used, double asked_floor) {
+    if (!(used > 0.0)) return;
+    const double h = 0.5 * used;
+    const double to = h < asked_floor * kLastFloorShare ? 0.0 : h;
+    report.relaxations.push_back({limit, used, to, live, share});
+    used = to;
+  };
+  halve("min_dihedral", report.min_dihedral_used, asked.min_dihedral);
+  halve("min_quality", report.min_quality_used, asked.min_quality);
 }
 
 bool inversion_holds_most(const StopDiagnosis& d, std::uint64_t live, std::uint64_t target) {
@@ -98,19 +105,9 @@ bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptio
   if (choice == RelaxChoice::kTolerance) {
     raise_h(2.0 * kernel.tolerance, d.tolerance);
   } else if (choice == RelaxChoice::kFloors) {
-    const double share = static_cast<double>(d.quality) / share_base;
-    if (report.min_dihedral_used > 0.0) {
-      const double to = halved_floor(report.min_dihedral_used, options.min_dihedral);
-      report.relaxations.push_back({"min_dihedral", report.min_dihedral_used, to, live, share});
-      report.min_dihedral_used = to;
-      kernel.dihedral_floor = DihedralFloor::degrees(to);
-    }
-    if (report.min_quality_used > 0.0) {
-      const double to = halved_floor(report.min_quality_used, options.min_quality);
-      report.relaxations.push_back({"min_quality", report.min_quality_used, to, live, share});
-      report.min_quality_used = to;
-      kernel.quality_floor = to;
-    }
+    halve_floors(options, live, static_cast<double>(d.quality) / share_base, report);
+    kernel.dihedral_floor = DihedralFloor::degrees(report.min_dihedral_used);
+    kernel.quality_floor = report.min_quality_used;
   } else if (choice == RelaxChoice::kFeatures) {
     // Features are judged at the scale of H (features.h): the curves are judged again at 2H, 4H,
     // 8H (or at H when H may not grow), and at the first of those where some are lower than it,

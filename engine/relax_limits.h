@@ -49,7 +49,10 @@ RelaxChoice choose_relaxation(const StopDiagnosis& census, std::uint64_t live, s
 // Inverted tets hold at least min(excess, 1% of the live vertices) and no fewer than any limit an
 // option sets: relax_limits flips first then.
 bool inversion_holds_most(const StopDiagnosis& census, std::uint64_t live, std::uint64_t target);
-// A quality floor halved, or 0 once below 1/256 of the asked one (`asked`).
-double halved_floor(double floor, double asked);
+// Both quality floors the run uses (Report::min_dihedral_used, min_quality_used) halved, each to 0
+// once below 1/256 of the asked one (`asked`), each step recorded in Report::relaxations with
+// `live` vertices left and the `share` of them the floors held. The caller puts the new floors in
+// its kernel (relax_limits) or its parts' options (topotet::mpi).
+void halve_floors(const SimplifyOptions& asked, std::uint64_t live, double share, Report& report);
 
 }  // namespace topotet::detail

@@ -152,17 +152,9 @@ bool relax_globally(MPI_Comm comm, const StopDiagnosis& part, std::uint64_t live
     report.tolerance = local.tolerance;
     return true;
   }
-  const double share = static_cast<double>(d.quality) / vertices;
-  if (local.min_dihedral > 0.0) {
-    const double to = topotet::detail::halved_floor(local.min_dihedral, asked.min_dihedral);
-    report.relaxations.push_back({"min_dihedral", local.min_dihedral, to, live, share});
-    local.min_dihedral = report.min_dihedral_used = to;
-  }
-  if (local.min_quality > 0.0) {
-    const double to = topotet::detail::halved_floor(local.min_quality, asked.min_quality);
-    report.relaxations.push_back({"min_quality", local.min_quality, to, live, share});
-    local.min_quality = report.min_quality_used = to;
-  }
+  topotet::detail::halve_floors(asked, live, static_cast<double>(d.quality) / vertices, report);
+  local.min_dihedral = report.min_dihedral_used;
+  local.min_quality = report.min_quality_used;
   return true;
 }
 

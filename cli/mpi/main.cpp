@@ -126,10 +126,7 @@ int run(MPI_Comm comm, const MpiSimplifyArgs& args) {
   json["tolerance_asked"] = r.tolerance_asked;
   json["min_quality_used"] = r.min_quality_used;
   json["min_dihedral_used"] = r.min_dihedral_used;
-  nlohmann::ordered_json relaxations = nlohmann::ordered_json::array();
-  for (const topotet::Relaxation& x : r.relaxations)
-    relaxations.push_back({{"limit", x.limit}, {"from", x.from}, {"to", x.to}, {"vertices_left", x.vertices_left}, {"share", x.share}});
-  json["relaxations"] = relaxations;
+  json["relaxations"] = topotet::cli::relaxations_json(r);
   nlohmann::ordered_json passes = nlohmann::ordered_json::array();
   for (const auto& p : result.passes)
     passes.push_back({{"seconds", p.seconds},
@@ -183,27 +180,9 @@ int run(MPI_Comm comm, const MpiSimplifyArgs& args) {
                  out.cell_fields.size(), out.cell_fields.size() == 1 ? "" : "s", names.c_str(), remapped->seconds,
                  static_cast<unsigned long long>(remapped->nearest_new_tets));
   }
-  if (!r.relaxations.empty()) {
-    // Per limit, first value -> last (the output holds its guarantees with the last).
-    std::string line;
-    for (const char* limit : {"tolerance", "min_dihedral", "min_quality"}) {
-      const topotet::Relaxation *first = nullptr, *last = nullptr;
-      int steps = 0;
-      for (const topotet::Relaxation& x : r.relaxations)
-        if (std::string(x.limit) == limit) {
-          if (first == nullptr) first = &x;
-          last = &x;
-          ++steps;
-        }
-      if (first == nullptr) continue;
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "%s%s %.4g -> %.4g (%d step%s)", line.empty() ? "" : ", ",
-                    std::string(limit) == "tolerance" ? "tolerance H" : limit, first->from, last->to, steps, steps == 1 ? "" : "s");
-      line += buf;
-    }
+  if (!r.relaxations.empty())
     std::fprintf(text, "relaxed   %s to reach the target, for every rank alike; the output holds its guarantees with these values\n",
-                 line.c_str());
-  }
+                 topotet::cli::relaxations_text(r).c_str());
   std::fprintf(text, "time      read+distribute %.2f s, simplify %.2f s, gather+write %.2f s\n", read_seconds, r.seconds,
                write_seconds);
   std::fprintf(text, "memory    peak RSS %.1f MB (largest rank)\n", static_cast<double>(result.peak_rss_bytes) / 1e6);
