@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <random>
 #include <tuple>
@@ -381,6 +382,22 @@ TEST(Hierarchy, tth_file_round_trips_and_bad_files_name_the_offset) {
   version[8] = 9;
   expect_error(version, "version 9");
   expect_error(bytes + "x", "after the end marker");
+  // A NaN coordinate (the first vertex's x, after the magic, version, flags and vertex count) is
+  // refused as every mesh reader refuses it, naming the vertex.
+  std::string nan_position = bytes;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  nan_position.replace(24, sizeof nan, reinterpret_cast<const char*>(&nan), sizeof nan);
+  expect_error(nan_position, "vertex 1: non-finite");
+  // An offset past the parents followed by a smaller one: refused before any parent is read.
+  Hierarchy jumbled = h;
+  ASSERT_GE(jumbled.parent_offsets.size(), 3u);
+  jumbled.parent_offsets[1] = static_cast<std::uint32_t>(jumbled.parents.size() + 5);
+  try {
+    validate_hierarchy(jumbled, "jumbled");
+    ADD_FAILURE() << "no error for decreasing parent offsets";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("parent offsets decrease"), std::string::npos) << e.what();
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -161,6 +161,17 @@ void validate_hierarchy(const Hierarchy& h, const std::string& label) {
       fail(std::string(where) + " " + std::to_string(index + 1) + ": vertex index " + std::to_string(x) +
            " out of range (the mesh has " + std::to_string(nv) + " vertices)");
   };
+  // Every reader refuses non-finite coordinates and field values (a NaN would also make the
+  // hierarchy differ from itself when compared); a hierarchy holds the same.
+  // `what` names the record ("vertex", "collapse"), `detail` the value within it.
+  auto check_finite = [&](const double* x, std::size_t count, std::size_t per_record, const std::string& what,
+                          const std::string& detail) {
+    for (std::size_t i = 0; i < count; ++i)
+      if (!std::isfinite(x[i]))
+        fail(what + " " + std::to_string(i / per_record + 1) + detail + ": non-finite value (nan or inf)");
+  };
+  auto doubles = [](const std::vector<std::array<double, 3>>& p) { return reinterpret_cast<const double*>(p.data()); };
+  check_finite(doubles(m.positions), 3 * nv, 3, "vertex", "");
   if (!m.vertex_refs.empty() && m.vertex_refs.size() != nv) fail("vertex refs: count differs from the vertex count");
   if (m.tet_material.size() != m.tets.size()) fail("tet materials: count differs from the tet count");
   for (std::size_t t = 0; t < m.tets.size(); ++t)
@@ -178,6 +189,8 @@ void validate_hierarchy(const Hierarchy& h, const std::string& label) {
     if (f.components < 1) fail("field '" + f.name + "': components must be >= 1");
     if (f.values.size() != nv * static_cast<std::size_t>(f.components))
       fail("field '" + f.name + "': value count differs from vertices x components");
+    check_finite(f.values.data(), f.values.size(), static_cast<std::size_t>(f.components), "field '" + f.name + "': vertex",
+                 "");
     stride += f.components;
   }
   if (stride != h.field_stride) fail("field stride " + std::to_string(h.field_stride) + " differs from the fields' components");
@@ -188,6 +201,18 @@ void validate_hierarchy(const Hierarchy& h, const std::string& label) {
       h.fields_after.size() != sn || h.parent_offsets.size() != n + 1)
     fail("collapse arrays have different lengths");
   if (h.parent_offsets[0] != 0 || h.parent_offsets[n] != h.parents.size()) fail("parent offsets do not cover the parents");
+  // Non-decreasing, so that every collapse's parents lie inside `parents` (an offset past the end
+  // followed by a smaller one would pass the two ends above).
+  for (std::size_t i = 0; i < n; ++i)
+    if (h.parent_offsets[i + 1] < h.parent_offsets[i])
+      fail("collapse " + std::to_string(i + 1) + ": parent offsets decrease");
+  check_finite(doubles(h.u_before), 3 * n, 3, "collapse", " (u position before)");
+  check_finite(doubles(h.u_after), 3 * n, 3, "collapse", " (u position after)");
+  check_finite(doubles(h.v_position), 3 * n, 3, "collapse", " (v position)");
+  if (stride > 0) {
+    check_finite(h.fields_before.data(), sn, static_cast<std::size_t>(stride), "collapse", " (fields before)");
+    check_finite(h.fields_after.data(), sn, static_cast<std::size_t>(stride), "collapse", " (fields after)");
+  }
   std::vector<std::uint8_t> removed(nv, 0);
   for (std::size_t i = 0; i < n; ++i) {
     const std::string where = "collapse " + std::to_string(i + 1);
@@ -196,7 +221,6 @@ void validate_hierarchy(const Hierarchy& h, const std::string& label) {
     if (h.u[i] == h.v[i]) fail(where + ": u and v are the same vertex");
     if (removed[h.u[i]] || removed[h.v[i]]) fail(where + ": a vertex removed by an earlier collapse");
     removed[h.v[i]] = 1;
-    if (h.parent_offsets[i + 1] < h.parent_offsets[i]) fail(where + ": parent offsets decrease");
     std::uint64_t previous = 0;
     for (std::uint32_t k = h.parent_offsets[i]; k < h.parent_offsets[i + 1]; ++k) {
       const std::uint32_t p = h.parents[k];
