@@ -556,6 +556,8 @@ void fill_report(const topotet::Report& r, topotet_report* report) {
   report->relaxations = static_cast<std::int64_t>(r.relaxations.size());
   report->features_dropped = static_cast<std::int64_t>(r.features_dropped);
   report->stall_flips = static_cast<std::int64_t>(r.stall_flips);
+  report->min_quality_lowest = r.min_quality_lowest;
+  report->min_dihedral_lowest = r.min_dihedral_lowest;
   report->rejected_field_error = static_cast<std::int64_t>(r.rejected_by(RejectReason::kFieldError));
   report->feature_edges = static_cast<std::int64_t>(r.feature_edges);
   report->feature_corners = static_cast<std::int64_t>(r.feature_corners);

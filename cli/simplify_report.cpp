@@ -124,6 +124,8 @@ Json level_json(const LevelResult& l) {
   j["tolerance_asked"] = r.tolerance_asked;
   j["min_quality_used"] = r.min_quality_used;
   j["min_dihedral_used"] = r.min_dihedral_used;
+  j["min_quality_lowest"] = r.min_quality_lowest;  // how far the floors may relax (the input's worst)
+  j["min_dihedral_lowest"] = r.min_dihedral_lowest;
   j["relaxations"] = relaxations_json(r);
   j["relax_seconds"] = r.relax_seconds;
   j["features_dropped"] = r.features_dropped;
@@ -392,8 +394,14 @@ void print_optimize(const SimplifyJob& job, const Report& r) {
 void print_relaxations(const Report& r) {
   if (r.relaxations.empty()) return;
   const std::string text = relaxations_text(r);
-  row("relaxed", text + " to reach the target; the output holds its guarantees with these values (a limit given as "
-                        "an option, or --hard-limits, holds as given; choosing took " + format_seconds(r.relax_seconds) + ")");
+  const bool floors_kept = r.status == Status::kStoppedEarly && std::string(r.stop.dominant) == "quality" &&
+                          r.min_dihedral_used <= r.min_dihedral_lowest && r.min_quality_used <= r.min_quality_lowest;
+  row("relaxed", text + (floors_kept ? " on the way; the quality floors stay at their lowest, min(asked, the input's worst tet) (min dihedral " +
+                                           format_number(r.min_dihedral_lowest) + " degrees, min quality " +
+                                           format_number(r.min_quality_lowest) + "), which hold the rest"
+                                     : std::string(" to reach the target")) +
+                     "; the output holds its guarantees with these values (a limit given as "
+                     "an option, or --hard-limits, holds as given; choosing took " + format_seconds(r.relax_seconds) + ")");
 }
 
 void print_tolerance(const SimplifyJob& job, const Report& r) {

@@ -238,8 +238,9 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
       // The special faces, found once for both the features and the tolerance's reference.
       report.tolerance = options.tolerance > 0.0 ? options.tolerance : options.tolerance_rel * bounding_box_diagonal(mesh);
       report.tolerance_asked = report.tolerance;
-      report.min_quality_used = options.min_quality;
-      report.min_dihedral_used = options.min_dihedral;
+      report.min_quality_used = report.min_quality_lowest = options.min_quality;
+      report.min_dihedral_used = report.min_dihedral_lowest = options.min_dihedral;
+      if (options.relax_quality) detail::lowest_floors(mesh, options, report);  // before any collapse
       const auto special_start = std::chrono::steady_clock::now();
       SpecialFaces special;
       if (report.tolerance > 0.0) special = find_special_faces(mesh);

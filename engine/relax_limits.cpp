@@ -26,6 +26,8 @@
 #include <cmath>
 
 #include "features/features.h"
+#include "mesh/dihedral.h"
+#include "mesh/moved_corner.h"
 #include "stop_diagnosis.h"
 
 namespace topotet::detail {
@@ -48,18 +50,67 @@ std::uint64_t enough_of(std::uint64_t live, std::uint64_t target) {
 // The most any limit an option sets holds.
 std::uint64_t most_of(const StopDiagnosis& d) { return std::max({d.quality, d.tolerance, d.field_error, d.pinned_features}); }
 
+// lowest_floors over `count` tets, corners(t, p) giving tet t's corners (false: no tet there).
+template <class Corners>
+void lowest_floors_of(std::size_t count, const Corners& corners, const SimplifyOptions& asked, Report& report) {
+  // The worst mean ratio of every tet; the worst dihedral angle only of the tets the asked floor's
+  // screen does not clear (the others are above the asked floor, which bounds the answer anyway).
+  const DihedralFloor floor = DihedralFloor::degrees(asked.min_dihedral);
+  double worst_q3 = 1.0, worst_sine_sq = 1.0;
+  glm::dvec3 p[4];
+  for (std::size_t t = 0; t < count; ++t) {
+    if (!corners(t, p)) continue;
+    const double q3 = std::fabs(mean_ratio_cubed(p[0], p[1], p[2], p[3]));
+    worst_q3 = std::min(worst_q3, q3);
+    if (floor.active() && q3 < floor.screen_q3) worst_sine_sq = std::min(worst_sine_sq, min_dihedral_sine_sq(p[0], p[1], p[2], p[3]));
+  }
+  // The dihedral floor compares sines (dihedral.h: an angle near 180 degrees is as flat as one
+  // near 0): the same measure here, as the acute angle of that sine.
+  const double worst_degrees = std::asin(std::sqrt(std::clamp(worst_sine_sq, 0.0, 1.0))) * 180.0 / 3.14159265358979323846;
+  report.min_quality_lowest = std::min(asked.min_quality, std::cbrt(worst_q3));
+  report.min_dihedral_lowest = std::min(asked.min_dihedral, worst_degrees);
+}
+
 }  // namespace
 
+void lowest_floors(const MeshModel& mesh, const SimplifyOptions& asked, Report& report) {
+  lowest_floors_of(
+      mesh.tet_capacity(),
+      [&](std::size_t t, glm::dvec3* p) {
+        if (mesh.is_dead_tet(static_cast<TetId>(t))) return false;
+        for (int k = 0; k < 4; ++k) p[k] = mesh.positions[mesh.tets[t][k]];
+        return true;
+      },
+      asked, report);
+}
+
+void lowest_floors(const MeshData& mesh, const SimplifyOptions& asked, Report& report) {
+  lowest_floors_of(
+      mesh.tet_count(),
+      [&](std::size_t t, glm::dvec3* p) {
+        for (int k = 0; k < 4; ++k) {
+          const auto& x = mesh.positions[mesh.tets[t][k]];
+          p[k] = glm::dvec3(x[0], x[1], x[2]);
+        }
+        return true;
+      },
+      asked, report);
+}
+
+bool floors_may_relax(const Report& report) {
+  return report.min_quality_used > report.min_quality_lowest || report.min_dihedral_used > report.min_dihedral_lowest;
+}
+
 void halve_floors(const SimplifyOptions& asked, std::uint64_t live, double share, Report& report) {
-  const auto halve = [&](const char* limit, double& used, double asked_floor) {
-    if (!(used > 0.0)) return;
+  const auto halve = [&](const char* limit, double& used, double asked_floor, double lowest) {
+    if (!(used > lowest)) return;
     const double h = 0.5 * used;
-    const double to = h < asked_floor * kLastFloorShare ? 0.0 : h;
+    const double to = std::max(h < asked_floor * kLastFloorShare ? 0.0 : h, lowest);
     report.relaxations.push_back({limit, used, to, live, share});
     used = to;
   };
-  halve("min_dihedral", report.min_dihedral_used, asked.min_dihedral);
-  halve("min_quality", report.min_quality_used, asked.min_quality);
+  halve("min_dihedral", report.min_dihedral_used, asked.min_dihedral, report.min_dihedral_lowest);
+  halve("min_quality", report.min_quality_used, asked.min_quality, report.min_quality_lowest);
 }
 
 bool inversion_holds_most(const StopDiagnosis& d, std::uint64_t live, std::uint64_t target) {
@@ -92,9 +143,9 @@ bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptio
   }
   const bool tolerance_can_grow = options.relax_tolerance && kernel.tolerance > 0.0 && coverage != nullptr &&
                                   kernel.tolerance < bounding_box_diagonal(mesh);
-  const RelaxChoice choice = choose_relaxation(
-      d, live, target, tolerance_can_grow, options.relax_quality && (kernel.quality_floor > 0.0 || kernel.dihedral_floor.active()),
-      options.relax_features && coverage != nullptr);
+  const RelaxChoice choice = choose_relaxation(d, live, target, tolerance_can_grow,
+                                               options.relax_quality && floors_may_relax(report),
+                                               options.relax_features && coverage != nullptr);
   const double share_base = static_cast<double>(d.vertices);
   const auto raise_h = [&](double h, std::uint64_t held) {
     report.relaxations.push_back({"tolerance", kernel.tolerance, h, live, static_cast<double>(held) / share_base});

@@ -50,9 +50,18 @@ RelaxChoice choose_relaxation(const StopDiagnosis& census, std::uint64_t live, s
 // option sets: relax_limits flips first then.
 bool inversion_holds_most(const StopDiagnosis& census, std::uint64_t live, std::uint64_t target);
 // Both quality floors the run uses (Report::min_dihedral_used, min_quality_used) halved, each to 0
-// once below 1/256 of the asked one (`asked`), each step recorded in Report::relaxations with
-// `live` vertices left and the `share` of them the floors held. The caller puts the new floors in
-// its kernel (relax_limits) or its parts' options (topotet::mpi).
+// once below 1/256 of the asked one (`asked`), and never below its lowest (Report::
+// min_dihedral_lowest, min_quality_lowest; a floor already there stays), each step recorded in
+// Report::relaxations with `live` vertices left and the `share` of them the floors held. The
+// caller puts the new floors in its kernel (relax_limits) or its parts' options (topotet::mpi).
 void halve_floors(const SimplifyOptions& asked, std::uint64_t live, double share, Report& report);
+// How far the floors may relax, from the input (call before the first collapse): min(asked floor,
+// the worst of the mesh's live tets), into Report::min_quality_lowest and min_dihedral_lowest.
+// Relaxing a floor below the input's own worst tet would let the run make tets worse than any the
+// input has: an output of slivers, which solvers cannot use (issue #50).
+void lowest_floors(const MeshModel& mesh, const SimplifyOptions& asked, Report& report);
+void lowest_floors(const MeshData& mesh, const SimplifyOptions& asked, Report& report);  // a part's (MPI)
+// Whether one of the floors is above its lowest.
+bool floors_may_relax(const Report& report);
 
 }  // namespace topotet::detail

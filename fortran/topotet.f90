@@ -119,6 +119,7 @@ module topotet
     integer(c_int64_t) :: stop_beyond_reach  ! 1: the topology and the input's pins alone hold the target
     integer(c_int64_t) :: features_dropped  ! feature edges dropped (lower than the relaxed H)
     integer(c_int64_t) :: stall_flips  ! flips where the collapses stalled (held by inverted tets)
+    real(c_double) :: min_quality_lowest, min_dihedral_lowest  ! how far the floors may relax
   end type
 
   ! Out of core (topotet_c.h): a file larger than memory simplified into another under a memory limit.

@@ -142,7 +142,7 @@ bool relax_globally(MPI_Comm comm, const StopDiagnosis& part, std::uint64_t live
                     double diagonal, const SimplifyOptions& asked, SimplifyOptions& local, Report& report) {
   const StopDiagnosis d = global_census(comm, part);
   const bool may_tolerance = asked.relax_tolerance && local.tolerance > 0.0 && local.tolerance < diagonal;
-  const bool may_floors = asked.relax_quality && (local.min_quality > 0.0 || local.min_dihedral > 0.0);
+  const bool may_floors = asked.relax_quality && topotet::detail::floors_may_relax(report);
   const topotet::detail::RelaxChoice choice = topotet::detail::choose_relaxation(d, live, target, may_tolerance, may_floors, false);
   if (choice == topotet::detail::RelaxChoice::kNone) return false;
   const double vertices = static_cast<double>(d.vertices);
@@ -196,8 +196,15 @@ Result simplify(MPI_Comm comm, DistributedMesh& mesh, const Options& options) {
   local.relax_quality = false;
   local.relax_features = false;
   report.tolerance = report.tolerance_asked = local.tolerance;
-  report.min_quality_used = o.min_quality;
-  report.min_dihedral_used = o.min_dihedral;
+  report.min_quality_used = report.min_quality_lowest = o.min_quality;
+  report.min_dihedral_used = report.min_dihedral_lowest = o.min_dihedral;
+  if (o.relax_quality) {  // the floors' lowest: of the whole input, as in core (relax_limits.h)
+    topotet::detail::lowest_floors(mesh.local, o, report);
+    double lowest[2] = {report.min_quality_lowest, report.min_dihedral_lowest}, global[2];
+    MPI_Allreduce(lowest, global, 2, MPI_DOUBLE, MPI_MIN, comm);
+    report.min_quality_lowest = global[0];
+    report.min_dihedral_lowest = global[1];
+  }
   // Per vertex: kFrozenLastPass (the partition should avoid it: pending), kFrozenOnce (sticky).
   std::vector<std::uint8_t> marks(mesh.local.vertex_count(), 0);
 

@@ -396,8 +396,8 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
   // Tolerance H shared by the levels (topotet/out_of_core.h): h_0 = H / 2, the merges H / (2 L).
   const double H = options.tolerance > 0.0 ? options.tolerance : options.tolerance_rel * cut.diagonal;
   report.tolerance = report.tolerance_asked = H;
-  report.min_quality_used = options.min_quality;
-  report.min_dihedral_used = options.min_dihedral;
+  report.min_quality_used = report.min_quality_lowest = options.min_quality;
+  report.min_dihedral_used = report.min_dihedral_lowest = options.min_dihedral;
   int merge_levels = 0;
   while ((1u << merge_levels) < cut.pieces) ++merge_levels;
   const auto level_tolerance = [&](int level) {
@@ -544,6 +544,8 @@ OutOfCoreReport simplify_out_of_core(const std::string& input, const std::string
         }
         report.min_quality_used = run.report.min_quality_used;
         report.min_dihedral_used = run.report.min_dihedral_used;
+        report.min_quality_lowest = run.report.min_quality_lowest;
+        report.min_dihedral_lowest = run.report.min_dihedral_lowest;
         report.features_dropped += run.report.features_dropped;
       }
       if (run.report.field_bounds) {

@@ -380,6 +380,8 @@ py::dict report_dict(const topotet::Report& r) {
   d["tolerance_asked"] = r.tolerance_asked;
   d["min_quality_used"] = r.min_quality_used;
   d["min_dihedral_used"] = r.min_dihedral_used;
+  d["min_quality_lowest"] = r.min_quality_lowest;  // how far the floors may relax: min(asked, the input's worst)
+  d["min_dihedral_lowest"] = r.min_dihedral_lowest;
   py::list relaxations;
   for (const topotet::Relaxation& x : r.relaxations) {
     py::dict step;

@@ -207,6 +207,8 @@ typedef struct topotet_report {
   int64_t stop_beyond_reach; /* 1: the topology and the input's pinned vertices alone hold the target */
   int64_t features_dropped;  /* feature edges relaxing dropped (relax_features: lower than the relaxed H) */
   int64_t stall_flips;       /* flips made where the collapses stalled, held by inverted tets (optimize != none) */
+  /* How far the quality floors may relax (relax_quality): min(asked floor, the input's worst tet). */
+  double min_quality_lowest, min_dihedral_lowest;
 } topotet_report;
 
 typedef struct topotet_mesh topotet_mesh;

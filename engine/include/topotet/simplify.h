@@ -173,7 +173,11 @@ struct SimplifyOptions {
   // default). true (the default): when no legal collapse is left, the limit that holds more of the
   // vertices left (Report::stop's census) is relaxed, H doubled or both floors halved, and the run
   // goes on, as often as needed; it never relaxes the topology, inversion, pinned vertices or a
-  // field error limit. The output then holds the guarantees with the relaxed values, which the
+  // field error limit. A floor never goes below the input's own worst tet (min(asked floor, the
+  // input's smallest dihedral angle or mean ratio): Report::min_dihedral_lowest,
+  // min_quality_lowest): where that does not reach the target the run stops and Report::stop
+  // says that the floors hold it (a solver cannot use an output of slivers; to reach a count
+  // whatever the shape, lower the floors themselves: min_dihedral = min_quality = 0). The output then holds the guarantees with the relaxed values, which the
   // Report gives (tolerance, min_quality_used, min_dihedral_used, relaxations): the tolerance proof
   // covers every collapse with the H it was made under, so the whole output is within the last H.
   // false: the limit holds as given and the run stops early (Report::stop says why). `topotet
@@ -325,6 +329,9 @@ struct Report {
   // reach its target: SimplifyOptions::relax_tolerance, relax_quality), and each relaxation.
   double tolerance_asked = 0.0;
   double min_quality_used = 0.0, min_dihedral_used = 0.0;
+  // How far the floors may relax (SimplifyOptions::relax_quality): min(asked floor, the input's
+  // worst tet), the smallest mean ratio and dihedral angle (degrees) of the input's tets.
+  double min_quality_lowest = 0.0, min_dihedral_lowest = 0.0;
   std::vector<Relaxation> relaxations;
   double relax_seconds = 0.0;  // the censuses that chose them (included in `seconds`)
   std::uint64_t features_dropped = 0;  // feature edges relaxations dropped (relax_features)
