@@ -101,6 +101,12 @@ bool floors_may_relax(const Report& report) {
   return report.min_quality_used > report.min_quality_lowest || report.min_dihedral_used > report.min_dihedral_lowest;
 }
 
+StopDiagnosis floors_at_lowest(const StopDiagnosis& census, bool relax_quality, const Report& report) {
+  StopDiagnosis d = census;
+  if (relax_quality && !floors_may_relax(report)) d.quality = 0;
+  return d;
+}
+
 void halve_floors(const SimplifyOptions& asked, std::uint64_t live, double share, Report& report) {
   const auto halve = [&](const char* limit, double& used, double asked_floor, double lowest) {
     if (!(used > lowest)) return;
@@ -133,9 +139,11 @@ bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptio
   const auto start = std::chrono::steady_clock::now();
   diagnose_stop(mesh, options, kernel, cost, target, report, true);  // at a stall (engines.h)
   report.relax_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const StopDiagnosis& d = report.stop;
   const std::uint64_t live = mesh.live_vertex_count();
-  if (live <= target || d.vertices == 0) return false;
+  if (live <= target || report.stop.vertices == 0) return false;
+  // The floors relax last: once at their lowest, what they hold no longer keeps the other limits
+  // (and the flips) from relaxing for the vertices those hold (issue #50).
+  const StopDiagnosis d = floors_at_lowest(report.stop, options.relax_quality, report);
   // Inverted tets hold the most: flips first (they cost no guarantee).
   if (flip && inversion_holds_most(d, live, target) && flip()) {
     report.stop = StopDiagnosis{};

@@ -63,5 +63,11 @@ void lowest_floors(const MeshModel& mesh, const SimplifyOptions& asked, Report& 
 void lowest_floors(const MeshData& mesh, const SimplifyOptions& asked, Report& report);  // a part's (MPI)
 // Whether one of the floors is above its lowest.
 bool floors_may_relax(const Report& report);
+// The census the relaxation rule compares (choose_relaxation, inversion_holds_most): the floors
+// relax last, so once relax_quality brought them to their lowest, what they hold is left out (it
+// counts 0) and no longer keeps the tolerance, the feature curves or the flips from relaxing for
+// the vertices those hold. Floors given as options (relax_quality false) hold as asked and keep
+// counting: a limit the user set is not outweighed.
+StopDiagnosis floors_at_lowest(const StopDiagnosis& census, bool relax_quality, const Report& report);
 
 }  // namespace topotet::detail

@@ -140,7 +140,7 @@ StopDiagnosis global_census(MPI_Comm comm, const StopDiagnosis& part) {
 // own, and dropping them needs the curves of the whole mesh. Returns whether a limit relaxed.
 bool relax_globally(MPI_Comm comm, const StopDiagnosis& part, std::uint64_t live, std::uint64_t target,
                     double diagonal, const SimplifyOptions& asked, SimplifyOptions& local, Report& report) {
-  const StopDiagnosis d = global_census(comm, part);
+  const StopDiagnosis d = topotet::detail::floors_at_lowest(global_census(comm, part), asked.relax_quality, report);
   const bool may_tolerance = asked.relax_tolerance && local.tolerance > 0.0 && local.tolerance < diagonal;
   const bool may_floors = asked.relax_quality && topotet::detail::floors_may_relax(report);
   const topotet::detail::RelaxChoice choice = topotet::detail::choose_relaxation(d, live, target, may_tolerance, may_floors, false);

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "entry_points.h"
+#include "relax_limits.h"
 #include "mesh/mesh_model.h"
 #include "test_meshes.h"
 #include "topotet/generate.h"
@@ -144,6 +145,36 @@ TEST(RelaxLimits, DefaultFloorsAboveTheInputsWorstNeverRelax) {
   const QualityStats q = compute_quality(mesh.to_mesh_data());
   EXPECT_GE(std::min(q.dihedral_deg.min, 180.0 - q.dihedral_deg.max), 5.0 * (1.0 - 1e-9));
   if (r.status != Status::kOk) EXPECT_FALSE(r.stop.suggestion.empty());
+}
+
+// The floors relax last: at their lowest, what they hold no longer keeps the tolerance (or the
+// flips) from relaxing for the vertices it holds; floors the user set keep counting.
+TEST(RelaxLimits, TheFloorsAtTheirLowestNoLongerHoldTheOthersBack) {
+  StopDiagnosis census;
+  census.vertices = 1000;
+  census.quality = 600;
+  census.tolerance = 300;
+  census.inversion = 100;
+  Report report;
+  report.min_quality_used = report.min_quality_lowest = 0.05;
+  report.min_dihedral_used = report.min_dihedral_lowest = 5.0;
+  ASSERT_FALSE(detail::floors_may_relax(report));
+  const std::uint64_t live = 1000, target = 200;
+  // As the user's hard floors: the floors hold the most, and nothing relaxes for the tolerance.
+  const StopDiagnosis hard = detail::floors_at_lowest(census, false, report);
+  EXPECT_EQ(detail::choose_relaxation(hard, live, target, true, false, false), detail::RelaxChoice::kNone);
+  // Default floors at their lowest: the tolerance relaxes; with no tolerance to relax, the flips go first.
+  const StopDiagnosis last = detail::floors_at_lowest(census, true, report);
+  EXPECT_EQ(last.quality, 0u);
+  EXPECT_EQ(detail::choose_relaxation(last, live, target, true, false, false), detail::RelaxChoice::kTolerance);
+  census.tolerance = 0;
+  EXPECT_TRUE(detail::inversion_holds_most(detail::floors_at_lowest(census, true, report), live, target));
+  EXPECT_FALSE(detail::inversion_holds_most(detail::floors_at_lowest(census, false, report), live, target));
+  // Above their lowest they still relax first when they hold the most.
+  report.min_dihedral_used = 10.0;
+  census.tolerance = 300;
+  EXPECT_EQ(detail::choose_relaxation(detail::floors_at_lowest(census, true, report), live, target, true, true, false),
+            detail::RelaxChoice::kFloors);
 }
 
 // Feature corners that hold the run (the generated tori's staircase creases, features at the
