@@ -175,9 +175,11 @@ struct SimplifyOptions {
   // goes on, as often as needed; it never relaxes the topology, inversion, pinned vertices or a
   // field error limit. A floor never goes below the input's own worst tet (min(asked floor, the
   // input's smallest dihedral angle or mean ratio): Report::min_dihedral_lowest,
-  // min_quality_lowest): where that does not reach the target the run stops and Report::stop
-  // says that the floors hold it (a solver cannot use an output of slivers; to reach a count
-  // whatever the shape, lower the floors themselves: min_dihedral = min_quality = 0). The output then holds the guarantees with the relaxed values, which the
+  // min_quality_lowest), and the floors relax last: once there, what they hold no longer keeps
+  // the tolerance, the feature curves or the flips from relaxing; where nothing else frees the
+  // vertices left the run stops and Report::stop says the floors hold them (a solver cannot use
+  // an output of slivers; to reach a count whatever the shape, lower the floors themselves:
+  // min_dihedral = min_quality = 0). The output then holds the guarantees with the relaxed values, which the
   // Report gives (tolerance, min_quality_used, min_dihedral_used, relaxations): the tolerance proof
   // covers every collapse with the H it was made under, so the whole output is within the last H.
   // false: the limit holds as given and the run stops early (Report::stop says why). `topotet
