@@ -129,7 +129,8 @@ TEST(RelaxLimits, TheQualityFloorsHalveDownToTheInputsWorst) {
 }
 
 // With floors the input is above everywhere (the default 5 degrees on the generated cube-sphere),
-// a target beyond their reach stops the run with the floors kept, rather than halve them into slivers.
+// a target beyond their reach never halves them into slivers: the tolerance relaxes instead (the
+// floors relax last), or the run stops and says what holds it.
 TEST(RelaxLimits, DefaultFloorsAboveTheInputsWorstNeverRelax) {
   const MeshData input = cube_sphere();
   const QualityStats q_in = compute_quality(input);
