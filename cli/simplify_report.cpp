@@ -394,8 +394,8 @@ void print_optimize(const SimplifyJob& job, const Report& r) {
 void print_relaxations(const Report& r) {
   if (r.relaxations.empty()) return;
   const std::string text = relaxations_text(r);
-  const bool floors_kept = r.status == Status::kStoppedEarly && std::string(r.stop.dominant) == "quality" &&
-                          r.min_dihedral_used <= r.min_dihedral_lowest && r.min_quality_used <= r.min_quality_lowest;
+  const bool floors_kept =
+      r.status == Status::kStoppedEarly && std::string(r.stop.dominant) == "quality" && !r.floors_may_relax();
   row("relaxed", text + (floors_kept ? " on the way; the quality floors stay at their lowest, min(asked, the input's worst tet) (min dihedral " +
                                            format_number(r.min_dihedral_lowest) + " degrees, min quality " +
                                            format_number(r.min_quality_lowest) + "), which hold the rest"

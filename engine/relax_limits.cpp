@@ -97,13 +97,9 @@ void lowest_floors(const MeshData& mesh, const SimplifyOptions& asked, Report& r
       asked, report);
 }
 
-bool floors_may_relax(const Report& report) {
-  return report.min_quality_used > report.min_quality_lowest || report.min_dihedral_used > report.min_dihedral_lowest;
-}
-
 StopDiagnosis floors_at_lowest(const StopDiagnosis& census, bool relax_quality, const Report& report) {
   StopDiagnosis d = census;
-  if (relax_quality && !floors_may_relax(report)) d.quality = 0;
+  if (relax_quality && !report.floors_may_relax()) d.quality = 0;
   return d;
 }
 
@@ -152,7 +148,7 @@ bool relax_limits(MeshModel& mesh, const SimplifyOptions& options, CollapseOptio
   const bool tolerance_can_grow = options.relax_tolerance && kernel.tolerance > 0.0 && coverage != nullptr &&
                                   kernel.tolerance < bounding_box_diagonal(mesh);
   const RelaxChoice choice = choose_relaxation(d, live, target, tolerance_can_grow,
-                                               options.relax_quality && floors_may_relax(report),
+                                               options.relax_quality && report.floors_may_relax(),
                                                options.relax_features && coverage != nullptr);
   const double share_base = static_cast<double>(d.vertices);
   const auto raise_h = [&](double h, std::uint64_t held) {

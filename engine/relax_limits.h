@@ -61,8 +61,6 @@ void halve_floors(const SimplifyOptions& asked, std::uint64_t live, double share
 // input has: an output of slivers, which solvers cannot use (issue #50).
 void lowest_floors(const MeshModel& mesh, const SimplifyOptions& asked, Report& report);
 void lowest_floors(const MeshData& mesh, const SimplifyOptions& asked, Report& report);  // a part's (MPI)
-// Whether one of the floors is above its lowest.
-bool floors_may_relax(const Report& report);
 // The census the relaxation rule compares (choose_relaxation, inversion_holds_most): the floors
 // relax last, so once relax_quality brought them to their lowest, what they hold is left out (it
 // counts 0) and no longer keeps the tolerance, the feature curves or the flips from relaxing for

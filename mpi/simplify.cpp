@@ -142,7 +142,7 @@ bool relax_globally(MPI_Comm comm, const StopDiagnosis& part, std::uint64_t live
                     double diagonal, const SimplifyOptions& asked, SimplifyOptions& local, Report& report) {
   const StopDiagnosis d = topotet::detail::floors_at_lowest(global_census(comm, part), asked.relax_quality, report);
   const bool may_tolerance = asked.relax_tolerance && local.tolerance > 0.0 && local.tolerance < diagonal;
-  const bool may_floors = asked.relax_quality && topotet::detail::floors_may_relax(report);
+  const bool may_floors = asked.relax_quality && report.floors_may_relax();
   const topotet::detail::RelaxChoice choice = topotet::detail::choose_relaxation(d, live, target, may_tolerance, may_floors, false);
   if (choice == topotet::detail::RelaxChoice::kNone) return false;
   const double vertices = static_cast<double>(d.vertices);

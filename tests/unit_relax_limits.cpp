@@ -145,7 +145,9 @@ TEST(RelaxLimits, DefaultFloorsAboveTheInputsWorstNeverRelax) {
   EXPECT_EQ(r.min_quality_used, options.min_quality);
   const QualityStats q = compute_quality(mesh.to_mesh_data());
   EXPECT_GE(std::min(q.dihedral_deg.min, 180.0 - q.dihedral_deg.max), 5.0 * (1.0 - 1e-9));
-  if (r.status != Status::kOk) EXPECT_FALSE(r.stop.suggestion.empty());
+  if (r.status != Status::kOk) {
+    EXPECT_FALSE(r.stop.suggestion.empty());
+  }
 }
 
 // The floors relax last: at their lowest, what they hold no longer keeps the tolerance (or the
@@ -159,7 +161,7 @@ TEST(RelaxLimits, TheFloorsAtTheirLowestNoLongerHoldTheOthersBack) {
   Report report;
   report.min_quality_used = report.min_quality_lowest = 0.05;
   report.min_dihedral_used = report.min_dihedral_lowest = 5.0;
-  ASSERT_FALSE(detail::floors_may_relax(report));
+  ASSERT_FALSE(report.floors_may_relax());
   const std::uint64_t live = 1000, target = 200;
   // As the user's hard floors: the floors hold the most, and nothing relaxes for the tolerance.
   const StopDiagnosis hard = detail::floors_at_lowest(census, false, report);

@@ -334,6 +334,8 @@ struct Report {
   // How far the floors may relax (SimplifyOptions::relax_quality): min(asked floor, the input's
   // worst tet), the smallest mean ratio and dihedral angle (degrees) of the input's tets.
   double min_quality_lowest = 0.0, min_dihedral_lowest = 0.0;
+  // Whether a floor is still above its lowest (relax_quality may halve it again).
+  bool floors_may_relax() const { return min_quality_used > min_quality_lowest || min_dihedral_used > min_dihedral_lowest; }
   std::vector<Relaxation> relaxations;
   double relax_seconds = 0.0;  // the censuses that chose them (included in `seconds`)
   std::uint64_t features_dropped = 0;  // feature edges relaxations dropped (relax_features)
