@@ -15,7 +15,9 @@ namespace topotet::detail {
 // Called when no legal collapse is left before the target. Takes the census of the vertices left
 // (diagnose_stop, into report.stop) and, if the tolerance, the quality floors or the feature
 // corners hold enough of them, no fewer than any other limit an option sets, and the options let
-// that limit relax, relaxes the one that holds more: H doubled (kernel and coverage), or the
+// that limit relax, relaxes the one that holds more: H doubled (kernel and coverage; quadrupled or
+// multiplied by 8 when a look-ahead finds that 2H would free less than an eighth of the excess of
+// the vertices left over the target, and the larger value does: relax_limits.cpp), or the
 // dihedral and mean-ratio floors halved (to 0 once below 1/256 of the asked ones), or the feature
 // curves lower than 2H, 4H or 8H dropped and H raised to that scale (drop_features_below; `cost`
 // forgets its orders, the coverage the curves' segments).

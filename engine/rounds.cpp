@@ -317,6 +317,9 @@ class Rounds {
     stored_.assign(candidates_.size(), StoredStencil{});
     parallel::for_range<std::size_t>(0, candidates_.size(), 16, "verify", [&](std::size_t begin, std::size_t end) {
       ThreadScratch& s = scratch_.local();
+      // The mesh does not change until apply(): a candidate tries its edges in turn, each with it
+      // as one end.
+      const ReuseClassifications reuse(s.proposal.collapse.link);
       for (std::size_t i = begin; i < end; ++i) {
         const VertId a = candidates_[i];
         if (i + 1 < end) {  // the next candidate's edge, while this one is checked

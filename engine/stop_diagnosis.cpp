@@ -59,11 +59,29 @@ std::string number(double x) {
   return buf;
 }
 
+// The placements of edge ab (a < b) that remove v (one of them): v merges into the other end, or
+// both move to one new point. Each placement is kept, the quality fallbacks included (as if
+// reached: no flag is set). Returns their count.
+int placements_removing(const MeshModel& mesh, CostModel& cost, VertId a, VertId b, VertId v, LinkScratch& link,
+                        CollapseCandidate* kept, Placement* placements) {
+  CollapseCandidate cands[kMaxCandidates];
+  const int n = cost.candidates(mesh, a, b, cands, link);
+  int m = 0;
+  for (int k = 0; k < n; ++k)
+    if (cands[k].v == v || cands[k].placement != 0) {
+      kept[m] = cands[k];
+      placements[m++] = {cands[k].u, cands[k].v, cands[k].p};
+    }
+  return m;
+}
+
 }  // namespace
 
 void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                   CostModel& cost, std::uint64_t target, Report& report, bool every_edge_refused) {
+                   CostModel& cost, std::uint64_t target, Report& report, bool every_edge_refused,
+                   std::vector<std::uint8_t>* held_by_tolerance) {
   StopDiagnosis& d = report.stop;
+  if (held_by_tolerance != nullptr) held_by_tolerance->assign(mesh.vertex_capacity(), 0);
   d = StopDiagnosis{};
   d.is_filled = true;
   const std::size_t nv = mesh.vertex_capacity();
@@ -82,6 +100,7 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
   const bool refused_by_tolerance = every_edge_refused && !field_limit && kernel.surfaces != nullptr;
   parallel::for_range<std::size_t>(0, nv, 256, "diagnose_stop", [&](std::size_t begin, std::size_t end) {
     CollapseScratch scratch;
+    const ReuseClassifications reuse(scratch.link);  // the mesh is read only; each edge is seen from both ends
     std::vector<VertId> nbrs;
     std::vector<double> fields;
     std::array<std::uint64_t, kVerdicts> local{};
@@ -126,18 +145,9 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
         if (best == kCollapsible) break;
         if (mesh.is_frozen(u)) continue;
         const VertId a = std::min(u, v), b = std::max(u, v);
-        CollapseCandidate cands[kMaxCandidates];
-        const int n = cost.candidates(mesh, a, b, cands, scratch.link);
-        // The placements that remove v: v merges into u, or both move to one new point.
-        // Each placement is tried, the quality fallbacks included (as if reached: no flag is set).
         Placement placements[kMaxCandidates];
         CollapseCandidate kept[kMaxCandidates];
-        int m = 0;
-        for (int k = 0; k < n; ++k)
-          if (cands[k].v == v || cands[k].placement != 0) {
-            kept[m] = cands[k];
-            placements[m++] = {cands[k].u, cands[k].v, cands[k].p};
-          }
+        int m = placements_removing(mesh, cost, a, b, v, scratch.link, kept, placements);
         if (m == 0) continue;
         // Held by the tolerance already: the placements the engine refused for it cannot raise
         // that (polycrystal 30k: most of the census's edges are skipped so).
@@ -173,6 +183,7 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
         best = std::max(best, furthest(placements, m, kernel));
       }
       ++local[best];
+      if (best == kTolerance && held_by_tolerance != nullptr) (*held_by_tolerance)[v] = 1;
     }
     for (int k = 0; k < kVerdicts; ++k) counts[k].fetch_add(local[k], std::memory_order_relaxed);
   });
@@ -270,6 +281,50 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
   if (d.beyond_reach)
     d.suggestion += "; the topology and the vertices the input pins alone hold " + std::to_string(fixed) +
                     " vertices, the target is " + std::to_string(target) + ": no option reaches it";
+}
+
+bool tolerance_frees(const MeshModel& mesh, const CollapseOptions& kernel, CostModel& cost, double h,
+                     const std::vector<std::uint8_t>& held_by_tolerance, std::uint64_t wanted, std::size_t sample) {
+  std::vector<VertId> held;
+  for (std::size_t v = 0; v < held_by_tolerance.size(); ++v)
+    if (held_by_tolerance[v] != 0) held.push_back(static_cast<VertId>(v));
+  if (wanted == 0) return true;
+  if (held.empty() || sample == 0) return false;
+  const std::size_t stride = (held.size() + sample - 1) / sample;  // every stride-th: at most `sample`
+  const std::size_t asked = (held.size() + stride - 1) / stride;
+  // The sample's share of `wanted`, rounded up: freed * held / asked >= wanted.
+  const std::uint64_t wanted_asked = (wanted * asked + held.size() - 1) / held.size();
+  CollapseOptions looser = kernel;
+  looser.tolerance = h;
+  // The coverage (the reverse half of the proof) keeps its own H, which only grows: the forward
+  // proof alone, an upper bound of what the engine will find.
+  looser.coverage = nullptr;
+  const bool field_limit = kernel.field_bounds != nullptr && kernel.field_bounds->has_limit();
+  std::atomic<std::uint64_t> freed{0};
+  // The count stops once it reaches wanted_asked: the answer is the same whichever vertices got there.
+  parallel::for_range<std::size_t>(0, asked, 8, "tolerance_frees", [&](std::size_t begin, std::size_t end) {
+    CollapseScratch scratch;
+    const ReuseClassifications reuse(scratch.link);  // the mesh is read only
+    std::vector<VertId> nbrs;
+    std::vector<double> fields;
+    for (std::size_t i = begin; i < end && freed.load(std::memory_order_relaxed) < wanted_asked; ++i) {
+      const VertId v = held[i * stride];
+      mesh.neighbours(v, nbrs);
+      for (const VertId u : nbrs) {
+        if (mesh.is_frozen(u)) continue;
+        Placement placements[kMaxCandidates];
+        CollapseCandidate kept[kMaxCandidates];
+        const int m = placements_removing(mesh, cost, std::min(u, v), std::max(u, v), v, scratch.link, kept, placements);
+        if (m == 0) continue;
+        if (field_limit) set_placement_fields(mesh, cost, kept, m, placements, fields);
+        if (first_acceptable(mesh, placements, m, looser, scratch, nullptr, true) >= 0) {
+          freed.fetch_add(1, std::memory_order_relaxed);
+          break;
+        }
+      }
+    }
+  });
+  return freed.load() >= wanted_asked;
 }
 
 }  // namespace topotet::detail

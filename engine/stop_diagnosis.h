@@ -2,6 +2,9 @@
 // reason that refuses it, and one change to suggest (Report::stop, topotet/simplify.h).
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "cost/cost.h"
 #include "kernel/collapse.h"
 #include "mesh/mesh_model.h"
@@ -16,7 +19,19 @@ namespace topotet::detail {
 // every_edge_refused: the engine stalled (no legal collapse left) under `kernel`, so it has tried
 // and refused every placement of every edge since the edge's stars last changed; the census then
 // need not prove again the tolerance of the placements it refused for it (same verdicts).
+// held_by_tolerance (optional): set to one byte per vertex slot, 1 for the vertices the tolerance
+// holds (the census's verdict), for freed_by_tolerance.
 void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                   CostModel& cost, std::uint64_t target, Report& report, bool every_edge_refused);
+                   CostModel& cost, std::uint64_t target, Report& report, bool every_edge_refused,
+                   std::vector<std::uint8_t>* held_by_tolerance = nullptr);
+
+// Would a tolerance of h (above the kernel's) free at least `wanted` of the vertices the census
+// found held by the tolerance (held_by_tolerance)? A vertex is freed when some placement that
+// removes it passes the kernel with H = h. Estimated on an evenly spaced sample of at most `sample`
+// of them (all when fewer: then exact), whose count must reach its share of `wanted`; the coverage
+// is not asked (its H only grows). For choosing a step, never a guarantee. Reads only; parallel,
+// deterministic (the count stops at the sample's share, whichever vertices got there).
+bool tolerance_frees(const MeshModel& mesh, const CollapseOptions& kernel, CostModel& cost, double h,
+                     const std::vector<std::uint8_t>& held_by_tolerance, std::uint64_t wanted, std::size_t sample);
 
 }  // namespace topotet::detail

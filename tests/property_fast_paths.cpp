@@ -5,6 +5,9 @@
 //   - is_interior_vertex(a)            ==  (vertex_orders(a).ktilde == 0)
 //   - check_link_conditions with both ends hinted interior (interior_link_test)
 //                                      ==  the same check without hints (the general tests A-I)
+//   - check_link_conditions reusing classifications (ReuseClassifications: edges sharing ends, in
+//     either order, with a scratch that kept those of the mesh before the last collapse)
+//                                      ==  the same check classifying both ends
 //   - CostModel::edge_cost(a, b)       ==  CostModel::candidates(a, b)[0].cost (up to rounding)
 //   - after every accepted collapse: every order the cost model still holds (all but the
 //     survivor's) == vertex_orders(x).ktilde, on the link of the collapsed edge and, every 25
@@ -82,6 +85,7 @@ std::uint64_t env_u64(const char* name, std::uint64_t fallback) {
 struct FastPathStats {
   std::uint64_t accepted = 0, interior_checks = 0, interior_rejections = 0, cost_checks = 0, order_checks = 0;
   std::uint64_t kept_orders = 0;  // cached feature orders compared with a fresh classification
+  std::uint64_t reuse_checks = 0, reuse_rejections = 0;  // link checks reusing classifications
 };
 
 void run(const testing::PlantedMesh& planted, std::uint64_t seed, std::uint64_t target, FastPathStats& stats) {
@@ -93,7 +97,8 @@ void run(const testing::PlantedMesh& planted, std::uint64_t seed, std::uint64_t 
   SimplifyOptions options;
   CostModel cost(m, options);
   CollapseScratch scratch, general;
-  LinkScratch link;
+  LinkScratch link, reused;  // `reused` keeps its classifications from one attempt to the next
+  std::vector<VertId> nbrs;
   std::mt19937_64 rng(seed);
   std::uint32_t refs_used = static_cast<std::uint32_t>(m.refs_table.size());
   std::vector<double> fields(static_cast<std::size_t>(m.field_stride()));
@@ -142,6 +147,29 @@ void run(const testing::PlantedMesh& planted, std::uint64_t seed, std::uint64_t 
       ASSERT_EQ(fast, reference) << "edge " << x << " " << y;
       ++stats.interior_checks;
       stats.interior_rejections += reference != LinkResult::kOk;
+    }
+
+    // Link conditions reusing classifications, as the verify phase and the census do: a scope per
+    // attempt (the mesh changed since the last one), edges through a, b or a vertex next to them,
+    // their ends in either order; the verdict is the one classifying both ends.
+    {
+      const ReuseClassifications reuse(reused);
+      VertId x = a;
+      for (int probe = 0; probe < 8; ++probe) {
+        if (probe == 4) x = b;
+        m.neighbours(x, nbrs);
+        if (nbrs.empty()) break;
+        const VertId y = nbrs[rng() % nbrs.size()];
+        const bool flip = rng() % 2 == 0;
+        const VertId p = flip ? y : x, q = flip ? x : y;
+        ASSERT_TRUE(gather_stars(m, p, q, general));
+        general.link.known_interior = {kInvalid, kInvalid};
+        const LinkResult reference = check_link_conditions(m, p, q, general.star_uv, general.link);
+        ASSERT_EQ(check_link_conditions(m, p, q, general.star_uv, reused), reference) << "edge " << p << " " << q;
+        ++stats.reuse_checks;
+        stats.reuse_rejections += reference != LinkResult::kOk;
+        if (probe % 2 == 1) x = y;  // walk on: the next edges share this end
+      }
     }
 
     // The collapse the engines would take, through the hinted path.
@@ -195,14 +223,16 @@ TEST_P(FastPaths, AgreeWithTheGeneralCodeAndKeepTheTopology) {
     run(planted, seed, target / 2 + 1, stats);
     if (HasFatalFailure()) return;
   }
-  std::printf("[ fast paths ] %s: %llu collapses; %llu interior link checks (%llu rejected), %llu cost and %llu order "
-              "comparisons, %llu kept orders compared\n",
+  std::printf("[ fast paths ] %s: %llu collapses; %llu interior link checks (%llu rejected), %llu reusing "
+              "classifications (%llu rejected), %llu cost and %llu order comparisons, %llu kept orders compared\n",
               planted.name, (unsigned long long)stats.accepted, (unsigned long long)stats.interior_checks,
-              (unsigned long long)stats.interior_rejections, (unsigned long long)stats.cost_checks,
+              (unsigned long long)stats.interior_rejections, (unsigned long long)stats.reuse_checks,
+              (unsigned long long)stats.reuse_rejections, (unsigned long long)stats.cost_checks,
               (unsigned long long)stats.order_checks, (unsigned long long)stats.kept_orders);
   EXPECT_GT(stats.accepted, 0u);
   EXPECT_GT(stats.kept_orders, stats.accepted);  // every mesh has substructures: their orders were compared
   EXPECT_GT(stats.interior_checks, 0u);
+  EXPECT_GT(stats.reuse_rejections, 0u);  // refusals too were compared
 }
 
 INSTANTIATE_TEST_SUITE_P(Planted, FastPaths, ::testing::Range<std::size_t>(0, testing::planted_meshes().size()),

@@ -40,6 +40,19 @@ void expect_same_topology(const MeshData& in, const MeshData& out) {
   EXPECT_TRUE(same_topology(compute_topology(in), compute_topology(out), &differences)) << differences;
 }
 
+// Every tolerance step goes from the H before it to 2, 4 or 8 times it (relax_limits.cpp), in a
+// chain from the asked H to the one the run ended with.
+void expect_tolerance_steps(const Report& r) {
+  double h = r.tolerance_asked;
+  for (const Relaxation& x : r.relaxations) {
+    if (std::strcmp(x.limit, "tolerance") != 0) continue;
+    EXPECT_EQ(x.from, h);
+    EXPECT_TRUE(x.to == 2.0 * h || x.to == 4.0 * h || x.to == 8.0 * h) << x.to / h;
+    h = x.to;
+  }
+  EXPECT_EQ(h, r.tolerance);
+}
+
 // A tolerance far below the surfaces' jitter holds every surface vertex (StopDiagnosis.
 // OnlyTheToleranceStopsIt); relaxed, H doubles until the run gets to its target, and the measured
 // Hausdorff distance stays within the last H, which is the asked one times a power of two.
@@ -65,7 +78,7 @@ void expect_tolerance_relaxes(Engine engine) {
   EXPECT_EQ(r.vertices_after, target_of(r, 0.05));
   const std::size_t steps = relaxations_of(r, "tolerance");
   ASSERT_GE(steps, 1u);
-  EXPECT_EQ(r.tolerance, std::ldexp(r.tolerance_asked, static_cast<int>(steps)));
+  expect_tolerance_steps(r);
   EXPECT_EQ(r.relaxations.front().from, r.tolerance_asked);
   EXPECT_EQ(r.relaxations.back().to, r.tolerance);
   EXPECT_FALSE(r.stop.is_filled);
@@ -76,7 +89,7 @@ void expect_tolerance_relaxes(Engine engine) {
   const SurfaceDistance d = surface_distance(input, output, distance_options);
   EXPECT_LE(d.hausdorff, r.tolerance);
   // Relaxed only as far as needed: the H before the last step was not enough.
-  EXPECT_GT(d.hausdorff, 0.25 * r.tolerance);
+  EXPECT_GT(d.hausdorff, 0.5 * r.relaxations.back().from);
 }
 
 TEST(RelaxLimits, TheToleranceDoublesUntilTheTargetParallel) { expect_tolerance_relaxes(Engine::kParallel); }
@@ -227,6 +240,43 @@ TEST(RelaxLimits, TheTopologyIsNeverRelaxed) {
   EXPECT_EQ(relaxations_of(r, "min_quality") + relaxations_of(r, "min_dihedral"), 0u);
   EXPECT_EQ(relaxations_of(r, "tolerance"), r.relaxations.size());
   EXPECT_LT(4 * r.stop.tolerance, r.stop.vertices);
+}
+
+// The polycrystal's interfaces at the default tolerance: at the first stall, 2H would free only a
+// few of the vertices the tolerance holds (polycrystal 30k: 50 of 1,267), 4H most of them; the
+// step skips the doubling that would stall again after a few collapses (relax_limits.cpp), and the
+// step it takes lets at least an eighth of the excess go before the next stall. The guarantees
+// hold with the H it ends with, and the output is the same for every thread count.
+TEST(RelaxLimits, TheToleranceSkipsADoublingThatFreesTooFew) {
+  const MeshData input = generate_mesh({"polycrystal", 20000, 1});
+  MeshData reference;
+  for (int threads : {1, 2}) {
+    MeshModel mesh = build_mesh_model(input);
+    SimplifyOptions options;
+    options.num_threads = threads;
+    options.target_vertex_ratio = 0.1;
+    options.optimize = Optimize::kNone;
+    const Report r = simplify(mesh, options);
+    ASSERT_EQ(r.status, Status::kOk) << r.message;
+    const std::uint64_t target = target_of(r, 0.1);
+    EXPECT_EQ(r.vertices_after, target);
+    ASSERT_GE(relaxations_of(r, "tolerance"), 2u);
+    expect_tolerance_steps(r);
+    const Relaxation& first = r.relaxations[0];
+    EXPECT_STREQ(first.limit, "tolerance");
+    EXPECT_EQ(first.to, 4.0 * first.from);
+    const std::uint64_t eighth = (first.vertices_left - target + 7) / 8;
+    EXPECT_LE(r.relaxations[1].vertices_left + eighth, first.vertices_left);
+    const MeshData output = mesh.to_mesh_data();
+    if (threads == 1) {
+      expect_same_topology(input, output);
+      const SurfaceDistance d = surface_distance(input, output, SurfaceDistanceOptions{});
+      EXPECT_LE(d.hausdorff, r.tolerance);
+      reference = output;
+    } else {
+      EXPECT_TRUE(output == reference);
+    }
+  }
 }
 
 // Relaxing happens at the same points of the run for every thread count: the same output.

@@ -3,6 +3,7 @@
 // the tolerance, the quality floor, pinned vertices, the topology.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <numeric>
 #include <string>
@@ -208,6 +209,70 @@ TEST(StopDiagnosis, TheEnginesRefusalsGiveTheFullCensus) {
       EXPECT_GE(stalls, 2);
       EXPECT_GT(held_by_tolerance, 0u);  // the shortcut was taken
     }
+}
+
+// relax_limits' look-ahead (tolerance_frees): at each stall of the polycrystal, how many of the
+// vertices the tolerance holds a larger H would free. Asked of every one of them (a sample at
+// least as large as they are), the count is exact: the vertices held at H that the census under the
+// larger H (without the coverage, as tolerance_frees asks) no longer finds held. Asked of a sample
+// of 128, it answers as the full count wherever that is not within a factor of 2 of the question.
+TEST(StopDiagnosis, TheToleranceLookAheadCountsWhatALargerToleranceFrees) {
+  MeshModel mesh = build_mesh_model(generate_mesh({"polycrystal", 20000, 1}));
+  SimplifyOptions options;
+  options.feature_angle = 180.0;
+  const double h = options.tolerance_rel * bounding_box_diagonal(mesh);
+  const std::unique_ptr<SurfaceReference> surfaces = SurfaceReference::from_mesh(mesh, h);
+  SurfaceCoverage coverage(mesh, *surfaces, h);
+  CollapseOptions kernel;
+  kernel.quality_floor = options.min_quality;
+  kernel.dihedral_floor = DihedralFloor::degrees(options.min_dihedral);
+  kernel.surfaces = surfaces.get();
+  kernel.coverage = &coverage;
+  kernel.tolerance = h;
+  const std::uint64_t target = mesh.live_vertex_count() / 10;
+  int stalls = 0, clear_answers = 0, few_freed = 0;
+  const detail::RelaxStep relax = [&](CostModel& cost) {
+    Report census;
+    std::vector<std::uint8_t> held;
+    detail::diagnose_stop(mesh, options, kernel, cost, target, census, true, &held);
+    const std::uint64_t held_count = std::accumulate(held.begin(), held.end(), std::uint64_t{0});
+    EXPECT_EQ(held_count, census.stop.tolerance);
+    const std::size_t all = held.size();
+    for (const int step : {1, 2}) {
+      SCOPED_TRACE("stall " + std::to_string(stalls) + ", H x " + std::to_string(1 << step));
+      CollapseOptions larger = kernel;
+      larger.tolerance = std::ldexp(kernel.tolerance, step);
+      larger.coverage = nullptr;
+      Report after;
+      std::vector<std::uint8_t> still;
+      detail::diagnose_stop(mesh, options, larger, cost, target, after, false, &still);
+      std::uint64_t freed = 0;
+      for (std::size_t v = 0; v < held.size(); ++v) freed += held[v] != 0 && still[v] == 0;
+      EXPECT_TRUE(detail::tolerance_frees(mesh, kernel, cost, larger.tolerance, held, freed, all));
+      EXPECT_FALSE(detail::tolerance_frees(mesh, kernel, cost, larger.tolerance, held, freed + 1, all));
+      EXPECT_TRUE(detail::tolerance_frees(mesh, kernel, cost, larger.tolerance, held, 0, 128));
+      const std::uint64_t wanted = (mesh.live_vertex_count() - target + 7) / 8;
+      const bool sampled = detail::tolerance_frees(mesh, kernel, cost, larger.tolerance, held, wanted, 128);
+      if (freed >= 2 * wanted) {
+        EXPECT_TRUE(sampled) << freed << " freed, " << wanted << " wanted";
+        ++clear_answers;
+      }
+      if (2 * freed < wanted) {
+        EXPECT_FALSE(sampled) << freed << " freed, " << wanted << " wanted";
+        ++clear_answers;
+      }
+      few_freed += freed < wanted;
+    }
+    if (++stalls == 2) return false;
+    kernel.tolerance *= 2.0;
+    coverage.raise_tolerance(kernel.tolerance);
+    return true;
+  };
+  Report report;
+  detail::simplify_parallel(mesh, options, kernel, nullptr, target, report, nullptr, {}, relax);
+  EXPECT_EQ(stalls, 2);
+  EXPECT_GE(clear_answers, 3);  // the sample was asked both ways
+  EXPECT_GE(few_freed, 1);      // a doubling that frees too few: the case the look-ahead is for
 }
 
 }  // namespace

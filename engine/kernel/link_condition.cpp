@@ -174,6 +174,7 @@ bool all_common(It1 b1, It1 e1, It2 b2, It2 e2, Key1 k1, Key2 k2, F&& ok) {
 
 // For a vertex known to be of order 0: only the neighbour list (for test (A)) is needed.
 void interior_neighbours(const MeshModel& mesh, VertId a, VertexData& d, LinkScratch& scratch) {
+  d.vertex = kInvalid;  // not a classification
   d.recs.clear();
   d.special.clear();
   d.neighbours.clear();
@@ -269,6 +270,7 @@ char interior_link_test(const MeshModel& mesh, VertId a, VertId b, const std::ve
 }  // namespace
 
 VertexOrders classify_vertex(const MeshModel& mesh, VertId a, VertexData& d, LinkScratch& scratch) {
+  d.vertex = a;  // every path below fills d from St(a) alone
   d.recs.clear();
   d.special.clear();
   d.neighbours.clear();
@@ -408,6 +410,10 @@ VertexOrders vertex_orders(const MeshModel& mesh, VertId a, LinkScratch& scratch
 
 LinkResult check_link_conditions(const MeshModel& mesh, VertId a, VertId b, const std::vector<TetId>& stab,
                                  LinkScratch& scratch) {
+  // Reusing classifications (ReuseClassifications): a slot holding b's, or the other slot holding
+  // a's, trades places, so that each end finds its own.
+  const bool reuse = scratch.reuse_classified;
+  if (reuse && (scratch.a.vertex == b || scratch.b.vertex == a)) std::swap(scratch.a, scratch.b);
   VertexData& da = scratch.a;
   VertexData& db = scratch.b;
   scratch.failed_test = 0;
@@ -426,11 +432,11 @@ LinkResult check_link_conditions(const MeshModel& mesh, VertId a, VertId b, cons
   }
   if (interior_a)
     interior_neighbours(mesh, a, da, scratch);
-  else
+  else if (!reuse || da.vertex != a)
     classify_vertex(mesh, a, da, scratch);
   if (interior_b)
     interior_neighbours(mesh, b, db, scratch);
-  else
+  else if (!reuse || db.vertex != b)
     classify_vertex(mesh, b, db, scratch);
 
   // (A) every common neighbour x spans a triangle abx: x is a vertex of a tet of St(ab).

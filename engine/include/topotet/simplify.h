@@ -171,7 +171,8 @@ struct SimplifyOptions {
   // What a run does when the tolerance or the quality floors (min_quality, min_dihedral) would stop
   // it before its target (issue #23: a default that stops short of what the user asked is the wrong
   // default). true (the default): when no legal collapse is left, the limit that holds more of the
-  // vertices left (Report::stop's census) is relaxed, H doubled or both floors halved, and the run
+  // vertices left (Report::stop's census) is relaxed, H doubled (4H or 8H where a look-ahead finds
+  // that 2H would free too few: relax_limits.h) or both floors halved, and the run
   // goes on, as often as needed; it never relaxes the topology, inversion, pinned vertices or a
   // field error limit. A floor never goes below the input's own worst tet (min(asked floor, the
   // input's smallest dihedral angle or mean ratio): Report::min_dihedral_lowest,
