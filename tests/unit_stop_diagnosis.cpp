@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <numeric>
 #include <string>
 
@@ -39,6 +40,26 @@ void expect_consistent(const Report& r, const char* dominant) {
 }
 
 MeshData small_cube_sphere() { return generate_mesh({"cube-sphere", 8000, 1}); }
+
+// The kernel of a run with tolerance H (the surfaces' reference and coverage, the floors of
+// `options`), made by hand so that a test can take the census at each stall itself.
+struct ToleranceKernel {
+  std::unique_ptr<SurfaceReference> surfaces;
+  std::unique_ptr<SurfaceCoverage> coverage;
+  CollapseOptions kernel;
+  ToleranceKernel(const MeshModel& mesh, const SimplifyOptions& options, double h)
+      : surfaces(SurfaceReference::from_mesh(mesh, h)), coverage(std::make_unique<SurfaceCoverage>(mesh, *surfaces, h)) {
+    kernel.quality_floor = options.min_quality;
+    kernel.dihedral_floor = DihedralFloor::degrees(options.min_dihedral);
+    kernel.surfaces = surfaces.get();
+    kernel.coverage = coverage.get();
+    kernel.tolerance = h;
+  }
+  void double_tolerance() {  // as relax_limits' plain step does
+    kernel.tolerance *= 2.0;
+    coverage->raise_tolerance(kernel.tolerance);
+  }
+};
 
 TEST(StopDiagnosis, NotFilledWhenTheTargetIsReached) {
   MeshModel mesh = build_mesh_model(small_cube_sphere());
@@ -170,15 +191,8 @@ TEST(StopDiagnosis, TheEnginesRefusalsGiveTheFullCensus) {
       SimplifyOptions options;
       options.engine = engine;
       options.feature_angle = 180.0;
-      const double h = 1e-4 * bounding_box_diagonal(mesh);
-      const std::unique_ptr<SurfaceReference> surfaces = SurfaceReference::from_mesh(mesh, h);
-      SurfaceCoverage coverage(mesh, *surfaces, h);
-      CollapseOptions kernel;
-      kernel.quality_floor = options.min_quality;
-      kernel.dihedral_floor = DihedralFloor::degrees(options.min_dihedral);
-      kernel.surfaces = surfaces.get();
-      kernel.coverage = &coverage;
-      kernel.tolerance = h;
+      ToleranceKernel tk(mesh, options, 1e-4 * bounding_box_diagonal(mesh));
+      CollapseOptions& kernel = tk.kernel;
       const std::uint64_t target = mesh.live_vertex_count() / 20;
       int stalls = 0;
       std::uint64_t held_by_tolerance = 0;
@@ -197,8 +211,7 @@ TEST(StopDiagnosis, TheEnginesRefusalsGiveTheFullCensus) {
         EXPECT_EQ(a.suggestion, b.suggestion);
         held_by_tolerance += b.tolerance;
         if (++stalls == 3) return false;
-        kernel.tolerance *= 2.0;
-        coverage.raise_tolerance(kernel.tolerance);
+        tk.double_tolerance();
         return true;
       };
       Report report;
@@ -220,15 +233,8 @@ TEST(StopDiagnosis, TheToleranceLookAheadCountsWhatALargerToleranceFrees) {
   MeshModel mesh = build_mesh_model(generate_mesh({"polycrystal", 20000, 1}));
   SimplifyOptions options;
   options.feature_angle = 180.0;
-  const double h = options.tolerance_rel * bounding_box_diagonal(mesh);
-  const std::unique_ptr<SurfaceReference> surfaces = SurfaceReference::from_mesh(mesh, h);
-  SurfaceCoverage coverage(mesh, *surfaces, h);
-  CollapseOptions kernel;
-  kernel.quality_floor = options.min_quality;
-  kernel.dihedral_floor = DihedralFloor::degrees(options.min_dihedral);
-  kernel.surfaces = surfaces.get();
-  kernel.coverage = &coverage;
-  kernel.tolerance = h;
+  ToleranceKernel tk(mesh, options, options.tolerance_rel * bounding_box_diagonal(mesh));
+  CollapseOptions& kernel = tk.kernel;
   const std::uint64_t target = mesh.live_vertex_count() / 10;
   int stalls = 0, clear_answers = 0, few_freed = 0;
   const detail::RelaxStep relax = [&](CostModel& cost) {
@@ -264,8 +270,7 @@ TEST(StopDiagnosis, TheToleranceLookAheadCountsWhatALargerToleranceFrees) {
       few_freed += freed < wanted;
     }
     if (++stalls == 2) return false;
-    kernel.tolerance *= 2.0;
-    coverage.raise_tolerance(kernel.tolerance);
+    tk.double_tolerance();
     return true;
   };
   Report report;
