@@ -44,6 +44,10 @@ def inputs(args):
         path = shared(rel)
         if path and wanted(args, rel.split(".")[0]):
             out.append((rel.split(".")[0], path))
+    for spec in args.input:  # --input NAME=PATH: a mesh of one's own, after the others
+        name, path = spec.split("=", 1)
+        if wanted(args, name):
+            out.append((name, path))
     return out
 
 
@@ -107,6 +111,7 @@ def main():
     ap.add_argument("--repeat", type=int, default=3, help="runs of each tool at the chosen settings; the fastest counts")
     ap.add_argument("--omega-timeout", type=float, default=900.0, help="seconds for one omega_h_coarsen call")
     ap.add_argument("--only", help="regex on the input names")
+    ap.add_argument("--input", action="append", default=[], metavar="NAME=PATH", help="an extra input (repeatable)")
     ap.add_argument("--skip", help="regex on the input names to leave out")
     ap.add_argument("--json", default=None, help="results (default WORK/quality_vs_omega_h.json)")
     ap.add_argument("--table-from", help="print the table of a results JSON written earlier, run nothing")
