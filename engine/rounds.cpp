@@ -479,7 +479,7 @@ class Rounds {
     // A round whose proofs refuse a quarter of its winners: the tolerance binds (a curved surface
     // near the end of a tolerance-limited run), and a refused winner costs a round per edge, where
     // the verification would try the vertex's next edges at once. From then on it proves them.
-    if (4 * stats.winners_refused > winners_.size()) proposals_.verify_with_proof();
+    if (4 * stats.winners_refused > winners_.size()) proposals_.screen_in_verify();
     winners_.resize(kept);
     proven_.resize(kept);
   }

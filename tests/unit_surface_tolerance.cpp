@@ -2,13 +2,18 @@
 // brute force, the Hausdorff metric against analytic values, and the tolerance in whole runs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
+#include <memory>
 #include <random>
 
 #include <glm/geometric.hpp>
 
+#include "cost/cost.h"
+#include "kernel/collapse.h"
 #include "mesh/glm_convert.h"
 #include "entry_points.h"
 #include "mesh/mesh_model.h"
@@ -320,6 +325,52 @@ TEST(SimplifyTolerance, ParallelOutputIsIdenticalForEveryThreadCount) {
     else
       EXPECT_TRUE(out == reference) << "threads = " << threads << " differs from threads = 1";
   }
+}
+
+// CollapseOptions::screen_only, the parallel engine's verification where the tolerance binds
+// (cost/proposals.h): the screen refuses no placement that the proof alone (as prove() runs it,
+// without the screen) accepts, so that screening loses no collapse; and it is not a proof: it lets
+// through placements the proof refuses, which the engine proves before applying any.
+TEST(SimplifyTolerance, TheScreenRefusesNothingTheProofAccepts) {
+  MeshModel mesh = build_mesh_model(cube_sphere(20000));
+  const double h = 0.002 * bounding_box_diagonal(mesh);
+  const std::unique_ptr<SurfaceReference> surfaces = SurfaceReference::from_mesh(mesh, h);
+  CollapseOptions proof;  // the tolerance proof alone: no coverage, no screen
+  proof.surfaces = surfaces.get();
+  proof.tolerance = h;
+  proof.screen_tolerance = false;
+  CollapseOptions screen = proof;
+  screen.screen_only = true;
+  const SimplifyOptions options;
+  CostModel cost(mesh, options);
+  CollapseScratch scratch;
+  std::mt19937_64 rng(7);
+  std::uint64_t both = 0, screen_alone = 0, neither = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const TetId t = static_cast<TetId>(rng() % mesh.tets.size());
+    const int e = static_cast<int>(rng() % 6);
+    const VertId a = std::min(mesh.tets[t][kTetEdges[e][0]], mesh.tets[t][kTetEdges[e][1]]);
+    const VertId b = std::max(mesh.tets[t][kTetEdges[e][0]], mesh.tets[t][kTetEdges[e][1]]);
+    if (!surfaces->on_surface(a) && !surfaces->on_surface(b)) continue;
+    CollapseCandidate cands[kMaxCandidates];
+    const int n = cost.candidates(mesh, a, b, cands, scratch.link);
+    for (int k = 0; k < n; ++k) {
+      const Placement placement{cands[k].u, cands[k].v, cands[k].p};
+      const bool proved = first_acceptable(mesh, &placement, 1, proof, scratch, nullptr) == 0;
+      const bool screened = first_acceptable(mesh, &placement, 1, screen, scratch, nullptr) == 0;
+      if (proved) {
+        EXPECT_TRUE(screened) << "edge " << a << " " << b << ", placement " << k;
+      }
+      both += proved && screened;
+      screen_alone += screened && !proved;
+      neither += !screened;
+    }
+  }
+  std::printf("[ tolerance ] screen and proof %llu, screen alone %llu, neither %llu\n", (unsigned long long)both,
+              (unsigned long long)screen_alone, (unsigned long long)neither);
+  EXPECT_GT(both, 0u);
+  EXPECT_GT(screen_alone, 0u);  // not a proof
+  EXPECT_GT(neither, 0u);       // the screen refuses
 }
 
 TEST(SimplifyTolerance, NegativeToleranceIsInvalid) {

@@ -41,20 +41,23 @@ Proposals::Proposals(const MeshModel& mesh, CostModel& cost, const CollapseOptio
       kernel_(kernel),
       verify_kernel_(kernel),
       prove_kernel_(kernel),
+      screen_kernel_(kernel),
       proposals_(mesh.vertex_capacity()),
       rank_cost_(mesh.vertex_capacity(), kNoCost),
       bans_(mesh.vertex_capacity()),
       changed_round_(mesh.vertex_capacity(), 0),
       costed_round_(mesh.vertex_capacity(), 0) {
   kernel_changed();
-  if (kernel.surfaces != nullptr) verify_with_proof_.assign(mesh.vertex_capacity(), 0);
+  if (kernel.surfaces != nullptr) screen_in_verify_.assign(mesh.vertex_capacity(), 0);
 }
 
 void Proposals::kernel_changed() {
   verify_kernel_ = kernel_;
   prove_kernel_ = kernel_;
+  screen_kernel_ = kernel_;
   verify_kernel_.prove_tolerance = false;
   prove_kernel_.screen_tolerance = false;
+  screen_kernel_.screen_only = true;
 }
 
 void Proposals::set(VertId a, const Proposal& p) {
@@ -110,7 +113,6 @@ bool Proposals::update(VertId a, VertId u, ProposalScratch& s) {
     p.second_cost = kNoCost;
   }
   p.placement = -1;
-  p.proved = false;
   if (u > a && !mesh_.is_dead_vertex(u)) {  // a owns au: re-cost it
     ++s.evaluations;
     const double c = cost_.edge_cost(mesh_, a, u, s.collapse.link);
@@ -207,8 +209,8 @@ int Proposals::check(VertId a, VertId b, int n, ProposalScratch& s) {
   if (kernel_.field_bounds != nullptr && kernel_.field_bounds->has_limit()) set_placement_fields(mesh_, cost_, s.cands, n, placements, s.fields);
   ++s.checks;
   cost_.hint_orders(a, b, s.collapse.link);
-  s.proved = all_verify_with_proof_ || (!verify_with_proof_.empty() && verify_with_proof_[a]);
-  return first_acceptable(mesh_, placements, n, s.proved ? kernel_ : verify_kernel_, s.collapse, &s.rejected);
+  const bool screened = all_screen_in_verify_ || (!screen_in_verify_.empty() && screen_in_verify_[a]);
+  return first_acceptable(mesh_, placements, n, screened ? screen_kernel_ : verify_kernel_, s.collapse, &s.rejected);
 }
 
 int Proposals::prove(VertId a, ProposalScratch& s) {
@@ -216,11 +218,6 @@ int Proposals::prove(VertId a, ProposalScratch& s) {
   const int from = p.placement;
   const SurfaceReference* surfaces = kernel_.surfaces;
   if (surfaces == nullptr || (!surfaces->on_surface(a) && !surfaces->on_surface(p.b))) return from;  // nothing deferred
-  // Verified with the proof (verify_with_proof): the stencil is the one it was proved on (a
-  // verification lasts while no collapse touches the stars of the edge's ends, and the options
-  // have not changed: kernel_changed), so the proof holds. Proving it again doubled the price of
-  // the tolerance where it binds (sphere3: 27% of the run). apply() places the coverage again.
-  if (p.proved) return from;
   const int n = cost_.candidates(mesh_, a, p.b, s.cands, s.collapse.link);
   if (from < 0 || from >= n) throw std::logic_error("parallel rounds: a verified proposal changed before it was proved");
   // The verified placement is proved whatever it is (a quality fallback was reached then); the ones
@@ -234,7 +231,7 @@ int Proposals::prove(VertId a, ProposalScratch& s) {
   // The link conditions passed in the verification, on this same stencil: not again.
   const int k = first_acceptable(mesh_, placements, n - from, prove_kernel_, s.collapse, &s.rejected, false);
   if (k < 0) {
-    verify_with_proof_[a] = 1;
+    screen_in_verify_[a] = 1;
     ban(a, p.b, p.cost, nullptr);  // a tolerance refusal: not certified
     p.placement = -1;
     rank_cost_[a] = p.cost;
@@ -264,7 +261,6 @@ bool Proposals::try_edge(VertId a, VertId b, const Ranked& threshold, std::uint3
   }
   proposals_[a].verified_round = round;
   proposals_[a].placement = static_cast<std::int8_t>(chosen);
-  proposals_[a].proved = s.proved;
   rank_cost_[a] = s.cands[chosen].cost;
   return true;
 }
@@ -385,7 +381,7 @@ bool Proposals::refresh_if_stale(VertId a, ProposalScratch& s) {
 std::size_t Proposals::memory_bytes() const {
   return proposals_.capacity() * sizeof(Proposal) + rank_cost_.capacity() * sizeof(double) +
          bans_.capacity() * sizeof(Bans) + (changed_round_.capacity() + costed_round_.capacity()) * sizeof(std::uint32_t) +
-         verify_with_proof_.capacity();
+         screen_in_verify_.capacity();
 }
 
 void Proposals::release() {
@@ -394,7 +390,7 @@ void Proposals::release() {
   std::vector<Bans>().swap(bans_);
   std::vector<std::uint32_t>().swap(changed_round_);
   std::vector<std::uint32_t>().swap(costed_round_);
-  std::vector<std::uint8_t>().swap(verify_with_proof_);
+  std::vector<std::uint8_t>().swap(screen_in_verify_);
 }
 
 }  // namespace topotet::detail

@@ -1024,7 +1024,7 @@ bool new_surface_around(const MeshModel& mesh, VertId u, VertId v, const glm::dv
 }
 
 bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& reference, double h, VertId u,
-                                VertId v, const glm::dvec3& p, SurfaceStencil& s, bool screen) {
+                                VertId v, const glm::dvec3& p, SurfaceStencil& s, bool screen, bool proofs) {
   if (!new_surface_around(mesh, u, v, p, s)) return false;
   const auto& P = mesh.positions;
   // Is x within h of the original surface of face label `label`? The original triangles held near
@@ -1089,6 +1089,7 @@ bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& r
       if (contains(e.v, w) && !old_point_covered(P[w], e.label, h2, s.new_edges, seg2)) return false;
   }
 
+  if (!proofs) return true;
   // The proofs (triangle_within, segment_within), most expensive last. A face (p x y) made by two
   // merging faces (u x y and v x y) is listed twice: proved once.
   std::uint32_t hint = kInvalid;  // the last nearest original triangle: where the next search starts

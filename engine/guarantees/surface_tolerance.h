@@ -242,7 +242,10 @@ bool new_surface_around(const MeshModel& mesh, VertId u, VertId v, const glm::dv
 // triangle, which refuses most failing placements cheaply but only adds queries to one that
 // passes; the answer is the same either way (the proofs refuse every point beyond h too).
 bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& reference, double h, VertId u,
-                                VertId v, const glm::dvec3& p, SurfaceStencil& stencil, bool screen = true);
+                                VertId v, const glm::dvec3& p, SurfaceStencil& stencil, bool screen = true,
+                                bool proofs = true);
+// proofs = false: the screen and the reverse check only (true means "not refused yet", not a
+// proof; CollapseOptions::screen_only).
 
 // Exact squared distances (double precision), shared by the reference and the kernel check.
 double squared_distance_to_triangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,

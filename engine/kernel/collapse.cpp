@@ -262,8 +262,9 @@ bool within_tolerance(const MeshModel& mesh, const Placement& pl, const Collapse
     surface_edge = edge;
   }
   if (!placement_within_tolerance(mesh, reference, options.tolerance, pl.u, pl.v, pl.p, s.surface,
-                                  options.screen_tolerance))
+                                  options.screen_tolerance || options.screen_only, !options.screen_only))
     return false;
+  if (options.screen_only) return true;  // not proved: the caller proves it later
   if (options.coverage == nullptr) return true;
   s.coverage_for.u = kInvalid;
   if (!options.coverage->place(mesh, pl.u, pl.v, s.star_u, s.star_v, s.star_uv, s.surface, s.coverage)) return false;

@@ -65,6 +65,11 @@ struct CollapseOptions {
   // worth it where most placements that reach the proof fail it, not where most pass (a winner's
   // proof after a verification without it).
   bool screen_tolerance = true;
+  // With prove_tolerance: the screen and the reverse check only (placement_within_tolerance
+  // without its proofs), no coverage: refuses most of what the proof refuses, at a few point
+  // queries. A placement that passes is not proved: the parallel engine verifies so where the
+  // tolerance binds and proves the round's winners (cost/proposals.h).
+  bool screen_only = false;
   // Optional field error bounds (field_bounds.h): with them, a placement whose new star would have
   // a bound above its limit is refused (kFieldError). Checked after everything else (it locates
   // every sample of the stencil), and only when a limit is set; read-only here, updated by
