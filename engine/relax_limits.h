@@ -13,7 +13,8 @@
 namespace topotet::detail {
 
 // Called when no legal collapse is left before the target. Takes the census of the vertices left
-// (diagnose_stop, into report.stop) and, if the tolerance, the quality floors or the feature
+// (diagnose_stop, into report.stop; first on a sample of them when they are many, relax_limits.cpp)
+// and, if the tolerance, the quality floors or the feature
 // corners hold enough of them, no fewer than any other limit an option sets, and the options let
 // that limit relax, relaxes the one that holds more: H doubled (kernel and coverage; quadrupled or
 // multiplied by 8 when a look-ahead finds that 2H would free less than an eighth of the excess of

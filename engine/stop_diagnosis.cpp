@@ -1,7 +1,7 @@
 // diagnose_stop (stop_diagnosis.h): for every live vertex, what keeps every collapse that would
 // remove it from happening, then the dominant reason and one suggestion.
 //
-//   for each live vertex v (parallel):
+//   for each live vertex v (parallel; a sample: the slots that are multiples of the stride):
 //     pinned                                   -> pinned
 //     for each edge uv, the placements of the cost model (the engines try the same) that remove
 //     v (v merges into u, or both move to the midpoint or the quadric's optimum):
@@ -10,6 +10,7 @@
 //       else the furthest a placement gets in the kernel's order:
 //         inversion < quality < tolerance < field_error < collapsible
 //     v's reason <- the furthest over all its edges (what would have to give first)
+//   a sample's counts, but the pinned (counted exactly), scaled to the live unpinned vertices
 //   dominant <- the reason with most vertices; suggestion <- what relaxes it, and when an option
 //   cannot (topology, inversion, pinned by the input), also what relaxes the largest reason an
 //   option can
@@ -77,9 +78,10 @@ int placements_removing(const MeshModel& mesh, CostModel& cost, VertId a, VertId
 
 }  // namespace
 
-void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                   CostModel& cost, std::uint64_t target, Report& report, bool every_edge_refused,
-                   std::vector<std::uint8_t>* held_by_tolerance) {
+double diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
+                     CostModel& cost, std::uint64_t target, Report& report, bool every_edge_refused,
+                     std::vector<std::uint8_t>* held_by_tolerance, std::size_t stride) {
+  stride = std::max<std::size_t>(stride, 1);
   StopDiagnosis& d = report.stop;
   if (held_by_tolerance != nullptr) held_by_tolerance->assign(mesh.vertex_capacity(), 0);
   d = StopDiagnosis{};
@@ -98,7 +100,8 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
   // 30k: 22% of the run), is not run again. Same verdicts (StopDiagnosis.
   // TheEnginesRefusalsGiveTheFullCensus).
   const bool refused_by_tolerance = every_edge_refused && !field_limit && kernel.surfaces != nullptr;
-  parallel::for_range<std::size_t>(0, nv, 256, "diagnose_stop", [&](std::size_t begin, std::size_t end) {
+  const std::size_t asked_slots = (nv + stride - 1) / stride, grain = std::max<std::size_t>(1, 256 / stride);
+  parallel::for_range<std::size_t>(0, asked_slots, grain, "diagnose_stop", [&](std::size_t begin, std::size_t end) {
     CollapseScratch scratch;
     const ReuseClassifications reuse(scratch.link);  // the mesh is read only; each edge is seen from both ends
     std::vector<VertId> nbrs;
@@ -133,7 +136,7 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
       return rest;
     };
     for (std::size_t i = begin; i < end; ++i) {
-      const VertId v = static_cast<VertId>(i);
+      const VertId v = static_cast<VertId>(i * stride);
       if (mesh.is_dead_vertex(v) || mesh.is_frozen(v)) continue;
       if (mesh.is_pinned(v)) {
         ++local[kPinnedEnd];
@@ -187,25 +190,39 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
     }
     for (int k = 0; k < kVerdicts; ++k) counts[k].fetch_add(local[k], std::memory_order_relaxed);
   });
-  d.topology = counts[kTopology];
-  d.pinned = counts[kPinnedEnd];
-  d.inversion = counts[kInversion];
-  d.quality = counts[kQuality];
-  d.tolerance = counts[kTolerance];
-  d.field_error = counts[kFieldError];
-  d.collapsible = counts[kCollapsible];
-  d.vertices = d.topology + d.pinned + d.inversion + d.quality + d.tolerance + d.field_error + d.collapsible;
-
+  // The pinned vertices exactly (a flag each); a sample's other verdicts scaled to the unpinned
+  // live vertices it was taken from.
+  std::uint64_t unpinned = 0, pinned = 0;
   for (VertId v = 0; v < nv; ++v) {
-    if (mesh.is_dead_vertex(v) || !mesh.is_pinned(v)) continue;
+    if (mesh.is_dead_vertex(v)) continue;
+    if (!mesh.is_pinned(v)) {
+      unpinned += mesh.is_frozen(v) ? 0 : 1;
+      continue;
+    }
+    pinned += mesh.is_frozen(v) ? 0 : 1;
     const std::uint8_t s = mesh.vertex_states[v];
     if (s & vertex_state::kCorner) ++d.pinned_corners;
     else if (s & vertex_state::kRequired) ++d.pinned_required;
     else if (s & vertex_state::kFeatureCorner) ++d.pinned_features;
     else ++d.pinned_other;
   }
+  std::uint64_t asked = 0;
+  for (int k = 0; k < kVerdicts; ++k)
+    if (k != kPinnedEnd) asked += counts[k];
+  const double scale = stride == 1 || asked == 0 ? 1.0 : static_cast<double>(unpinned) / static_cast<double>(asked);
+  const auto scaled = [&](int k) {
+    return stride == 1 ? counts[k].load() : static_cast<std::uint64_t>(std::llround(scale * static_cast<double>(counts[k])));
+  };
+  d.topology = scaled(kTopology);
+  d.pinned = stride == 1 ? counts[kPinnedEnd].load() : pinned;
+  d.inversion = scaled(kInversion);
+  d.quality = scaled(kQuality);
+  d.tolerance = scaled(kTolerance);
+  d.field_error = scaled(kFieldError);
+  d.collapsible = scaled(kCollapsible);
+  d.vertices = d.topology + d.pinned + d.inversion + d.quality + d.tolerance + d.field_error + d.collapsible;
 
-  if (d.vertices == 0) return;
+  if (d.vertices == 0) return scale;
   const std::uint64_t fixed = d.topology + d.pinned_corners + d.pinned_required;
   d.beyond_reach = fixed >= target;
   // The reasons, the ones an option relaxes first (ties go to the first).
@@ -281,6 +298,7 @@ void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const 
   if (d.beyond_reach)
     d.suggestion += "; the topology and the vertices the input pins alone hold " + std::to_string(fixed) +
                     " vertices, the target is " + std::to_string(target) + ": no option reaches it";
+  return scale;
 }
 
 bool tolerance_frees(const MeshModel& mesh, const CollapseOptions& kernel, CostModel& cost, double h,

@@ -21,9 +21,14 @@ namespace topotet::detail {
 // need not prove again the tolerance of the placements it refused for it (same verdicts).
 // held_by_tolerance (optional): set to one byte per vertex slot, 1 for the vertices the tolerance
 // holds (the census's verdict), for freed_by_tolerance.
-void diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
-                   CostModel& cost, std::uint64_t target, Report& report, bool every_edge_refused,
-                   std::vector<std::uint8_t>* held_by_tolerance = nullptr);
+// stride > 1: a sampled census, for choosing a step at a stall (relax_limits.cpp), never for the
+// report of a run that stops. It asks only the vertex slots that are multiples of `stride` (the
+// same ones for any thread count); the pinned vertices are counted exactly, the other verdicts
+// scaled to every unpinned live vertex. held_by_tolerance marks the sampled vertices only.
+// Returns the scale: the live unpinned vertices one asked vertex stands for (1 when exact).
+double diagnose_stop(const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
+                     CostModel& cost, std::uint64_t target, Report& report, bool every_edge_refused,
+                     std::vector<std::uint8_t>* held_by_tolerance = nullptr, std::size_t stride = 1);
 
 // Would a tolerance of h (above the kernel's) free at least `wanted` of the vertices the census
 // found held by the tolerance (held_by_tolerance)? A vertex is freed when some placement that

@@ -3,6 +3,7 @@
 // the tolerance, the quality floor, pinned vertices, the topology.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -278,6 +279,61 @@ TEST(StopDiagnosis, TheToleranceLookAheadCountsWhatALargerToleranceFrees) {
   EXPECT_EQ(stalls, 2);
   EXPECT_GE(clear_answers, 3);  // the sample was asked both ways
   EXPECT_GE(few_freed, 1);      // a doubling that frees too few: the case the look-ahead is for
+}
+
+// relax_limits chooses its steps on a sampled census where many vertices are left (diagnose_stop's
+// stride). Each vertex it asks gets the full census's verdict (the flags of the vertices the
+// tolerance holds are the full census's on the sampled slots, nothing elsewhere); the pinned
+// vertices are counted exactly; the other counts, scaled, stay within five standard deviations of
+// the full census's (a share p of n vertices asked: sqrt(n p (1 - p)) each), at every stall.
+TEST(StopDiagnosis, ASampledCensusAsksEveryVertexItSamplesAsTheFullOne) {
+  MeshModel mesh = build_mesh_model(generate_mesh({"polycrystal", 20000, 1}));
+  SimplifyOptions options;
+  options.feature_angle = 180.0;
+  ToleranceKernel tk(mesh, options, options.tolerance_rel * bounding_box_diagonal(mesh));
+  CollapseOptions& kernel = tk.kernel;
+  const std::uint64_t target = mesh.live_vertex_count() / 10;
+  int stalls = 0;
+  const detail::RelaxStep relax = [&](CostModel& cost) {
+    Report full;
+    std::vector<std::uint8_t> held_full;
+    EXPECT_EQ(detail::diagnose_stop(mesh, options, kernel, cost, target, full, true, &held_full), 1.0);
+    for (const std::size_t stride : {3u, 8u}) {
+      SCOPED_TRACE("stall " + std::to_string(stalls) + ", stride " + std::to_string(stride));
+      Report sampled;
+      std::vector<std::uint8_t> held;
+      const double scale = detail::diagnose_stop(mesh, options, kernel, cost, target, sampled, true, &held, stride);
+      EXPECT_GT(scale, 0.5 * static_cast<double>(stride));
+      EXPECT_LT(scale, 2.0 * static_cast<double>(stride));
+      EXPECT_EQ(held.size(), held_full.size());
+      std::size_t differ = 0;
+      for (std::size_t v = 0; v < std::min(held.size(), held_full.size()); ++v)
+        differ += held[v] != (v % stride == 0 ? held_full[v] : 0);
+      EXPECT_EQ(differ, 0u);
+      const StopDiagnosis &a = full.stop, &b = sampled.stop;
+      EXPECT_EQ(b.pinned, a.pinned);
+      EXPECT_EQ(b.pinned_features, a.pinned_features);
+      const double unpinned = static_cast<double>(a.vertices - a.pinned);
+      EXPECT_NEAR(static_cast<double>(b.vertices - b.pinned), unpinned, 4.0);  // rounding of each count
+      const double asked = unpinned / scale;
+      const std::pair<std::uint64_t, std::uint64_t> counts[] = {{a.topology, b.topology},   {a.inversion, b.inversion},
+                                                                {a.quality, b.quality},     {a.tolerance, b.tolerance},
+                                                                {a.collapsible, b.collapsible}};
+      for (const auto& [exact, estimate] : counts) {
+        const double p = static_cast<double>(exact) / unpinned;
+        EXPECT_NEAR(static_cast<double>(estimate), static_cast<double>(exact),
+                    5.0 * scale * std::sqrt(asked * p * (1.0 - p)) + scale)
+            << "exact " << exact;
+      }
+      EXPECT_GT(b.tolerance, 0u);
+    }
+    if (++stalls == 2) return false;
+    tk.double_tolerance();
+    return true;
+  };
+  Report report;
+  detail::simplify_parallel(mesh, options, kernel, nullptr, target, report, nullptr, {}, relax);
+  EXPECT_EQ(stalls, 2);
 }
 
 }  // namespace
