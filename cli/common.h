@@ -62,6 +62,9 @@ struct SimplifyJob {
   std::string read_verb = "read";  // "generate" for the demo
   SimplifyOptions options;     // target and engine settings (targets overridden by `levels`)
   std::vector<double> levels;  // descending vertex ratios; empty = one run with `options`
+  // --levels-error: after the run, one level per field error bound, extracted from the hierarchy
+  // (needs hierarchy_path); printed after the report and in the JSON report's "error_levels".
+  std::vector<double> levels_error;
   std::string output_path;     // empty = write nothing
   std::string hierarchy_path;  // --hierarchy: also record the collapses into this .tth file
   // --vertex-map: also write, for each of the first vertex_map_entries input vertices (the file's:
@@ -93,9 +96,10 @@ int run_simplify_out_of_core(const SimplifyArgs& args);
 // ---- levels of a collapse hierarchy (extract.cpp) ----
 // One uniform level per error threshold, written as `output` with the threshold before the
 // extension; prints one table row per level (size, field error, error bound, angles, topology
-// against the original). Returns kExitCheckFailed if a level fails the check.
+// against the original). Returns kExitCheckFailed if a level fails the check. `rows` (optional):
+// the same rows for a JSON report, one object per level, appended to it (an array).
 int print_error_levels(const Hierarchy& hierarchy, const std::string& output, std::vector<double> levels,
-                       const WriteOptions& write_options);
+                       const WriteOptions& write_options, Json* rows = nullptr);
 
 // ---- timing ----
 class Stopwatch {

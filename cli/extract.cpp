@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "common.h"
+#include "json_report.h"
 #include "topotet/error.h"
 #include "topotet/hierarchy.h"
 #include "topotet/metrics/field_error.h"
@@ -33,6 +34,7 @@ struct ExtractArgs {
   double inside_error = 0.0;
   double outside_error = std::numeric_limits<double>::infinity();
   std::vector<double> levels_error;
+  std::string report;  // --json (with --levels-error): the levels' rows as a JSON report
   std::string voi_closure = "fine";
   bool binary = false;
   bool no_verify = false;
@@ -74,7 +76,7 @@ Checked check_level(const metrics::TopologyReport& original, const MeshData& lev
 }  // namespace
 
 int print_error_levels(const Hierarchy& h, const std::string& output, std::vector<double> levels,
-                       const WriteOptions& write_options) {
+                       const WriteOptions& write_options, Json* rows) {
   std::sort(levels.begin(), levels.end());
   levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
   const MeshData& original = h.original;
@@ -111,6 +113,18 @@ int print_error_levels(const Hierarchy& h, const std::string& output, std::vecto
                  std::isnan(bound) ? "-" : format_number(bound).c_str(), angles(c.quality).c_str(),
                  format_seconds(seconds).c_str(), c.ok ? "PASS" : "FAIL");
     if (!c.ok) std::fprintf(stderr, "level %s: %s", format_number(e).c_str(), c.differences.c_str());
+    if (rows != nullptr)
+      rows->push_back({{"error", e},
+                       {"path", level_path(output, e)},
+                       {"vertices", level.vertex_count()},
+                       {"vertex_share", per(static_cast<double>(level.vertex_count()), original.vertex_count())},
+                       {"tets", level.tet_count()},
+                       {"field_rms_rel", f.worst_rms_rel},
+                       {"field_max_rel", f.worst_max_rel},
+                       {"field_max_rel_at_original", at_original},
+                       {"bound", std::isnan(bound) ? Json(nullptr) : Json(bound)},
+                       {"extract_seconds", seconds},
+                       {"topology", c.ok ? "pass" : "fail"}});
   }
   std::fprintf(out, "(error = the hierarchy's monotone error: the field error bound when it has bounds, else the collapse cost; rms/max field error relative to the range, both directions; "
                     "max@orig = the largest error at the original vertices, which the bound covers; bound = max field "
@@ -125,13 +139,16 @@ int run_extract(const ExtractArgs& args) {
   const int given = (args.vertices ? 1 : 0) + (args.max_error ? 1 : 0) + (args.voi.empty() ? 0 : 1) +
                     (args.levels_error.empty() ? 0 : 1);
   if (given != 1) throw InputError("give exactly one of --vertices, --max-error, --voi, --levels-error");
+  if (!args.report.empty() && args.levels_error.empty()) throw InputError("--json is for --levels-error (its table)");
+  if (!args.report.empty() && args.report == "-" && args.output == "-")
+    throw InputError("-o - and --json -: only one of them can go to stdout");
   std::optional<Voi> voi;
   if (!args.voi.empty()) voi = parse_voi(args.voi);  // bad syntax fails before reading
   parse_format(args.format);
   WriteOptions write_options;
   write_options.binary = args.binary;
   write_options.format = format_for(args.output, args.format);
-  if (args.output == "-") send_report_to_stderr();
+  if (args.output == "-" || args.report == "-") send_report_to_stderr();
   check_output_folder(args.output);
   int exit_code = kExitOk;
   run_with_thread_limit(args.threads, [&] {
@@ -139,7 +156,18 @@ int run_extract(const ExtractArgs& args) {
     const Hierarchy h = read_hierarchy(args.input);
     const double read_seconds = read_clock.seconds();
     if (!args.levels_error.empty()) {
-      exit_code = print_error_levels(h, args.output, args.levels_error, write_options);
+      Json rows = Json::array();
+      exit_code = print_error_levels(h, args.output, args.levels_error, write_options, &rows);
+      if (!args.report.empty()) {
+        Json j = json_header("extract");
+        j["hierarchy"] = {{"file", args.input},
+                          {"original_vertices", h.original.vertex_count()},
+                          {"original_tets", h.original.tet_count()},
+                          {"read_seconds", read_seconds}};
+        j["error_levels"] = rows;
+        j["checks"] = exit_code == kExitOk ? "pass" : "fail";
+        write_json_atomically(args.report, j);
+      }
       return;
     }
     const Stopwatch select_clock;
@@ -239,6 +267,8 @@ void add_extract_command(CLI::App& app, CommandRunner& run) {
                   "and a table of their size, field error, quality and topology")
       ->delimiter(',')
       ->check(number_in(0.0, std::numeric_limits<double>::infinity(), false));
+  cmd->add_option("--json,--report", args->report,
+                  "With --levels-error: write its table as JSON to this file (- = stdout; docs/cli.md, JSON reports)");
   cmd->add_flag("--binary", args->binary, "Binary Gmsh 4.1 / raw appended VTU data");
   cmd->add_flag("--no-verify", args->no_verify, "Skip the topology and inversion check against the original");
   cmd->add_option("--threads", args->threads, "Threads for reading and checking (0 = all cores)")

@@ -371,12 +371,12 @@ ReadOptions read_options_of(const SimplifyArgs& args) {
 }
 
 // --levels-error: one run, one hierarchy, every level: the levels are extracted, not re-simplified.
-int extract_error_levels(const SimplifyJob& job, const std::vector<double>& levels_error) {
+int extract_error_levels(const SimplifyJob& job, Json& rows) {
   WriteOptions write_options;
   write_options.binary = job.binary;
   write_options.msh22 = job.msh22;
   std::fprintf(report_stream(), "\nlevels from %s:\n", job.hierarchy_path.c_str());
-  return print_error_levels(read_hierarchy(job.hierarchy_path), job.output_path, levels_error, write_options);
+  return print_error_levels(read_hierarchy(job.hierarchy_path), job.output_path, job.levels_error, write_options, &rows);
 }
 
 // --isosurface: the levels are embedded into the input before the model is built (the output is
@@ -444,9 +444,8 @@ int run_simplify(const SimplifyArgs& args) {
     job.options.track_field_bounds = true;
   if (!args.levels_error.empty() && job.hierarchy_path.empty())
     throw InputError("--levels-error needs --hierarchy H.tth (the levels are extracted from it)");
-  const int code = run_simplify_job(job);
-  if (args.levels_error.empty()) return code;
-  return std::max(code, extract_error_levels(job, args.levels_error));
+  job.levels_error = args.levels_error;
+  return run_simplify_job(job);
 }
 
 }  // namespace
@@ -470,6 +469,8 @@ int run_simplify_job(SimplifyJob& job) {
     reload_input(job, notes, run);
     measure_outputs(job, run);
     print_report(job, run);
+    // After the report (the hierarchy is written), so that the JSON report holds the levels too.
+    if (!job.levels_error.empty() && extract_error_levels(job, run.error_levels) != kExitOk) run.all_ok = false;
     if (!job.report_path.empty()) write_json_report(job, run);
   });
   return run.all_ok ? kExitOk : kExitCheckFailed;

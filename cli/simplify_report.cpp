@@ -590,6 +590,7 @@ void write_json_report(const SimplifyJob& job, const SimplifyRun& run) {
   j["cell_arrays"] = cells;
   j["levels"] = Json::array();
   for (const LevelResult& l : run.levels) j["levels"].push_back(level_json(l));
+  if (!job.levels_error.empty()) j["error_levels"] = run.error_levels;
   write_json_atomically(job.report_path, j);
 }
 

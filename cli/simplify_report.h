@@ -88,6 +88,7 @@ struct SimplifyRun {
   bool fast_topology = false;  // the checker's fast mode (large inputs)
   topotet::TopologyReport input_topology;
   bool all_ok = true;  // every level passed the checks that ran
+  Json error_levels = Json::array();  // --levels-error: print_error_levels' rows
 };
 
 // The text report: one block (no --levels) or one table row per level, then the rows common to

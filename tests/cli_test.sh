@@ -320,6 +320,26 @@ if [[ -s hl_1e-06.mesh && -s hl_0.0001.mesh ]] && [[ $(grep -c PASS extract_leve
 else
   fail "extract --levels-error: $(ls hl_* 2>&1) $(cat extract_levels.out)"
 fi
+# The table as JSON: from extract, and from simplify --levels-error (after its own report).
+expect 0 extract_levels_json -- "$topotet" extract h.tth -o hj.mesh --levels-error 1e-6,1e-4 --json hj.json
+expect 0 simplify_levels_json -- "$topotet" simplify in.mesh -o hs.mesh --ratio 0.1 --no-metrics --hierarchy hs.tth --levels-error 1e-4 --json hs.json
+if python3 - hj.json hs.json <<'PY'
+import json, sys
+e, s = (json.load(open(p)) for p in sys.argv[1:])
+rows = e["error_levels"]
+assert e["command"] == "extract" and e["checks"] == "pass" and [r["error"] for r in rows] == [1e-6, 1e-4], e
+for r in rows + s["error_levels"]:
+    assert r["topology"] == "pass" and r["vertices"] > 0 and r["tets"] > 0, r
+    assert r["bound"] is not None and r["field_max_rel_at_original"] <= r["bound"] + 1e-12, r
+assert rows[0]["vertices"] >= rows[1]["vertices"], rows
+assert s["command"] == "simplify" and len(s["error_levels"]) == 1 and s["error_levels"][0]["path"] == "hs_0.0001.mesh", s
+PY
+then
+  pass "--levels-error --json: the table's rows in extract's and simplify's JSON reports"
+else
+  fail "--levels-error --json: $(head -c 600 hj.json) $(head -c 600 hs.json)"
+fi
+expect_any_error extract_json_alone -- "$topotet" extract h.tth -o x.mesh --vertices 10 --json x.json
 expect_any_error extract_no_level -- "$topotet" extract h.tth -o x.mesh
 expect_any_error extract_bad_voi -- "$topotet" extract h.tth -o x.mesh --voi cube:1,2,3
 head -c 100 h.tth > short.tth
