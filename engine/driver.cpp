@@ -291,6 +291,7 @@ Report simplify_impl(MeshModel& mesh, const SimplifyOptions& given, std::vector<
           bounds = std::make_unique<FieldBounds>(mesh, options.max_field_error, options.max_field_error_rel);
           if (options.field_bound_mode == FieldBoundMode::kEverywhere) bounds->set_everywhere(mesh);
         }
+        if (log != nullptr) bounds->exact_commits();  // a hierarchy's levels choose by the bounds stored
         kernel.field_bounds = bounds.get();
         report.field_bounds = true;
         report.field_bound_mode = options.field_bound_mode;

@@ -583,11 +583,13 @@ bool FieldBounds::overlay_bounds(const MeshModel& mesh, std::span<const TetId> r
       if (stop_at_limit) return false;
       continue;
     }
+    // The cheap estimates (raise_by_cell's limit) for checks, and for commits unless exact.
+    const double* estimate_within = has_limit_ && (stop_at_limit || !exact_commits_) ? limit_.data() : nullptr;
     for (const AffineTet& o : s.originals) {
       const bool boxes_meet = !(o.hi.x < t.lo.x || t.hi.x < o.lo.x || o.hi.y < t.lo.y || t.hi.y < o.lo.y ||
                                 o.hi.z < t.lo.z || t.hi.z < o.lo.z);
       if (boxes_meet && !o.flat &&
-          raise_by_cell(o, t, k, slack_.data(), has_limit_ ? limit_.data() : nullptr, stop_at_limit, skip_crossings_, out))
+          raise_by_cell(o, t, k, slack_.data(), estimate_within, stop_at_limit, skip_crossings_, out))
         list.push_back(o.tet);
       if (stop_at_limit && above_limit(out, limit_.data(), k)) return false;  // refused: no need to go on
     }
