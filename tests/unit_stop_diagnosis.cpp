@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <numeric>
 #include <string>
@@ -61,6 +62,29 @@ struct ToleranceKernel {
     coverage->raise_tolerance(kernel.tolerance);
   }
 };
+
+// The polycrystal 20k run to 10% under the default tolerance (no features), stalled twice: `at`
+// is called at each stall (0, then 1) with the mesh as the engine left it; the tolerance doubles
+// between them. Returns the number of stalls.
+using AtStall = std::function<void(const MeshModel&, const SimplifyOptions&, const CollapseOptions&, CostModel&,
+                                   std::uint64_t target, int stall)>;
+int polycrystal_stalls(const AtStall& at) {
+  MeshModel mesh = build_mesh_model(generate_mesh({"polycrystal", 20000, 1}));
+  SimplifyOptions options;
+  options.feature_angle = 180.0;
+  ToleranceKernel tk(mesh, options, options.tolerance_rel * bounding_box_diagonal(mesh));
+  const std::uint64_t target = mesh.live_vertex_count() / 10;
+  int stalls = 0;
+  const detail::RelaxStep relax = [&](CostModel& cost) {
+    at(mesh, options, tk.kernel, cost, target, stalls);
+    if (++stalls == 2) return false;
+    tk.double_tolerance();
+    return true;
+  };
+  Report report;
+  detail::simplify_parallel(mesh, options, tk.kernel, nullptr, target, report, nullptr, {}, relax);
+  return stalls;
+}
 
 TEST(StopDiagnosis, NotFilledWhenTheTargetIsReached) {
   MeshModel mesh = build_mesh_model(small_cube_sphere());
@@ -231,14 +255,9 @@ TEST(StopDiagnosis, TheEnginesRefusalsGiveTheFullCensus) {
 // larger H (without the coverage, as tolerance_frees asks) no longer finds held. Asked of a sample
 // of 128, it answers as the full count wherever that is not within a factor of 2 of the question.
 TEST(StopDiagnosis, TheToleranceLookAheadCountsWhatALargerToleranceFrees) {
-  MeshModel mesh = build_mesh_model(generate_mesh({"polycrystal", 20000, 1}));
-  SimplifyOptions options;
-  options.feature_angle = 180.0;
-  ToleranceKernel tk(mesh, options, options.tolerance_rel * bounding_box_diagonal(mesh));
-  CollapseOptions& kernel = tk.kernel;
-  const std::uint64_t target = mesh.live_vertex_count() / 10;
-  int stalls = 0, clear_answers = 0, few_freed = 0;
-  const detail::RelaxStep relax = [&](CostModel& cost) {
+  int clear_answers = 0, few_freed = 0;
+  const AtStall at = [&](const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
+                         CostModel& cost, std::uint64_t target, int stall) {
     Report census;
     std::vector<std::uint8_t> held;
     detail::diagnose_stop(mesh, options, kernel, cost, target, census, true, &held);
@@ -246,7 +265,7 @@ TEST(StopDiagnosis, TheToleranceLookAheadCountsWhatALargerToleranceFrees) {
     EXPECT_EQ(held_count, census.stop.tolerance);
     const std::size_t all = held.size();
     for (const int step : {1, 2}) {
-      SCOPED_TRACE("stall " + std::to_string(stalls) + ", H x " + std::to_string(1 << step));
+      SCOPED_TRACE("stall " + std::to_string(stall) + ", H x " + std::to_string(1 << step));
       CollapseOptions larger = kernel;
       larger.tolerance = std::ldexp(kernel.tolerance, step);
       larger.coverage = nullptr;
@@ -270,13 +289,8 @@ TEST(StopDiagnosis, TheToleranceLookAheadCountsWhatALargerToleranceFrees) {
       }
       few_freed += freed < wanted;
     }
-    if (++stalls == 2) return false;
-    tk.double_tolerance();
-    return true;
   };
-  Report report;
-  detail::simplify_parallel(mesh, options, kernel, nullptr, target, report, nullptr, {}, relax);
-  EXPECT_EQ(stalls, 2);
+  EXPECT_EQ(polycrystal_stalls(at), 2);
   EXPECT_GE(clear_answers, 3);  // the sample was asked both ways
   EXPECT_GE(few_freed, 1);      // a doubling that frees too few: the case the look-ahead is for
 }
@@ -287,19 +301,13 @@ TEST(StopDiagnosis, TheToleranceLookAheadCountsWhatALargerToleranceFrees) {
 // vertices are counted exactly; the other counts, scaled, stay within five standard deviations of
 // the full census's (a share p of n vertices asked: sqrt(n p (1 - p)) each), at every stall.
 TEST(StopDiagnosis, ASampledCensusAsksEveryVertexItSamplesAsTheFullOne) {
-  MeshModel mesh = build_mesh_model(generate_mesh({"polycrystal", 20000, 1}));
-  SimplifyOptions options;
-  options.feature_angle = 180.0;
-  ToleranceKernel tk(mesh, options, options.tolerance_rel * bounding_box_diagonal(mesh));
-  CollapseOptions& kernel = tk.kernel;
-  const std::uint64_t target = mesh.live_vertex_count() / 10;
-  int stalls = 0;
-  const detail::RelaxStep relax = [&](CostModel& cost) {
+  const AtStall at = [&](const MeshModel& mesh, const SimplifyOptions& options, const CollapseOptions& kernel,
+                         CostModel& cost, std::uint64_t target, int stall) {
     Report full;
     std::vector<std::uint8_t> held_full;
     EXPECT_EQ(detail::diagnose_stop(mesh, options, kernel, cost, target, full, true, &held_full), 1.0);
     for (const std::size_t stride : {3u, 8u}) {
-      SCOPED_TRACE("stall " + std::to_string(stalls) + ", stride " + std::to_string(stride));
+      SCOPED_TRACE("stall " + std::to_string(stall) + ", stride " + std::to_string(stride));
       Report sampled;
       std::vector<std::uint8_t> held;
       const double scale = detail::diagnose_stop(mesh, options, kernel, cost, target, sampled, true, &held, stride);
@@ -327,13 +335,8 @@ TEST(StopDiagnosis, ASampledCensusAsksEveryVertexItSamplesAsTheFullOne) {
       }
       EXPECT_GT(b.tolerance, 0u);
     }
-    if (++stalls == 2) return false;
-    tk.double_tolerance();
-    return true;
   };
-  Report report;
-  detail::simplify_parallel(mesh, options, kernel, nullptr, target, report, nullptr, {}, relax);
-  EXPECT_EQ(stalls, 2);
+  EXPECT_EQ(polycrystal_stalls(at), 2);
 }
 
 }  // namespace
