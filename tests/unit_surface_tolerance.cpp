@@ -64,6 +64,21 @@ TEST(SurfaceReference, QueriesMatchBruteForce) {
       EXPECT_TRUE(reference.within(p, g, brute[g] * (1 + 1e-12) + 1e-15));
       EXPECT_FALSE(reference.within(p, g, brute[g] * (1 - 1e-9)));
       EXPECT_EQ(reference.distance(p, g, brute[g] * 0.5), std::numeric_limits<double>::infinity());
+      // any_within answers with a primitive of the label within h, or none exactly when within() does.
+      for (const double h : {brute[g] * (1 - 1e-9), brute[g] * 1.5, brute[g] * 3.0}) {
+        const std::uint32_t k = reference.any_within(p, g, h);
+        EXPECT_EQ(k != kInvalid, reference.within(p, g, h)) << "query " << q << " geometry " << g << " h " << h;
+        if (k == kInvalid) continue;
+        if (g < 2) {
+          ASSERT_LT(k, copy.triangles.size());
+          const auto& tv = copy.triangles[k];
+          EXPECT_EQ(copy.triangle_label[k], static_cast<std::uint32_t>(g));
+          EXPECT_LE(squared_distance_to_triangle(p, P[tv[0]], P[tv[1]], P[tv[2]]), h * h * (1 + 1e-9));
+        } else {
+          ASSERT_LT(k, copy.segments.size());
+          EXPECT_LE(squared_distance_to_segment(p, P[copy.segments[k][0]], P[copy.segments[k][1]]), h * h * (1 + 1e-9));
+        }
+      }
     }
   }
 }

@@ -350,6 +350,19 @@ bool SurfaceReference::within(const glm::dvec3& p, int label, double h) const {
   return found;
 }
 
+std::uint32_t SurfaceReference::any_within(const glm::dvec3& p, int label, double h) const {
+  if (label < 0 || static_cast<std::size_t>(label) >= embree_->primitives.size()) return kInvalid;
+  Query q{&soup_, &embree_->primitives, static_cast<unsigned>(label), label >= static_cast<int>(soup_.face_labels), p,
+          h * h, slack_, true};
+  q.geometry_id = embree_->geometry_id_of(label);
+  RTCPointQuery query{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z), 0.0f,
+                      radius_for(h, slack_)};
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(embree_->scene_of(label), &query, &context, on_primitive, &q);
+  return q.found ? q.best_primitive : kInvalid;
+}
+
 bool SurfaceReference::within_one(const glm::dvec3* corners, int count, int label, double h) const {
   if (label < 0 || static_cast<std::size_t>(label) >= embree_->primitives.size() || count <= 0) return false;
   glm::dvec3 centre(0.0);
@@ -928,6 +941,8 @@ bool old_point_covered(const glm::dvec3& old, int label, double h2, const Prims&
 // within h / 8 of the limit, and the work per triangle is bounded. Most triangles pass at once or
 // after one split: on coarse levels a triangle is a few h long and lies much closer than h.
 constexpr double kFinestPiece = 1.0 / 8.0;
+// SurfaceStencil::found_triangles keeps this many.
+constexpr std::size_t kFoundTriangles = 8;
 constexpr int kPieceBudget = 64;
 
 bool triangle_within(const SurfaceReference& reference, const glm::dvec3& a, const glm::dvec3& b,
@@ -1029,22 +1044,31 @@ bool placement_within_tolerance(const MeshModel& mesh, const SurfaceReference& r
   const auto& P = mesh.positions;
   // Is x within h of the original surface of face label `label`? The original triangles held near
   // the stencil first (the last one that answered first: the points asked are close together),
-  // then a search. The answer is the search's either way.
+  // then those earlier searches of this stencil answered with, then a search, whose answer joins
+  // them. The answer is the search's either way (any original triangle within h proves it).
   const SurfaceSoup& soup = reference.soup();
   std::size_t last_near = 0;
+  const auto holds = [&](std::uint32_t t, const glm::dvec3& x, int label) {
+    if (soup.triangle_label[t] != static_cast<std::uint32_t>(label)) return false;
+    const auto& tv = soup.triangles[t];
+    return squared_distance_to_triangle(x, soup.positions[tv[0]], soup.positions[tv[1]], soup.positions[tv[2]]) <= h * h;
+  };
   const auto within = [&](const glm::dvec3& x, int label) {
     const std::size_t n = s.near_triangles.size();
     for (std::size_t i = 0; i < n; ++i) {
       const std::size_t k = (last_near + i) % n;
-      const std::uint32_t t = s.near_triangles[k];
-      if (soup.triangle_label[t] != static_cast<std::uint32_t>(label)) continue;
-      const auto& tv = soup.triangles[t];
-      if (squared_distance_to_triangle(x, soup.positions[tv[0]], soup.positions[tv[1]], soup.positions[tv[2]]) <= h * h) {
+      if (holds(s.near_triangles[k], x, label)) {
         last_near = k;
         return true;
       }
     }
-    return reference.within(x, label, h);
+    for (const std::uint32_t t : s.found_triangles)
+      if (holds(t, x, label)) return true;
+    const std::uint32_t found = reference.any_within(x, label, h);
+    if (found == kInvalid) return false;
+    if (s.found_triangles.size() == kFoundTriangles) s.found_triangles.pop_back();
+    s.found_triangles.insert(s.found_triangles.begin(), found);
+    return true;
   };
 
   // Forward: every point of the new surface near the original one. p first, once per label: it

@@ -138,6 +138,9 @@ class SurfaceReference {
 
   // Is some primitive of `label` (a geometry id) within distance h of p? Stops at the first hit.
   bool within(const glm::dvec3& p, int label, double h) const;
+  // The same search, answering with the primitive it stopped at (a soup triangle or segment
+  // within h of p), or kInvalid when there is none.
+  std::uint32_t any_within(const glm::dvec3& p, int label, double h) const;
   // Is one primitive of `label` within h of every one of the `count` points? Then, the distance to
   // a fixed triangle (segment) being convex, the whole triangle (segment) they span is within h.
   bool within_one(const glm::dvec3* corners, int count, int label, double h) const;
@@ -211,6 +214,11 @@ struct SurfaceStencil {
   // Original triangles held near the stencil (SurfaceCoverage::held_triangles; empty without a
   // coverage): a point within h of one of its label's is within h of the surface, no search needed.
   std::vector<std::uint32_t> near_triangles;
+  // The original triangles the searches of this stencil's checks answered with, the latest first
+  // (placement_within_tolerance; at most kFoundTriangles): the points a check asks are close
+  // together, and one that answered for a point often answers for the next. Emptied with
+  // near_triangles; a stale one would still be an original triangle within h (only slower).
+  std::vector<std::uint32_t> found_triangles;
   // Per placement: the new triangles / segments around p (positions) with their labels.
   struct NewFace {
     std::array<glm::dvec3, 3> pts;  // p first

@@ -257,6 +257,7 @@ bool within_tolerance(const MeshModel& mesh, const Placement& pl, const Collapse
     gather_surface_stencil(mesh, reference, pl.u, pl.v, s.star_u, s.star_v, s.star_uv, s.surface);
     // A few original triangles are cheaper to try than a search; many are not: then none.
     s.surface.near_triangles.clear();
+    s.surface.found_triangles.clear();
     if (options.coverage != nullptr)
       options.coverage->held_triangles(s.star_u, s.star_v, s.star_uv, kMaxNearTriangles, s.surface.near_triangles);
     surface_edge = edge;
