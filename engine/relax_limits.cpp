@@ -1,8 +1,8 @@
 // relax_limits (relax_limits.h): which limit held the vertices left, and one step of it.
 //
 //   census <- diagnose_stop (the reason that holds each live vertex): on an even sample of about
-//             512 of them when there are twice as many, then on every one when the sample's
-//             choice below is not clear or the run is to stop
+//             256 of them when there are at least twice as many, then on every one when the
+//             sample's choice below is not clear or the run is to stop
 //   excess <- live - target
 //   tolerance may relax: relax_tolerance, H > 0 and below the bounding box diagonal
 //   quality may relax:   relax_quality and a floor above 0
@@ -60,8 +60,8 @@ constexpr std::size_t kToleranceSample = 128;
 // A census that only chooses a step asks about this many of the unpinned vertices left, evenly
 // spread (diagnose_stop's stride), when there are at least twice as many; the full census runs
 // when the sample's choice is not clear (clear_choice) and whenever the run is to stop (its report
-// names exact counts). Polycrystal 30k at 10%: each census asked 1,675 and 1,200 vertices at
-// about 360k instructions each, 15% of the run's instructions; polycrystal 200k 15%.
+// names exact counts). Polycrystal 30k at 10%: its two censuses asked all of 1,676 and 1,010
+// vertices, about 360k instructions each, 15% of the run's instructions; polycrystal 200k 15%.
 constexpr std::size_t kCensusSample = 256;
 // A sampled choice is clear when the limit it acts on holds at least this many of the asked
 // vertices, and at least twice as many as any other limit and the inversion, and twice the least
