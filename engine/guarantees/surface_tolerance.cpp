@@ -941,9 +941,10 @@ bool old_point_covered(const glm::dvec3& old, int label, double h2, const Prims&
 // within h / 8 of the limit, and the work per triangle is bounded. Most triangles pass at once or
 // after one split: on coarse levels a triangle is a few h long and lies much closer than h.
 constexpr double kFinestPiece = 1.0 / 8.0;
-// SurfaceStencil::found_triangles keeps this many.
-constexpr std::size_t kFoundTriangles = 8;
 constexpr int kPieceBudget = 64;
+// SurfaceStencil::found_triangles keeps this many (polycrystal 30k at 10%: 4, 8, 16 ran -8.6%,
+// -9.1%, -9.3% instructions).
+constexpr std::size_t kFoundTriangles = 8;
 
 bool triangle_within(const SurfaceReference& reference, const glm::dvec3& a, const glm::dvec3& b,
                      const glm::dvec3& c, int label, double h, std::uint32_t& hint) {
