@@ -27,7 +27,7 @@ holds (its boundary moved inward) are counted as `outside` and not compared, as 
 Errors are |f_orig - f_simp| / range of the component over the original's vertices, the worst
 component. Needs the Python module (build/python) and numpy, scipy.
 """
-import argparse, json, os, re, subprocess, sys, time
+import argparse, json, os, subprocess, sys, time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -168,19 +168,30 @@ def run(cmd, log, timeout=None):
     return rc, out, wall
 
 
-LEVEL_ROW = re.compile(r"^\s*([0-9.e-]+)\s+([0-9.]+)\s+([0-9,]+)\s+([0-9,]+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s+.*?(\S+ ?m?s)\s+(PASS|FAIL)")
+def levels_of(report_path):
+    """The --levels-error rows of a simplify JSON report (error_levels); none if it is missing."""
+    try:
+        rows = json.load(open(report_path)).get("error_levels", [])
+    except (OSError, ValueError):
+        return []
+    return [{"eps": r["error"], "vertices": r["vertices"], "tets": r["tets"], "max_both": r["field_max_rel"],
+             "max_at_orig": f"{r['field_max_rel_at_original']:.3g}",
+             "bound": "-" if r["bound"] is None else f"{r['bound']:.3g}", "extract_seconds": r["extract_seconds"],
+             "topology": r["topology"].upper()} for r in rows]
 
 
-def parse_levels(out):
-    rows = []
-    for line in out.splitlines():
-        m = LEVEL_ROW.match(line)
-        if m and float(m.group(1)) > 0:
-            rows.append({"eps": float(m.group(1)), "vertices": int(m.group(3).replace(",", "")),
-                         "tets": int(m.group(4).replace(",", "")), "max_both": m.group(6),
-                         "max_at_orig": m.group(7), "bound": m.group(8), "extract": m.group(9),
-                         "topology": m.group(10)})
-    return rows
+def print_levels(rows, points, with_tets_and_topology):
+    """One table row per level: its size, the CLI's numbers, and this script's dense measurement."""
+    extra = with_tets_and_topology
+    print(f"| eps | #vert |{' #tets |' if extra else ''} max@orig (CLI) | bound (CLI) | max at {points} pts + vertices | "
+          f"above eps | outside |{' topology |' if extra else ''}")
+    print("|---" * (9 if extra else 7) + "|")
+    for r in rows:
+        d = r["dense"]
+        tets = f" {r['tets']:,} |" if extra else ""
+        topology = f" {r['topology']} |" if extra else ""
+        print(f"| {r['eps']:g} | {r['vertices']:,} |{tets} {r['max_at_orig']} | {r['bound']} | {d['max_error_rel']:.4g} | "
+              f"{d['above_bound']:,} | {d['outside']:,} |{topology}")
 
 
 def level_path(out, eps):
@@ -226,13 +237,13 @@ def main():
     # (a) levels from one hierarchy run.
     out = W("h.mesh")
     cmd = T + ["-o", out, "--hierarchy", W("h.tth"), "--levels-error", ",".join(f"{e:g}" for e in eps), "--json", W("h.json")]
-    rc, text, wall = run(cmd, W("h.log"))
+    rc, _, wall = run(cmd, W("h.log"))
     result["hierarchy_run"] = {"command": " ".join(cmd), "rc": rc, "wall_seconds": round(wall, 2)}
     try:
         result["hierarchy_run"]["simplify_seconds"] = json.load(open(W("h.json")))["levels"][-1]["simplify_seconds"]
     except Exception:
         pass
-    for row in parse_levels(text):
+    for row in levels_of(W("h.json")):
         row.update(dense=measure(level_path(out, row["eps"]), row["eps"]))
         result["levels"].append(row)
 
@@ -258,10 +269,10 @@ def main():
         o = W("eh.mesh")
         cmd = T + ["-o", o, "--hierarchy", W("eh.tth"), "--field-bound-mode", "everywhere", "--max-field-error-rel", f"{top:g}",
                    "--levels-error", ",".join(f"{e:g}" for e in eps), "--json", W("eh.json")]
-        rc, text, wall = run(cmd, W("eh.log"), a.everywhere_timeout)
+        rc, _, wall = run(cmd, W("eh.log"), a.everywhere_timeout)
         result["everywhere_hierarchy_run"] = {"command": " ".join(cmd), "rc": rc, "wall_seconds": round(wall, 2)}
         if rc != "timeout":
-            for row in parse_levels(text):
+            for row in levels_of(W("eh.json")):
                 row.update(dense=measure(level_path(o, row["eps"]), row["eps"]))
                 result["everywhere_levels"].append(row)
 
@@ -271,12 +282,7 @@ def main():
     h = result["hierarchy_run"]
     print(f"(a) levels from one run (`{h['command']}`: wall {h['wall_seconds']} s, simplify "
           f"{h.get('simplify_seconds', float('nan')):.1f} s; each level extracted in ms)\n")
-    print(f"| eps | #vert | #tets | max@orig (CLI) | bound (CLI) | max at {P} pts + vertices | above eps | outside | topology |")
-    print("|---|---|---|---|---|---|---|---|---|")
-    for r in result["levels"]:
-        d = r["dense"]
-        print(f"| {r['eps']:g} | {r['vertices']:,} | {r['tets']:,} | {r['max_at_orig']} | {r['bound']} | {d['max_error_rel']:.4g} | "
-              f"{d['above_bound']:,} | {d['outside']:,} | {r['topology']} |")
+    print_levels(result["levels"], P, True)
     print(f"\n(b/c) separate runs `--max-field-error-rel eps --ratio {a.ratio}`\n")
     print(f"| mode | eps | #vert | wall s | simplify s | CLI dense max (100k) | CLI above bound | max at {P} pts + vertices | above eps | outside |")
     print("|---|---|---|---|---|---|---|---|---|---|")
@@ -291,12 +297,7 @@ def main():
     if result["everywhere_levels"] or "everywhere_hierarchy_run" in result:
         h = result["everywhere_hierarchy_run"]
         print(f"\n(d) levels of an everywhere hierarchy (`{h['command']}`: wall {h['wall_seconds']} s, rc {h['rc']})\n")
-        print(f"| eps | #vert | max@orig (CLI) | bound (CLI) | max at {P} pts + vertices | above eps | outside |")
-        print("|---|---|---|---|---|---|---|")
-        for r in result["everywhere_levels"]:
-            d = r["dense"]
-            print(f"| {r['eps']:g} | {r['vertices']:,} | {r['max_at_orig']} | {r['bound']} | {d['max_error_rel']:.4g} | "
-                  f"{d['above_bound']:,} | {d['outside']:,} |")
+        print_levels(result["everywhere_levels"], P, False)
     js = a.json or W("table.json")
     with open(js, "w") as f:
         json.dump(result, f, indent=1, default=str)
