@@ -344,10 +344,7 @@ double run_query(const SurfaceSoup& soup, const std::vector<std::vector<std::uin
 }  // namespace
 
 bool SurfaceReference::within(const glm::dvec3& p, int label, double h) const {
-  if (label < 0 || static_cast<std::size_t>(label) >= embree_->primitives.size()) return false;
-  bool found = false;
-  run_query(soup_, embree_->primitives, embree_->scene_of(label), embree_->geometry_id_of(label), p, label, h, slack_, true, &found);
-  return found;
+  return any_within(p, label, h) != kInvalid;
 }
 
 std::uint32_t SurfaceReference::any_within(const glm::dvec3& p, int label, double h) const {
